@@ -1,0 +1,31 @@
+# Two promises: `make run` flies the default scenario, `make test` passes the tests,
+# both on a fresh machine with only Python 3.11, pip and gcc.
+PYTHON ?= python3
+VENV ?= .venv
+PY := $(VENV)/bin/python
+STAMP := $(VENV)/.installed
+
+.PHONY: install run test unit sitl clean
+
+install: $(STAMP)
+
+$(STAMP): pyproject.toml
+	$(PYTHON) -m venv $(VENV)
+	$(PY) -m pip install --quiet --upgrade pip
+	$(PY) -m pip install --quiet -e '.[test]'
+	touch $(STAMP)
+
+run: install
+	$(PY) -m groundstation demo
+
+test: install
+	$(PY) -m pytest -q -ra
+
+unit: install
+	$(PY) -m pytest -q tests/unit
+
+sitl: install
+	$(PY) -m pytest -q tests/sitl
+
+clean:
+	rm -rf $(VENV) build *.egg-info .pytest_cache
