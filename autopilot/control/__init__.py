@@ -1,0 +1,1 @@
+"""Control layer library: PID, attitude and position controllers, thrust allocation. No I/O."""

@@ -1,0 +1,37 @@
+"""PID with derivative on measurement, integrator limit and anti-windup on output saturation."""
+from __future__ import annotations
+
+import math
+
+
+class Pid:
+    def __init__(self, kp: float, ki: float = 0.0, kd: float = 0.0, imax: float = math.inf,
+                 out_limit: float = math.inf, d_filter_hz: float = 20.0):
+        self.kp, self.ki, self.kd = kp, ki, kd
+        self.imax, self.out_limit, self.d_filter_hz = imax, out_limit, d_filter_hz
+        self.integrator = 0.0
+        self._last_measurement: float | None = None
+        self._d_filtered = 0.0
+
+    def reset(self, integrator: float = 0.0) -> None:
+        """Bumpless take-over: forget history, optionally preload the integrator."""
+        self.integrator = max(-self.imax, min(self.imax, integrator))
+        self._last_measurement = None
+        self._d_filtered = 0.0
+
+    def update(self, target: float, measurement: float, dt: float) -> float:
+        error = target - measurement
+        if self._last_measurement is None or self.kd == 0.0:
+            d_term = 0.0
+        else:
+            raw = -(measurement - self._last_measurement) / dt
+            alpha = dt / (dt + 1.0 / (2.0 * math.pi * self.d_filter_hz))
+            self._d_filtered += alpha * (raw - self._d_filtered)
+            d_term = self.kd * self._d_filtered
+        self._last_measurement = measurement
+        unsat = self.kp * error + self.integrator + d_term
+        out = max(-self.out_limit, min(self.out_limit, unsat))
+        # Anti-windup: integrate only when that does not push further into saturation.
+        if out == unsat or (unsat > out) != (error > 0.0):
+            self.integrator = max(-self.imax, min(self.imax, self.integrator + self.ki * error * dt))
+        return out

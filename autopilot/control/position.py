@@ -1,0 +1,120 @@
+"""Outer loops of the paper's cascade: position -> velocity -> acceleration -> lean angles, and
+altitude -> climb rate -> vertical acceleration -> total thrust U1 with m*g feed-forward.
+
+Velocity targets from position errors use a square-root controller (linear near the target,
+constant deceleration further out) and are slewed at the acceleration limit, so a step in the
+target never asks for more than the configured acceleration.
+"""
+from __future__ import annotations
+
+import math
+
+from sim.airframe import GRAVITY_M_S2, Airframe
+
+from .pid import Pid
+
+
+def sqrt_controller(error: float, p: float, accel_max: float) -> float:
+    """ArduPilot's shaping: v = p*e near zero, sqrt(2 a |e|) beyond, continuous at the join."""
+    if accel_max <= 0.0 or p <= 0.0:
+        return error * p
+    linear = accel_max / (p * p)
+    if abs(error) <= linear:
+        return error * p
+    return math.copysign(math.sqrt(2.0 * accel_max * (abs(error) - linear / 2.0)), error)
+
+
+class PositionController:
+    def __init__(self, airframe: Airframe, params):
+        self.mass = airframe.mass_kg
+        self.thrust_max = 4.0 * airframe.max_rotor_thrust_n
+        self.vel_pid_n = Pid(0)
+        self.vel_pid_e = Pid(0)
+        self.vel_pid_d = Pid(0)
+        self.vel_target_ne = [0.0, 0.0]
+        self.vel_target_d = 0.0
+        self.configure(params)
+
+    def configure(self, params) -> None:
+        self.pos_xy_p = params["PSC_POSXY_P"]
+        self.pos_z_p = params["PSC_POSZ_P"]
+        for pid in (self.vel_pid_n, self.vel_pid_e):
+            pid.kp, pid.ki, pid.kd = params["PSC_VELXY_P"], params["PSC_VELXY_I"], params["PSC_VELXY_D"]
+            pid.imax = params["PSC_VELXY_IMAX"] / 100.0
+        self.vel_pid_d.kp, self.vel_pid_d.ki = params["PSC_VELZ_P"], params["PSC_VELZ_I"]
+        self.vel_pid_d.imax = params["PSC_VELZ_IMAX"] / 100.0
+        self.accel_xy_max = params["WPNAV_ACCEL"] / 100.0
+        self.lean_max = math.radians(params["ANGLE_MAX"] / 100.0)
+        self.speed_up = params["WPNAV_SPEED_UP"] / 100.0
+        self.speed_dn = params["WPNAV_SPEED_DN"] / 100.0
+        self.accel_z_max = 2.5
+
+    def reset(self, vel_ne: tuple, vel_d: float) -> None:
+        """Bumpless hand-over: start the velocity targets from the current velocity."""
+        self.vel_target_ne = [vel_ne[0], vel_ne[1]]
+        self.vel_target_d = vel_d
+        for pid in (self.vel_pid_n, self.vel_pid_e, self.vel_pid_d):
+            pid.reset()
+
+    def _slew(self, current: float, desired: float, limit: float, dt: float) -> float:
+        step = limit * dt
+        return current + max(-step, min(step, desired - current))
+
+    def horizontal(self, pos_t, vel_ff: tuple, speed_max: float, pos: tuple, vel: tuple,
+                   yaw: float, dt: float) -> tuple:
+        """Returns (roll, pitch) targets. pos_t None = velocity control on vel_ff."""
+        vn_d, ve_d = vel_ff
+        if pos_t is not None:
+            en, ee = pos_t[0] - pos[0], pos_t[1] - pos[1]
+            dist = math.hypot(en, ee)
+            if dist > 1e-6:
+                v = sqrt_controller(dist, self.pos_xy_p, self.accel_xy_max)
+                vn_d += v * en / dist
+                ve_d += v * ee / dist
+        speed = math.hypot(vn_d, ve_d)
+        if speed > speed_max > 0.0:
+            vn_d, ve_d = vn_d * speed_max / speed, ve_d * speed_max / speed
+        # Slew the velocity target as a vector so a diagonal move keeps its heading.
+        dn, de = vn_d - self.vel_target_ne[0], ve_d - self.vel_target_ne[1]
+        change = math.hypot(dn, de)
+        step = self.accel_xy_max * dt
+        if change > step:
+            dn, de = dn * step / change, de * step / change
+        self.vel_target_ne[0] += dn
+        self.vel_target_ne[1] += de
+        # The slew's own acceleration is fed forward, so the PID only corrects tracking error.
+        an = dn / dt + self.vel_pid_n.update(self.vel_target_ne[0], vel[0], dt)
+        ae = de / dt + self.vel_pid_e.update(self.vel_target_ne[1], vel[1], dt)
+        return self.lean_from_accel(an, ae, yaw)
+
+    def lean_from_accel(self, an: float, ae: float, yaw: float) -> tuple:
+        a_max = GRAVITY_M_S2 * math.tan(self.lean_max)
+        a = math.hypot(an, ae)
+        if a > a_max:
+            an, ae = an * a_max / a, ae * a_max / a
+        # Rotate into the heading frame: forward and right accelerations.
+        cy, sy = math.cos(yaw), math.sin(yaw)
+        a_fwd = an * cy + ae * sy
+        a_right = -an * sy + ae * cy
+        pitch = math.atan2(-a_fwd, GRAVITY_M_S2)
+        roll = math.atan2(a_right * math.cos(pitch), GRAVITY_M_S2)
+        return roll, pitch
+
+    def vertical(self, pos_d_t, vel_d_ff: float, pos_d: float, vel_d: float, roll: float,
+                 pitch: float, dt: float, speed_up: float | None = None,
+                 speed_dn: float | None = None) -> float:
+        """Returns the total thrust U1 [N]. pos_d_t None = climb-rate control on vel_d_ff."""
+        up = self.speed_up if speed_up is None else speed_up
+        dn = self.speed_dn if speed_dn is None else speed_dn
+        vd_t = vel_d_ff
+        if pos_d_t is not None:
+            vd_t += sqrt_controller(pos_d_t - pos_d, self.pos_z_p, self.accel_z_max)
+        vd_t = max(-up, min(dn, vd_t))
+        self.vel_target_d = self._slew(self.vel_target_d, vd_t, self.accel_z_max * 2.0, dt)
+        accel_d = self.vel_pid_d.update(self.vel_target_d, vel_d, dt)
+        return self.thrust_for(accel_d, roll, pitch)
+
+    def thrust_for(self, accel_d: float, roll: float, pitch: float) -> float:
+        tilt = max(math.cos(roll) * math.cos(pitch), 0.5)
+        u1 = self.mass * (GRAVITY_M_S2 - accel_d) / tilt
+        return max(0.0, min(self.thrust_max, u1))

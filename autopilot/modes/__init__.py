@@ -1,0 +1,14 @@
+"""Flight modes: one class each, and the one table of ArduCopter mode numbers."""
+from .auto import Auto
+from .base import Mode, Setpoint
+from .guided import Guided
+from .land import Land, Rtl
+from .loiter import Brake, Loiter
+from .manual import AltHold, Stabilize
+
+MODE_CLASSES = (Stabilize, AltHold, Auto, Guided, Loiter, Rtl, Land, Brake)
+MODE_BY_NUMBER = {cls.number: cls for cls in MODE_CLASSES}
+MODE_BY_NAME = {cls.name: cls for cls in MODE_CLASSES}
+
+__all__ = ["Mode", "Setpoint", "MODE_CLASSES", "MODE_BY_NUMBER", "MODE_BY_NAME",
+           "Stabilize", "AltHold", "Auto", "Guided", "Loiter", "Rtl", "Land", "Brake"]

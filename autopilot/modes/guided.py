@@ -1,0 +1,73 @@
+"""GUIDED: the vehicle goes where the ground station says (position, velocity, takeoff)."""
+from __future__ import annotations
+
+import math
+
+from .base import Mode, Setpoint, hold_here
+
+VELOCITY_TIMEOUT_S = 3.0  # ArduCopter stops if velocity setpoints stop arriving
+
+
+class Guided(Mode):
+    number, name = 4, "GUIDED"
+    requires_position = True
+    allows_arming = True
+    has_user_takeoff = True
+
+    def enter(self, ctx) -> str | None:
+        self.hold(ctx)
+        self.takeoff_d = None
+        return None
+
+    def hold(self, ctx) -> None:
+        self.target_ne, self.target_d = hold_here(ctx)
+        self.target_vel_ne, self.target_vel_d = (0.0, 0.0), 0.0
+        self.target_yaw = None
+        self.velocity_mode = False
+        self.velocity_time_s = ctx.time_s
+
+    # Commands from the ground station -------------------------------------------------------
+    def set_takeoff(self, ctx, alt_above_home_m: float) -> None:
+        self.hold(ctx)
+        self.takeoff_d = ctx.home_ned[2] - alt_above_home_m
+        self.target_d = self.takeoff_d
+
+    def set_position(self, ctx, n: float, e: float, d: float | None, yaw: float | None = None,
+                     vel_ff: tuple = (0.0, 0.0, 0.0)) -> None:
+        self.takeoff_d = None
+        self.velocity_mode = False
+        self.target_ne = (n, e)
+        if d is not None:
+            self.target_d = d
+        self.target_vel_ne, self.target_vel_d = (vel_ff[0], vel_ff[1]), vel_ff[2]
+        self.target_yaw = yaw
+
+    def set_velocity(self, ctx, vn: float, ve: float, vd: float, yaw: float | None = None) -> None:
+        self.takeoff_d = None
+        self.velocity_mode = True
+        self.target_vel_ne, self.target_vel_d = (vn, ve), vd
+        self.target_yaw = yaw
+        self.velocity_time_s = ctx.time_s
+
+    # Loop --------------------------------------------------------------------------------------
+    def update(self, ctx, sp: Setpoint, dt: float) -> None:
+        sp.clear()
+        sp.speed_xy = ctx.nav_speed_m_s
+        sp.yaw = self.target_yaw
+        if self.velocity_mode:
+            if ctx.time_s - self.velocity_time_s > VELOCITY_TIMEOUT_S:
+                self.hold(ctx)
+            else:
+                sp.vel_ne, sp.vel_d = self.target_vel_ne, self.target_vel_d
+                return
+        sp.pos_ne, sp.pos_d = self.target_ne, self.target_d
+        sp.vel_ne, sp.vel_d = self.target_vel_ne, self.target_vel_d
+        if ctx.landed and self.takeoff_d is None:
+            # On the ground without a takeoff: stay put wherever the target was set.
+            self.target_d = ctx.body.d_m
+            sp.pos_d = self.target_d
+        if self.takeoff_d is not None and abs(ctx.body.d_m - self.takeoff_d) < 0.5:
+            self.takeoff_d = None
+
+    def landed_state_hint(self, ctx) -> str | None:
+        return "TAKEOFF" if self.takeoff_d is not None and not ctx.landed else None

@@ -1,0 +1,83 @@
+"""LAND and RTL: descend where you are, or come home first; disarm once landed."""
+from __future__ import annotations
+
+import math
+
+from .base import Mode, Setpoint, hold_here
+
+
+def descent_rate_m_s(ctx) -> float:
+    """ArduCopter's two-stage descent: fast high up, LAND_SPEED below LAND_ALT_LOW."""
+    params = ctx.params
+    alt = ctx.home_ned[2] - ctx.body.d_m
+    if alt > params["LAND_ALT_LOW"] / 100.0:
+        return (params["LAND_SPEED_HIGH"] or params["WPNAV_SPEED_DN"]) / 100.0
+    return params["LAND_SPEED"] / 100.0
+
+
+class Land(Mode):
+    number, name = 9, "LAND"
+    requires_position = False
+
+    def enter(self, ctx) -> str | None:
+        self._hold_ne, _ = hold_here(ctx)
+        return None
+
+    def update(self, ctx, sp: Setpoint, dt: float) -> None:
+        sp.clear()
+        sp.pos_ne = self._hold_ne
+        rate = descent_rate_m_s(ctx)
+        sp.vel_d = rate
+        sp.speed_dn = rate
+        if ctx.landed and ctx.armed:
+            ctx.disarm("landed")
+
+    def landed_state_hint(self, ctx) -> str | None:
+        return None if ctx.landed else "LANDING"
+
+
+class Rtl(Mode):
+    """Climb to RTL_ALT (or stay higher), fly home, loiter RTL_LOIT_TIME, land and disarm."""
+    number, name = 6, "RTL"
+    requires_position = True
+
+    def enter(self, ctx) -> str | None:
+        params = ctx.params
+        home_d = ctx.home_ned[2]
+        current_alt = home_d - ctx.body.d_m
+        rtl_alt = max(params["RTL_ALT"] / 100.0, current_alt + params["RTL_CLIMB_MIN"] / 100.0)
+        self._return_d = home_d - rtl_alt
+        self._hold_ne, _ = hold_here(ctx)
+        self._stage = "LAND" if ctx.landed else "CLIMB"
+        self._loiter_until = None
+        return None
+
+    def update(self, ctx, sp: Setpoint, dt: float) -> None:
+        sp.clear()
+        b = ctx.body
+        home_ne = ctx.home_ned[:2]
+        sp.speed_xy = (ctx.params["RTL_SPEED"] / 100.0) or ctx.nav_speed_m_s
+        if self._stage == "CLIMB":
+            sp.pos_ne, sp.pos_d = self._hold_ne, self._return_d
+            if b.d_m <= self._return_d + 0.5:
+                self._stage = "RETURN"
+        if self._stage == "RETURN":
+            sp.pos_ne, sp.pos_d = home_ne, self._return_d
+            if math.hypot(b.n_m - home_ne[0], b.e_m - home_ne[1]) < 2.0 and \
+                    math.hypot(b.vn_m_s, b.ve_m_s) < 0.5:
+                self._stage = "LOITER"
+                self._loiter_until = ctx.time_s + ctx.params["RTL_LOIT_TIME"] / 1000.0
+        if self._stage == "LOITER":
+            sp.pos_ne, sp.pos_d = home_ne, self._return_d
+            if ctx.time_s >= self._loiter_until:
+                self._stage = "LAND"
+        if self._stage == "LAND":
+            sp.pos_ne = home_ne if not ctx.landed else None
+            rate = descent_rate_m_s(ctx)
+            sp.vel_d = rate
+            sp.speed_dn = rate
+            if ctx.landed and ctx.armed:
+                ctx.disarm("landed")
+
+    def landed_state_hint(self, ctx) -> str | None:
+        return "LANDING" if self._stage == "LAND" and not ctx.landed else None

@@ -1,0 +1,60 @@
+"""Position-holding modes: LOITER (pilot sticks move the hold point) and BRAKE (stop, then hold)."""
+from __future__ import annotations
+
+import math
+
+from .base import Mode, Setpoint, hold_here, stick_deadzone
+from .manual import pilot_climb_rate
+
+
+class Loiter(Mode):
+    number, name = 5, "LOITER"
+    requires_position = True
+    allows_arming = True
+    has_user_takeoff = True
+
+    def enter(self, ctx) -> str | None:
+        self._hold_ne, self._hold_d = hold_here(ctx)
+        return None
+
+    def update(self, ctx, sp: Setpoint, dt: float) -> None:
+        sp.clear()
+        pilot = ctx.pilot
+        fwd, right = stick_deadzone(pilot.pitch), stick_deadzone(pilot.roll)
+        if fwd or right:
+            speed = ctx.params["LOIT_SPEED"] / 100.0
+            yaw = ctx.attitude[2]
+            c, s = math.cos(yaw), math.sin(yaw)
+            sp.vel_ne = (speed * (fwd * c - right * s), speed * (fwd * s + right * c))
+            self._hold_ne = (ctx.body.n_m, ctx.body.e_m)
+        else:
+            sp.pos_ne = self._hold_ne
+        climb = pilot_climb_rate(ctx)
+        if climb != 0.0 or ctx.landed:
+            self._hold_d = ctx.body.d_m
+            sp.vel_d = -climb
+        else:
+            sp.pos_d = self._hold_d
+        sp.yaw_rate = stick_deadzone(pilot.yaw) * math.radians(ctx.params["PILOT_Y_RATE"])
+        if ctx.landed:
+            self._hold_ne = (ctx.body.n_m, ctx.body.e_m)
+
+
+class Brake(Mode):
+    """Stop as hard as the position controller allows, then hold. Arming is refused here."""
+    number, name = 17, "BRAKE"
+    requires_position = True
+
+    def enter(self, ctx) -> str | None:
+        self._hold_ne = None
+        self._hold_d = ctx.body.d_m
+        return None
+
+    def update(self, ctx, sp: Setpoint, dt: float) -> None:
+        sp.clear()
+        b = ctx.body
+        if self._hold_ne is None and math.hypot(b.vn_m_s, b.ve_m_s) < 0.2:
+            self._hold_ne = (b.n_m, b.e_m)
+        sp.pos_ne = self._hold_ne
+        sp.pos_d = self._hold_d
+        sp.yaw = ctx.attitude[2] if self._hold_ne else None

@@ -1,0 +1,53 @@
+"""Pilot-flown modes: STABILIZE (manual throttle) and ALT_HOLD (throttle stick = climb rate)."""
+from __future__ import annotations
+
+import math
+
+from .base import Mode, Setpoint, stick_deadzone
+
+
+def pilot_lean_and_yaw(ctx, sp: Setpoint) -> None:
+    lean_max = math.radians(ctx.params["ANGLE_MAX"] / 100.0)
+    pilot = ctx.pilot
+    sp.lean = (pilot.roll * lean_max, pilot.pitch * lean_max)
+    sp.yaw = None
+    sp.yaw_rate = stick_deadzone(pilot.yaw) * math.radians(ctx.params["PILOT_Y_RATE"])
+
+
+class Stabilize(Mode):
+    number, name = 0, "STABILIZE"
+    allows_arming = True
+    manual_throttle = True
+
+    def update(self, ctx, sp: Setpoint, dt: float) -> None:
+        sp.clear()
+        pilot_lean_and_yaw(ctx, sp)
+        sp.throttle = ctx.pilot.throttle
+
+
+def pilot_climb_rate(ctx) -> float:
+    """Throttle stick (0..1, centre = hold) to a climb rate [m/s, up positive]."""
+    stick = stick_deadzone(2.0 * ctx.pilot.throttle - 1.0, 0.1)
+    up = ctx.params["PILOT_SPEED_UP"] / 100.0
+    down = (ctx.params["PILOT_SPEED_DN"] or ctx.params["PILOT_SPEED_UP"]) / 100.0
+    return stick * (up if stick > 0 else down)
+
+
+class AltHold(Mode):
+    number, name = 2, "ALT_HOLD"
+    allows_arming = True
+    has_user_takeoff = True
+
+    def enter(self, ctx) -> str | None:
+        self._hold_d = ctx.body.d_m
+        return None
+
+    def update(self, ctx, sp: Setpoint, dt: float) -> None:
+        sp.clear()
+        pilot_lean_and_yaw(ctx, sp)
+        climb = pilot_climb_rate(ctx)
+        if climb != 0.0 or ctx.landed:
+            self._hold_d = ctx.body.d_m
+            sp.vel_d = -climb
+        else:
+            sp.pos_d = self._hold_d

@@ -1,0 +1,181 @@
+"""Parameters: one table with ArduCopter's names, units and ranges, and a store that persists them.
+
+Values follow ArduCopter's units (cm, cm/s, centidegrees) so that ground stations show what they
+expect; the controller converts at construction. Integers are sent by value in the float field,
+as ArduPilot does.
+"""
+from __future__ import annotations
+
+import json
+import math
+import os
+import tempfile
+from dataclasses import dataclass
+from pathlib import Path
+
+
+@dataclass(frozen=True)
+class ParamSpec:
+    name: str
+    default: float
+    low: float
+    high: float
+    is_int: bool = False
+    doc: str = ""
+
+
+def _f(name, default, low, high, doc=""):
+    return ParamSpec(name, float(default), float(low), float(high), False, doc)
+
+
+def _i(name, default, low, high, doc=""):
+    return ParamSpec(name, float(default), float(low), float(high), True, doc)
+
+
+PARAM_TABLE: tuple[ParamSpec, ...] = (
+    # Identity
+    _i("SYSID_THISMAV", 1, 1, 255, "MAVLink system id of this vehicle"),
+    _i("FRAME_CLASS", 1, 0, 15, "1 = quad"),
+    _i("FRAME_TYPE", 0, 0, 18, "0 = plus"),
+    # Position controller (ArduCopter AC_PosControl)
+    _f("PSC_POSXY_P", 1.0, 0.5, 2.0, "horizontal position error to velocity [1/s]"),
+    _f("PSC_VELXY_P", 2.0, 0.1, 6.0, "horizontal velocity error to acceleration [1/s]"),
+    _f("PSC_VELXY_I", 1.0, 0.02, 1.0, "horizontal velocity integrator"),
+    _f("PSC_VELXY_D", 0.5, 0.0, 1.0, "horizontal velocity derivative"),
+    _f("PSC_VELXY_IMAX", 1000, 0, 4500, "horizontal integrator limit [cm/s/s]"),
+    _f("PSC_POSZ_P", 1.0, 1.0, 3.0, "vertical position error to climb rate [1/s]"),
+    _f("PSC_VELZ_P", 5.0, 1.0, 8.0, "climb rate error to acceleration [1/s]"),
+    _f("PSC_VELZ_I", 0.5, 0.02, 1.0, "climb rate integrator"),
+    _f("PSC_VELZ_IMAX", 1000, 1, 1000, "vertical integrator limit [cm/s/s]"),
+    _f("PSC_ACCZ_P", 0.5, 0.2, 1.5, "vertical acceleration error to thrust"),
+    _f("PSC_ACCZ_I", 1.0, 0.0, 3.0, "vertical acceleration integrator"),
+    # Attitude controller (ArduCopter AC_AttitudeControl)
+    _f("ATC_ANG_RLL_P", 4.5, 3.0, 12.0, "roll angle error to rate [1/s]"),
+    _f("ATC_ANG_PIT_P", 4.5, 3.0, 12.0, "pitch angle error to rate [1/s]"),
+    _f("ATC_ANG_YAW_P", 4.5, 3.0, 12.0, "yaw angle error to rate [1/s]"),
+    _f("ATC_RAT_RLL_P", 0.135, 0.01, 0.5), _f("ATC_RAT_RLL_I", 0.135, 0.01, 2.0),
+    _f("ATC_RAT_RLL_D", 0.0036, 0.0, 0.05), _f("ATC_RAT_RLL_IMAX", 0.5, 0.0, 1.0),
+    _f("ATC_RAT_PIT_P", 0.135, 0.01, 0.5), _f("ATC_RAT_PIT_I", 0.135, 0.01, 2.0),
+    _f("ATC_RAT_PIT_D", 0.0036, 0.0, 0.05), _f("ATC_RAT_PIT_IMAX", 0.5, 0.0, 1.0),
+    _f("ATC_RAT_YAW_P", 0.18, 0.1, 2.5), _f("ATC_RAT_YAW_I", 0.018, 0.01, 1.0),
+    _f("ATC_RAT_YAW_D", 0.0, 0.0, 0.02), _f("ATC_RAT_YAW_IMAX", 0.5, 0.0, 1.0),
+    _f("ANGLE_MAX", 3000, 1000, 8000, "maximum lean angle [cdeg]"),
+    _f("ATC_RATE_R_MAX", 0, 0, 1080, "roll rate limit [deg/s], 0 = 360"),
+    _f("ATC_RATE_Y_MAX", 0, 0, 1080, "yaw rate limit [deg/s], 0 = 90"),
+    _f("PILOT_Y_RATE", 202.5, 1, 500, "pilot yaw rate at full stick [deg/s]"),
+    # Navigation
+    _f("WPNAV_SPEED", 1000, 20, 2000, "horizontal speed in AUTO/GUIDED [cm/s]"),
+    _f("WPNAV_SPEED_UP", 250, 10, 1000, "climb speed [cm/s]"),
+    _f("WPNAV_SPEED_DN", 150, 10, 500, "descent speed [cm/s]"),
+    _f("WPNAV_ACCEL", 250, 50, 500, "horizontal acceleration [cm/s/s]"),
+    _f("WPNAV_RADIUS", 200, 5, 1000, "waypoint radius [cm]"),
+    _f("LOIT_SPEED", 1250, 20, 3500, "loiter max speed [cm/s]"),
+    _f("PILOT_SPEED_UP", 250, 50, 500, "pilot climb rate [cm/s]"),
+    _f("PILOT_SPEED_DN", 0, 0, 500, "pilot descent rate [cm/s], 0 = PILOT_SPEED_UP"),
+    _f("PILOT_TKOFF_ALT", 0, 0, 1000, "pilot takeoff altitude [cm]"),
+    _f("LAND_SPEED", 50, 30, 200, "final descent speed [cm/s]"),
+    _f("LAND_SPEED_HIGH", 0, 0, 2500, "descent speed above LAND_ALT_LOW [cm/s], 0 = WPNAV_SPEED_DN"),
+    _f("LAND_ALT_LOW", 1000, 100, 10000, "altitude below which LAND_SPEED applies [cm]"),
+    _f("RTL_ALT", 1500, 200, 300000, "RTL return altitude [cm]"),
+    _f("RTL_ALT_FINAL", 0, 0, 1000, "RTL final altitude [cm], 0 = land"),
+    _f("RTL_SPEED", 0, 0, 2000, "RTL speed [cm/s], 0 = WPNAV_SPEED"),
+    _f("RTL_LOIT_TIME", 5000, 0, 60000, "RTL loiter over home before descending [ms]"),
+    _f("RTL_CLIMB_MIN", 0, 0, 3000, "RTL minimum climb [cm]"),
+    _f("DISARM_DELAY", 10, 0, 127, "auto-disarm on the ground after [s], 0 = never"),
+    _f("MOT_SPIN_ARM", 0.10, 0.0, 0.2, "motor output when armed, throttle zero"),
+    _f("MOT_THST_HOVER", 0.35, 0.125, 0.6875, "hover throttle (learned)"),
+    # Arming
+    _i("ARMING_CHECK", 1, 0, 0x7FFFF, "pre-arm checks bitmask, 0 = none"),
+    # Failsafes (acted on in a later issue; present so ground stations find them)
+    _i("FS_THR_ENABLE", 0, 0, 7), _i("FS_GCS_ENABLE", 0, 0, 7), _f("FS_GCS_TIMEOUT", 5, 2, 120),
+    _i("FS_BATT_ENABLE", 0, 0, 6), _f("BATT_LOW_VOLT", 10.5, 0, 120), _f("BATT_CRT_VOLT", 0, 0, 120),
+    _f("BATT_LOW_MAH", 0, 0, 500000), _f("BATT_CRT_MAH", 0, 0, 500000),
+    _f("BATT_CAPACITY", 5000, 0, 500000, "battery capacity [mAh]"),
+    _i("FENCE_ENABLE", 0, 0, 1), _i("FENCE_TYPE", 7, 0, 15), _i("FENCE_ACTION", 1, 0, 5),
+    _f("FENCE_ALT_MAX", 100, 10, 1000), _f("FENCE_RADIUS", 300, 30, 10000),
+    # Telemetry stream rates (ArduPilot SRn_ names, Hz; SITL streams by default)
+    _i("SR0_EXT_STAT", 2, 0, 50), _i("SR0_POSITION", 4, 0, 50), _i("SR0_EXTRA1", 10, 0, 50),
+    _i("SR0_EXTRA2", 4, 0, 50), _i("SR0_EXTRA3", 2, 0, 50),
+)
+
+SPEC_BY_NAME = {spec.name: spec for spec in PARAM_TABLE}
+
+
+class ParamError(ValueError):
+    pass
+
+
+class ParamStore:
+    """Current values by name, with range checks and atomic persistence to a JSON file."""
+
+    def __init__(self, path: Path | None = None, wipe: bool = False):
+        self.path = path
+        self._values = {spec.name: spec.default for spec in PARAM_TABLE}
+        self._listeners = []
+        if path is not None and path.exists() and not wipe:
+            self._load(path)
+
+    def _load(self, path: Path) -> None:
+        try:
+            saved = json.loads(path.read_text())
+        except (OSError, ValueError):
+            return  # an unreadable file is ignored; defaults stand (the next save rewrites it)
+        for name, value in saved.items() if isinstance(saved, dict) else ():
+            try:
+                self._values[name] = self._checked(name, value)
+            except ParamError:
+                continue
+
+    def names(self) -> list[str]:
+        return [spec.name for spec in PARAM_TABLE]
+
+    def __len__(self) -> int:
+        return len(PARAM_TABLE)
+
+    def __getitem__(self, name: str) -> float:
+        return self._values[name]
+
+    def get(self, name: str, default=None):
+        return self._values.get(name, default)
+
+    def index_of(self, name: str) -> int:
+        return self.names().index(name)
+
+    def on_change(self, callback) -> None:
+        self._listeners.append(callback)
+
+    @staticmethod
+    def _checked(name: str, value) -> float:
+        spec = SPEC_BY_NAME.get(name)
+        if spec is None:
+            raise ParamError(f"unknown parameter {name}")
+        try:
+            value = float(value)
+        except (TypeError, ValueError):
+            raise ParamError(f"{name}: not a number") from None
+        if not math.isfinite(value):
+            raise ParamError(f"{name}: value must be finite")
+        if not spec.low <= value <= spec.high:
+            raise ParamError(f"{name}: {value:g} out of range {spec.low:g}..{spec.high:g}")
+        return float(round(value)) if spec.is_int else value
+
+    def set(self, name: str, value) -> float:
+        """Set and persist; raises ParamError (naming the problem) and changes nothing on bad input."""
+        value = self._checked(name, value)
+        self._values[name] = value
+        self._save()
+        for callback in self._listeners:
+            callback(name, value)
+        return value
+
+    def _save(self) -> None:
+        if self.path is None:
+            return
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        changed = {n: v for n, v in self._values.items() if v != SPEC_BY_NAME[n].default}
+        fd, tmp = tempfile.mkstemp(dir=self.path.parent, prefix=".params-")
+        with os.fdopen(fd, "w") as f:
+            json.dump(changed, f, indent=1, sort_keys=True)
+            f.flush()
+            os.fsync(f.fileno())
+        os.replace(tmp, self.path)

@@ -1,0 +1,365 @@
+"""The vehicle: sensors -> estimate -> flight mode -> cascaded PID -> allocation -> sim step.
+
+It knows nothing of MAVLink or sockets. Ground stations reach it through the command methods,
+which return a Result (MAV_RESULT numbers) and queue what ArduCopter would announce in `events`.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+from sim.airframe import GRAVITY_M_S2
+from sim.rigid_body import euler_from_quaternion
+from sim.vehicle import SimConfig, SimVehicle
+
+from .control.allocation import Allocator
+from .control.attitude import AttitudeController, wrap_pi
+from .control.position import PositionController
+from .geo import GeoPoint, global_from_ned, ned_from_global
+from .modes import MODE_BY_NUMBER, Guided, Setpoint, Stabilize
+from .params import ParamStore
+from .pilot import CENTRED, CENTRED_MANUAL, PilotInput
+from .rates import LoopRates
+from .results import Result, Severity
+
+FORCE_ARM_MAGIC = 2989
+FORCE_DISARM_MAGIC = 21196
+LAND_DETECT_S = 1.0
+GPS_RATE_HZ = 10
+
+
+@dataclass
+class VehicleConfig:
+    home: GeoPoint = field(default_factory=lambda: GeoPoint(43.5615, 1.4838, 150.0))
+    home_yaw_deg: float = 0.0
+    offset_ne_m: tuple = (0.0, 0.0)  # start position relative to the shared origin
+    sim: SimConfig = field(default_factory=SimConfig)
+    rates: LoopRates = field(default_factory=LoopRates)
+
+
+class Vehicle:
+    def __init__(self, config: VehicleConfig, params: ParamStore | None = None):
+        config.rates.check()
+        if config.rates.physics_hz != config.sim.physics_rate_hz:
+            raise ValueError("sim physics rate and loop-rate table disagree")
+        self.config = config
+        self.params = params or ParamStore()
+        n0, e0 = config.offset_ne_m
+        self.origin = config.home
+        self.sim = SimVehicle(config.sim, math.radians(config.home_yaw_deg), n0, e0)
+        airframe = config.sim.airframe
+        self.weight_n = airframe.weight_n
+        self.thrust_max_n = 4.0 * airframe.max_rotor_thrust_n
+        self.omega_idle = airframe.omega_idle_rad_s
+        self.attitude_ctl = AttitudeController(airframe, self.params)
+        self.position_ctl = PositionController(airframe, self.params)
+        self.allocator = Allocator(airframe)
+        self.params.on_change(self._param_changed)
+        self.modes = {number: cls() for number, cls in MODE_BY_NUMBER.items()}
+        self.mode = self.modes[Stabilize.number]
+        self.setpoint = Setpoint()
+        self.armed = False
+        self.landed = True
+        self.home_ned: tuple | None = None
+        self.pilot_input = PilotInput()
+        self.events: list[tuple[int, str]] = []
+        self.nav_speed_m_s = self.params["WPNAV_SPEED"] / 100.0
+        self._ratio_pos = config.rates.ratio(config.rates.position_hz)
+        self._ratio_att = config.rates.ratio(config.rates.attitude_hz)
+        self._ratio_gps = max(1, config.rates.physics_hz // GPS_RATE_HZ)
+        self._dt_pos = 1.0 / config.rates.position_hz
+        self._dt_att = 1.0 / config.rates.attitude_hz
+        self._lean_t = (0.0, 0.0)
+        self._thrust_t = 0.0
+        self._yaw_t = math.radians(config.home_yaw_deg)
+        self._omega_cmd = (0.0, 0.0, 0.0, 0.0)
+        self._landed_since: float | None = None
+        self._disarm_timer_start: float | None = None
+        self.gps = self.sim.gps.read(self.sim.state.body)
+        self.armed_time_s = 0.0
+
+    # ----- state seen by modes and telemetry ---------------------------------------------------
+    @property
+    def time_s(self) -> float:
+        return self.sim.time_s
+
+    @property
+    def body(self):
+        """The state estimate. The estimator is perfect: the sim's own state (an ideal EKF)."""
+        return self.sim.state.body
+
+    @property
+    def attitude(self) -> tuple:
+        b = self.sim.state.body
+        return euler_from_quaternion(b.qw, b.qx, b.qy, b.qz)
+
+    @property
+    def pilot(self) -> PilotInput:
+        if self.pilot_input.present(self.time_s):
+            return self.pilot_input
+        return CENTRED_MANUAL if self.mode.manual_throttle else CENTRED
+
+    @property
+    def home(self) -> GeoPoint | None:
+        if self.home_ned is None:
+            return None
+        return global_from_ned(self.origin, *self.home_ned)
+
+    def position_global(self) -> GeoPoint:
+        b = self.body
+        return global_from_ned(self.origin, b.n_m, b.e_m, b.d_m)
+
+    def has_position(self) -> bool:
+        return self.gps.fix_type >= 3
+
+    def landed_state(self) -> str:
+        """ON_GROUND, TAKEOFF, IN_AIR or LANDING (MAV_LANDED_STATE names)."""
+        if self.landed:
+            return "ON_GROUND"
+        return self.mode.landed_state_hint(self) or "IN_AIR"
+
+    def notify(self, text: str, severity: int = Severity.INFO) -> None:
+        self.events.append((int(severity), text))
+
+    def _param_changed(self, name: str, value: float) -> None:
+        self.attitude_ctl.configure(self.params)
+        self.position_ctl.configure(self.params)
+        if name == "WPNAV_SPEED":
+            self.nav_speed_m_s = value / 100.0
+
+    # ----- arming ------------------------------------------------------------------------------
+    def prearm_failure(self) -> str | None:
+        """The first failing pre-arm check, worded as ArduCopter's 'PreArm: ...', or None."""
+        if self.params["ARMING_CHECK"] == 0:
+            return None
+        if not self.has_position():
+            return "Need 3D Fix"
+        if self.home_ned is None:
+            return "Waiting for home"
+        roll, pitch, _ = self.attitude
+        if max(abs(roll), abs(pitch)) > math.radians(self.params["ANGLE_MAX"] / 100.0):
+            return "Leaning"
+        low = self.params["BATT_LOW_VOLT"]
+        if low > 0 and self.sim.battery.voltage_v < low:
+            return "Battery below minimum arming voltage"
+        return None
+
+    def is_armable(self) -> bool:
+        return self.prearm_failure() is None
+
+    def arm(self, force: bool = False) -> Result:
+        if self.armed:
+            return Result.ACCEPTED
+        if not self.mode.allows_arming:
+            self.notify("Arm: Mode not armable", Severity.CRITICAL)
+            return Result.FAILED
+        if not force:
+            reason = self.prearm_failure()
+            if reason:
+                self.notify(f"PreArm: {reason}", Severity.CRITICAL)
+                return Result.FAILED
+            if self.mode.manual_throttle and self.pilot.throttle > 0.1:
+                self.notify("Arm: Throttle too high", Severity.CRITICAL)
+                return Result.FAILED
+        if self.home_ned is None:
+            self._set_home_here()
+        self.armed = True
+        self.armed_time_s = self.time_s
+        self.landed = True
+        self._disarm_timer_start = self.time_s
+        self._reset_controllers()
+        self._yaw_t = self.attitude[2]
+        self.notify("Arming motors")
+        return Result.ACCEPTED
+
+    def disarm(self, reason: str = "", force: bool = False) -> Result:
+        if not self.armed:
+            return Result.ACCEPTED
+        if not force and not self.landed:
+            self.notify("Disarm: not landed", Severity.CRITICAL)
+            return Result.FAILED
+        self.armed = False
+        self.notify("Disarming motors")
+        return Result.ACCEPTED
+
+    def _set_home_here(self) -> None:
+        b = self.body
+        self.home_ned = (b.n_m, b.e_m, b.d_m)
+        self.notify("Home set")
+
+    # ----- modes and navigation commands -------------------------------------------------------
+    def set_mode(self, number: int) -> Result:
+        cls_mode = self.modes.get(number)
+        if cls_mode is None:
+            return Result.FAILED
+        if cls_mode is self.mode:
+            return Result.ACCEPTED
+        reason = None
+        if cls_mode.requires_position and not self.has_position():
+            reason = "requires position"
+        if reason is None:
+            reason = cls_mode.enter(self)
+        if reason is not None:
+            self.notify(f"Mode change to {cls_mode.name} failed: {reason}", Severity.WARNING)
+            return Result.FAILED
+        self.mode.exit(self)
+        self.mode = cls_mode
+        self._reset_position_loop()
+        return Result.ACCEPTED
+
+    def takeoff(self, alt_m: float) -> Result:
+        """User takeoff to alt_m above home: only armed, landed, in a mode with user takeoff."""
+        if not (self.armed and self.landed and self.mode.has_user_takeoff):
+            return Result.FAILED
+        if not math.isfinite(alt_m):
+            return Result.FAILED
+        alt_m = max(alt_m, self.params["PILOT_TKOFF_ALT"] / 100.0)
+        home_d = self.home_ned[2]
+        if alt_m <= home_d - self.body.d_m:
+            return Result.FAILED
+        if isinstance(self.mode, Guided):
+            self.mode.set_takeoff(self, alt_m)
+        else:
+            return Result.FAILED
+        self._disarm_timer_start = None
+        return Result.ACCEPTED
+
+    def guided_goto(self, n: float, e: float, d: float | None, yaw: float | None = None) -> Result:
+        if not isinstance(self.mode, Guided):
+            return Result.DENIED
+        self.mode.set_position(self, n, e, d, yaw)
+        return Result.ACCEPTED
+
+    def guided_velocity(self, vn: float, ve: float, vd: float, yaw: float | None = None) -> Result:
+        if not isinstance(self.mode, Guided):
+            return Result.DENIED
+        self.mode.set_velocity(self, vn, ve, vd, yaw)
+        return Result.ACCEPTED
+
+    def set_speed(self, speed_m_s: float) -> Result:
+        if not (math.isfinite(speed_m_s) and speed_m_s > 0):
+            return Result.FAILED
+        self.nav_speed_m_s = min(speed_m_s, self.params.get("WPNAV_SPEED") / 100.0 * 5.0)
+        return Result.ACCEPTED
+
+    def ned_of(self, lat: float, lon: float, alt_amsl: float) -> tuple:
+        return ned_from_global(self.origin, lat, lon, alt_amsl)
+
+    # ----- the loop ----------------------------------------------------------------------------
+    def _reset_controllers(self) -> None:
+        self.attitude_ctl.reset()
+        self._reset_position_loop()
+
+    def _reset_position_loop(self) -> None:
+        b = self.body
+        self.position_ctl.reset((b.vn_m_s, b.ve_m_s), b.vd_m_s)
+
+    def step(self) -> None:
+        """One physics tick, running each control loop when its turn in the rate table comes."""
+        sim = self.sim
+        steps = sim.steps
+        if steps % self._ratio_gps == 0:
+            self.gps = sim.gps.read(sim.state.body)
+            if self.home_ned is None and self.gps.fix_type >= 3 and steps > 0:
+                self._set_home_here()
+        if steps % self._ratio_pos == 0:
+            self._position_tick()
+        if steps % self._ratio_att == 0:
+            self._attitude_tick()
+        sim.step(self._omega_cmd)
+
+    def run_until(self, t_s: float) -> None:
+        while self.sim.time_s < t_s - 1e-9:
+            self.step()
+
+    def _ground_idle(self) -> bool:
+        """Whether the motors should just idle (disarmed, or armed on the ground not taking off)."""
+        if not self.armed:
+            return True
+        if self.landed:
+            return not self.setpoint.wants_climb(self.body.d_m)
+        return False
+
+    def _position_tick(self) -> None:
+        dt = self._dt_pos
+        sp = self.setpoint
+        self.mode.update(self, sp, dt)
+        b = self.body
+        roll, pitch, yaw = self.attitude
+        if self._ground_idle():
+            self._reset_controllers()
+            self._lean_t = (0.0, 0.0)
+            self._thrust_t = 0.0
+            self._yaw_t = yaw
+        else:
+            pc = self.position_ctl
+            if sp.lean is not None:
+                self._lean_t = sp.lean
+            else:
+                speed = min(sp.speed_xy, self.params["LOIT_SPEED"] / 100.0 * 2.0)
+                self._lean_t = pc.horizontal(sp.pos_ne, sp.vel_ne, speed, (b.n_m, b.e_m),
+                                             (b.vn_m_s, b.ve_m_s), yaw, dt)
+            if sp.throttle is not None:
+                self._thrust_t = self._manual_thrust(sp.throttle)
+            else:
+                self._thrust_t = pc.vertical(sp.pos_d, sp.vel_d, b.d_m, b.vd_m_s, roll, pitch, dt,
+                                             speed_dn=sp.speed_dn)
+            if sp.yaw is not None:
+                self._yaw_t = sp.yaw
+            else:
+                self._yaw_t = wrap_pi(self._yaw_t + sp.yaw_rate * dt)
+        self._update_land_detector(dt)
+        self._update_auto_disarm()
+
+    def _manual_thrust(self, stick: float) -> float:
+        """STABILIZE throttle curve: mid stick = hover thrust, full stick = full thrust."""
+        hover = self.weight_n
+        if stick <= 0.5:
+            return 2.0 * stick * hover
+        return hover + (stick - 0.5) * 2.0 * (self.thrust_max_n - hover)
+
+    def _attitude_tick(self) -> None:
+        if self._ground_idle():
+            idle = self.omega_idle if self.armed else 0.0
+            self._omega_cmd = (idle, idle, idle, idle)
+            return
+        b = self.body
+        roll, pitch, yaw = self.attitude
+        u2, u3, u4 = self.attitude_ctl.update(self._lean_t[0], self._lean_t[1], self._yaw_t, 0.0,
+                                              roll, pitch, yaw, (b.p_rad_s, b.q_rad_s, b.r_rad_s),
+                                              self._dt_att)
+        self._omega_cmd = self.allocator.omega_commands(self._thrust_t, u2, u3, u4)
+
+    def _update_land_detector(self, dt: float) -> None:
+        b = self.body
+        if self.landed:
+            if self.armed and (b.d_m < (self.home_ned or (0, 0, 0))[2] - 0.2 or b.vd_m_s < -0.3):
+                self.landed = False
+                self._landed_since = None
+            return
+        if not self.armed:
+            self.landed = True
+            return
+        low_thrust = self._thrust_t < 0.85 * self.weight_n
+        still = abs(b.vd_m_s) < 0.3 and math.hypot(b.vn_m_s, b.ve_m_s) < 0.5
+        if low_thrust and still:
+            if self._landed_since is None:
+                self._landed_since = self.time_s
+            elif self.time_s - self._landed_since >= LAND_DETECT_S:
+                self.landed = True
+                self._disarm_timer_start = self.time_s
+        else:
+            self._landed_since = None
+
+    def _update_auto_disarm(self) -> None:
+        """ArduCopter disarms after DISARM_DELAY seconds landed with nothing asking to climb."""
+        delay = self.params["DISARM_DELAY"]
+        if not self.armed or delay <= 0:
+            return
+        if not self.landed or self.setpoint.wants_climb(self.body.d_m):
+            self._disarm_timer_start = None
+            return
+        if self._disarm_timer_start is None:
+            self._disarm_timer_start = self.time_s
+        elif self.time_s - self._disarm_timer_start >= delay:
+            self.disarm("auto")

@@ -1,0 +1,42 @@
+"""Battery: a LiPo pack whose voltage sags with current and whose capacity drains.
+
+Open-circuit voltage per cell falls from 4.2 V (full) to 3.3 V (empty) along a typical LiPo
+discharge curve; terminal voltage = cells * OCV(soc) - I * R_internal.
+"""
+from __future__ import annotations
+
+from typing import NamedTuple
+
+# (state of charge, open-circuit volts per cell): a typical LiPo discharge curve.
+_OCV_CURVE = ((0.0, 3.27), (0.05, 3.61), (0.1, 3.69), (0.2, 3.73), (0.3, 3.77), (0.4, 3.79),
+              (0.5, 3.82), (0.6, 3.87), (0.7, 3.92), (0.8, 3.98), (0.9, 4.06), (1.0, 4.20))
+
+
+class BatteryState(NamedTuple):
+    consumed_mah: float = 0.0
+    current_a: float = 0.0
+    voltage_v: float = 0.0
+
+
+def open_circuit_volts_per_cell(soc: float) -> float:
+    soc = min(max(soc, 0.0), 1.0)
+    for (s0, v0), (s1, v1) in zip(_OCV_CURVE, _OCV_CURVE[1:]):
+        if soc <= s1:
+            return v0 + (v1 - v0) * (soc - s0) / (s1 - s0)
+    return _OCV_CURVE[-1][1]
+
+
+def step_battery(state: BatteryState, power_w: float, cells: int, capacity_mah: float,
+                 r_internal_ohm: float, extra_current_a: float, dt: float) -> BatteryState:
+    soc = 1.0 - state.consumed_mah / capacity_mah
+    ocv = cells * open_circuit_volts_per_cell(soc)
+    # Solve P = (ocv - I R) I for the smaller root; fall back to the sag limit when P is too high.
+    disc = ocv * ocv - 4.0 * r_internal_ohm * power_w
+    current = (ocv - disc ** 0.5) / (2.0 * r_internal_ohm) if disc > 0 else ocv / (2 * r_internal_ohm)
+    current += extra_current_a
+    consumed = state.consumed_mah + current * dt / 3.6
+    return BatteryState(consumed, current, max(ocv - current * r_internal_ohm, 0.0))
+
+
+def remaining_fraction(state: BatteryState, capacity_mah: float) -> float:
+    return min(max(1.0 - state.consumed_mah / capacity_mah, 0.0), 1.0)

@@ -1,0 +1,55 @@
+"""One simulated vehicle: physics state, battery and sensors, advanced in fixed steps of sim time."""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from .airframe import Airframe
+from .battery import BatteryState, remaining_fraction, step_battery
+from .physics import PhysicsState, initial_state, step
+from .rotors import motor_lag_factor, rotor_shaft_power_w
+from .sensors import Barometer, Gps, Gyro, NoiseConfig
+from .wind import SteadyWind
+
+
+@dataclass
+class SimConfig:
+    airframe: Airframe = field(default_factory=Airframe)
+    wind: SteadyWind = field(default_factory=SteadyWind)
+    noise: NoiseConfig = field(default_factory=NoiseConfig)
+    physics_rate_hz: int = 400
+    seed: int = 0
+
+
+class SimVehicle:
+    def __init__(self, config: SimConfig, yaw_rad: float = 0.0, n_m: float = 0.0, e_m: float = 0.0):
+        self.config = config
+        self.airframe = config.airframe
+        self.dt = 1.0 / config.physics_rate_hz
+        self._lag = motor_lag_factor(self.airframe, self.dt)
+        self._wind_ned = config.wind.velocity_ned()
+        self.state: PhysicsState = initial_state(yaw_rad, n_m, e_m)
+        self.battery = BatteryState(0.0, 0.0, self.airframe.battery_cells * 4.2)
+        self.gps = Gps(config.seed, config.noise)
+        self.baro = Barometer(config.seed, config.noise)
+        self.gyro = Gyro(config.seed, config.noise)
+        self.time_s = 0.0
+        self.steps = 0
+
+    def step(self, omega_cmd: tuple) -> None:
+        af = self.airframe
+        self.state = step(self.state, omega_cmd, af, self._wind_ned, self.dt, self._lag)
+        b = af.thrust_coeff_b
+        shaft = sum(rotor_shaft_power_w(b * w * w, af) for w in self.state.omega_rad_s)
+        self.battery = step_battery(self.battery, shaft / af.motor_efficiency, af.battery_cells,
+                                    af.battery_capacity_mah, af.battery_internal_resistance_ohm,
+                                    af.avionics_current_a, self.dt)
+        self.steps += 1
+        self.time_s = self.steps * self.dt
+
+    @property
+    def battery_remaining(self) -> float:
+        return remaining_fraction(self.battery, self.airframe.battery_capacity_mah)
+
+    @property
+    def wind_ned(self) -> tuple:
+        return self._wind_ned
