@@ -168,6 +168,9 @@ class ParamStore:
             callback(name, value)
         return value
 
+    def save_all(self) -> None:
+        self._save()
+
     def _save(self) -> None:
         if self.path is None:
             return

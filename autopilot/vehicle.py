@@ -35,6 +35,8 @@ class VehicleConfig:
     offset_ne_m: tuple = (0.0, 0.0)  # start position relative to the shared origin
     sim: SimConfig = field(default_factory=SimConfig)
     rates: LoopRates = field(default_factory=LoopRates)
+    system_id: int = 1
+    epoch_unix_us: int = 1_790_000_000_000_000  # UNIX time at sim time 0 (SYSTEM_TIME only)
 
 
 class Vehicle:
@@ -43,6 +45,7 @@ class Vehicle:
         if config.rates.physics_hz != config.sim.physics_rate_hz:
             raise ValueError("sim physics rate and loop-rate table disagree")
         self.config = config
+        self.system_id = config.system_id
         self.params = params or ParamStore()
         n0, e0 = config.offset_ne_m
         self.origin = config.home
@@ -104,6 +107,20 @@ class Vehicle:
         if self.home_ned is None:
             return None
         return global_from_ned(self.origin, *self.home_ned)
+
+    @property
+    def thrust_demand_n(self) -> float:
+        return self._thrust_t
+
+    def unix_time_us(self) -> int:
+        return self.config.epoch_unix_us + int(self.time_s * 1e6)
+
+    def ned_to_global(self, n: float, e: float, d: float) -> GeoPoint:
+        return global_from_ned(self.origin, n, e, d)
+
+    def drain_events(self) -> list:
+        events, self.events = self.events, []
+        return events
 
     def position_global(self) -> GeoPoint:
         b = self.body
@@ -224,10 +241,31 @@ class Vehicle:
         self._disarm_timer_start = None
         return Result.ACCEPTED
 
-    def guided_goto(self, n: float, e: float, d: float | None, yaw: float | None = None) -> Result:
+    def guided_goto(self, n: float, e: float, d: float | None, yaw: float | None = None,
+                    vel_ff: tuple = (0.0, 0.0, 0.0)) -> Result:
         if not isinstance(self.mode, Guided):
             return Result.DENIED
-        self.mode.set_position(self, n, e, d, yaw)
+        self.mode.set_position(self, n, e, d, yaw, vel_ff)
+        return Result.ACCEPTED
+
+    def set_yaw(self, angle_deg: float, relative: bool, direction: int) -> Result:
+        """CONDITION_YAW in GUIDED: absolute heading, or relative (direction -1 ccw, 1 cw)."""
+        if not isinstance(self.mode, Guided) or not -360.0 <= angle_deg <= 360.0:
+            return Result.FAILED
+        target = math.radians(angle_deg)
+        if relative:
+            target = self.attitude[2] + (-target if direction < 0 else target)
+        self.mode.target_yaw = wrap_pi(target)
+        return Result.ACCEPTED
+
+    def set_home(self, ned: tuple | None) -> Result:
+        """DO_SET_HOME: here (None) or at a local NED point within 50 km."""
+        if ned is None:
+            self._set_home_here()
+            return Result.ACCEPTED
+        if math.hypot(ned[0], ned[1]) > 50_000:
+            return Result.DENIED
+        self.home_ned = tuple(ned)
         return Result.ACCEPTED
 
     def guided_velocity(self, vn: float, ve: float, vd: float, yaw: float | None = None) -> Result:

@@ -9,7 +9,8 @@ from .base import Mode, Setpoint, stick_deadzone
 def pilot_lean_and_yaw(ctx, sp: Setpoint) -> None:
     lean_max = math.radians(ctx.params["ANGLE_MAX"] / 100.0)
     pilot = ctx.pilot
-    sp.lean = (pilot.roll * lean_max, pilot.pitch * lean_max)
+    # pilot.pitch positive = stick forward = nose down = negative pitch angle.
+    sp.lean = (pilot.roll * lean_max, -pilot.pitch * lean_max)
     sp.yaw = None
     sp.yaw_rate = stick_deadzone(pilot.yaw) * math.radians(ctx.params["PILOT_Y_RATE"])
 

@@ -1,0 +1,136 @@
+"""`autopilot`: start a simulated ArduCopter-compatible vehicle and serve MAVLink over UDP.
+
+Ports follow ArduPilot SITL's instance convention: instance N is system id N+1, listens on UDP
+5760+10N and sends to 14550+10N and 14540+10N (what MAVProxy's default outputs give SITL users).
+"""
+from __future__ import annotations
+
+import argparse
+import math
+import os
+import signal
+import sys
+import time
+from pathlib import Path
+
+
+class CliError(Exception):
+    pass
+
+
+def parse_udp(text: str, option: str) -> tuple:
+    body = text[4:] if text.startswith("udp:") else text
+    host, sep, port = body.rpartition(":")
+    if not sep or not host:
+        raise CliError(f"{option}: expected udp:HOST:PORT, got {text!r}")
+    try:
+        port_n = int(port)
+    except ValueError:
+        raise CliError(f"{option}: port must be a number in {text!r}") from None
+    if not 0 <= port_n <= 65535:
+        raise CliError(f"{option}: port {port_n} outside 0..65535")
+    return host, port_n
+
+
+def parse_speedup(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise CliError(f"--speedup: expected a number or 'inf', got {text!r}") from None
+    if math.isnan(value) or value <= 0:
+        raise CliError(f"--speedup: must be positive, got {text!r}")
+    return value
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message):  # one line, no usage dump
+        raise CliError(message)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    p = _Parser(prog="autopilot", description=__doc__.splitlines()[0])
+    p.add_argument("--out", action="append", default=None, metavar="udp:HOST:PORT",
+                   help="send MAVLink here (repeatable; default 127.0.0.1:14550 and :14540, +10 per instance)")
+    p.add_argument("--listen", default=None, metavar="udp:HOST:PORT",
+                   help="local UDP address to bind (default 0.0.0.0:5760+10*instance; port 0 = any)")
+    p.add_argument("--speedup", default="1", help="sim seconds per wall second; 'inf' runs flat out")
+    p.add_argument("--instance", type=int, default=0, help="instance number N: system id N+1, ports +10N")
+    p.add_argument("--home", default=None, metavar="LAT,LON,ALT[,YAW]", help="home location (AMSL metres, degrees)")
+    p.add_argument("--seed", type=int, default=None, help="seed for sensor noise (overrides the scenario)")
+    p.add_argument("--scenario", default=None, metavar="FILE", help="scenario TOML file")
+    p.add_argument("--state-dir", default=None, metavar="DIR",
+                   help="where parameters are kept per instance (default ~/.local/state/firefly)")
+    p.add_argument("--wipe", action="store_true", help="reset saved parameters to defaults (like SITL -w)")
+    p.add_argument("--duration", type=float, default=math.inf, help="stop after this many sim seconds")
+    p.add_argument("--quiet", action="store_true", help="print nothing but errors")
+    return p
+
+
+def build(args):
+    """Assemble the vehicle, its MAVLink session and its UDP endpoint from parsed arguments."""
+    from .geo import GeoPoint  # noqa: F401  (heavy imports after argument checks)
+    from .mavlink.dialect import new_codec
+    from .mavlink.session import Session
+    from .params import ParamStore
+    from .rates import LoopRates
+    from .runner import Node
+    from .scenario import Scenario, load_scenario, parse_home
+    from .udp import UdpEndpoint
+    from .vehicle import Vehicle, VehicleConfig
+
+    if not 0 <= args.instance <= 200:
+        raise CliError(f"--instance: must be 0..200, got {args.instance}")
+    scenario = load_scenario(Path(args.scenario)) if args.scenario else Scenario()
+    if args.home:
+        scenario.home, scenario.home_yaw_deg = parse_home(args.home)
+    if args.seed is not None:
+        scenario.seed = args.seed
+        scenario.sim.seed = args.seed
+    n = args.instance
+    outs = [parse_udp(o, "--out") for o in args.out] if args.out else \
+        [("127.0.0.1", 14550 + 10 * n), ("127.0.0.1", 14540 + 10 * n)]
+    listen = parse_udp(args.listen, "--listen") if args.listen else ("0.0.0.0", 5760 + 10 * n)
+    state_root = Path(args.state_dir) if args.state_dir else \
+        Path(os.environ.get("XDG_STATE_HOME", Path.home() / ".local" / "state")) / "firefly"
+    params = ParamStore(state_root / f"instance-{n}" / "params.json", wipe=args.wipe)
+    if args.wipe:
+        params.save_all()
+    rate = scenario.sim.physics_rate_hz
+    config = VehicleConfig(home=scenario.home, home_yaw_deg=scenario.home_yaw_deg, sim=scenario.sim,
+                           rates=LoopRates(rate, min(400, rate), 100), system_id=n + 1,
+                           epoch_unix_us=int(time.time() * 1e6))
+    vehicle = Vehicle(config, params)
+    try:
+        endpoint = UdpEndpoint(listen, outs, n + 1)
+    except OSError as exc:
+        raise CliError(f"--listen: cannot bind udp:{listen[0]}:{listen[1]}: {exc.strerror}") from None
+    return Node(vehicle, Session(vehicle, new_codec(n + 1)), endpoint), outs
+
+
+def main(argv=None) -> int:
+    from .scenario import ScenarioError
+    try:
+        args = build_parser().parse_args(argv)
+        speedup = parse_speedup(args.speedup)
+        node, outs = build(args)
+    except (CliError, ScenarioError) as exc:
+        print(f"autopilot: error: {exc}", file=sys.stderr)
+        return 2
+    from .runner import Runner
+    runner = Runner([node], speedup)
+    signal.signal(signal.SIGTERM, lambda *_: runner.stop())
+    if not args.quiet:
+        host, port = node.endpoint.address
+        print(f"Firefly autopilot: system {node.vehicle.system_id}, udp:{host}:{port}, "
+              f"out {' '.join(f'{h}:{p}' for h, p in outs)}, speedup {args.speedup}", flush=True)
+    try:
+        runner.run(args.duration)
+    except KeyboardInterrupt:
+        pass
+    finally:
+        node.endpoint.close()
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,222 @@
+"""Command microservice: COMMAND_LONG / COMMAND_INT -> one COMMAND_ACK each.
+
+Handlers are a table by command id; each returns a Result and may queue extra messages. Params
+the handler uses are checked for NaN/inf before any state changes. An exact retry of the
+previous command (clients resend after 0.5 s without an ack) replays the previous result instead
+of acting twice.
+"""
+from __future__ import annotations
+
+import math
+from typing import NamedTuple
+
+from ..results import Result
+from ..vehicle import FORCE_ARM_MAGIC, FORCE_DISARM_MAGIC
+from .dialect import mavlink as mav
+
+RETRY_WINDOW_S = 1.5
+
+
+class Command(NamedTuple):
+    command: int
+    p1: float
+    p2: float
+    p3: float
+    p4: float
+    p5: float  # latitude in degrees for positional commands
+    p6: float  # longitude in degrees
+    p7: float  # altitude [m]
+    frame: int
+    is_int: bool
+    confirmation: int
+    src: tuple  # (system id, component id)
+
+    @classmethod
+    def from_long(cls, m):
+        return cls(m.command, m.param1, m.param2, m.param3, m.param4, m.param5, m.param6, m.param7,
+                   mav.MAV_FRAME_GLOBAL, False, m.confirmation, (m.get_srcSystem(), m.get_srcComponent()))
+
+    @classmethod
+    def from_int(cls, m):
+        return cls(m.command, m.param1, m.param2, m.param3, m.param4, m.x * 1e-7, m.y * 1e-7, m.z,
+                   m.frame, True, 0, (m.get_srcSystem(), m.get_srcComponent()))
+
+
+def _finite(*values) -> bool:
+    return all(math.isfinite(v) for v in values)
+
+
+def _int_param(value: float, low: int, high: int) -> int | None:
+    if not math.isfinite(value) or value != int(value) or not low <= value <= high:
+        return None
+    return int(value)
+
+
+# ----- handlers: (session, Command) -> Result ----------------------------------------------------
+def arm_disarm(s, c: Command) -> Result:
+    if not _finite(c.p1, c.p2):
+        return Result.DENIED
+    if c.p1 == 1:
+        return s.vehicle.arm(force=c.p2 == FORCE_ARM_MAGIC)
+    if c.p1 == 0:
+        return s.vehicle.disarm("gcs", force=c.p2 == FORCE_DISARM_MAGIC)
+    return Result.DENIED
+
+
+def takeoff(s, c: Command) -> Result:
+    if not _finite(c.p7):
+        return Result.DENIED
+    return s.vehicle.takeoff(c.p7)
+
+
+def land(s, c: Command) -> Result:
+    return s.vehicle.set_mode(9)
+
+
+def return_to_launch(s, c: Command) -> Result:
+    return s.vehicle.set_mode(6)
+
+
+def do_set_mode(s, c: Command) -> Result:
+    base = _int_param(c.p1, 0, 255)
+    custom = _int_param(c.p2, 0, 2**32 - 1)
+    if base is None or custom is None:
+        return Result.DENIED
+    return s.set_mode(base, custom)
+
+
+def do_change_speed(s, c: Command) -> Result:
+    return s.vehicle.set_speed(c.p2)
+
+
+def target_ned(s, c: Command):
+    """Position from a command's lat/lon/alt in its frame -> local NED, or None if invalid."""
+    lat, lon, alt = c.p5, c.p6, c.p7
+    if not (_finite(lat, lon) and -90 <= lat <= 90 and -180 <= lon <= 180):
+        return None
+    v = s.vehicle
+    if not math.isfinite(alt):
+        d = v.body.d_m
+    elif c.frame in (mav.MAV_FRAME_GLOBAL, mav.MAV_FRAME_GLOBAL_INT):
+        d = v.ned_of(lat, lon, alt)[2]
+    else:  # relative-altitude and terrain frames: above home
+        d = v.home_ned[2] - alt
+    n, e, _ = v.ned_of(lat, lon, v.origin.alt_m)
+    return n, e, d
+
+
+def do_reposition(s, c: Command) -> Result:
+    v = s.vehicle
+    change_mode = _int_param(c.p2, 0, 255) if math.isfinite(c.p2) else 0
+    if v.mode.number != 4 and not (change_mode and change_mode & mav.MAV_DO_REPOSITION_FLAGS_CHANGE_MODE):
+        return Result.DENIED
+    target = target_ned(s, c)
+    if target is None or v.home_ned is None:
+        return Result.DENIED
+    if v.mode.number != 4 and v.set_mode(4) != Result.ACCEPTED:
+        return Result.FAILED
+    if math.isfinite(c.p1) and c.p1 > 0:
+        v.set_speed(c.p1)
+    yaw = math.radians(c.p4) if math.isfinite(c.p4) else None
+    return v.guided_goto(*target, yaw=yaw)
+
+
+def do_set_home(s, c: Command) -> Result:
+    v = s.vehicle
+    if not math.isfinite(c.p1):
+        return Result.DENIED
+    if c.p1 == 1:
+        return v.set_home(None)
+    target = target_ned(s, c._replace(frame=mav.MAV_FRAME_GLOBAL))
+    return Result.DENIED if target is None else v.set_home(target)
+
+
+def get_home_position(s, c: Command) -> Result:
+    msg = s.build(mav.MAVLINK_MSG_ID_HOME_POSITION)
+    if msg is None:
+        return Result.FAILED
+    s.queue(msg)
+    return Result.ACCEPTED
+
+
+def request_autopilot_capabilities(s, c: Command) -> Result:
+    s.queue(s.build(mav.MAVLINK_MSG_ID_AUTOPILOT_VERSION))
+    return Result.ACCEPTED
+
+
+def request_message(s, c: Command) -> Result:
+    msg_id = _int_param(c.p1, 0, 2**24)
+    if msg_id is None:
+        return Result.DENIED
+    msg = s.build(msg_id)
+    if msg is None:
+        return Result.FAILED
+    s.queue(msg)
+    return Result.ACCEPTED
+
+
+def set_message_interval(s, c: Command) -> Result:
+    msg_id = _int_param(c.p1, 0, 2**24)
+    if msg_id is None or not math.isfinite(c.p2):
+        return Result.DENIED
+    return Result.ACCEPTED if s.streams.set_interval_us(msg_id, c.p2) else Result.FAILED
+
+
+def get_message_interval(s, c: Command) -> Result:
+    msg_id = _int_param(c.p1, 0, 2**24)
+    if msg_id is None:
+        return Result.DENIED
+    interval = s.streams.interval_s(msg_id)
+    s.queue(s.codec.message_interval_encode(msg_id, -1 if interval == math.inf else int(interval * 1e6)))
+    return Result.ACCEPTED
+
+
+def condition_yaw(s, c: Command) -> Result:
+    if not _finite(c.p1, c.p3, c.p4):
+        return Result.DENIED
+    return s.vehicle.set_yaw(c.p1, relative=c.p4 != 0, direction=int(c.p3))
+
+
+def mission_start(s, c: Command) -> Result:
+    return s.vehicle.set_mode(3)
+
+
+HANDLERS = {
+    mav.MAV_CMD_COMPONENT_ARM_DISARM: arm_disarm,
+    mav.MAV_CMD_NAV_TAKEOFF: takeoff,
+    mav.MAV_CMD_NAV_LAND: land,
+    mav.MAV_CMD_NAV_RETURN_TO_LAUNCH: return_to_launch,
+    mav.MAV_CMD_DO_SET_MODE: do_set_mode,
+    mav.MAV_CMD_DO_CHANGE_SPEED: do_change_speed,
+    mav.MAV_CMD_DO_REPOSITION: do_reposition,
+    mav.MAV_CMD_DO_SET_HOME: do_set_home,
+    mav.MAV_CMD_GET_HOME_POSITION: get_home_position,
+    mav.MAV_CMD_REQUEST_AUTOPILOT_CAPABILITIES: request_autopilot_capabilities,
+    mav.MAV_CMD_REQUEST_MESSAGE: request_message,
+    mav.MAV_CMD_SET_MESSAGE_INTERVAL: set_message_interval,
+    mav.MAV_CMD_GET_MESSAGE_INTERVAL: get_message_interval,
+    mav.MAV_CMD_CONDITION_YAW: condition_yaw,
+    mav.MAV_CMD_MISSION_START: mission_start,
+}
+
+
+# Queries answer with fresh data every time; everything else replays its result on a retry.
+QUERIES = {mav.MAV_CMD_GET_HOME_POSITION, mav.MAV_CMD_REQUEST_AUTOPILOT_CAPABILITIES,
+           mav.MAV_CMD_REQUEST_MESSAGE, mav.MAV_CMD_SET_MESSAGE_INTERVAL,
+           mav.MAV_CMD_GET_MESSAGE_INTERVAL}
+
+
+class CommandService:
+    def __init__(self):
+        self._last = None  # (key, result, time)
+
+    def handle(self, session, c: Command, now_s: float):
+        key = (c.src, c.command, c.p1, c.p2, c.p3, c.p4, c.p5, c.p6, c.p7, c.is_int)
+        if c.command not in QUERIES and self._last is not None and self._last[0] == key and \
+                (c.confirmation > 0 or now_s - self._last[2] <= RETRY_WINDOW_S):
+            result = self._last[1]
+        else:
+            handler = HANDLERS.get(c.command)
+            result = Result.UNSUPPORTED if handler is None else handler(session, c)
+            self._last = (key, result, now_s)
+        return session.codec.command_ack_encode(c.command, int(result), 0, 0, c.src[0], c.src[1])

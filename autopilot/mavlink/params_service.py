@@ -1,0 +1,48 @@
+"""Parameter microservice: list, read by name or index, set with an echoed PARAM_VALUE."""
+from __future__ import annotations
+
+from ..params import SPEC_BY_NAME, ParamError
+from ..results import Severity
+from .dialect import mavlink as mav
+
+
+def _name(raw) -> str:
+    if isinstance(raw, bytes):
+        raw = raw.decode("ascii", "replace")
+    return raw.split("\0", 1)[0]
+
+
+class ParamService:
+    def __init__(self, params, codec):
+        self.params = params
+        self.codec = codec
+        self._names = params.names()
+
+    def value_message(self, name: str):
+        spec = SPEC_BY_NAME[name]
+        ptype = mav.MAV_PARAM_TYPE_INT32 if spec.is_int else mav.MAV_PARAM_TYPE_REAL32
+        return self.codec.param_value_encode(name.encode(), float(self.params[name]), ptype,
+                                             len(self._names), self._names.index(name))
+
+    def request_list(self, msg) -> list:
+        return [self.value_message(name) for name in self._names]
+
+    def request_read(self, msg) -> list:
+        if msg.param_index >= 0:
+            if msg.param_index >= len(self._names):
+                return []
+            return [self.value_message(self._names[msg.param_index])]
+        name = _name(msg.param_id)
+        return [self.value_message(name)] if name in SPEC_BY_NAME else []
+
+    def set(self, msg, notify) -> list:
+        """Apply PARAM_SET. A refused value is answered with the unchanged value and a reason."""
+        name = _name(msg.param_id)
+        if name not in SPEC_BY_NAME:
+            notify(f"Param set failed: unknown parameter {name}", Severity.WARNING)
+            return []
+        try:
+            self.params.set(name, msg.param_value)
+        except ParamError as exc:
+            notify(f"Param set failed: {exc}", Severity.WARNING)
+        return [self.value_message(name)]

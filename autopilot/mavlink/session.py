@@ -1,0 +1,159 @@
+"""One vehicle's MAVLink session, sans-IO.
+
+`receive(msg, now_s)` consumes one decoded message and returns the messages to send in answer;
+`poll(now_s)` returns what is due (heartbeat, telemetry streams, status texts). The socket layer
+packs and sends them; this class never touches a socket or a wall clock.
+"""
+from __future__ import annotations
+
+import math
+
+from ..results import Result, Severity
+from . import ftp
+from .commands import Command, CommandService
+from .dialect import mavlink as mav
+from .guided_setpoints import handle_global_int, handle_local_ned
+from .params_service import ParamService
+from .streams import StreamScheduler
+from .telemetry import BUILDERS
+
+MAX_STATUSTEXT = 50
+
+
+class Session:
+    def __init__(self, vehicle, codec):
+        self.vehicle = vehicle
+        self.codec = codec
+        self.system_id = codec.srcSystem
+        self.streams = StreamScheduler(vehicle.params)
+        self.params = ParamService(vehicle.params, codec)
+        self.commands = CommandService()
+        self._out: list = []
+        self.counters = {"received": 0, "ignored_other_system": 0, "bad_data": 0, "refused": 0}
+        self.gcs_last_heartbeat_s: float | None = None
+        self._handlers = {
+            "HEARTBEAT": self._on_heartbeat,
+            "COMMAND_LONG": lambda m, now: self._on_command(Command.from_long(m), now),
+            "COMMAND_INT": lambda m, now: self._on_command(Command.from_int(m), now),
+            "SET_MODE": self._on_set_mode,
+            "PARAM_REQUEST_LIST": lambda m, now: self._out.extend(self.params.request_list(m)),
+            "PARAM_REQUEST_READ": lambda m, now: self._out.extend(self.params.request_read(m)),
+            "PARAM_SET": lambda m, now: self._out.extend(self.params.set(m, self.vehicle.notify)),
+            "REQUEST_DATA_STREAM": self._on_request_data_stream,
+            "FILE_TRANSFER_PROTOCOL": self._on_ftp,
+            "MISSION_REQUEST_LIST": self._on_mission_request_list,
+            "MISSION_COUNT": self._on_mission_count,
+            "MISSION_CLEAR_ALL": self._on_mission_clear_all,
+            "MANUAL_CONTROL": self._on_manual_control,
+            "RC_CHANNELS_OVERRIDE": self._on_rc_override,
+            "SET_POSITION_TARGET_LOCAL_NED": self._on_setpoint_local,
+            "SET_POSITION_TARGET_GLOBAL_INT": self._on_setpoint_global,
+            "TIMESYNC": self._on_timesync,
+        }
+
+    # ----- output helpers used by the services ------------------------------------------------
+    def queue(self, msg) -> None:
+        if msg is not None:
+            self._out.append(msg)
+
+    def build(self, msg_id: int):
+        builder = BUILDERS.get(msg_id)
+        return builder(self.vehicle, self.codec) if builder else None
+
+    def _take(self) -> list:
+        out, self._out = self._out, []
+        return out
+
+    # ----- input ------------------------------------------------------------------------------
+    def _for_me(self, msg) -> bool:
+        target = getattr(msg, "target_system", 0)
+        return target in (0, self.system_id)
+
+    def receive(self, msg, now_s: float) -> list:
+        if msg.get_type() == "BAD_DATA":
+            self.counters["bad_data"] += 1
+            return []
+        self.counters["received"] += 1
+        if not self._for_me(msg):
+            self.counters["ignored_other_system"] += 1
+            return []
+        handler = self._handlers.get(msg.get_type())
+        if handler is not None:
+            handler(msg, now_s)
+        return self._take()
+
+    def _on_heartbeat(self, msg, now_s):
+        if msg.type == mav.MAV_TYPE_GCS:
+            self.gcs_last_heartbeat_s = now_s
+
+    def _on_command(self, c: Command, now_s):
+        ack = self.commands.handle(self, c, now_s)
+        if ack.result != Result.ACCEPTED:
+            self.counters["refused"] += 1
+        self._out.append(ack)
+
+    def set_mode(self, base_mode: int, custom_mode: int) -> Result:
+        if not base_mode & mav.MAV_MODE_FLAG_CUSTOM_MODE_ENABLED:
+            return Result.UNSUPPORTED
+        return self.vehicle.set_mode(custom_mode)
+
+    def _on_set_mode(self, msg, now_s):
+        result = self.set_mode(msg.base_mode, msg.custom_mode)
+        self._out.append(self.codec.command_ack_encode(mav.MAVLINK_MSG_ID_SET_MODE, int(result), 0, 0,
+                                                       msg.get_srcSystem(), msg.get_srcComponent()))
+
+    def _on_request_data_stream(self, msg, now_s):
+        self.streams.set_group_rate(msg.req_stream_id, msg.req_message_rate, bool(msg.start_stop))
+
+    def _on_ftp(self, msg, now_s):
+        self.queue(ftp.reply(msg, self.codec))
+
+    def _on_mission_request_list(self, msg, now_s):
+        # Mission storage arrives with the mission protocol: every list is empty for now.
+        self._out.append(self.codec.mission_count_encode(msg.get_srcSystem(), msg.get_srcComponent(),
+                                                         0, msg.mission_type))
+
+    def _on_mission_count(self, msg, now_s):
+        self.vehicle.notify("Mission upload not supported yet", Severity.WARNING)
+        self._out.append(self.codec.mission_ack_encode(msg.get_srcSystem(), msg.get_srcComponent(),
+                                                       mav.MAV_MISSION_UNSUPPORTED, msg.mission_type))
+
+    def _on_mission_clear_all(self, msg, now_s):
+        self._out.append(self.codec.mission_ack_encode(msg.get_srcSystem(), msg.get_srcComponent(),
+                                                       mav.MAV_MISSION_ACCEPTED, msg.mission_type))
+
+    def _on_manual_control(self, msg, now_s):
+        x, y, z, r = msg.x, msg.y, msg.z, msg.r
+        self.vehicle.pilot_input.update(y / 1000.0, x / 1000.0, r / 1000.0, z / 1000.0, now_s)
+
+    def _on_rc_override(self, msg, now_s):
+        def norm(pwm, current):
+            if pwm in (0, 65535) or not 800 <= pwm <= 2200:
+                return current
+            return (pwm - 1500) / 500.0
+        p = self.vehicle.pilot_input
+        roll = norm(msg.chan1_raw, p.roll)
+        pitch = -norm(msg.chan2_raw, -p.pitch)  # low PWM on channel 2 = stick forward
+        throttle = norm(msg.chan3_raw, 2 * p.throttle - 1)
+        yaw = norm(msg.chan4_raw, p.yaw)
+        p.update(roll, pitch, yaw, (throttle + 1) / 2, now_s)
+
+    def _on_setpoint_local(self, msg, now_s):
+        if not handle_local_ned(self.vehicle, msg):
+            self.counters["refused"] += 1
+
+    def _on_setpoint_global(self, msg, now_s):
+        if not handle_global_int(self.vehicle, msg):
+            self.counters["refused"] += 1
+
+    def _on_timesync(self, msg, now_s):
+        if msg.tc1 == 0:
+            self._out.append(self.codec.timesync_encode(int(now_s * 1e9), msg.ts1))
+
+    # ----- output -----------------------------------------------------------------------------
+    def poll(self, now_s: float) -> list:
+        for severity, text in self.vehicle.drain_events():
+            self._out.append(self.codec.statustext_encode(severity, text.encode()[:MAX_STATUSTEXT]))
+        for msg_id in self.streams.due(now_s):
+            self.queue(self.build(msg_id))
+        return self._take()

@@ -1,0 +1,61 @@
+"""Telemetry stream scheduling in sim time: per-message intervals, set by the stream-group
+parameters (SRn_*), REQUEST_DATA_STREAM and SET_MESSAGE_INTERVAL."""
+from __future__ import annotations
+
+import math
+
+from .telemetry import BUILDERS, FIXED_RATES_HZ, STREAM_GROUPS
+
+
+class StreamScheduler:
+    def __init__(self, params):
+        self._interval_s: dict[int, float] = {}
+        self._next_s: dict[int, float] = {}
+        self._default_s: dict[int, float] = {}
+        for name, ids in STREAM_GROUPS.values():
+            rate = params[name]
+            for msg_id in ids:
+                self._default_s[msg_id] = 1.0 / rate if rate > 0 else math.inf
+        for msg_id, rate in FIXED_RATES_HZ.items():
+            self._default_s[msg_id] = 1.0 / rate
+        self._interval_s.update(self._default_s)
+
+    def interval_s(self, msg_id: int) -> float:
+        """Current interval; inf = not streamed."""
+        return self._interval_s.get(msg_id, math.inf)
+
+    def set_interval_us(self, msg_id: int, interval_us: float) -> bool:
+        """SET_MESSAGE_INTERVAL semantics: -1 stops, 0 restores the default, >0 sets it."""
+        if msg_id not in BUILDERS:
+            return False
+        if interval_us < 0:
+            self._interval_s[msg_id] = math.inf
+        elif interval_us == 0:
+            self._interval_s[msg_id] = self._default_s.get(msg_id, math.inf)
+        else:
+            self._interval_s[msg_id] = max(interval_us * 1e-6, 0.001)
+        self._next_s.pop(msg_id, None)
+        return True
+
+    def set_group_rate(self, stream_id: int, rate_hz: float, start: bool) -> None:
+        """REQUEST_DATA_STREAM: stream_id 0 = all groups."""
+        groups = STREAM_GROUPS.values() if stream_id == 0 else \
+            ([STREAM_GROUPS[stream_id]] if stream_id in STREAM_GROUPS else [])
+        for _, ids in groups:
+            for msg_id in ids:
+                interval = 1.0 / rate_hz if start and rate_hz > 0 else math.inf
+                self._interval_s[msg_id] = interval
+                self._next_s.pop(msg_id, None)
+
+    def due(self, now_s: float) -> list[int]:
+        out = []
+        for msg_id, interval in self._interval_s.items():
+            if interval == math.inf:
+                continue
+            nxt = self._next_s.get(msg_id)
+            if nxt is None or now_s + 1e-9 >= nxt:
+                out.append(msg_id)
+                # Keep a fixed cadence, but never queue up a backlog after a pause.
+                base = now_s if nxt is None or now_s - nxt > interval else nxt
+                self._next_s[msg_id] = base + interval
+        return out

@@ -1,0 +1,185 @@
+"""Vehicle state -> telemetry messages, one builder per message id, and ArduPilot's stream groups."""
+from __future__ import annotations
+
+import math
+
+from ..modes import MODE_BY_NUMBER
+from .dialect import mavlink as mav
+
+LANDED_STATE = {"ON_GROUND": mav.MAV_LANDED_STATE_ON_GROUND, "IN_AIR": mav.MAV_LANDED_STATE_IN_AIR,
+                "TAKEOFF": mav.MAV_LANDED_STATE_TAKEOFF, "LANDING": mav.MAV_LANDED_STATE_LANDING}
+
+SENSORS = (mav.MAV_SYS_STATUS_SENSOR_3D_GYRO | mav.MAV_SYS_STATUS_SENSOR_3D_ACCEL
+           | mav.MAV_SYS_STATUS_SENSOR_3D_MAG | mav.MAV_SYS_STATUS_SENSOR_ABSOLUTE_PRESSURE
+           | mav.MAV_SYS_STATUS_SENSOR_GPS | mav.MAV_SYS_STATUS_SENSOR_ANGULAR_RATE_CONTROL
+           | mav.MAV_SYS_STATUS_SENSOR_ATTITUDE_STABILIZATION | mav.MAV_SYS_STATUS_SENSOR_YAW_POSITION
+           | mav.MAV_SYS_STATUS_SENSOR_Z_ALTITUDE_CONTROL | mav.MAV_SYS_STATUS_SENSOR_XY_POSITION_CONTROL
+           | mav.MAV_SYS_STATUS_SENSOR_MOTOR_OUTPUTS | mav.MAV_SYS_STATUS_AHRS
+           | mav.MAV_SYS_STATUS_SENSOR_BATTERY)
+PREARM = mav.MAV_SYS_STATUS_PREARM_CHECK
+
+CAPABILITIES = (mav.MAV_PROTOCOL_CAPABILITY_MISSION_FLOAT | mav.MAV_PROTOCOL_CAPABILITY_PARAM_FLOAT
+                | mav.MAV_PROTOCOL_CAPABILITY_MISSION_INT | mav.MAV_PROTOCOL_CAPABILITY_COMMAND_INT
+                | mav.MAV_PROTOCOL_CAPABILITY_SET_POSITION_TARGET_LOCAL_NED
+                | mav.MAV_PROTOCOL_CAPABILITY_SET_POSITION_TARGET_GLOBAL_INT
+                | mav.MAV_PROTOCOL_CAPABILITY_MAVLINK2 | mav.MAV_PROTOCOL_CAPABILITY_PARAM_ENCODE_C_CAST)
+# Reported as ArduCopter 4.5.0 official, so ground stations pick their ArduPilot code paths.
+FIRMWARE_VERSION = (4 << 24) | (5 << 16) | (0 << 8) | mav.FIRMWARE_VERSION_TYPE_OFFICIAL
+
+
+def _ms(v) -> int:
+    return int(v.time_s * 1000.0) & 0xFFFFFFFF
+
+
+def _deg_e7(x: float) -> int:
+    return int(round(x * 1e7))
+
+
+def heartbeat(v, codec):
+    mode = v.mode
+    base = mav.MAV_MODE_FLAG_CUSTOM_MODE_ENABLED | mav.MAV_MODE_FLAG_STABILIZE_ENABLED \
+        | mav.MAV_MODE_FLAG_MANUAL_INPUT_ENABLED
+    if mode.requires_position:
+        base |= mav.MAV_MODE_FLAG_GUIDED_ENABLED
+    if v.armed:
+        base |= mav.MAV_MODE_FLAG_SAFETY_ARMED
+    status = mav.MAV_STATE_ACTIVE if v.armed else mav.MAV_STATE_STANDBY
+    return codec.heartbeat_encode(mav.MAV_TYPE_QUADROTOR, mav.MAV_AUTOPILOT_ARDUPILOTMEGA, base,
+                                  mode.number, status)
+
+
+def sys_status(v, codec):
+    healthy = SENSORS | (PREARM if v.is_armable() else 0)
+    batt = v.sim.battery
+    return codec.sys_status_encode(SENSORS | PREARM, SENSORS | PREARM, healthy, 100,
+                                   int(batt.voltage_v * 1000), int(batt.current_a * 100),
+                                   int(round(v.sim.battery_remaining * 100)), 0, 0, 0, 0, 0, 0)
+
+
+def battery_status(v, codec):
+    batt = v.sim.battery
+    volts = [min(int(batt.voltage_v * 1000), 65534)] + [65535] * 9
+    return codec.battery_status_encode(0, mav.MAV_BATTERY_FUNCTION_ALL, mav.MAV_BATTERY_TYPE_LIPO,
+                                       32767, volts, int(batt.current_a * 100),
+                                       int(batt.consumed_mah), -1,
+                                       int(round(v.sim.battery_remaining * 100)))
+
+
+def global_position_int(v, codec):
+    b, pos = v.body, v.position_global()
+    home_alt = v.home.alt_m if v.home else v.origin.alt_m
+    hdg = int(round(math.degrees(v.attitude[2]) * 100)) % 36000
+    return codec.global_position_int_encode(_ms(v), _deg_e7(pos.lat_deg), _deg_e7(pos.lon_deg),
+                                            int(pos.alt_m * 1000), int((pos.alt_m - home_alt) * 1000),
+                                            int(b.vn_m_s * 100), int(b.ve_m_s * 100),
+                                            int(b.vd_m_s * 100), hdg)
+
+
+def local_position_ned(v, codec):
+    b = v.body
+    return codec.local_position_ned_encode(_ms(v), b.n_m, b.e_m, b.d_m, b.vn_m_s, b.ve_m_s, b.vd_m_s)
+
+
+def gps_raw_int(v, codec):
+    g = v.gps
+    pos = v.ned_to_global(g.n_m, g.e_m, g.d_m)
+    speed = math.hypot(g.vn_m_s, g.ve_m_s)
+    cog = int(round(math.degrees(math.atan2(g.ve_m_s, g.vn_m_s)) * 100)) % 36000 if speed > 0.2 else 0
+    return codec.gps_raw_int_encode(int(v.time_s * 1e6), g.fix_type, _deg_e7(pos.lat_deg),
+                                    _deg_e7(pos.lon_deg), int(pos.alt_m * 1000), 80, 120,
+                                    int(speed * 100), cog, g.satellites)
+
+
+def attitude(v, codec):
+    b = v.body
+    roll, pitch, yaw = v.attitude
+    return codec.attitude_encode(_ms(v), roll, pitch, yaw, b.p_rad_s, b.q_rad_s, b.r_rad_s)
+
+
+def attitude_quaternion(v, codec):
+    b = v.body
+    return codec.attitude_quaternion_encode(_ms(v), b.qw, b.qx, b.qy, b.qz, b.p_rad_s, b.q_rad_s,
+                                            b.r_rad_s, [0.0, 0.0, 0.0, 0.0])
+
+
+def vfr_hud(v, codec):
+    b = v.body
+    gs = math.hypot(b.vn_m_s, b.ve_m_s)
+    heading = int(round(math.degrees(v.attitude[2]))) % 360
+    throttle = int(min(100, max(0, 100 * v.thrust_demand_n / v.thrust_max_n)))
+    return codec.vfr_hud_encode(gs, gs, heading, throttle, v.position_global().alt_m, -b.vd_m_s)
+
+
+def home_position(v, codec):
+    home = v.home
+    if home is None:
+        return None
+    n, e, d = v.home_ned
+    return codec.home_position_encode(_deg_e7(home.lat_deg), _deg_e7(home.lon_deg),
+                                      int(home.alt_m * 1000), n, e, d, [1.0, 0.0, 0.0, 0.0],
+                                      0.0, 0.0, 0.0, int(v.time_s * 1e6))
+
+
+def extended_sys_state(v, codec):
+    return codec.extended_sys_state_encode(mav.MAV_VTOL_STATE_MC, LANDED_STATE[v.landed_state()])
+
+
+def system_time(v, codec):
+    return codec.system_time_encode(v.unix_time_us(), _ms(v))
+
+
+def mission_current(v, codec):
+    return codec.mission_current_encode(0, 0, mav.MISSION_STATE_NO_MISSION, 0)
+
+
+def autopilot_version(v, codec):
+    return codec.autopilot_version_encode(CAPABILITIES, FIRMWARE_VERSION, 0, 0, 0,
+                                          list(b"firefly\0"), [0] * 8, [0] * 8, 0, 0,
+                                          v.system_id)
+
+
+def ekf_status_report(v, codec):
+    flags = 0x1FF  # attitude, velocity, position (rel/abs), altitude, const-pos-mode off: all good
+    return codec.ekf_status_report_encode(flags, 0.01, 0.01, 0.01, 0.01, 0.0)
+
+
+BUILDERS = {
+    mav.MAVLINK_MSG_ID_HEARTBEAT: heartbeat,
+    mav.MAVLINK_MSG_ID_SYS_STATUS: sys_status,
+    mav.MAVLINK_MSG_ID_BATTERY_STATUS: battery_status,
+    mav.MAVLINK_MSG_ID_GLOBAL_POSITION_INT: global_position_int,
+    mav.MAVLINK_MSG_ID_LOCAL_POSITION_NED: local_position_ned,
+    mav.MAVLINK_MSG_ID_GPS_RAW_INT: gps_raw_int,
+    mav.MAVLINK_MSG_ID_ATTITUDE: attitude,
+    mav.MAVLINK_MSG_ID_ATTITUDE_QUATERNION: attitude_quaternion,
+    mav.MAVLINK_MSG_ID_VFR_HUD: vfr_hud,
+    mav.MAVLINK_MSG_ID_HOME_POSITION: home_position,
+    mav.MAVLINK_MSG_ID_EXTENDED_SYS_STATE: extended_sys_state,
+    mav.MAVLINK_MSG_ID_SYSTEM_TIME: system_time,
+    mav.MAVLINK_MSG_ID_MISSION_CURRENT: mission_current,
+    mav.MAVLINK_MSG_ID_AUTOPILOT_VERSION: autopilot_version,
+    mav.MAVLINK_MSG_ID_EKF_STATUS_REPORT: ekf_status_report,
+}
+
+# ArduPilot's stream groups (REQUEST_DATA_STREAM ids) and the SRn_ parameter that sets each rate.
+STREAM_GROUPS = {
+    mav.MAV_DATA_STREAM_EXTENDED_STATUS: ("SR0_EXT_STAT", (mav.MAVLINK_MSG_ID_SYS_STATUS,
+                                                          mav.MAVLINK_MSG_ID_GPS_RAW_INT,
+                                                          mav.MAVLINK_MSG_ID_MISSION_CURRENT)),
+    mav.MAV_DATA_STREAM_POSITION: ("SR0_POSITION", (mav.MAVLINK_MSG_ID_GLOBAL_POSITION_INT,
+                                                   mav.MAVLINK_MSG_ID_LOCAL_POSITION_NED)),
+    mav.MAV_DATA_STREAM_EXTRA1: ("SR0_EXTRA1", (mav.MAVLINK_MSG_ID_ATTITUDE,
+                                               mav.MAVLINK_MSG_ID_ATTITUDE_QUATERNION)),
+    mav.MAV_DATA_STREAM_EXTRA2: ("SR0_EXTRA2", (mav.MAVLINK_MSG_ID_VFR_HUD,)),
+    mav.MAV_DATA_STREAM_EXTRA3: ("SR0_EXTRA3", (mav.MAVLINK_MSG_ID_BATTERY_STATUS,
+                                               mav.MAVLINK_MSG_ID_SYSTEM_TIME,
+                                               mav.MAVLINK_MSG_ID_EKF_STATUS_REPORT,
+                                               mav.MAVLINK_MSG_ID_EXTENDED_SYS_STATE)),
+}
+# Always streamed regardless of groups: heartbeat at 1 Hz, home position at 0.5 Hz.
+FIXED_RATES_HZ = {mav.MAVLINK_MSG_ID_HEARTBEAT: 1.0, mav.MAVLINK_MSG_ID_HOME_POSITION: 0.5}
+
+
+def mode_name(number: int) -> str:
+    cls = MODE_BY_NUMBER.get(number)
+    return cls.name if cls else str(number)

@@ -1,0 +1,125 @@
+"""Scenario files (TOML): home, airframe, wind, sensor noise, seed.
+
+Every mistake is reported as one ScenarioError line naming the file, the table and the key.
+"""
+from __future__ import annotations
+
+import dataclasses
+import math
+import tomllib
+from pathlib import Path
+
+from sim.airframe import Airframe
+from sim.sensors import NoiseConfig
+from sim.vehicle import SimConfig
+from sim.wind import SteadyWind
+
+from .geo import GeoPoint
+
+DEFAULT_HOME = (-35.363261, 149.165230, 584.0, 0.0)  # ArduPilot SITL's CMAC field, Canberra
+
+
+class ScenarioError(ValueError):
+    pass
+
+
+@dataclasses.dataclass
+class Scenario:
+    home: GeoPoint = dataclasses.field(default_factory=lambda: GeoPoint(*DEFAULT_HOME[:3]))
+    home_yaw_deg: float = DEFAULT_HOME[3]
+    seed: int = 0
+    sim: SimConfig = dataclasses.field(default_factory=SimConfig)
+
+
+def _number(where: str, value, integer: bool = False):
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or \
+            (integer and not isinstance(value, int)):
+        raise ScenarioError(f"{where}: expected {'an integer' if integer else 'a number'}, got {value!r}")
+    if not math.isfinite(value):
+        raise ScenarioError(f"{where}: must be finite, got {value!r}")
+    return value
+
+
+def _table_to(cls, table: dict, where: str):
+    fields = {f.name: f for f in dataclasses.fields(cls)}
+    values = {}
+    for key, value in table.items():
+        if key not in fields:
+            raise ScenarioError(f"{where}: unknown key '{key}' (known: {', '.join(fields)})")
+        values[key] = _number(f"{where}.{key}", value, fields[key].type in ("int", int))
+    try:
+        obj = cls(**values)
+        if hasattr(obj, "validate"):
+            obj.validate()
+    except ValueError as exc:
+        raise ScenarioError(f"{where}: {exc}") from None
+    return obj
+
+
+def parse_home(text: str, where: str = "--home") -> tuple[GeoPoint, float]:
+    parts = text.split(",")
+    if len(parts) not in (3, 4):
+        raise ScenarioError(f"{where}: expected LAT,LON,ALT[,YAW], got {text!r}")
+    try:
+        values = [float(p) for p in parts] + ([0.0] if len(parts) == 3 else [])
+    except ValueError:
+        raise ScenarioError(f"{where}: expected numbers in LAT,LON,ALT[,YAW], got {text!r}") from None
+    home = GeoPoint(*values[:3])
+    try:
+        home.validate()
+    except ValueError as exc:
+        raise ScenarioError(f"{where}: {exc}") from None
+    if not math.isfinite(values[3]):
+        raise ScenarioError(f"{where}: yaw must be finite")
+    return home, values[3]
+
+
+def load_scenario(path: Path) -> Scenario:
+    name = str(path)
+    try:
+        data = tomllib.loads(Path(path).read_text())
+    except FileNotFoundError:
+        raise ScenarioError(f"{name}: no such file") from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise ScenarioError(f"{name}: cannot read ({exc})") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise ScenarioError(f"{name}: not valid TOML: {exc}") from None
+    return scenario_from_dict(data, name)
+
+
+KNOWN_TABLES = ("seed", "home", "airframe", "wind", "noise", "sim")
+
+
+def scenario_from_dict(data: dict, name: str = "scenario") -> Scenario:
+    for key in data:
+        if key not in KNOWN_TABLES:
+            raise ScenarioError(f"{name}: unknown key '{key}' (known: {', '.join(KNOWN_TABLES)})")
+    sc = Scenario()
+    if "seed" in data:
+        sc.seed = _number(f"{name}: seed", data["seed"], integer=True)
+    for key in ("home", "airframe", "wind", "noise", "sim"):
+        if key in data and not isinstance(data[key], dict):
+            raise ScenarioError(f"{name}: [{key}] must be a table")
+    home = data.get("home", {})
+    if home:
+        unknown = set(home) - {"lat", "lon", "alt", "yaw"}
+        if unknown:
+            raise ScenarioError(f"{name}: [home] unknown key '{sorted(unknown)[0]}' (known: lat, lon, alt, yaw)")
+        missing = {"lat", "lon", "alt"} - set(home)
+        if missing:
+            raise ScenarioError(f"{name}: [home] missing '{sorted(missing)[0]}'")
+        text = ",".join(str(_number(f"{name}: [home].{k}", home[k])) for k in ("lat", "lon", "alt"))
+        sc.home, _ = parse_home(text, f"{name}: [home]")
+        sc.home_yaw_deg = _number(f"{name}: [home].yaw", home.get("yaw", 0.0))
+    airframe = _table_to(Airframe, data.get("airframe", {}), f"{name}: [airframe]")
+    wind = _table_to(SteadyWind, data.get("wind", {}), f"{name}: [wind]")
+    noise = _table_to(NoiseConfig, data.get("noise", {}), f"{name}: [noise]")
+    sim_table = data.get("sim", {})
+    unknown = set(sim_table) - {"physics_rate_hz"}
+    if unknown:
+        raise ScenarioError(f"{name}: [sim] unknown key '{sorted(unknown)[0]}' (known: physics_rate_hz)")
+    rate = _number(f"{name}: [sim].physics_rate_hz", sim_table.get("physics_rate_hz", 400), integer=True)
+    if rate < 100 or rate % 100:
+        raise ScenarioError(f"{name}: [sim].physics_rate_hz must be a multiple of 100, at least 100")
+    sc.sim = SimConfig(airframe=airframe, wind=wind, noise=noise, physics_rate_hz=rate, seed=sc.seed)
+    return sc
