@@ -80,6 +80,8 @@ class Vehicle:
         self._disarm_timer_start: float | None = None
         self.gps = self.sim.gps.read(self.sim.state.body)
         self.armed_time_s = 0.0
+        if self.has_position():  # the simulated GPS has a fix at once: armable from the first heartbeat
+            self._set_home_here()
 
     # ----- state seen by modes and telemetry ---------------------------------------------------
     @property
@@ -298,7 +300,7 @@ class Vehicle:
         steps = sim.steps
         if steps % self._ratio_gps == 0:
             self.gps = sim.gps.read(sim.state.body)
-            if self.home_ned is None and self.gps.fix_type >= 3 and steps > 0:
+            if self.home_ned is None and self.gps.fix_type >= 3:
                 self._set_home_here()
         if steps % self._ratio_pos == 0:
             self._position_tick()

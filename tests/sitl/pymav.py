@@ -1,0 +1,43 @@
+"""Helpers for pymavlink-driven tests: a GCS-like connection and condition waits."""
+from __future__ import annotations
+
+import time
+
+from pymavlink import mavutil
+
+
+class Gcs:
+    """A pymavlink client as a ground station would be: sysid 255, compid 190 (MAV_COMP_ID_MISSIONPLANNER)."""
+
+    def __init__(self, url: str, timeout: float = 10.0):
+        self.conn = mavutil.mavlink_connection(url, source_system=255, source_component=190,
+                                               dialect="ardupilotmega")
+        hb = self.conn.recv_match(type="HEARTBEAT", blocking=True, timeout=timeout)
+        if hb is None:
+            raise AssertionError("no HEARTBEAT from the autopilot")
+        self.heartbeat = hb
+        self.conn.target_system = hb.get_srcSystem()
+        self.conn.target_component = hb.get_srcComponent()
+        self.mav = self.conn.mav
+
+    def recv(self, types, timeout: float = 5.0, condition=None):
+        """Next message of `types` satisfying `condition`, or None after `timeout` wall seconds."""
+        deadline = time.monotonic() + timeout
+        while True:
+            remaining = deadline - time.monotonic()
+            if remaining <= 0:
+                return None
+            msg = self.conn.recv_match(type=types, blocking=True, timeout=remaining)
+            if msg is not None and (condition is None or condition(msg)):
+                return msg
+
+    def command(self, command: int, *params, timeout: float = 5.0):
+        p = list(params) + [0.0] * (7 - len(params))
+        self.mav.command_long_send(self.conn.target_system, self.conn.target_component, command, 0, *p)
+        ack = self.recv("COMMAND_ACK", timeout, lambda m: m.command == command)
+        if ack is None:
+            raise AssertionError(f"no COMMAND_ACK for command {command}")
+        return ack.result
+
+    def close(self) -> None:
+        self.conn.close()
