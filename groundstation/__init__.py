@@ -1,0 +1,1 @@
+"""Decision layer: MAVSDK-based companion processes that fly the autopilot over MAVLink."""
