@@ -22,7 +22,7 @@ async def fly_square(url: str, side_m: float, alt_m: float, plot: Path | None, t
         print(f"[{time.monotonic() - t0:5.1f} s] took off to {alt_m:g} m")
         corners = [(side_m, 0.0), (side_m, side_m), (0.0, side_m), (0.0, 0.0)]
         for i, (n, e) in enumerate(corners, 1):
-            reached = await link.goto_ned(n, e, alt_m, 1.0, 60 * timeout_scale, record)
+            reached = await link.goto_ned(n, e, alt_m, 1.0, 60 * timeout_scale, record, settle_m_s=0.5)
             rn, re = link.north_east_m(reached)
             print(f"[{time.monotonic() - t0:5.1f} s] corner {i}/4 reached: N {rn:6.2f} m  E {re:6.2f} m  "
                   f"alt {reached.relative_altitude_m:5.2f} m")

@@ -79,7 +79,7 @@ class VehicleLink:
                     timeout, f"takeoff to {alt_m:g} m")
 
     async def goto_ned(self, n: float, e: float, alt_m: float, tolerance_m: float, timeout: float,
-                       on_position=None):
+                       on_position=None, settle_m_s: float | None = None):
         lat, lon = self.lat_lon_of(n, e)
         await self.action.goto_location(lat, lon, self.home.absolute_altitude_m + alt_m, float("nan"))
 
@@ -87,7 +87,12 @@ class VehicleLink:
             if on_position:
                 on_position(p)
             return math.dist(self.north_east_m(p), (n, e)) < tolerance_m
-        return await first(self.telemetry.subscribe_position(), arrived, timeout, f"arrival at N{n:g} E{e:g}")
+        reached = await first(self.telemetry.subscribe_position(), arrived, timeout, f"arrival at N{n:g} E{e:g}")
+        if settle_m_s is not None:
+            await first(self.telemetry.subscribe_velocity_ned(),
+                        lambda v: math.hypot(v.north_m_s, v.east_m_s) < settle_m_s, timeout,
+                        f"the vehicle to slow below {settle_m_s:g} m/s at N{n:g} E{e:g}")
+        return reached
 
     async def land_and_disarm(self, timeout: float, rtl: bool = False, on_position=None) -> None:
         await (self.action.return_to_launch() if rtl else self.action.land())
