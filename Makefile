@@ -5,7 +5,7 @@ VENV ?= .venv
 PY := $(VENV)/bin/python
 STAMP := $(VENV)/.installed
 
-.PHONY: install run test unit sitl clean
+.PHONY: install run test unit sitl bench clean
 
 install: $(STAMP)
 
@@ -29,3 +29,6 @@ sitl: install
 
 clean:
 	rm -rf $(VENV) build *.egg-info .pytest_cache
+
+bench: install
+	$(PY) bench/run.py

@@ -12,12 +12,13 @@ class StreamScheduler:
         self._interval_s: dict[int, float] = {}
         self._next_s: dict[int, float] = {}
         self._default_s: dict[int, float] = {}
+        # Heartbeat first: a client that has just started listening sees it before anything else.
+        for msg_id, rate in FIXED_RATES_HZ.items():
+            self._default_s[msg_id] = 1.0 / rate
         for name, ids in STREAM_GROUPS.values():
             rate = params[name]
             for msg_id in ids:
                 self._default_s[msg_id] = 1.0 / rate if rate > 0 else math.inf
-        for msg_id, rate in FIXED_RATES_HZ.items():
-            self._default_s[msg_id] = 1.0 / rate
         self._interval_s.update(self._default_s)
 
     def interval_s(self, msg_id: int) -> float:
