@@ -1,0 +1,86 @@
+"""The `autopilot` process as a user meets it: flags, scenario files, start, Ctrl-C."""
+from __future__ import annotations
+
+import signal
+import subprocess
+import sys
+
+import pytest
+
+from .conftest import REPO
+from .pymav import Gcs
+
+pytestmark = pytest.mark.sitl
+
+
+def run_cli(*args, timeout=30):
+    return subprocess.run([sys.executable, "-m", "autopilot", *args], cwd=REPO, capture_output=True,
+                          text=True, timeout=timeout)
+
+
+@pytest.mark.parametrize("args, mentions", [
+    (("--speedup", "fast"), "--speedup"),
+    (("--speedup", "-2"), "--speedup"),
+    (("--home", "91,0,10"), "latitude"),
+    (("--home", "1,2"), "--home"),
+    (("--out", "udp:localhost"), "--out"),
+    (("--out", "udp:127.0.0.1:99999"), "port"),
+    (("--no-such-flag",), "--no-such-flag"),
+    (("--instance", "-1"), "--instance"),
+])
+def test_bad_flags_get_one_line_not_a_traceback(args, mentions):
+    result = run_cli(*args, "--duration", "0.1")
+    assert result.returncode == 2
+    lines = result.stderr.strip().splitlines()
+    assert len(lines) == 1 and "Traceback" not in result.stderr, result.stderr
+    assert mentions in lines[0]
+
+
+@pytest.mark.parametrize("text, mentions", [
+    ("[wind]\nspeed_m_s = 'strong'\n", "[wind].speed_m_s"),
+    ("[airframe]\nmass_kg = -1.5\n", "mass_kg"),
+    ("[home]\nlat = 10\n", "missing"),
+    ("this is = = not toml", "TOML"),
+    ("[noise]\ngps_typo = 1\n", "gps_typo"),
+    ("seed = 1.5\n", "seed"),
+])
+def test_bad_scenario_gets_one_line_naming_the_key(tmp_path, text, mentions):
+    path = tmp_path / "bad.toml"
+    path.write_text(text)
+    result = run_cli("--scenario", str(path), "--duration", "0.1", "--state-dir", str(tmp_path))
+    assert result.returncode == 2
+    lines = result.stderr.strip().splitlines()
+    assert len(lines) == 1 and "Traceback" not in result.stderr, result.stderr
+    assert str(path) in lines[0] and mentions in lines[0]
+
+
+def test_missing_scenario_file_is_named(tmp_path):
+    result = run_cli("--scenario", str(tmp_path / "nope.toml"), "--duration", "0.1")
+    assert result.returncode == 2 and "nope.toml" in result.stderr and "Traceback" not in result.stderr
+
+
+def test_scenario_home_is_where_the_vehicle_starts(autopilot_factory, tmp_path):
+    path = tmp_path / "home.toml"
+    path.write_text("seed = 4\n[home]\nlat = 43.5615\nlon = 1.4838\nalt = 150.0\nyaw = 90.0\n")
+    ap = autopilot_factory(extra=("--scenario", str(path)))
+    gcs = Gcs(ap.pymavlink_url)
+    home = gcs.recv("HOME_POSITION", 5)
+    att = gcs.recv("ATTITUDE", 5)
+    gcs.close()
+    assert home is not None and abs(home.latitude / 1e7 - 43.5615) < 1e-6 and abs(home.longitude / 1e7 - 1.4838) < 1e-6
+    assert abs(home.altitude / 1000 - 150.0) < 0.01
+    assert abs(att.yaw - 1.5708) < 0.01
+
+
+def test_ctrl_c_exits_cleanly(autopilot):
+    gcs = Gcs(autopilot.pymavlink_url)  # running and talking
+    gcs.close()
+    autopilot.process.send_signal(signal.SIGINT)
+    assert autopilot.process.wait(timeout=10) == 0
+
+
+def test_instance_sets_system_id_and_port_offsets(autopilot_factory):
+    ap = autopilot_factory(extra=("--instance", "2"))
+    gcs = Gcs(ap.pymavlink_url)
+    assert gcs.heartbeat.get_srcSystem() == 3
+    gcs.close()
