@@ -70,6 +70,7 @@ def build(args):
     """Assemble the vehicle, its MAVLink session and its UDP endpoint from parsed arguments."""
     from .geo import GeoPoint  # noqa: F401  (heavy imports after argument checks)
     from .mavlink.dialect import new_codec
+    from .mission import MissionStore
     from .mavlink.session import Session
     from .params import ParamStore
     from .rates import LoopRates
@@ -93,13 +94,16 @@ def build(args):
     state_root = Path(args.state_dir) if args.state_dir else \
         Path(os.environ.get("XDG_STATE_HOME", Path.home() / ".local" / "state")) / "firefly"
     params = ParamStore(state_root / f"instance-{n}" / "params.json", wipe=args.wipe)
+    missions_path = state_root / f"instance-{n}" / "missions.json"
     if args.wipe:
         params.save_all()
+        missions_path.unlink(missing_ok=True)
+    mission = MissionStore(missions_path)
     rate = scenario.sim.physics_rate_hz
     config = VehicleConfig(home=scenario.home, home_yaw_deg=scenario.home_yaw_deg, sim=scenario.sim,
                            rates=LoopRates(rate, min(400, rate), 100), system_id=n + 1,
                            epoch_unix_us=int(time.time() * 1e6))
-    vehicle = Vehicle(config, params)
+    vehicle = Vehicle(config, params, mission)
     try:
         endpoint = UdpEndpoint(listen, outs, n + 1)
     except OSError as exc:

@@ -6,12 +6,11 @@ as ArduPilot does.
 """
 from __future__ import annotations
 
-import json
 import math
-import os
-import tempfile
 from dataclasses import dataclass
 from pathlib import Path
+
+from .persist import read_json, write_json_atomic
 
 
 @dataclass(frozen=True)
@@ -116,10 +115,7 @@ class ParamStore:
             self._load(path)
 
     def _load(self, path: Path) -> None:
-        try:
-            saved = json.loads(path.read_text())
-        except (OSError, ValueError):
-            return  # an unreadable file is ignored; defaults stand (the next save rewrites it)
+        saved = read_json(path)  # an unreadable file is ignored; defaults stand until the next save
         for name, value in saved.items() if isinstance(saved, dict) else ():
             try:
                 self._values[name] = self._checked(name, value)
@@ -172,13 +168,6 @@ class ParamStore:
         self._save()
 
     def _save(self) -> None:
-        if self.path is None:
-            return
-        self.path.parent.mkdir(parents=True, exist_ok=True)
-        changed = {n: v for n, v in self._values.items() if v != SPEC_BY_NAME[n].default}
-        fd, tmp = tempfile.mkstemp(dir=self.path.parent, prefix=".params-")
-        with os.fdopen(fd, "w") as f:
-            json.dump(changed, f, indent=1, sort_keys=True)
-            f.flush()
-            os.fsync(f.fileno())
-        os.replace(tmp, self.path)
+        if self.path is not None:
+            write_json_atomic(self.path, {n: v for n, v in self._values.items()
+                                          if v != SPEC_BY_NAME[n].default})

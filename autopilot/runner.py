@@ -38,11 +38,12 @@ class Runner:
     def _exchange(self) -> None:
         for node in self.nodes:
             now = node.vehicle.time_s
+            link = time.monotonic()
             codec = node.session.codec
             out = []
             for msg in node.endpoint.receive():
-                out.extend(node.session.receive(msg, now))
-            out.extend(node.session.poll(now))
+                out.extend(node.session.receive(msg, now, link))
+            out.extend(node.session.poll(now, link))
             if out:
                 node.endpoint.send([m.pack(codec) for m in out])
 

@@ -16,7 +16,8 @@ from .control.allocation import Allocator
 from .control.attitude import AttitudeController, wrap_pi
 from .control.position import PositionController
 from .geo import GeoPoint, global_from_ned, ned_from_global
-from .modes import MODE_BY_NUMBER, Guided, Setpoint, Stabilize
+from .mission import MissionStore
+from .modes import MODE_BY_NUMBER, Auto, Guided, Setpoint, Stabilize
 from .params import ParamStore
 from .pilot import CENTRED, CENTRED_MANUAL, PilotInput
 from .rates import LoopRates
@@ -40,13 +41,19 @@ class VehicleConfig:
 
 
 class Vehicle:
-    def __init__(self, config: VehicleConfig, params: ParamStore | None = None):
+    def __init__(self, config: VehicleConfig, params: ParamStore | None = None,
+                 mission: MissionStore | None = None):
         config.rates.check()
         if config.rates.physics_hz != config.sim.physics_rate_hz:
             raise ValueError("sim physics rate and loop-rate table disagree")
         self.config = config
         self.system_id = config.system_id
         self.params = params or ParamStore()
+        self.mission = mission or MissionStore()
+        self._mission_index = 0
+        self.mission_state = "NOT_STARTED"
+        self.auto_armed = False  # ArduCopter's flag: AUTO may start its mission from the ground
+        self.reached: list[int] = []  # mission seqs reached, for MISSION_ITEM_REACHED
         n0, e0 = config.offset_ne_m
         self.origin = config.home
         self.sim = SimVehicle(config.sim, math.radians(config.home_yaw_deg), n0, e0)
@@ -120,6 +127,10 @@ class Vehicle:
     def ned_to_global(self, n: float, e: float, d: float) -> GeoPoint:
         return global_from_ned(self.origin, n, e, d)
 
+    def drain_reached(self) -> list:
+        reached, self.reached = self.reached, []
+        return reached
+
     def drain_events(self) -> list:
         events, self.events = self.events, []
         return events
@@ -136,6 +147,40 @@ class Vehicle:
         if self.landed:
             return "ON_GROUND"
         return self.mode.landed_state_hint(self) or "IN_AIR"
+
+    # ----- mission progress ----------------------------------------------------------------------
+    def mission_index(self) -> int:
+        """Index into the stored items of the current mission item (seq = index + 1)."""
+        return min(self._mission_index, max(len(self.mission.items(0)) - 1, 0))
+
+    def set_mission_index(self, index: int) -> None:
+        self._mission_index = index
+
+    def mission_current_seq(self) -> int:
+        return self.mission_index() + 1 if self.mission.items(0) else 0
+
+    def set_mission_current(self, seq: int) -> bool:
+        """MISSION_SET_CURRENT: in AUTO the mission continues from that item at once."""
+        if not 1 <= seq <= len(self.mission.items(0)):
+            return False
+        self._mission_index = seq - 1
+        if isinstance(self.mode, Auto) and self.mission_state == "ACTIVE":
+            self.mode.restart_at(self, seq - 1)
+        return True
+
+    def mission_item_reached(self, index: int) -> None:
+        self.reached.append(index + 1)
+
+    def mission_start(self) -> Result:
+        """MISSION_START: switch to AUTO and let the mission begin even from the ground."""
+        result = self.set_mode(Auto.number)
+        if result == Result.ACCEPTED:
+            self.auto_armed = self.armed
+            if self.mission_state == "COMPLETE":
+                self._mission_index = 0
+            if self.mission_state != "ACTIVE":
+                self.mission_state = "NOT_STARTED"
+        return result
 
     def notify(self, text: str, severity: int = Severity.INFO) -> None:
         self.events.append((int(severity), text))
@@ -198,6 +243,7 @@ class Vehicle:
             self.notify("Disarm: not landed", Severity.CRITICAL)
             return Result.FAILED
         self.armed = False
+        self.auto_armed = False
         self.notify("Disarming motors")
         return Result.ACCEPTED
 
@@ -240,6 +286,7 @@ class Vehicle:
             self.mode.set_takeoff(self, alt_m)
         else:
             return Result.FAILED
+        self.auto_armed = True
         self._disarm_timer_start = None
         return Result.ACCEPTED
 

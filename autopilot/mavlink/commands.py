@@ -178,7 +178,7 @@ def condition_yaw(s, c: Command) -> Result:
 
 
 def mission_start(s, c: Command) -> Result:
-    return s.vehicle.set_mode(3)
+    return s.vehicle.mission_start()
 
 
 HANDLERS = {

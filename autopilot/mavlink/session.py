@@ -13,6 +13,7 @@ from . import ftp
 from .commands import Command, CommandService
 from .dialect import mavlink as mav
 from .guided_setpoints import handle_global_int, handle_local_ned
+from .mission_service import MissionService
 from .params_service import ParamService
 from .streams import StreamScheduler
 from .telemetry import BUILDERS
@@ -28,6 +29,8 @@ class Session:
         self.streams = StreamScheduler(vehicle.params)
         self.params = ParamService(vehicle.params, codec)
         self.commands = CommandService()
+        self.missions = MissionService(vehicle.mission, vehicle, codec)
+        self.link_s = 0.0  # link clock (wall time from the I/O layer) for transfer retries
         self._out: list = []
         self.counters = {"received": 0, "ignored_other_system": 0, "bad_data": 0, "refused": 0}
         self.gcs_last_heartbeat_s: float | None = None
@@ -41,9 +44,14 @@ class Session:
             "PARAM_SET": lambda m, now: self._out.extend(self.params.set(m, self.vehicle.notify)),
             "REQUEST_DATA_STREAM": self._on_request_data_stream,
             "FILE_TRANSFER_PROTOCOL": self._on_ftp,
-            "MISSION_REQUEST_LIST": self._on_mission_request_list,
-            "MISSION_COUNT": self._on_mission_count,
-            "MISSION_CLEAR_ALL": self._on_mission_clear_all,
+            "MISSION_REQUEST_LIST": lambda m, now: self._out.extend(self.missions.on_request_list(m)),
+            "MISSION_COUNT": lambda m, now: self._out.extend(self.missions.on_count(m, self.link_s)),
+            "MISSION_ITEM_INT": lambda m, now: self._out.extend(self.missions.on_item(m, self.link_s)),
+            "MISSION_ITEM": lambda m, now: self._out.extend(self.missions.on_item(m, self.link_s)),
+            "MISSION_REQUEST_INT": lambda m, now: self._out.extend(self.missions.on_request(m)),
+            "MISSION_REQUEST": lambda m, now: self._out.extend(self.missions.on_request(m)),
+            "MISSION_CLEAR_ALL": lambda m, now: self._out.extend(self.missions.on_clear_all(m)),
+            "MISSION_SET_CURRENT": lambda m, now: self._out.extend(self.missions.on_set_current(m)),
             "MANUAL_CONTROL": self._on_manual_control,
             "RC_CHANNELS_OVERRIDE": self._on_rc_override,
             "SET_POSITION_TARGET_LOCAL_NED": self._on_setpoint_local,
@@ -69,11 +77,12 @@ class Session:
         target = getattr(msg, "target_system", 0)
         return target in (0, self.system_id)
 
-    def receive(self, msg, now_s: float) -> list:
+    def receive(self, msg, now_s: float, link_s: float | None = None) -> list:
         if msg.get_type() == "BAD_DATA":
             self.counters["bad_data"] += 1
             return []
         self.counters["received"] += 1
+        self.link_s = now_s if link_s is None else link_s
         if not self._for_me(msg):
             self.counters["ignored_other_system"] += 1
             return []
@@ -108,20 +117,6 @@ class Session:
     def _on_ftp(self, msg, now_s):
         self.queue(ftp.reply(msg, self.codec))
 
-    def _on_mission_request_list(self, msg, now_s):
-        # Mission storage arrives with the mission protocol: every list is empty for now.
-        self._out.append(self.codec.mission_count_encode(msg.get_srcSystem(), msg.get_srcComponent(),
-                                                         0, msg.mission_type))
-
-    def _on_mission_count(self, msg, now_s):
-        self.vehicle.notify("Mission upload not supported yet", Severity.WARNING)
-        self._out.append(self.codec.mission_ack_encode(msg.get_srcSystem(), msg.get_srcComponent(),
-                                                       mav.MAV_MISSION_UNSUPPORTED, msg.mission_type))
-
-    def _on_mission_clear_all(self, msg, now_s):
-        self._out.append(self.codec.mission_ack_encode(msg.get_srcSystem(), msg.get_srcComponent(),
-                                                       mav.MAV_MISSION_ACCEPTED, msg.mission_type))
-
     def _on_manual_control(self, msg, now_s):
         x, y, z, r = msg.x, msg.y, msg.z, msg.r
         self.vehicle.pilot_input.update(y / 1000.0, x / 1000.0, r / 1000.0, z / 1000.0, now_s)
@@ -151,7 +146,11 @@ class Session:
             self._out.append(self.codec.timesync_encode(int(now_s * 1e9), msg.ts1))
 
     # ----- output -----------------------------------------------------------------------------
-    def poll(self, now_s: float) -> list:
+    def poll(self, now_s: float, link_s: float | None = None) -> list:
+        self.link_s = now_s if link_s is None else link_s
+        self._out.extend(self.missions.poll(self.link_s))
+        for seq in self.vehicle.drain_reached():
+            self._out.append(self.codec.mission_item_reached_encode(seq))
         for severity, text in self.vehicle.drain_events():
             self._out.append(self.codec.statustext_encode(severity, text.encode()[:MAX_STATUSTEXT]))
         for msg_id in self.streams.due(now_s):

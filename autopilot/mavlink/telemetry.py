@@ -128,8 +128,14 @@ def system_time(v, codec):
     return codec.system_time_encode(v.unix_time_us(), _ms(v))
 
 
+MISSION_STATE = {"NOT_STARTED": mav.MISSION_STATE_NOT_STARTED, "ACTIVE": mav.MISSION_STATE_ACTIVE,
+                 "PAUSED": mav.MISSION_STATE_PAUSED, "COMPLETE": mav.MISSION_STATE_COMPLETE}
+
+
 def mission_current(v, codec):
-    return codec.mission_current_encode(0, 0, mav.MISSION_STATE_NO_MISSION, 0)
+    total = len(v.mission.items(0))
+    state = MISSION_STATE[v.mission_state] if total else mav.MISSION_STATE_NO_MISSION
+    return codec.mission_current_encode(v.mission_current_seq(), total + 1 if total else 0, state, 0)
 
 
 def autopilot_version(v, codec):

@@ -1,0 +1,187 @@
+"""Mission microservice, vehicle side: upload and download of mission, fence and rally lists.
+
+The vehicle drives an upload: it requests each item in turn and re-requests after a quiet spell
+(clients do not resend), so a lossy link still completes. Items are checked as they arrive; the
+stored list is replaced only when the last item is in and valid, so an interrupted or refused
+upload leaves the previous list untouched. ArduPilot's convention holds: mission seq 0 is home.
+
+Retry timers run on the link clock (`link_s`, wall time at the I/O edge), not on sim time: they
+are about packets in flight, which take wall time whatever the speedup.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+from ..mission import FENCE, MISSION, RALLY, MissionItem
+from .dialect import mavlink as mav
+
+RETRY_S = 0.4
+MAX_RETRIES = 10
+MAX_ITEMS = {MISSION: 700, FENCE: 200, RALLY: 50}
+
+GLOBAL_FRAMES = {mav.MAV_FRAME_GLOBAL, mav.MAV_FRAME_GLOBAL_RELATIVE_ALT, mav.MAV_FRAME_GLOBAL_INT,
+                 mav.MAV_FRAME_GLOBAL_RELATIVE_ALT_INT, mav.MAV_FRAME_GLOBAL_TERRAIN_ALT,
+                 mav.MAV_FRAME_GLOBAL_TERRAIN_ALT_INT}
+ALLOWED_FRAMES = GLOBAL_FRAMES | {mav.MAV_FRAME_MISSION, mav.MAV_FRAME_LOCAL_NED}
+# Commands whose x/y are a latitude/longitude that must make sense.
+POSITIONAL = {mav.MAV_CMD_NAV_WAYPOINT, mav.MAV_CMD_NAV_LOITER_UNLIM, mav.MAV_CMD_NAV_LOITER_TURNS,
+              mav.MAV_CMD_NAV_LOITER_TIME, mav.MAV_CMD_NAV_LAND, mav.MAV_CMD_NAV_TAKEOFF,
+              mav.MAV_CMD_NAV_SPLINE_WAYPOINT, mav.MAV_CMD_NAV_FENCE_POLYGON_VERTEX_INCLUSION,
+              mav.MAV_CMD_NAV_FENCE_POLYGON_VERTEX_EXCLUSION, mav.MAV_CMD_NAV_FENCE_CIRCLE_INCLUSION,
+              mav.MAV_CMD_NAV_FENCE_CIRCLE_EXCLUSION, mav.MAV_CMD_NAV_RALLY_POINT,
+              mav.MAV_CMD_NAV_FENCE_RETURN_POINT}
+
+
+def item_from_message(msg) -> MissionItem:
+    """MISSION_ITEM_INT as is; MISSION_ITEM (float degrees) scaled to the INT convention."""
+    if msg.get_type() == "MISSION_ITEM_INT":
+        x, y = msg.x, msg.y
+    elif msg.frame in GLOBAL_FRAMES and math.isfinite(msg.x) and math.isfinite(msg.y):
+        x, y = int(round(msg.x * 1e7)), int(round(msg.y * 1e7))
+    else:
+        x, y = (int(msg.x) if math.isfinite(msg.x) else 2**31), (int(msg.y) if math.isfinite(msg.y) else 2**31)
+    return MissionItem(msg.command, msg.frame, msg.param1, msg.param2, msg.param3, msg.param4, x, y,
+                       msg.z, msg.autocontinue)
+
+
+def check_item(item: MissionItem) -> int:
+    """MAV_MISSION_RESULT for one item: ACCEPTED or the first problem found."""
+    if item.frame not in ALLOWED_FRAMES:
+        return mav.MAV_MISSION_UNSUPPORTED_FRAME
+    for n, value in enumerate((item.p1, item.p2, item.p3, item.p4), start=1):
+        if math.isinf(value):  # NaN means "unchanged" for some params; infinity never makes sense
+            return getattr(mav, f"MAV_MISSION_INVALID_PARAM{n}")
+    if not math.isfinite(item.z) or abs(item.z) > 100_000:
+        return mav.MAV_MISSION_INVALID_PARAM7
+    if item.command in POSITIONAL and item.frame in GLOBAL_FRAMES:
+        if not -900_000_000 <= item.x <= 900_000_000:
+            return mav.MAV_MISSION_INVALID_PARAM5_X
+        if not -1_800_000_000 <= item.y <= 1_800_000_000:
+            return mav.MAV_MISSION_INVALID_PARAM6_Y
+    return mav.MAV_MISSION_ACCEPTED
+
+
+@dataclass
+class Upload:
+    kind: int
+    count: int
+    peer: tuple
+    items: list = field(default_factory=list)
+    last_request_s: float = 0.0
+    retries: int = 0
+
+
+class MissionService:
+    def __init__(self, store, vehicle, codec):
+        self.store = store
+        self.vehicle = vehicle
+        self.codec = codec
+        self.upload: Upload | None = None
+
+    # ----- helpers ----------------------------------------------------------------------------
+    def _ack(self, peer: tuple, result: int, kind: int):
+        return self.codec.mission_ack_encode(peer[0], peer[1], result, kind)
+
+    def _request(self, up: Upload, link_s: float):
+        up.last_request_s = link_s
+        return self.codec.mission_request_int_encode(up.peer[0], up.peer[1], len(up.items), up.kind)
+
+    def listed(self, kind: int) -> list[MissionItem]:
+        """The list as ground stations see it: for the mission, home first as seq 0."""
+        items = self.store.items(kind)
+        if kind != MISSION:
+            return items
+        home = self.vehicle.home or self.vehicle.origin
+        home_item = MissionItem(mav.MAV_CMD_NAV_WAYPOINT, mav.MAV_FRAME_GLOBAL, 0, 0, 0, 0,
+                                int(round(home.lat_deg * 1e7)), int(round(home.lon_deg * 1e7)), home.alt_m)
+        return [home_item] + items
+
+    # ----- upload -----------------------------------------------------------------------------
+    def on_count(self, msg, link_s: float) -> list:
+        peer = (msg.get_srcSystem(), msg.get_srcComponent())
+        kind = msg.mission_type
+        if kind not in MAX_ITEMS:
+            return [self._ack(peer, mav.MAV_MISSION_UNSUPPORTED, kind)]
+        if self.upload is not None and self.upload.peer != peer:
+            return [self._ack(peer, mav.MAV_MISSION_DENIED, kind)]  # someone else is uploading
+        if msg.count > MAX_ITEMS[kind] + (1 if kind == MISSION else 0):
+            return [self._ack(peer, mav.MAV_MISSION_NO_SPACE, kind)]
+        if msg.count == 0:
+            self.upload = None
+            self.store.clear(kind)
+            return [self._ack(peer, mav.MAV_MISSION_ACCEPTED, kind)]
+        self.upload = Upload(kind, msg.count, peer)
+        return [self._request(self.upload, link_s)]
+
+    def on_item(self, msg, link_s: float) -> list:
+        up = self.upload
+        peer = (msg.get_srcSystem(), msg.get_srcComponent())
+        if up is None or peer != up.peer or msg.mission_type != up.kind:
+            return []
+        if msg.seq != len(up.items):  # a duplicate or out-of-order item: ask again for the one we need
+            return [self._request(up, link_s)] if msg.seq > len(up.items) else []
+        item = item_from_message(msg)
+        result = check_item(item)
+        if result != mav.MAV_MISSION_ACCEPTED:
+            self.upload = None
+            self.vehicle.notify(f"Mission upload refused: item {msg.seq} invalid", 4)
+            return [self._ack(peer, result, up.kind)]
+        up.items.append(item)
+        up.retries = 0
+        if len(up.items) < up.count:
+            return [self._request(up, link_s)]
+        self.upload = None
+        items = up.items[1:] if up.kind == MISSION else up.items  # seq 0 is home: not stored
+        self.store.replace(up.kind, items)
+        return [self._ack(peer, mav.MAV_MISSION_ACCEPTED, up.kind)]
+
+    def poll(self, link_s: float) -> list:
+        up = self.upload
+        if up is None or link_s - up.last_request_s < RETRY_S:
+            return []
+        up.retries += 1
+        if up.retries > MAX_RETRIES:
+            self.upload = None
+            return [self._ack(up.peer, mav.MAV_MISSION_OPERATION_CANCELLED, up.kind)]
+        return [self._request(up, link_s)]
+
+    # ----- download and the rest ----------------------------------------------------------------
+    def on_request_list(self, msg) -> list:
+        peer = (msg.get_srcSystem(), msg.get_srcComponent())
+        if msg.mission_type not in MAX_ITEMS:
+            return [self._ack(peer, mav.MAV_MISSION_UNSUPPORTED, msg.mission_type)]
+        return [self.codec.mission_count_encode(peer[0], peer[1], len(self.listed(msg.mission_type)),
+                                                msg.mission_type)]
+
+    def on_request(self, msg) -> list:
+        peer = (msg.get_srcSystem(), msg.get_srcComponent())
+        if msg.mission_type not in MAX_ITEMS:
+            return [self._ack(peer, mav.MAV_MISSION_UNSUPPORTED, msg.mission_type)]
+        items = self.listed(msg.mission_type)
+        if not 0 <= msg.seq < len(items):
+            return [self._ack(peer, mav.MAV_MISSION_INVALID_SEQUENCE, msg.mission_type)]
+        it = items[msg.seq]
+        current = 1 if msg.seq == self.vehicle.mission_current_seq() else 0
+        if msg.get_type() == "MISSION_REQUEST_INT":
+            return [self.codec.mission_item_int_encode(peer[0], peer[1], msg.seq, it.frame, it.command,
+                                                       current, it.autocontinue, it.p1, it.p2, it.p3,
+                                                       it.p4, it.x, it.y, it.z, msg.mission_type)]
+        scale = 1e-7 if it.frame in GLOBAL_FRAMES else 1.0
+        return [self.codec.mission_item_encode(peer[0], peer[1], msg.seq, it.frame, it.command, current,
+                                               it.autocontinue, it.p1, it.p2, it.p3, it.p4,
+                                               it.x * scale, it.y * scale, it.z, msg.mission_type)]
+
+    def on_clear_all(self, msg) -> list:
+        peer = (msg.get_srcSystem(), msg.get_srcComponent())
+        if msg.mission_type not in MAX_ITEMS:
+            return [self._ack(peer, mav.MAV_MISSION_UNSUPPORTED, msg.mission_type)]
+        if self.upload is not None and self.upload.kind == msg.mission_type:
+            self.upload = None
+        self.store.clear(msg.mission_type)
+        return [self._ack(peer, mav.MAV_MISSION_ACCEPTED, msg.mission_type)]
+
+    def on_set_current(self, msg) -> list:
+        if self.vehicle.set_mission_current(msg.seq):
+            return [self.codec.mission_current_encode(msg.seq, len(self.listed(MISSION)))]
+        return []

@@ -1,0 +1,62 @@
+"""Stored mission, fence and rally lists, replaced whole or not at all, saved atomically.
+
+Items keep MAVLink's MISSION_ITEM_INT field meanings (command and frame numbers, x/y in 1e-7
+degrees) because that is the language of mission files and ground stations; the store itself
+knows nothing of the wire. For the mission list, index 0 is home, as in ArduPilot: what is stored
+starts at seq 1 and the home item is made up when the list is read.
+"""
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass
+from pathlib import Path
+
+from ..persist import read_json, write_json_atomic
+
+MISSION, FENCE, RALLY = 0, 1, 2
+
+
+@dataclass(frozen=True)
+class MissionItem:
+    command: int
+    frame: int
+    p1: float = 0.0
+    p2: float = 0.0
+    p3: float = 0.0
+    p4: float = 0.0
+    x: int = 0  # latitude * 1e7 (or local x) as in MISSION_ITEM_INT
+    y: int = 0  # longitude * 1e7
+    z: float = 0.0
+    autocontinue: int = 1
+
+
+class MissionStore:
+    def __init__(self, path: Path | None = None):
+        self.path = path
+        self._lists: dict[int, list[MissionItem]] = {MISSION: [], FENCE: [], RALLY: []}
+        self.version = 0  # bumped on every change, so AUTO can notice a new mission
+        if path is not None and path.exists():
+            self._load(path)
+
+    def _load(self, path: Path) -> None:
+        try:
+            lists = {int(k): [MissionItem(**item) for item in v] for k, v in read_json(path).items()}
+        except (AttributeError, ValueError, TypeError):
+            return  # unreadable: start empty; the next save writes a good file
+        for kind in (MISSION, FENCE, RALLY):
+            self._lists[kind] = lists.get(kind, [])
+
+    def items(self, kind: int) -> list[MissionItem]:
+        """Stored items. For MISSION these are seq 1..n (seq 0 is home)."""
+        return list(self._lists[kind])
+
+    def replace(self, kind: int, items: list[MissionItem]) -> None:
+        self._lists[kind] = list(items)
+        self.version += 1
+        self._save()
+
+    def clear(self, kind: int) -> None:
+        self.replace(kind, [])
+
+    def _save(self) -> None:
+        if self.path is not None:
+            write_json_atomic(self.path, {str(k): [asdict(i) for i in v] for k, v in self._lists.items()})
