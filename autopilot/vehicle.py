@@ -15,6 +15,7 @@ from sim.vehicle import SimConfig, SimVehicle
 from .control.allocation import Allocator
 from .control.attitude import AttitudeController, wrap_pi
 from .control.position import PositionController
+from .failsafe import Failsafes
 from .geo import GeoPoint, global_from_ned, ned_from_global
 from .mission import MissionStore
 from .modes import MODE_BY_NUMBER, Auto, Guided, Setpoint, Stabilize
@@ -54,6 +55,7 @@ class Vehicle:
         self.mission_state = "NOT_STARTED"
         self.auto_armed = False  # ArduCopter's flag: AUTO may start its mission from the ground
         self.reached: list[int] = []  # mission seqs reached, for MISSION_ITEM_REACHED
+        self.failsafes = Failsafes()
         n0, e0 = config.offset_ne_m
         self.origin = config.home
         self.sim = SimVehicle(config.sim, math.radians(config.home_yaw_deg), n0, e0)
@@ -397,6 +399,8 @@ class Vehicle:
                 self._yaw_t = wrap_pi(self._yaw_t + sp.yaw_rate * dt)
         self._update_land_detector(dt)
         self._update_auto_disarm()
+        if self.sim.steps % (self._ratio_pos * 10) == 0:  # failsafe checks at 10 Hz
+            self.failsafes.check(self)
 
     def _manual_thrust(self, stick: float) -> float:
         """STABILIZE throttle curve: mid stick = hover thrust, full stick = full thrust."""

@@ -6,9 +6,7 @@ packs and sends them; this class never touches a socket or a wall clock.
 """
 from __future__ import annotations
 
-import math
-
-from ..results import Result, Severity
+from ..results import Result
 from . import ftp
 from .commands import Command, CommandService
 from .dialect import mavlink as mav
@@ -93,7 +91,8 @@ class Session:
 
     def _on_heartbeat(self, msg, now_s):
         if msg.type == mav.MAV_TYPE_GCS:
-            self.gcs_last_heartbeat_s = now_s
+            self.gcs_last_heartbeat_s = self.link_s
+            self.vehicle.failsafes.gcs_regained(self.vehicle)
 
     def _on_command(self, c: Command, now_s):
         ack = self.commands.handle(self, c, now_s)
@@ -149,6 +148,9 @@ class Session:
     def poll(self, now_s: float, link_s: float | None = None) -> list:
         self.link_s = now_s if link_s is None else link_s
         self._out.extend(self.missions.poll(self.link_s))
+        last = self.gcs_last_heartbeat_s
+        if last is not None and self.link_s - last > self.vehicle.params["FS_GCS_TIMEOUT"]:
+            self.vehicle.failsafes.gcs_lost(self.vehicle)
         for seq in self.vehicle.drain_reached():
             self._out.append(self.codec.mission_item_reached_encode(seq))
         for severity, text in self.vehicle.drain_events():

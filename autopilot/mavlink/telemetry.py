@@ -44,14 +44,22 @@ def heartbeat(v, codec):
     if v.armed:
         base |= mav.MAV_MODE_FLAG_SAFETY_ARMED
     status = mav.MAV_STATE_ACTIVE if v.armed else mav.MAV_STATE_STANDBY
+    if v.armed and v.failsafes.active:
+        status = mav.MAV_STATE_CRITICAL
     return codec.heartbeat_encode(mav.MAV_TYPE_QUADROTOR, mav.MAV_AUTOPILOT_ARDUPILOTMEGA, base,
                                   mode.number, status)
 
 
 def sys_status(v, codec):
+    present = SENSORS | PREARM
     healthy = SENSORS | (PREARM if v.is_armable() else 0)
+    if v.failsafes.battery_level:
+        healthy &= ~mav.MAV_SYS_STATUS_SENSOR_BATTERY
+    if v.params["FENCE_ENABLE"]:
+        present |= mav.MAV_SYS_STATUS_GEOFENCE
+        healthy |= 0 if v.failsafes.fence_breached else mav.MAV_SYS_STATUS_GEOFENCE
     batt = v.sim.battery
-    return codec.sys_status_encode(SENSORS | PREARM, SENSORS | PREARM, healthy, 100,
+    return codec.sys_status_encode(present, present, healthy, 100,
                                    int(batt.voltage_v * 1000), int(batt.current_a * 100),
                                    int(round(v.sim.battery_remaining * 100)), 0, 0, 0, 0, 0, 0)
 

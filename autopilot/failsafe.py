@@ -1,0 +1,137 @@
+"""Failsafes and the geofence, configured by ArduCopter's parameters.
+
+Each check looks at the vehicle (sim time only) and, on a new breach, announces it and switches
+to the configured action. Ground-station link loss is detected by the MAVLink session on the
+link clock and reported here through `gcs_lost()`, so wall time never reaches the vehicle.
+"""
+from __future__ import annotations
+
+import math
+
+from .results import Result, Severity
+
+RTL, LAND = 6, 9
+# FS_BATT_ENABLE / FS_GCS_ENABLE values -> mode to switch to (SmartRTL is flown as RTL here).
+BATT_ACTIONS = {1: LAND, 2: RTL, 3: RTL, 4: RTL}
+GCS_ACTIONS = {1: RTL, 2: RTL, 3: RTL, 4: RTL, 5: LAND}
+FENCE_ACTIONS = {1: RTL, 2: LAND, 3: RTL, 4: RTL, 5: RTL}
+FENCE_ALT, FENCE_CIRCLE, FENCE_POLYGON = 1, 2, 4
+CMD_POLY_INCLUSION, CMD_POLY_EXCLUSION, CMD_CIRCLE_INCLUSION, CMD_CIRCLE_EXCLUSION = 5001, 5002, 5003, 5004
+
+
+def point_in_polygon(p: tuple, poly: list[tuple]) -> bool:
+    """Even-odd rule on a local (north, east) polygon."""
+    inside = False
+    x, y = p
+    for (x1, y1), (x2, y2) in zip(poly, poly[1:] + poly[:1]):
+        if (y1 > y) != (y2 > y) and x < (x2 - x1) * (y - y1) / (y2 - y1) + x1:
+            inside = not inside
+    return inside
+
+
+class Failsafes:
+    def __init__(self):
+        self.battery_level = 0  # 0 ok, 1 low, 2 critical
+        self.gcs = False
+        self.fence_breached = False
+        self._fence_version = None
+        self._zones: list = []
+
+    @property
+    def active(self) -> bool:
+        return bool(self.battery_level or self.gcs or self.fence_breached)
+
+    def _act(self, v, mode: int | None, reason: str) -> None:
+        if mode is None or not v.armed or v.landed:
+            return
+        if v.mode.number in (LAND,) or (mode == RTL and v.mode.number == RTL):
+            return
+        if v.set_mode(mode) != Result.ACCEPTED and mode == RTL:
+            v.set_mode(LAND)
+
+    # ----- battery ------------------------------------------------------------------------------
+    def check_battery(self, v) -> None:
+        p = v.params
+        volts, used = v.sim.battery.voltage_v, v.sim.battery.consumed_mah
+        critical = (p["BATT_CRT_VOLT"] > 0 and volts < p["BATT_CRT_VOLT"]) or \
+                   (p["BATT_CRT_MAH"] > 0 and p["BATT_CAPACITY"] - used < p["BATT_CRT_MAH"])
+        low = critical or (p["BATT_LOW_VOLT"] > 0 and volts < p["BATT_LOW_VOLT"]) or \
+            (p["BATT_LOW_MAH"] > 0 and p["BATT_CAPACITY"] - used < p["BATT_LOW_MAH"])
+        level = 2 if critical else 1 if low else 0
+        if level <= self.battery_level or not v.armed:
+            return
+        self.battery_level = level
+        word = "critical" if level == 2 else "low"
+        v.notify(f"Battery 1 is {word} {volts:.2f}V used {used:.0f} mAh", Severity.CRITICAL)
+        action = p["FS_BATT_ENABLE"]
+        self._act(v, LAND if level == 2 and action else BATT_ACTIONS.get(int(action)), "battery")
+
+    # ----- ground station -----------------------------------------------------------------------
+    def gcs_lost(self, v) -> None:
+        if self.gcs or not v.armed or v.params["FS_GCS_ENABLE"] == 0:
+            return
+        self.gcs = True
+        v.notify("GCS Failsafe", Severity.CRITICAL)
+        action = int(v.params["FS_GCS_ENABLE"])
+        if action == 2 and v.mode.number == 3:
+            return  # continue the mission in AUTO
+        self._act(v, GCS_ACTIONS.get(action), "gcs")
+
+    def gcs_regained(self, v) -> None:
+        if self.gcs:
+            self.gcs = False
+            v.notify("GCS Failsafe Cleared", Severity.CRITICAL)
+
+    # ----- fence --------------------------------------------------------------------------------
+    def _fence_zones(self, v) -> list:
+        """Fence items from the store as local shapes, rebuilt when a new fence is uploaded."""
+        if self._fence_version == v.mission.version:
+            return self._zones
+        zones, vertices = [], []
+        for item in v.mission.items(1):
+            n, e, _ = v.ned_of(item.x * 1e-7, item.y * 1e-7, v.origin.alt_m)
+            if item.command in (CMD_POLY_INCLUSION, CMD_POLY_EXCLUSION):
+                vertices.append((n, e))
+                if len(vertices) >= max(int(item.p1), 3):
+                    zones.append(("poly", item.command == CMD_POLY_INCLUSION, vertices))
+                    vertices = []
+            elif item.command in (CMD_CIRCLE_INCLUSION, CMD_CIRCLE_EXCLUSION):
+                zones.append(("circle", item.command == CMD_CIRCLE_INCLUSION, (n, e, item.p1)))
+        self._zones, self._fence_version = zones, v.mission.version
+        return zones
+
+    def fence_breach(self, v) -> str | None:
+        """Which fence the vehicle is outside of, or None."""
+        p, b = v.params, v.body
+        kinds = int(p["FENCE_TYPE"])
+        home = v.home_ned or (0.0, 0.0, 0.0)
+        if kinds & FENCE_ALT and home[2] - b.d_m > p["FENCE_ALT_MAX"]:
+            return "maximum altitude"
+        if kinds & FENCE_CIRCLE and math.hypot(b.n_m - home[0], b.e_m - home[1]) > p["FENCE_RADIUS"]:
+            return "circle"
+        if kinds & FENCE_POLYGON:
+            here = (b.n_m, b.e_m)
+            for shape, inclusion, data in self._fence_zones(v):
+                inside = point_in_polygon(here, data) if shape == "poly" else \
+                    math.hypot(here[0] - data[0], here[1] - data[1]) <= data[2]
+                if inside != inclusion:
+                    return "polygon" if shape == "poly" else "circle zone"
+        return None
+
+    def check_fence(self, v) -> None:
+        if not v.params["FENCE_ENABLE"] or not v.armed:
+            self.fence_breached = False
+            return
+        breach = self.fence_breach(v)
+        if breach is None:
+            self.fence_breached = False
+            return
+        if self.fence_breached:
+            return
+        self.fence_breached = True
+        v.notify(f"Fence Breached: {breach}", Severity.CRITICAL)
+        self._act(v, FENCE_ACTIONS.get(int(v.params["FENCE_ACTION"])), "fence")
+
+    def check(self, v) -> None:
+        self.check_battery(v)
+        self.check_fence(v)
