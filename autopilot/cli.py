@@ -62,6 +62,8 @@ def build_parser() -> argparse.ArgumentParser:
                    help="where parameters are kept per instance (default ~/.local/state/firefly)")
     p.add_argument("--wipe", action="store_true", help="reset saved parameters to defaults (like SITL -w)")
     p.add_argument("--duration", type=float, default=math.inf, help="stop after this many sim seconds")
+    p.add_argument("--tlog", default=None, metavar="FILE",
+                   help="record every MAVLink frame sent and received to this .tlog (appends)")
     p.add_argument("--quiet", action="store_true", help="print nothing but errors")
     return p
 
@@ -108,7 +110,15 @@ def build(args):
         endpoint = UdpEndpoint(listen, outs, n + 1)
     except OSError as exc:
         raise CliError(f"--listen: cannot bind udp:{listen[0]}:{listen[1]}: {exc.strerror}") from None
-    return Node(vehicle, Session(vehicle, new_codec(n + 1)), endpoint), outs
+    tlog = None
+    if args.tlog:
+        from .tlog import TlogWriter
+        try:
+            tlog = TlogWriter(Path(args.tlog))
+        except OSError as exc:
+            endpoint.close()
+            raise CliError(f"--tlog: cannot open {args.tlog}: {exc.strerror}") from None
+    return Node(vehicle, Session(vehicle, new_codec(n + 1)), endpoint, tlog), outs
 
 
 def main(argv=None) -> int:
@@ -133,6 +143,8 @@ def main(argv=None) -> int:
         pass
     finally:
         node.endpoint.close()
+        if node.tlog is not None:
+            node.tlog.close()
     return 0
 
 

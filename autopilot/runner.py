@@ -19,6 +19,7 @@ class Node:
     vehicle: object
     session: object
     endpoint: object
+    tlog: object = None  # TlogWriter, or None
 
 
 class Runner:
@@ -41,11 +42,25 @@ class Runner:
             link = time.monotonic()
             codec = node.session.codec
             out = []
-            for msg in node.endpoint.receive():
+            received = node.endpoint.receive()
+            for msg in received:
                 out.extend(node.session.receive(msg, now, link))
             out.extend(node.session.poll(now, link))
-            if out:
-                node.endpoint.send([m.pack(codec) for m in out])
+            frames = [m.pack(codec) for m in out]
+            if frames:
+                node.endpoint.send(frames)
+            if node.tlog is not None:
+                self._log(node, received, frames)
+
+    @staticmethod
+    def _log(node: Node, received: list, sent: list) -> None:
+        stamp = node.vehicle.unix_time_us()
+        for msg in received:
+            if msg.get_type() != "BAD_DATA":
+                node.tlog.write(stamp, bytes(msg.get_msgbuf()))
+        for frame in sent:
+            node.tlog.write(stamp, frame)
+        node.tlog.maybe_flush()
 
     def _advance(self) -> None:
         self.sim_time_s += self.tick_s
