@@ -56,7 +56,9 @@ PARAM_TABLE: tuple[ParamSpec, ...] = (
     _f("ATC_RAT_RLL_D", 0.0036, 0.0, 0.05), _f("ATC_RAT_RLL_IMAX", 0.5, 0.0, 1.0),
     _f("ATC_RAT_PIT_P", 0.135, 0.01, 0.5), _f("ATC_RAT_PIT_I", 0.135, 0.01, 2.0),
     _f("ATC_RAT_PIT_D", 0.0036, 0.0, 0.05), _f("ATC_RAT_PIT_IMAX", 0.5, 0.0, 1.0),
-    _f("ATC_RAT_YAW_P", 0.18, 0.1, 2.5), _f("ATC_RAT_YAW_I", 0.018, 0.01, 1.0),
+    # Yaw: this airframe's reaction torque is small (c = d/b = 2.4 cm), so ArduPilot's 0.18 would
+    # give a yaw-rate loop slower than the angle loop; 1.0 puts it near 8 rad/s.
+    _f("ATC_RAT_YAW_P", 1.0, 0.1, 2.5), _f("ATC_RAT_YAW_I", 0.1, 0.01, 1.0),
     _f("ATC_RAT_YAW_D", 0.0, 0.0, 0.02), _f("ATC_RAT_YAW_IMAX", 0.5, 0.0, 1.0),
     _f("ANGLE_MAX", 3000, 1000, 8000, "maximum lean angle [cdeg]"),
     _f("ATC_RATE_R_MAX", 0, 0, 1080, "roll rate limit [deg/s], 0 = 360"),

@@ -35,8 +35,12 @@ def _number(where: str, value, integer: bool = False):
     if isinstance(value, bool) or not isinstance(value, (int, float)) or \
             (integer and not isinstance(value, int)):
         raise ScenarioError(f"{where}: expected {'an integer' if integer else 'a number'}, got {value!r}")
-    if not math.isfinite(value):
-        raise ScenarioError(f"{where}: must be finite, got {value!r}")
+    try:
+        finite = math.isfinite(value)
+    except OverflowError:
+        finite = False
+    if not finite:
+        raise ScenarioError(f"{where}: must be finite and of sensible size")
     return value
 
 
@@ -119,7 +123,7 @@ def scenario_from_dict(data: dict, name: str = "scenario") -> Scenario:
     if unknown:
         raise ScenarioError(f"{name}: [sim] unknown key '{sorted(unknown)[0]}' (known: physics_rate_hz)")
     rate = _number(f"{name}: [sim].physics_rate_hz", sim_table.get("physics_rate_hz", 400), integer=True)
-    if rate < 100 or rate % 100:
-        raise ScenarioError(f"{name}: [sim].physics_rate_hz must be a multiple of 100, at least 100")
+    if rate not in (100, 200) and (rate < 400 or rate % 400):
+        raise ScenarioError(f"{name}: [sim].physics_rate_hz must be 100, 200 or a multiple of 400, got {rate}")
     sc.sim = SimConfig(airframe=airframe, wind=wind, noise=noise, physics_rate_hz=rate, seed=sc.seed)
     return sc

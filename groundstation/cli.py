@@ -35,6 +35,11 @@ def build_parser() -> argparse.ArgumentParser:
     demo.add_argument("--side", type=positive, default=20.0, help="square side [m]")
     demo.add_argument("--alt", type=positive, default=10.0, help="flight altitude above home [m]")
     demo.add_argument("--plot", type=Path, default=Path("out/demo_track.png"), help="PNG of the flown track")
+    mission = sub.add_parser("mission", help="fly a QGroundControl .plan or 'QGC WPL 110' .waypoints file")
+    mission.add_argument("file", type=Path, help="mission file (.plan or .waypoints)")
+    mission.add_argument("--url", help="MAVSDK connection URL of a running vehicle (default: start one)")
+    mission.add_argument("--speedup", type=positive, default=10.0, help="speedup of the autopilot it starts")
+    mission.add_argument("--plot", type=Path, default=Path("out/mission_track.png"), help="PNG of planned vs flown")
     return p
 
 
@@ -51,11 +56,18 @@ def main(argv=None) -> int:
         print(f"groundstation: error: {exc}", file=sys.stderr)
         return 2
     quiet_mavsdk_logs()
+    from .mission_files import MissionFileError
     from .vehicle_link import LinkError
     try:
         if args.command == "demo":
             from . import demo
             return demo.run(args.url, args.speedup, args.side, args.alt, args.plot)
+        if args.command == "mission":
+            from . import mission_runner
+            return mission_runner.run(args.file, args.url, args.speedup, args.plot)
+    except MissionFileError as exc:
+        print(f"groundstation: error: {exc}", file=sys.stderr)
+        return 2
     except LinkError as exc:
         print(f"groundstation: {exc}", file=sys.stderr)
         return 1

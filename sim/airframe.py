@@ -63,6 +63,13 @@ class Airframe:
             value = getattr(self, name)
             if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
                 raise ValueError(f"{name} must be a positive number, got {value!r}")
+        for name in ("linear_drag_n_per_m_s", "angular_drag_nm_per_rad_s", "battery_internal_resistance_ohm",
+                     "avionics_current_a"):
+            value = getattr(self, name)
+            if not (math.isfinite(value) and value >= 0):
+                raise ValueError(f"{name} must be zero or positive, got {value!r}")
+        if not 0 <= self.omega_idle_rad_s < self.omega_max_rad_s:
+            raise ValueError("omega_idle_rad_s must be at least 0 and below omega_max_rad_s")
         if self.battery_cells < 1:
             raise ValueError(f"battery_cells must be at least 1, got {self.battery_cells!r}")
         if 4 * self.max_rotor_thrust_n <= 1.2 * self.weight_n:

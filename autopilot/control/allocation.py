@@ -8,6 +8,7 @@ from __future__ import annotations
 import math
 
 from sim.airframe import Airframe
+from sim.rotors import unmix
 
 
 class Allocator:
@@ -21,6 +22,10 @@ class Allocator:
 
     def forces(self, u1: float, u2: float, u3: float, u4: float) -> tuple:
         f_min, f_max = self.f_min, self.f_max
+        exact = unmix(u1, u2, u3, u4, self.l, self.c)
+        if min(exact) >= f_min and max(exact) <= f_max:  # feasible: no priorities needed
+            self.saturated = False
+            return exact
         roll, pitch = u2 / (2.0 * self.l), u3 / (2.0 * self.l)
         rp = (pitch, roll, -pitch, -roll)
         base = u1 * 0.25

@@ -167,7 +167,7 @@ def get_message_interval(s, c: Command) -> Result:
     if msg_id is None:
         return Result.DENIED
     interval = s.streams.interval_s(msg_id)
-    s.queue(s.codec.message_interval_encode(msg_id, -1 if interval == math.inf else int(interval * 1e6)))
+    s.queue(s.codec.message_interval_encode(msg_id, -1 if interval == math.inf else round(interval * 1e6)))
     return Result.ACCEPTED
 
 

@@ -72,7 +72,8 @@ class Session:
 
     # ----- input ------------------------------------------------------------------------------
     def _for_me(self, msg) -> bool:
-        target = getattr(msg, "target_system", 0)
+        # MANUAL_CONTROL names its field `target`; every other addressed message `target_system`.
+        target = getattr(msg, "target_system", getattr(msg, "target", 0))
         return target in (0, self.system_id)
 
     def receive(self, msg, now_s: float, link_s: float | None = None) -> list:
@@ -153,8 +154,8 @@ class Session:
             self.vehicle.failsafes.gcs_lost(self.vehicle)
         for seq in self.vehicle.drain_reached():
             self._out.append(self.codec.mission_item_reached_encode(seq))
+        for msg_id in self.streams.due(now_s):  # heartbeat first, then the rest
+            self.queue(self.build(msg_id))
         for severity, text in self.vehicle.drain_events():
             self._out.append(self.codec.statustext_encode(severity, text.encode()[:MAX_STATUSTEXT]))
-        for msg_id in self.streams.due(now_s):
-            self.queue(self.build(msg_id))
         return self._take()

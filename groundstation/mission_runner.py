@@ -1,0 +1,201 @@
+"""`groundstation mission FILE`: fly a .plan or .waypoints mission with MAVSDK.
+
+Uploads the mission (mission_raw), arms, starts it, shows progress (item k of n, distance to the
+next waypoint, battery) on a progress bar, waits for the end measured in vehicle time (the GPS
+timestamps the vehicle sends), returns home if the mission did not land, and writes a summary and
+a PNG of the planned against the flown track.
+"""
+from __future__ import annotations
+
+import asyncio
+import math
+import sys
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from mavsdk.asyncio.plugins.mission_raw import MissionItem, MissionRawAsync
+
+from .mission_files import MissionPlan, load_mission
+from .vehicle_link import LinkError, VehicleLink, first
+
+FRAME_GLOBAL, FRAME_MISSION = 0, 2
+NAV_RTL, NAV_LAND = 20, 21
+VEHICLE_TIME_MARGIN_S = 180.0
+
+
+@dataclass
+class FlightRecord:
+    track: list = field(default_factory=list)  # (north, east, alt) in metres from home
+    vehicle_time_s: float = 0.0
+    battery_pct: float = math.nan
+    battery_start_pct: float = math.nan
+    current_item: int = 0
+
+
+def to_raw_items(plan: MissionPlan, home) -> list:
+    """Seq 0 is home (ArduPilot's convention), then the plan's items with integer coordinates."""
+    raw = [MissionItem(0, FRAME_GLOBAL, 16, 1, 1, 0, 0, 0, 0, int(round(home.latitude_deg * 1e7)),
+                       int(round(home.longitude_deg * 1e7)), home.absolute_altitude_m, 0)]
+    for seq, it in enumerate(plan.items, start=1):
+        raw.append(MissionItem(seq, it.frame, it.command, 0, int(it.autocontinue), *it.params,
+                               int(round(it.lat_deg * 1e7)), int(round(it.lon_deg * 1e7)), it.alt_m, 0))
+    return raw
+
+
+def planned_path(plan: MissionPlan, link: VehicleLink) -> list:
+    """Horizontal points of the plan's positional items, in metres from home, starting at home."""
+    return [(0.0, 0.0)] + [link.north_east_m(it) for it in _positions(plan.items)]
+
+
+class _LatLon:
+    def __init__(self, lat, lon):
+        self.latitude_deg, self.longitude_deg = lat, lon
+
+
+def _positions(items):
+    return [_LatLon(it.lat_deg, it.lon_deg) for it in items if it.has_position]
+
+
+def path_length(points: list) -> float:
+    return sum(math.dist(a[:2], b[:2]) for a, b in zip(points, points[1:]))
+
+
+class Progress:
+    """One-line progress bar on a terminal; item changes as plain lines otherwise."""
+
+    def __init__(self, total: int, stream=sys.stdout):
+        self.total = total
+        self.stream = stream
+        self.tty = stream.isatty()
+        self._last_item = -1
+        self._last_draw = 0.0
+
+    def update(self, item: int, to_next_m: float, battery_pct: float, vehicle_s: float) -> None:
+        now = time.monotonic()
+        if self.tty and now - self._last_draw > 0.1:
+            done = int(20 * min(item, self.total) / self.total)
+            self.stream.write(f"\r[{'#' * done}{'-' * (20 - done)}] item {item}/{self.total}  "
+                              f"next {to_next_m:7.1f} m  battery {battery_pct:5.1f} %  t {vehicle_s:7.1f} s ")
+            self.stream.flush()
+            self._last_draw = now
+        elif not self.tty and item != self._last_item:
+            print(f"item {item}/{self.total}  next {to_next_m:.1f} m  battery {battery_pct:.1f} %  "
+                  f"vehicle time {vehicle_s:.1f} s", file=self.stream, flush=True)
+        self._last_item = item
+
+    def close(self) -> None:
+        if self.tty:
+            self.stream.write("\n")
+
+
+async def fly_mission(url: str, plan: MissionPlan, plot: Path | None) -> dict:
+    link = await VehicleLink.connect(url)
+    rec = FlightRecord()
+    tasks = []
+    try:
+        await link.wait_armable()
+        mission = MissionRawAsync(link.system)
+        raw = to_raw_items(plan, link.home)
+        await mission.upload_mission(raw)
+        print(f"uploaded {len(plan.items)} items")
+        targets = {seq: link.north_east_m(_LatLon(it.lat_deg, it.lon_deg))
+                   for seq, it in enumerate(plan.items, start=1) if it.has_position}
+        planned = planned_path(plan, link)
+        budget_s = path_length(planned) / 2.0 + VEHICLE_TIME_MARGIN_S  # vehicle seconds
+        progress = Progress(len(plan.items))
+        t_start = None
+
+        async def watch_time():
+            nonlocal t_start
+            async for gps in link.telemetry.subscribe_raw_gps():
+                t = gps.timestamp_us * 1e-6
+                t_start = t if t_start is None else t_start
+                rec.vehicle_time_s = t - t_start
+
+        async def watch_battery():
+            async for b in link.telemetry.subscribe_battery():
+                rec.battery_pct = b.remaining_percent
+                if math.isnan(rec.battery_start_pct):
+                    rec.battery_start_pct = b.remaining_percent
+
+        async def watch_position():
+            async for p in link.telemetry.subscribe_position():
+                here = link.north_east_m(p)
+                rec.track.append(here + (p.relative_altitude_m,))
+                nxt = next((targets[s] for s in sorted(targets) if s >= max(rec.current_item, 1)), None)
+                progress.update(rec.current_item, math.dist(here, nxt) if nxt else 0.0, rec.battery_pct,
+                                rec.vehicle_time_s)
+
+        async def watch_progress():
+            async for mp in mission.subscribe_mission_progress():
+                rec.current_item = min(mp.current, len(plan.items))  # MAVSDK reports n+1 when done
+
+        tasks = [asyncio.ensure_future(c()) for c in (watch_time, watch_battery, watch_position, watch_progress)]
+        await link.action.arm()
+        await mission.start_mission()
+        wall0 = time.monotonic()
+        ends_landed = plan.items[-1].command in (NAV_RTL, NAV_LAND)
+
+        async def mission_over():
+            while True:
+                if ends_landed and not await link.telemetry.armed() and rec.current_item >= len(plan.items) - 1:
+                    return
+                if not ends_landed and await mission.is_mission_finished():
+                    return
+                if rec.vehicle_time_s > budget_s:
+                    raise LinkError(f"mission not finished after {budget_s:.0f} s of vehicle time")
+                await first(link.telemetry.subscribe_position(), lambda p: True, 10.0, "telemetry")
+        await mission_over()
+        if not ends_landed:
+            print("\nmission complete; returning to launch")
+            await link.land_and_disarm(budget_s, rtl=True)
+        progress.close()
+        final = await link.position()
+        summary = {
+            "items": len(plan.items), "vehicle_time_s": rec.vehicle_time_s,
+            "wall_time_s": time.monotonic() - wall0, "flown_m": path_length(rec.track),
+            "planned_m": path_length(planned), "battery_used_pct": rec.battery_start_pct - rec.battery_pct,
+            "landed_from_home_m": math.hypot(*link.north_east_m(final)),
+        }
+    finally:
+        for t in tasks:
+            t.cancel()
+        link.close()
+    if plot is not None:
+        write_plot(planned, rec.track, plot)
+        summary["plot"] = str(plot)
+    return summary
+
+
+def write_plot(planned: list, flown: list, path: Path) -> None:
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, ax = plt.subplots(figsize=(6, 6))
+    ax.plot([p[1] for p in planned], [p[0] for p in planned], "k--o", lw=0.9, ms=4, label="planned")
+    ax.plot([p[1] for p in flown], [p[0] for p in flown], lw=1.5, label="flown")
+    ax.plot(0, 0, "g^", ms=10, label="home")
+    ax.set_xlabel("east [m]")
+    ax.set_ylabel("north [m]")
+    ax.set_aspect("equal")
+    ax.legend(loc="best")
+    ax.set_title("Mission: planned and flown")
+    fig.tight_layout()
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def run(path: Path, url: str | None, speedup: float, plot: Path | None) -> int:
+    plan = load_mission(path)
+    if url:
+        summary = asyncio.run(fly_mission(url, plan, plot))
+    else:
+        from .autopilot_process import AutopilotProcess
+        with AutopilotProcess(speedup) as ap:
+            print(f"started autopilot (speedup {speedup:g}), MAVSDK connecting on {ap.url}")
+            summary = asyncio.run(fly_mission(ap.url, plan, plot))
+    print("summary: " + ", ".join(f"{k} {v:.1f}" if isinstance(v, float) else f"{k} {v}"
+                                  for k, v in summary.items()))
+    return 0

@@ -1,0 +1,265 @@
+"""Scenario files and the command line: every mistake is one ScenarioError/CliError line naming
+what is wrong. No sockets: the UDP endpoint is replaced by a stand-in."""
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import pytest
+
+from autopilot import cli
+from autopilot.scenario import (DEFAULT_HOME, Scenario, ScenarioError, load_scenario, parse_home,
+                                scenario_from_dict)
+from sim.airframe import Airframe
+
+
+def one_line_error(data: dict) -> str:
+    with pytest.raises(ScenarioError) as info:
+        scenario_from_dict(data, "test.toml")
+    message = str(info.value)
+    assert "\n" not in message
+    assert message.startswith("test.toml")
+    return message
+
+
+# ----- scenario_from_dict -----------------------------------------------------------------------
+def test_empty_scenario_is_the_default():
+    sc = scenario_from_dict({})
+    default = Scenario()
+    assert sc.home == default.home
+    assert (sc.home.lat_deg, sc.home.lon_deg, sc.home.alt_m) == DEFAULT_HOME[:3]
+    assert sc.seed == 0
+    assert sc.sim.airframe == Airframe()
+    assert sc.sim.physics_rate_hz == 400
+
+
+def test_full_scenario_is_applied():
+    sc = scenario_from_dict({
+        "seed": 42,
+        "home": {"lat": 48.0, "lon": 2.0, "alt": 100, "yaw": 90},
+        "airframe": {"mass_kg": 2.0, "battery_cells": 6},
+        "wind": {"speed_m_s": 3.0, "from_direction_deg": 270.0},
+        "noise": {"gps_horizontal_m": 0.0},
+        "sim": {"physics_rate_hz": 800},
+    })
+    assert sc.seed == 42 and sc.sim.seed == 42
+    assert (sc.home.lat_deg, sc.home.lon_deg, sc.home.alt_m) == (48.0, 2.0, 100.0)
+    assert sc.home_yaw_deg == 90
+    assert sc.sim.airframe.mass_kg == 2.0 and sc.sim.airframe.battery_cells == 6
+    assert sc.sim.wind.speed_m_s == 3.0
+    assert sc.sim.noise.gps_horizontal_m == 0.0
+    assert sc.sim.physics_rate_hz == 800
+
+
+def test_unknown_top_level_key_is_named():
+    message = one_line_error({"windd": {}})
+    assert "'windd'" in message and "unknown key" in message
+
+
+@pytest.mark.parametrize("table,key", [("airframe", "mass"), ("wind", "speed"), ("noise", "gps"),
+                                       ("home", "altitude"), ("sim", "rate")])
+def test_unknown_key_in_a_table_is_named(table, key):
+    base = {"home": {"lat": 1.0, "lon": 2.0, "alt": 3.0}} if table == "home" else {}
+    data = {**base, table: {**base.get(table, {}), key: 1.0}}
+    message = one_line_error(data)
+    assert f"'{key}'" in message and table in message
+
+
+@pytest.mark.parametrize("data,key", [
+    ({"wind": {"speed_m_s": "fast"}}, "speed_m_s"),
+    ({"airframe": {"mass_kg": True}}, "mass_kg"),
+    ({"airframe": {"mass_kg": [1.5]}}, "mass_kg"),
+    ({"home": {"lat": "north", "lon": 2.0, "alt": 3.0}}, "lat"),
+    ({"seed": "abc"}, "seed"),
+    ({"noise": {"baro_m": math.nan}}, "baro_m"),
+])
+def test_non_numbers_are_named(data, key):
+    message = one_line_error(data)
+    assert key in message
+
+
+@pytest.mark.parametrize("data,key", [
+    ({"seed": 1.5}, "seed"),
+    ({"airframe": {"battery_cells": 4.0}}, "battery_cells"),
+    ({"sim": {"physics_rate_hz": 400.0}}, "physics_rate_hz"),
+])
+def test_integers_are_required_where_the_field_is_an_integer(data, key):
+    message = one_line_error(data)
+    assert key in message and "integer" in message
+
+
+@pytest.mark.parametrize("missing", ["lat", "lon", "alt"])
+def test_missing_home_coordinate_is_named(missing):
+    home = {"lat": 1.0, "lon": 2.0, "alt": 3.0}
+    del home[missing]
+    message = one_line_error({"home": home})
+    assert f"missing '{missing}'" in message
+
+
+def test_home_out_of_range_is_reported():
+    message = one_line_error({"home": {"lat": 91.0, "lon": 2.0, "alt": 3.0}})
+    assert "latitude" in message
+
+
+def test_table_that_is_not_a_table():
+    assert "[wind]" in one_line_error({"wind": 5})
+
+
+def test_airframe_that_cannot_fly_names_the_field():
+    message = one_line_error({"airframe": {"mass_kg": -1.0}})
+    assert "mass_kg" in message and "[airframe]" in message
+
+
+@pytest.mark.parametrize("rate", [50, 150, 0, -400])
+def test_physics_rate_must_be_a_multiple_of_100(rate):
+    assert "physics_rate_hz" in one_line_error({"sim": {"physics_rate_hz": rate}})
+
+
+@pytest.mark.parametrize("data", [{"seed": 10 ** 400}, {"airframe": {"mass_kg": 10 ** 400}}])
+def test_absurdly_large_integer_is_a_scenario_error(data):
+    one_line_error(data)
+
+
+# ----- load_scenario ------------------------------------------------------------------------------
+def test_load_scenario_reads_a_toml_file(tmp_path):
+    path = tmp_path / "s.toml"
+    path.write_text('seed = 7\n[home]\nlat = 10.5\nlon = -20.25\nalt = 30\n[wind]\nspeed_m_s = 2\n')
+    sc = load_scenario(path)
+    assert sc.seed == 7
+    assert (sc.home.lat_deg, sc.home.lon_deg, sc.home.alt_m) == (10.5, -20.25, 30.0)
+    assert sc.sim.wind.speed_m_s == 2
+
+
+def test_bad_toml_is_one_line_naming_the_file(tmp_path):
+    path = tmp_path / "bad.toml"
+    path.write_text("[home\nlat = \n")
+    with pytest.raises(ScenarioError) as info:
+        load_scenario(path)
+    message = str(info.value)
+    assert "\n" not in message
+    assert str(path) in message and "TOML" in message
+
+
+def test_missing_file_is_one_line_naming_the_file(tmp_path):
+    path = tmp_path / "nope.toml"
+    with pytest.raises(ScenarioError) as info:
+        load_scenario(path)
+    message = str(info.value)
+    assert "\n" not in message and str(path) in message and "no such file" in message
+
+
+def test_errors_inside_a_file_name_the_file_and_key(tmp_path):
+    path = tmp_path / "s.toml"
+    path.write_text("[airframe]\nmass_kg = \"heavy\"\n")
+    with pytest.raises(ScenarioError) as info:
+        load_scenario(path)
+    message = str(info.value)
+    assert str(path) in message and "mass_kg" in message and "\n" not in message
+
+
+# ----- --home -------------------------------------------------------------------------------------
+def test_parse_home():
+    home, yaw = parse_home("48.5,2.25,120")
+    assert (home.lat_deg, home.lon_deg, home.alt_m, yaw) == (48.5, 2.25, 120.0, 0.0)
+    assert parse_home("1,2,3,45")[1] == 45.0
+
+
+@pytest.mark.parametrize("text", ["1,2", "a,b,c", "1,2,3,4,5", "100,0,0", "0,200,0", "0,0,nan",
+                                  "0,0,0,inf"])
+def test_parse_home_errors_are_one_line(text):
+    with pytest.raises(ScenarioError) as info:
+        parse_home(text)
+    assert "\n" not in str(info.value) and "--home" in str(info.value)
+
+
+# ----- command line (no sockets: the endpoint is a stand-in) ----------------------------------------
+class FakeEndpoint:
+    def __init__(self, bind, outs, system_id):
+        self.bind, self.outs, self.system_id = bind, outs, system_id
+        self.address = bind
+
+
+@pytest.fixture
+def no_sockets(monkeypatch):
+    monkeypatch.setattr("autopilot.udp.UdpEndpoint", FakeEndpoint)
+
+
+def build(*argv):
+    return cli.build(cli.build_parser().parse_args(list(argv)))
+
+
+def test_parse_udp():
+    assert cli.parse_udp("udp:127.0.0.1:14550", "--out") == ("127.0.0.1", 14550)
+    assert cli.parse_udp("10.0.0.2:5760", "--out") == ("10.0.0.2", 5760)
+    for bad in ("udp:127.0.0.1", "udp::14550", "udp:host:port", "udp:host:70000"):
+        with pytest.raises(cli.CliError, match="--out"):
+            cli.parse_udp(bad, "--out")
+
+
+def test_parse_speedup():
+    assert cli.parse_speedup("10") == 10.0
+    assert cli.parse_speedup("inf") == math.inf
+    for bad in ("0", "-1", "nan", "fast"):
+        with pytest.raises(cli.CliError, match="--speedup"):
+            cli.parse_speedup(bad)
+
+
+def test_unknown_flag_is_a_cli_error_not_an_exit():
+    with pytest.raises(cli.CliError):
+        cli.build_parser().parse_args(["--bogus"])
+
+
+def test_instance_sets_system_id_ports_and_state_dir(no_sockets, tmp_path):
+    node, outs = build("--instance", "2", "--state-dir", str(tmp_path))
+    assert node.vehicle.system_id == 3
+    assert node.session.system_id == 3
+    assert node.endpoint.bind == ("0.0.0.0", 5780)
+    assert outs == [("127.0.0.1", 14570), ("127.0.0.1", 14560)]
+    assert node.vehicle.params.path == tmp_path / "instance-2" / "params.json"
+
+
+def test_scenario_home_and_seed_override(no_sockets, tmp_path):
+    path = tmp_path / "s.toml"
+    path.write_text("seed = 3\n[home]\nlat = 10\nlon = 20\nalt = 30\n")
+    node, _ = build("--scenario", str(path), "--state-dir", str(tmp_path), "--seed", "9")
+    assert node.vehicle.config.sim.seed == 9
+    assert node.vehicle.origin.lat_deg == 10.0
+    node, _ = build("--scenario", str(path), "--state-dir", str(tmp_path), "--home", "1,2,3,90")
+    assert node.vehicle.origin.lat_deg == 1.0
+    assert node.vehicle.config.home_yaw_deg == 90.0
+
+
+@pytest.mark.parametrize("argv", [("--instance", "201"), ("--scenario", "/nonexistent/x.toml"),
+                                  ("--home", "0,0"), ("--out", "nowhere")])
+def test_build_errors_are_cli_or_scenario_errors(no_sockets, tmp_path, argv):
+    from autopilot.scenario import ScenarioError as SE
+    with pytest.raises((cli.CliError, SE)) as info:
+        build(*argv, "--state-dir", str(tmp_path))
+    assert "\n" not in str(info.value)
+
+
+@pytest.mark.parametrize("rate", [500, 1000])
+def test_every_scenario_physics_rate_builds_a_vehicle(no_sockets, tmp_path, rate):
+    path = tmp_path / "s.toml"
+    path.write_text(f"[sim]\nphysics_rate_hz = {rate}\n")
+    try:
+        node, _ = build("--scenario", str(path), "--state-dir", str(tmp_path))
+    except (cli.CliError, ScenarioError):
+        return  # refusing with a one-line error is also acceptable
+    node.vehicle.run_until(0.1)
+    assert node.vehicle.sim.steps == pytest.approx(0.1 * rate, abs=1)
+
+
+def test_every_multiple_of_400_builds(no_sockets, tmp_path):
+    for rate in (400, 800, 1200):
+        path = tmp_path / f"s{rate}.toml"
+        path.write_text(f"[sim]\nphysics_rate_hz = {rate}\n")
+        node, _ = build("--scenario", str(path), "--state-dir", str(tmp_path))
+        assert node.vehicle.sim.dt == pytest.approx(1.0 / rate)
+
+
+def test_scenario_path_type(tmp_path):
+    # load_scenario accepts str as well as Path (the CLI passes a Path).
+    path = tmp_path / "s.toml"
+    path.write_text("seed = 1\n")
+    assert load_scenario(Path(str(path))).seed == load_scenario(str(path)).seed == 1
