@@ -1,0 +1,94 @@
+"""AUTO mode and MISSION_START as ArduCopter handles them."""
+from __future__ import annotations
+
+from autopilot.mission import MissionItem
+from autopilot.results import Result
+
+from ._util import altitude, fly_until, hovering_vehicle, ready_vehicle
+
+REL = 3  # MAV_FRAME_GLOBAL_RELATIVE_ALT
+
+
+def wp_at(v, n, e, alt=10.0, command=16, p1=0.0):
+    g = v.ned_to_global(n, e, 0.0)
+    return MissionItem(command, REL, p1, 0, 0, 0, int(round(g.lat_deg * 1e7)), int(round(g.lon_deg * 1e7)), alt)
+
+
+def takeoff(alt=10.0):
+    return MissionItem(22, REL, z=alt)
+
+
+def test_mission_start_on_the_ground_needs_a_takeoff_first():
+    v = ready_vehicle()
+    v.mission.replace(0, [wp_at(v, 20, 0)])
+    v.set_mode(4)
+    assert v.arm() == Result.ACCEPTED
+    assert v.mission_start() == Result.FAILED
+    assert any("Missing Takeoff Cmd" in text for _, text in v.events)
+    assert v.mode.number == 4
+
+
+def test_auto_on_the_ground_waits_for_mission_start():
+    v = ready_vehicle()
+    v.mission.replace(0, [takeoff(), wp_at(v, 20, 0)])
+    v.set_mode(4)
+    v.arm()
+    assert v.set_mode(3) == Result.ACCEPTED
+    v.run_until(v.time_s + 3.0)
+    assert v.landed and v.mission_state == "NOT_STARTED"
+    assert v.mission_start() == Result.ACCEPTED
+    assert fly_until(v, lambda x: altitude(x) > 9.5, 20.0)
+    assert fly_until(v, lambda x: abs(x.body.n_m - 20) < 2.0, 20.0)
+    assert v.reached[:2] == [1, 2]
+
+
+def test_auto_in_the_air_starts_at_once_without_takeoff_item():
+    v = hovering_vehicle()
+    v.mission.replace(0, [wp_at(v, 0, 25), wp_at(v, 25, 25)])
+    assert v.set_mode(3) == Result.ACCEPTED
+    assert fly_until(v, lambda x: v.mission_state == "COMPLETE", 60.0)
+    assert abs(v.body.n_m - 25) < 2.0 and abs(v.body.e_m - 25) < 2.0
+    assert v.armed  # a mission that does not land ends in a hover
+
+
+def test_do_jump_repeats_and_unsupported_items_are_skipped():
+    v = hovering_vehicle()
+    items = [wp_at(v, 10, 0), wp_at(v, 0, 0), MissionItem(177, 2, p1=1, p2=2),
+             MissionItem(31000, 2), wp_at(v, 0, 10)]
+    v.mission.replace(0, items)
+    v.set_mode(3)
+    assert fly_until(v, lambda x: v.mission_state == "COMPLETE", 120.0)
+    assert v.reached.count(1) == 3 and v.reached.count(2) == 3  # first pass + two repeats
+    assert any("unsupported mission command 31000" in text for _, text in v.events)
+
+
+def test_loiter_time_holds_for_its_time():
+    v = hovering_vehicle()
+    v.mission.replace(0, [wp_at(v, 0, 0, command=19, p1=8.0), wp_at(v, 10, 0)])
+    v.set_mode(3)
+    t0 = v.time_s
+    assert fly_until(v, lambda x: 1 in x.reached, 30.0)
+    assert v.time_s - t0 >= 8.0
+
+
+def test_mission_land_and_rtl_end_disarmed_at_the_spot():
+    v = hovering_vehicle()
+    v.mission.replace(0, [wp_at(v, 15, 0), MissionItem(20, 2)])
+    v.set_mode(3)
+    assert fly_until(v, lambda x: not x.armed, 120.0)
+    assert abs(v.body.n_m) < 1.0 and abs(v.body.e_m) < 1.0
+    v2 = hovering_vehicle()
+    v2.mission.replace(0, [MissionItem(21, REL, x=0, y=0, z=0)])
+    v2.set_mode(3)
+    assert fly_until(v2, lambda x: not x.armed, 60.0)
+    assert v2.mission_state == "COMPLETE"
+
+
+def test_set_current_jumps_in_flight():
+    v = hovering_vehicle()
+    v.mission.replace(0, [wp_at(v, 40, 0), wp_at(v, 0, 30)])
+    v.set_mode(3)
+    v.run_until(v.time_s + 1.0)
+    assert v.set_mission_current(2)
+    assert fly_until(v, lambda x: abs(x.body.e_m - 30) < 2 and abs(x.body.n_m) < 2, 40.0)
+    assert not v.set_mission_current(7)

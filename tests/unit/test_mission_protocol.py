@@ -1,0 +1,217 @@
+"""The mission protocol over a lossy in-memory link: a scripted ground station against the
+vehicle's sans-IO session. Uploads and downloads complete despite loss or fail cleanly, and a
+failed upload never leaves half a mission in place."""
+from __future__ import annotations
+
+import random
+
+import pytest
+
+from autopilot.mavlink.dialect import mavlink as mav
+from autopilot.mavlink.dialect import new_codec
+from autopilot.mavlink.session import Session
+from autopilot.mission import MissionItem
+from autopilot.vehicle import Vehicle, VehicleConfig
+
+TICK_S = 0.05  # link-clock step between exchanges
+CLIENT_RETRY_S = 1.0
+
+
+class LossyLink:
+    """Carries packed frames both ways, dropping each with probability `loss` (seeded)."""
+
+    def __init__(self, loss: float, seed: int):
+        self.rng = random.Random(seed)
+        self.loss = loss
+        self.cut_after = None  # drop everything once this many frames have crossed
+        self.crossed = 0
+        self.decoders = {}
+
+    def carry(self, msgs, codec, direction: str) -> list:
+        out = []
+        decoder = self.decoders.setdefault(direction, new_codec(1 if direction == "up" else 255))
+        for msg in msgs:
+            self.crossed += 1
+            if (self.cut_after is not None and self.crossed > self.cut_after) or self.rng.random() < self.loss:
+                continue
+            out.extend(m for m in decoder.parse_buffer(msg.pack(codec)) or [])
+        return out
+
+
+class GroundStation:
+    """Minimal mission client: resends what it is waiting on after CLIENT_RETRY_S of silence."""
+
+    def __init__(self):
+        self.codec = new_codec(255, 190)
+        self.outbox = []
+        self.done = None
+        self.items = []
+        self.downloaded = {}
+        self.expected = None
+        self.last_sent_s = 0.0
+        self.retry = None
+
+    def send(self, msg, now, retry=True):
+        self.outbox.append(msg)
+        self.last_sent_s = now
+        self.retry = msg if retry else None
+
+    def start_upload(self, items, now):
+        self.items = items
+        self.send(self.codec.mission_count_encode(1, 1, len(items), 0), now)
+
+    def start_download(self, now):
+        self.send(self.codec.mission_request_list_encode(1, 1, 0), now)
+
+    def on(self, msg, now):
+        t = msg.get_type()
+        if t == "MISSION_REQUEST_INT" and msg.seq < len(self.items):
+            self.send(self.items[msg.seq], now, retry=False)
+        elif t == "MISSION_ACK":
+            self.done = msg.type
+            self.retry = None
+        elif t == "MISSION_COUNT":
+            self.expected = msg.count
+            self._request_next(now)
+        elif t == "MISSION_ITEM_INT" and self.expected is not None:
+            self.downloaded[msg.seq] = msg
+            self._request_next(now)
+
+    def _request_next(self, now):
+        missing = [s for s in range(self.expected) if s not in self.downloaded]
+        if missing:
+            self.send(self.codec.mission_request_int_encode(1, 1, missing[0], 0), now)
+        else:
+            self.send(self.codec.mission_ack_encode(1, 1, 0, 0), now, retry=False)
+            self.done = 0
+
+    def poll(self, now):
+        if self.retry is not None and now - self.last_sent_s >= CLIENT_RETRY_S:
+            self.send(self.retry, now)
+
+
+def item(seq, command=16, lat=-35.36, lon=149.16, alt=10.0, frame=mav.MAV_FRAME_GLOBAL_RELATIVE_ALT_INT):
+    return mav.MAVLink_mission_item_int_message(1, 1, seq, frame, command, 0, 1, 0, 0, 0, 0,
+                                                int(lat * 1e7), int(lon * 1e7), alt, 0)
+
+
+def plan(n, lat0=-35.36):
+    return [item(0)] + [item(k, lat=lat0 + k * 1e-4) for k in range(1, n)]
+
+
+def run(session, gcs, link, max_s=120.0):
+    now = 0.0
+    while gcs.done is None and now < max_s:
+        now += TICK_S
+        for msg in link.carry(gcs.outbox, gcs.codec, "up"):
+            replies = session.receive(msg, 0.0, now)
+            for reply in link.carry(replies, session.codec, "down"):
+                gcs.on(reply, now)
+        gcs.outbox = []
+        for reply in link.carry(session.poll(0.0, now), session.codec, "down"):
+            if reply.get_type().startswith("MISSION"):
+                gcs.on(reply, now)
+        gcs.poll(now)
+    return now
+
+
+def stored_lats(vehicle):
+    return [i.x for i in vehicle.mission.items(0)]
+
+
+@pytest.fixture
+def setup():
+    v = Vehicle(VehicleConfig())
+    return v, Session(v, new_codec(1))
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_upload_completes_over_a_lossy_link(setup, seed):
+    v, session = setup
+    gcs = GroundStation()
+    items = plan(12)
+    gcs.start_upload(items, 0.0)
+    run(session, gcs, LossyLink(0.25, seed))
+    assert gcs.done == mav.MAV_MISSION_ACCEPTED
+    assert stored_lats(v) == [i.x for i in items[1:]]  # seq 0 is home and is not stored
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_download_completes_over_a_lossy_link(setup, seed):
+    v, session = setup
+    v.mission.replace(0, [MissionItem(16, 6, x=-353600000 + k, y=1491600000, z=10.0 + k) for k in range(8)])
+    gcs = GroundStation()
+    gcs.start_download(0.0)
+    run(session, gcs, LossyLink(0.25, seed))
+    assert gcs.done == 0 and gcs.expected == 9
+    assert [gcs.downloaded[s].x for s in range(1, 9)] == [-353600000 + k for k in range(8)]
+    assert gcs.downloaded[0].command == mav.MAV_CMD_NAV_WAYPOINT  # home
+
+
+@pytest.mark.parametrize("cut_after", [3, 8, 15])
+def test_interrupted_upload_leaves_previous_mission(setup, cut_after):
+    v, session = setup
+    first = GroundStation()
+    first.start_upload(plan(5, lat0=-35.0), 0.0)
+    run(session, first, LossyLink(0.0, 0))
+    before = stored_lats(v)
+    assert len(before) == 4
+    second = GroundStation()
+    second.start_upload(plan(20, lat0=-36.0), 0.0)
+    link = LossyLink(0.0, 0)
+    link.cut_after = cut_after
+    run(session, second, link, max_s=30.0)
+    assert stored_lats(v) == before
+    assert session.missions.upload is None, "the vehicle gave up on the dead transfer"
+
+
+def test_invalid_item_refuses_the_upload_and_keeps_the_old_one(setup):
+    v, session = setup
+    good = GroundStation()
+    good.start_upload(plan(3), 0.0)
+    run(session, good, LossyLink(0.0, 0))
+    before = stored_lats(v)
+    bad = GroundStation()
+    items = plan(4)
+    items[2] = item(2, lat=95.0)
+    bad.start_upload(items, 0.0)
+    run(session, bad, LossyLink(0.0, 0))
+    assert bad.done == mav.MAV_MISSION_INVALID_PARAM5_X
+    assert stored_lats(v) == before
+
+
+def test_bad_frame_is_refused(setup):
+    v, session = setup
+    gcs = GroundStation()
+    items = plan(3)
+    items[1] = item(1, frame=mav.MAV_FRAME_BODY_FRD)
+    gcs.start_upload(items, 0.0)
+    run(session, gcs, LossyLink(0.0, 0))
+    assert gcs.done == mav.MAV_MISSION_UNSUPPORTED_FRAME
+    assert v.mission.items(0) == []
+
+
+def test_fence_and_rally_lists_are_separate(setup):
+    v, session = setup
+    for kind, count in ((1, 4), (2, 2)):
+        gcs = GroundStation()
+        items = [mav.MAVLink_mission_item_int_message(1, 1, s, mav.MAV_FRAME_GLOBAL_INT,
+                                                      5001 if kind == 1 else 5100, 0, 1, 4, 0, 0, 0,
+                                                      int((-35.36 + s * 1e-4) * 1e7), 1491600000, 0, kind)
+                 for s in range(count)]
+        gcs.items = items
+        gcs.send(gcs.codec.mission_count_encode(1, 1, count, kind), 0.0)
+        run(session, gcs, LossyLink(0.0, 0))
+        assert gcs.done == 0
+    assert len(v.mission.items(1)) == 4 and len(v.mission.items(2)) == 2 and v.mission.items(0) == []
+
+
+def test_clear_all(setup):
+    v, session = setup
+    v.mission.replace(0, [MissionItem(16, 6, x=1, y=1, z=5)])
+    codec = new_codec(255, 190)
+    decoder = new_codec(1)
+    msg = decoder.parse_buffer(codec.mission_clear_all_encode(1, 1, 0).pack(codec))[0]
+    replies = session.receive(msg, 0.0, 0.0)
+    assert [r.get_type() for r in replies] == ["MISSION_ACK"] and replies[0].type == 0
+    assert v.mission.items(0) == []
