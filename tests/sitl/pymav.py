@@ -39,5 +39,21 @@ class Gcs:
             raise AssertionError(f"no COMMAND_ACK for command {command}")
         return ack.result
 
+    def command_with_reply(self, command: int, reply_type: str, *params, timeout: float = 5.0):
+        """Send a command that answers with a message besides its ACK; return (result, message)."""
+        p = list(params) + [0.0] * (7 - len(params))
+        self.mav.command_long_send(self.conn.target_system, self.conn.target_component, command, 0, *p)
+        ack = reply = None
+        while ack is None or (reply is None and ack.result == 0):
+            msg = self.recv(["COMMAND_ACK", reply_type], timeout,
+                            lambda m: m.get_type() == reply_type or m.command == command)
+            if msg is None:
+                raise AssertionError(f"no COMMAND_ACK/{reply_type} for command {command}")
+            if msg.get_type() == "COMMAND_ACK":
+                ack = msg
+            else:
+                reply = msg
+        return ack.result, reply
+
     def close(self) -> None:
         self.conn.close()
