@@ -10,6 +10,7 @@ import tomllib
 from pathlib import Path
 
 from sim.airframe import Airframe
+from sim.fire import FireWorld, world_from_tables
 from sim.sensors import NoiseConfig
 from sim.vehicle import SimConfig
 from sim.wind import SteadyWind
@@ -29,6 +30,7 @@ class Scenario:
     home_yaw_deg: float = DEFAULT_HOME[3]
     seed: int = 0
     sim: SimConfig = dataclasses.field(default_factory=SimConfig)
+    world: FireWorld = dataclasses.field(default_factory=FireWorld)
 
 
 def _number(where: str, value, integer: bool = False):
@@ -91,7 +93,7 @@ def load_scenario(path: Path) -> Scenario:
     return scenario_from_dict(data, name)
 
 
-KNOWN_TABLES = ("seed", "home", "airframe", "wind", "noise", "sim")
+KNOWN_TABLES = ("seed", "home", "airframe", "wind", "noise", "sim", "world", "fire")
 
 
 def scenario_from_dict(data: dict, name: str = "scenario") -> Scenario:
@@ -126,4 +128,10 @@ def scenario_from_dict(data: dict, name: str = "scenario") -> Scenario:
     if rate not in (100, 200) and (rate < 400 or rate % 400):
         raise ScenarioError(f"{name}: [sim].physics_rate_hz must be 100, 200 or a multiple of 400, got {rate}")
     sc.sim = SimConfig(airframe=airframe, wind=wind, noise=noise, physics_rate_hz=rate, seed=sc.seed)
+    if "fire" in data and not isinstance(data["fire"], list):
+        raise ScenarioError(f"{name}: fires are given as [[fire]] tables")
+    try:
+        sc.world = world_from_tables(data.get("world", {}), data.get("fire"), name)
+    except ValueError as exc:
+        raise ScenarioError(str(exc)) from None
     return sc
