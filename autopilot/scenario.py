@@ -127,11 +127,12 @@ def scenario_from_dict(data: dict, name: str = "scenario") -> Scenario:
     rate = _number(f"{name}: [sim].physics_rate_hz", sim_table.get("physics_rate_hz", 400), integer=True)
     if rate not in (100, 200) and (rate < 400 or rate % 400):
         raise ScenarioError(f"{name}: [sim].physics_rate_hz must be 100, 200 or a multiple of 400, got {rate}")
-    sc.sim = SimConfig(airframe=airframe, wind=wind, noise=noise, physics_rate_hz=rate, seed=sc.seed)
     if "fire" in data and not isinstance(data["fire"], list):
         raise ScenarioError(f"{name}: fires are given as [[fire]] tables")
     try:
         sc.world = world_from_tables(data.get("world", {}), data.get("fire"), name)
     except ValueError as exc:
         raise ScenarioError(str(exc)) from None
+    sc.sim = SimConfig(airframe=airframe, wind=wind, noise=noise, physics_rate_hz=rate, seed=sc.seed,
+                       world=sc.world)
     return sc

@@ -28,6 +28,7 @@ FORCE_ARM_MAGIC = 2989
 FORCE_DISARM_MAGIC = 21196
 LAND_DETECT_S = 1.0
 GPS_RATE_HZ = 10
+TEMPERATURE_RATE_HZ = 10
 
 
 @dataclass
@@ -79,6 +80,8 @@ class Vehicle:
         self._ratio_pos = config.rates.ratio(config.rates.position_hz)
         self._ratio_att = config.rates.ratio(config.rates.attitude_hz)
         self._ratio_gps = max(1, config.rates.physics_hz // GPS_RATE_HZ)
+        self._ratio_temp = max(1, config.rates.physics_hz // TEMPERATURE_RATE_HZ)
+        self.temperature = (0.0, float("nan"))  # (sim time of the sample, degrees C)
         self._dt_pos = 1.0 / config.rates.position_hz
         self._dt_att = 1.0 / config.rates.attitude_hz
         self._lean_t = (0.0, 0.0)
@@ -351,6 +354,8 @@ class Vehicle:
             self.gps = sim.gps.read(sim.state.body)
             if self.home_ned is None and self.gps.fix_type >= 3:
                 self._set_home_here()
+        if steps % self._ratio_temp == 0:
+            self.temperature = (sim.time_s, sim.read_temperature((self.home_ned or (0, 0, 0))[2]))
         if steps % self._ratio_pos == 0:
             self._position_tick()
         if steps % self._ratio_att == 0:

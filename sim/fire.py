@@ -34,11 +34,11 @@ class Fire:
 @dataclass(frozen=True)
 class FireWorld:
     """The area searched and what burns in it. Local metres, origin = home, area = [0, size]^2."""
-    fires: tuple = (Fire(300.0, 260.0),)
+    fires: tuple = (Fire(290.0, 250.0),)
     area_m: float = 400.0
     cell_m: float = 10.0
     survey_alt_m: float = 30.0
-    ambient_c: float = 25.0
+    ambient_c: float = 22.0
     kernel: str = "R"
     plume_sigma_m: float = 25.0
     noise_k: float = 1.0

@@ -4,6 +4,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from .airframe import Airframe
+from .fire import FireWorld, TemperatureSensor
 from .battery import BatteryState, remaining_fraction, step_battery
 from .physics import PhysicsState, initial_state, step
 from .rotors import motor_lag_factor, rotor_shaft_power_w
@@ -18,6 +19,7 @@ class SimConfig:
     noise: NoiseConfig = field(default_factory=NoiseConfig)
     physics_rate_hz: int = 400
     seed: int = 0
+    world: FireWorld = field(default_factory=FireWorld)
 
 
 class SimVehicle:
@@ -32,6 +34,7 @@ class SimVehicle:
         self.gps = Gps(config.seed, config.noise)
         self.baro = Barometer(config.seed, config.noise)
         self.gyro = Gyro(config.seed, config.noise)
+        self.thermometer = TemperatureSensor(config.world, config.seed)
         self.time_s = 0.0
         self.steps = 0
 
@@ -45,6 +48,11 @@ class SimVehicle:
                                     af.avionics_current_a, self.dt)
         self.steps += 1
         self.time_s = self.steps * self.dt
+
+    def read_temperature(self, home_d_m: float) -> float:
+        """The downward radiometric sensor: reads the ground below at the vehicle's height."""
+        b = self.state.body
+        return self.thermometer.read(b.n_m, b.e_m, home_d_m - b.d_m, self.time_s)
 
     @property
     def battery_remaining(self) -> float:

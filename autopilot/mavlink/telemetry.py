@@ -152,6 +152,14 @@ def autopilot_version(v, codec):
                                           v.system_id)
 
 
+TEMPERATURE_NAME = b"GND_TEMP"  # downward radiometer reading, degrees C; time_boot_ms = sample time
+
+
+def ground_temperature(v, codec):
+    t_s, value = v.temperature
+    return codec.named_value_float_encode(int(t_s * 1000.0) & 0xFFFFFFFF, TEMPERATURE_NAME, value)
+
+
 def ekf_status_report(v, codec):
     flags = 0x1FF  # attitude, velocity, position (rel/abs), altitude, const-pos-mode off: all good
     return codec.ekf_status_report_encode(flags, 0.01, 0.01, 0.01, 0.01, 0.0)
@@ -173,6 +181,7 @@ BUILDERS = {
     mav.MAVLINK_MSG_ID_MISSION_CURRENT: mission_current,
     mav.MAVLINK_MSG_ID_AUTOPILOT_VERSION: autopilot_version,
     mav.MAVLINK_MSG_ID_EKF_STATUS_REPORT: ekf_status_report,
+    mav.MAVLINK_MSG_ID_NAMED_VALUE_FLOAT: ground_temperature,
 }
 
 # ArduPilot's stream groups (REQUEST_DATA_STREAM ids) and the SRn_ parameter that sets each rate.
@@ -191,7 +200,9 @@ STREAM_GROUPS = {
                                                mav.MAVLINK_MSG_ID_EXTENDED_SYS_STATE)),
 }
 # Always streamed regardless of groups: heartbeat at 1 Hz, home position at 0.5 Hz.
-FIXED_RATES_HZ = {mav.MAVLINK_MSG_ID_HEARTBEAT: 1.0, mav.MAVLINK_MSG_ID_HOME_POSITION: 0.5}
+# The ground temperature goes out at the sensor's own 10 Hz so every sample reaches the client.
+FIXED_RATES_HZ = {mav.MAVLINK_MSG_ID_HEARTBEAT: 1.0, mav.MAVLINK_MSG_ID_HOME_POSITION: 0.5,
+                  mav.MAVLINK_MSG_ID_NAMED_VALUE_FLOAT: 10.0}
 
 
 def mode_name(number: int) -> str:

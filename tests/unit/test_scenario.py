@@ -263,3 +263,14 @@ def test_scenario_path_type(tmp_path):
     path = tmp_path / "s.toml"
     path.write_text("seed = 1\n")
     assert load_scenario(Path(str(path))).seed == load_scenario(str(path)).seed == 1
+
+
+def test_default_scenario_file_matches_the_built_in_defaults():
+    """`autopilot` without --scenario and scenarios/default.toml describe the same world."""
+    from pathlib import Path
+
+    from autopilot.scenario import Scenario, load_scenario
+    from_file = load_scenario(Path(__file__).resolve().parents[2] / "scenarios" / "default.toml")
+    built_in = Scenario()
+    assert from_file.world == built_in.world
+    assert from_file.home == built_in.home
