@@ -25,6 +25,7 @@ class Session:
         self.codec = codec
         self.system_id = codec.srcSystem
         self.streams = StreamScheduler(vehicle.params)
+        vehicle.params.on_change(self.streams.param_changed)
         self.params = ParamService(vehicle.params, codec)
         self.commands = CommandService()
         self.missions = MissionService(vehicle.mission, vehicle, codec)

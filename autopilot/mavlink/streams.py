@@ -21,6 +21,12 @@ class StreamScheduler:
                 self._default_s[msg_id] = 1.0 / rate if rate > 0 else math.inf
         self._interval_s.update(self._default_s)
 
+    def param_changed(self, name: str, value: float) -> None:
+        """An SRn_ parameter set over PARAM_SET applies at once, as on ArduPilot."""
+        for stream_id, (param, _) in STREAM_GROUPS.items():
+            if param == name:
+                self.set_group_rate(stream_id, value, value > 0)
+
     def interval_s(self, msg_id: int) -> float:
         """Current interval; inf = not streamed."""
         return self._interval_s.get(msg_id, math.inf)

@@ -517,3 +517,23 @@ def test_telemetry_in_flight_uses_mavlink_units():
 def test_extended_sys_state_on_the_ground(link):
     ext = of_type(link.poll(0.0), "EXTENDED_SYS_STATE")[0]
     assert ext.landed_state == mav.MAV_LANDED_STATE_ON_GROUND
+
+
+def test_stream_rate_parameter_applies_at_once():
+    from autopilot.mavlink.dialect import new_codec
+    from autopilot.mavlink.session import Session
+    from autopilot.vehicle import Vehicle, VehicleConfig
+    v = Vehicle(VehicleConfig())
+    s = Session(v, new_codec(1))
+
+    def count_attitude(seconds):
+        n, t0 = 0, v.time_s
+        while v.time_s < t0 + seconds - 1e-9:
+            v.run_until(v.time_s + 0.01)
+            n += sum(1 for m in s.poll(v.time_s) if m.get_type() == "ATTITUDE")
+        return n
+    assert 18 <= count_attitude(2.0) <= 22  # SR0_EXTRA1 default 10 Hz
+    v.params.set("SR0_EXTRA1", 2)
+    assert 3 <= count_attitude(2.0) <= 5
+    v.params.set("SR0_EXTRA1", 0)
+    assert count_attitude(2.0) == 0
