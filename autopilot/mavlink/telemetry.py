@@ -55,9 +55,12 @@ def sys_status(v, codec):
     healthy = SENSORS | (PREARM if v.is_armable() else 0)
     if v.failsafes.battery_level:
         healthy &= ~mav.MAV_SYS_STATUS_SENSOR_BATTERY
+    # As ArduPilot: the fence bit is healthy unless a fence is enabled and breached (MAVProxy
+    # reads a missing health bit as a breach even when no fence exists).
     if v.params["FENCE_ENABLE"]:
         present |= mav.MAV_SYS_STATUS_GEOFENCE
-        healthy |= 0 if v.failsafes.fence_breached else mav.MAV_SYS_STATUS_GEOFENCE
+    if not v.failsafes.fence_breached:
+        healthy |= mav.MAV_SYS_STATUS_GEOFENCE
     batt = v.sim.battery
     return codec.sys_status_encode(present, present, healthy, 100,
                                    int(batt.voltage_v * 1000), int(batt.current_a * 100),
