@@ -257,7 +257,7 @@ def main() -> int:
     ap = argparse.ArgumentParser()
     ap.add_argument("--runs", type=int, default=5)
     ap.add_argument("--reference-runs", type=int, default=None, help="runs of the speedup-1 flight (default --runs)")
-    ap.add_argument("--ladder", default="10,20,50,100,200")
+    ap.add_argument("--ladder", default="10,20,50,100,200,inf")
     ap.add_argument("--skip", default="", help="comma list of: rtf,startup,mavsdk")
     args = ap.parse_args()
     skip = set(filter(None, args.skip.split(",")))
