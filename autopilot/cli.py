@@ -55,6 +55,8 @@ def build_parser() -> argparse.ArgumentParser:
                    help="local UDP address to bind (default 0.0.0.0:5760+10*instance; port 0 = any)")
     p.add_argument("--speedup", default="1", help="sim seconds per wall second; 'inf' runs flat out")
     p.add_argument("--instance", type=int, default=0, help="instance number N: system id N+1, ports +10N")
+    p.add_argument("--count", type=int, default=1,
+                   help="vehicles in this process: instances N..N+count-1, one UDP port each, on a 5 m grid")
     p.add_argument("--home", default=None, metavar="LAT,LON,ALT[,YAW]", help="home location (AMSL metres, degrees)")
     p.add_argument("--seed", type=int, default=None, help="seed for sensor noise (overrides the scenario)")
     p.add_argument("--scenario", default=None, metavar="FILE", help="scenario TOML file")
@@ -68,31 +70,58 @@ def build_parser() -> argparse.ArgumentParser:
     return p
 
 
-def build(args):
-    """Assemble the vehicle, its MAVLink session and its UDP endpoint from parsed arguments."""
-    from .geo import GeoPoint  # noqa: F401  (heavy imports after argument checks)
-    from .mavlink.dialect import new_codec
-    from .mission import MissionStore
-    from .mavlink.session import Session
-    from .params import ParamStore
-    from .rates import LoopRates
-    from .runner import Node
+GRID_SPACING_M = 5.0  # vehicles of one process start this far apart, on a square grid
+
+
+def build(args) -> list:
+    """Assemble every vehicle with its MAVLink session and UDP endpoint: a list of (Node, outs)."""
     from .scenario import Scenario, load_scenario, parse_home
-    from .udp import UdpEndpoint
-    from .vehicle import Vehicle, VehicleConfig
 
     if not 0 <= args.instance <= 200:
         raise CliError(f"--instance: must be 0..200, got {args.instance}")
+    if not 1 <= args.count <= 1000:
+        raise CliError(f"--count: must be 1..1000, got {args.count}")
     scenario = load_scenario(Path(args.scenario)) if args.scenario else Scenario()
     if args.home:
         scenario.home, scenario.home_yaw_deg = parse_home(args.home)
     if args.seed is not None:
         scenario.seed = args.seed
-        scenario.sim.seed = args.seed
-    n = args.instance
-    outs = [parse_udp(o, "--out") for o in args.out] if args.out else \
-        [("127.0.0.1", 14550 + 10 * n), ("127.0.0.1", 14540 + 10 * n)]
-    listen = parse_udp(args.listen, "--listen") if args.listen else ("0.0.0.0", 5760 + 10 * n)
+    outs = [parse_udp(o, "--out") for o in args.out] if args.out else None
+    listen = parse_udp(args.listen, "--listen") if args.listen else None
+    epoch_us = int(time.time() * 1e6)
+    built = []
+    try:
+        for k in range(args.count):
+            built.append(build_vehicle(args, scenario, k, outs, listen, epoch_us))
+    except CliError:
+        for node, _ in built:
+            node.endpoint.close()
+        raise
+    return built
+
+
+def _offset_port(address: tuple, offset: int) -> tuple:
+    return (address[0], address[1] + offset if address[1] else 0)
+
+
+def build_vehicle(args, scenario, k: int, outs, listen, epoch_us: int):
+    """Vehicle k of this process: instance args.instance + k, its own ports, state and seed."""
+    import dataclasses
+
+    from .mavlink.dialect import new_codec
+    from .mavlink.session import Session
+    from .mission import MissionStore
+    from .params import ParamStore
+    from .rates import LoopRates
+    from .runner import Node
+    from .udp import UdpEndpoint
+    from .vehicle import Vehicle, VehicleConfig
+
+    n = args.instance + k
+    offset = 10 * n
+    vehicle_outs = [_offset_port(o, 10 * k) for o in outs] if outs else \
+        [("127.0.0.1", 14550 + offset), ("127.0.0.1", 14540 + offset)]
+    bind = _offset_port(listen, 10 * k) if listen else ("0.0.0.0", 5760 + offset)
     state_root = Path(args.state_dir) if args.state_dir else \
         Path(os.environ.get("XDG_STATE_HOME", Path.home() / ".local" / "state")) / "firefly"
     params = ParamStore(state_root / f"instance-{n}" / "params.json", wipe=args.wipe)
@@ -102,23 +131,27 @@ def build(args):
         missions_path.unlink(missing_ok=True)
     mission = MissionStore(missions_path)
     rate = scenario.sim.physics_rate_hz
-    config = VehicleConfig(home=scenario.home, home_yaw_deg=scenario.home_yaw_deg, sim=scenario.sim,
+    cols = math.ceil(math.sqrt(args.count))
+    sim = dataclasses.replace(scenario.sim, seed=scenario.seed + k)
+    config = VehicleConfig(home=scenario.home, home_yaw_deg=scenario.home_yaw_deg, sim=sim,
+                           offset_ne_m=(GRID_SPACING_M * (k // cols), GRID_SPACING_M * (k % cols)),
                            rates=LoopRates(rate, min(400, rate), 100), system_id=n + 1,
-                           epoch_unix_us=int(time.time() * 1e6))
+                           epoch_unix_us=epoch_us)
     vehicle = Vehicle(config, params, mission)
     try:
-        endpoint = UdpEndpoint(listen, outs, n + 1)
+        endpoint = UdpEndpoint(bind, vehicle_outs, n + 1)
     except OSError as exc:
-        raise CliError(f"--listen: cannot bind udp:{listen[0]}:{listen[1]}: {exc.strerror}") from None
+        raise CliError(f"--listen: cannot bind udp:{bind[0]}:{bind[1]}: {exc.strerror}") from None
     tlog = None
     if args.tlog:
         from .tlog import TlogWriter
+        path = Path(args.tlog) if args.count == 1 else Path(args.tlog).with_suffix(f".{n}.tlog")
         try:
-            tlog = TlogWriter(Path(args.tlog))
+            tlog = TlogWriter(path)
         except OSError as exc:
             endpoint.close()
-            raise CliError(f"--tlog: cannot open {args.tlog}: {exc.strerror}") from None
-    return Node(vehicle, Session(vehicle, new_codec(n + 1)), endpoint, tlog), outs
+            raise CliError(f"--tlog: cannot open {path}: {exc.strerror}") from None
+    return Node(vehicle, Session(vehicle, new_codec(n + 1)), endpoint, tlog), vehicle_outs
 
 
 def main(argv=None) -> int:
@@ -126,25 +159,30 @@ def main(argv=None) -> int:
     try:
         args = build_parser().parse_args(argv)
         speedup = parse_speedup(args.speedup)
-        node, outs = build(args)
+        built = build(args)
     except (CliError, ScenarioError) as exc:
         print(f"autopilot: error: {exc}", file=sys.stderr)
         return 2
     from .runner import Runner
-    runner = Runner([node], speedup)
+    nodes = [node for node, _ in built]
+    runner = Runner(nodes, speedup)
     signal.signal(signal.SIGTERM, lambda *_: runner.stop())
     if not args.quiet:
-        host, port = node.endpoint.address
-        print(f"Firefly autopilot: system {node.vehicle.system_id}, udp:{host}:{port}, "
-              f"out {' '.join(f'{h}:{p}' for h, p in outs)}, speedup {args.speedup}", flush=True)
+        for node, outs in built[:10]:
+            host, port = node.endpoint.address
+            print(f"Firefly autopilot: system {node.vehicle.system_id}, udp:{host}:{port}, "
+                  f"out {' '.join(f'{h}:{p}' for h, p in outs)}, speedup {args.speedup}", flush=True)
+        if len(built) > 10:
+            print(f"... and {len(built) - 10} more vehicles", flush=True)
     try:
         runner.run(args.duration)
     except KeyboardInterrupt:
         pass
     finally:
-        node.endpoint.close()
-        if node.tlog is not None:
-            node.tlog.close()
+        for node in nodes:
+            node.endpoint.close()
+            if node.tlog is not None:
+                node.tlog.close()
     return 0
 
 

@@ -185,7 +185,8 @@ def no_sockets(monkeypatch):
 
 
 def build(*argv):
-    return cli.build(cli.build_parser().parse_args(list(argv)))
+    """The first (only) vehicle of a one-vehicle build: (node, outs)."""
+    return cli.build(cli.build_parser().parse_args(list(argv)))[0]
 
 
 def test_parse_udp():

@@ -1,0 +1,53 @@
+"""`autopilot --count N`: several independent vehicles in one process, one UDP port each."""
+from __future__ import annotations
+
+import math
+
+import pytest
+from pymavlink import mavutil
+
+from .conftest import free_udp_port
+from .pymav import Gcs
+
+pytestmark = pytest.mark.sitl
+mav = mavutil.mavlink
+
+
+def test_three_vehicles_one_process_each_its_own(autopilot_factory):
+    # Ports p, p+10, p+20 must all be free for the offsets; pick a base with room.
+    base = free_udp_port()
+    while not all(_free(base + 10 * k) for k in range(3)):
+        base = free_udp_port()
+    ap = autopilot_factory(extra=("--count", "3"), port=base)
+    links = [Gcs(f"udpin:127.0.0.1:{base + 10 * k}") for k in range(3)]
+    try:
+        assert [g.heartbeat.get_srcSystem() for g in links] == [1, 2, 3]
+        homes = [g.recv("HOME_POSITION", 5) for g in links]
+        lat = [h.latitude / 1e7 for h in homes]
+        lon = [h.longitude / 1e7 for h in homes]
+        east = [(x - lon[0]) * 111_320 * math.cos(math.radians(lat[0])) for x in lon]
+        assert east[1] == pytest.approx(5.0, abs=0.05) and lat[1] == pytest.approx(lat[0], abs=1e-7)
+        # Fly vehicle 2 only; 1 and 3 stay on the ground, disarmed.
+        middle = links[1]
+        assert middle.command(mav.MAV_CMD_DO_SET_MODE, 1, 4) == 0
+        assert middle.command(mav.MAV_CMD_COMPONENT_ARM_DISARM, 1) == 0
+        assert middle.command(mav.MAV_CMD_NAV_TAKEOFF, 0, 0, 0, 0, 0, 0, 8) == 0
+        assert middle.recv("GLOBAL_POSITION_INT", 20, lambda m: m.relative_alt > 7500) is not None
+        for g in (links[0], links[2]):
+            hb = g.recv("HEARTBEAT", 5)
+            assert hb.custom_mode == 0 and not hb.base_mode & mav.MAV_MODE_FLAG_SAFETY_ARMED
+            pos = g.recv("GLOBAL_POSITION_INT", 5)
+            assert abs(pos.relative_alt) < 100
+    finally:
+        for g in links:
+            g.close()
+
+
+def _free(port: int) -> bool:
+    import socket
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:
+        try:
+            s.bind(("127.0.0.1", port))
+        except OSError:
+            return False
+    return True
