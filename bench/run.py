@@ -195,6 +195,26 @@ def mavsdk_flights(runs: int, ladder: list[str], reference_runs: int) -> dict:
     return result
 
 
+# ----- the 4-waypoint mission flown by `groundstation mission` ---------------------------------------
+def mission_flight(speedup: str) -> float | None:
+    t0 = time.monotonic()
+    result = subprocess.run([sys.executable, "-m", "groundstation", "mission", str(ROOT / "examples" / "square.plan"),
+                             "--speedup", speedup, "--plot", str(ROOT / "bench" / "tmp" / "mission.png")],
+                            cwd=ROOT, capture_output=True, text=True, timeout=600)
+    wall = time.monotonic() - t0
+    return wall if result.returncode == 0 and "item 6/6" in result.stdout else None
+
+
+def mission_flights(runs: int, speedups: list[str]) -> dict:
+    out = {}
+    for speedup in speedups:
+        walls = [mission_flight(speedup) for _ in range(runs if speedup != "1" else max(1, runs // 2))]
+        ok = [w for w in walls if w is not None]
+        progress(f"mission at speedup {speedup}: {[round(w, 2) for w in ok]} ({len(ok)}/{len(walls)} passed)")
+        out[speedup] = (summary(ok) | {"passed": len(ok)}) if ok else {"passed": 0}
+    return out
+
+
 # ----- report ----------------------------------------------------------------------------------------
 def machine() -> dict:
     cpu = "unknown"
@@ -250,6 +270,10 @@ def write_markdown(results: dict, path: Path) -> None:
                          f"{', '.join(f['ladder_tried'])}) | {fmt(f['at_highest'], ' s')} |")
         if f.get("at_speedup_1", {}).get("passed"):
             lines.append(f"| mavsdk_flight_wall_s at speedup 1 | {fmt(f['at_speedup_1'], ' s')} |")
+    for speedup, s in r.get("mission_flight", {}).items():
+        if s.get("passed"):
+            lines.append(f"| mission_4wp_wall_s (groundstation mission square.plan, process start to landed) "
+                         f"at speedup {speedup} | {fmt(s, ' s')} |")
     path.write_text("\n".join(lines) + "\n")
 
 
@@ -258,7 +282,7 @@ def main() -> int:
     ap.add_argument("--runs", type=int, default=5)
     ap.add_argument("--reference-runs", type=int, default=None, help="runs of the speedup-1 flight (default --runs)")
     ap.add_argument("--ladder", default="10,20,50,100,200,inf")
-    ap.add_argument("--skip", default="", help="comma list of: rtf,startup,mavsdk")
+    ap.add_argument("--skip", default="", help="comma list of: rtf,startup,mavsdk,mission")
     args = ap.parse_args()
     skip = set(filter(None, args.skip.split(",")))
     (ROOT / "bench" / "tmp").mkdir(parents=True, exist_ok=True)
@@ -279,6 +303,9 @@ def main() -> int:
         print("MAVSDK flight ...", flush=True)
         results["mavsdk_flight"] = mavsdk_flights(args.runs, args.ladder.split(","),
                                                   args.reference_runs or args.runs)
+    if "mission" not in skip:
+        print("4-waypoint mission ...", flush=True)
+        results["mission_flight"] = mission_flights(args.runs, ["1", "10", "50"])
     (ROOT / "bench" / "results.json").write_text(json.dumps(results, indent=1, default=str))
     write_markdown(results, ROOT / "BENCHMARKS.md")
     print((ROOT / "BENCHMARKS.md").read_text())
