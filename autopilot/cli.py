@@ -66,6 +66,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--duration", type=float, default=math.inf, help="stop after this many sim seconds")
     p.add_argument("--tlog", default=None, metavar="FILE",
                    help="record every MAVLink frame sent and received to this .tlog (appends)")
+    p.add_argument("--state-log", default=None, metavar="FILE",
+                   help="write the true body state every 0.1 s of sim time (CSV; for determinism checks)")
     p.add_argument("--quiet", action="store_true", help="print nothing but errors")
     return p
 
@@ -138,6 +140,9 @@ def build_vehicle(args, scenario, k: int, outs, listen, epoch_us: int):
                            rates=LoopRates(rate, min(400, rate), 100), system_id=n + 1,
                            epoch_unix_us=epoch_us)
     vehicle = Vehicle(config, params, mission)
+    if scenario.script:
+        from .script import Script
+        vehicle.script = Script(scenario.script)
     try:
         endpoint = UdpEndpoint(bind, vehicle_outs, n + 1)
     except OSError as exc:
@@ -151,7 +156,15 @@ def build_vehicle(args, scenario, k: int, outs, listen, epoch_us: int):
         except OSError as exc:
             endpoint.close()
             raise CliError(f"--tlog: cannot open {path}: {exc.strerror}") from None
-    return Node(vehicle, Session(vehicle, new_codec(n + 1)), endpoint, tlog), vehicle_outs
+    state_log = None
+    if args.state_log:
+        path = Path(args.state_log) if args.count == 1 else Path(args.state_log).with_suffix(f".{n}.csv")
+        try:
+            state_log = open(path, "w")
+        except OSError as exc:
+            endpoint.close()
+            raise CliError(f"--state-log: cannot open {path}: {exc.strerror}") from None
+    return Node(vehicle, Session(vehicle, new_codec(n + 1)), endpoint, tlog, state_log), vehicle_outs
 
 
 def main(argv=None) -> int:
@@ -183,6 +196,8 @@ def main(argv=None) -> int:
             node.endpoint.close()
             if node.tlog is not None:
                 node.tlog.close()
+            if node.state_log is not None:
+                node.state_log.close()
     return 0
 
 

@@ -12,6 +12,7 @@ import time
 from dataclasses import dataclass
 
 MAX_LAG_WALL_S = 0.5  # if the sim falls further behind than this, pacing restarts from now
+STATE_LOG_EVERY = 10  # ticks (0.1 s of sim time)
 
 
 @dataclass
@@ -20,6 +21,7 @@ class Node:
     session: object
     endpoint: object
     tlog: object = None  # TlogWriter, or None
+    state_log: object = None  # open text file: the body state every STATE_LOG_EVERY ticks, or None
 
 
 class Runner:
@@ -68,6 +70,11 @@ class Runner:
         for node in self.nodes:
             node.vehicle.run_until(target)
         self.ticks += 1
+        if self.ticks % STATE_LOG_EVERY == 0:
+            for node in self.nodes:
+                if node.state_log is not None:
+                    v = node.vehicle
+                    node.state_log.write(f"{v.time_s!r}," + ",".join(repr(x) for x in v.body) + "\n")
 
     def run(self, duration_s: float = math.inf) -> None:
         wall0 = time.monotonic()

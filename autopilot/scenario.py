@@ -31,6 +31,7 @@ class Scenario:
     seed: int = 0
     sim: SimConfig = dataclasses.field(default_factory=SimConfig)
     world: FireWorld = dataclasses.field(default_factory=FireWorld)
+    script: list = dataclasses.field(default_factory=list)  # (time_s, verb, args) steps
 
 
 def _number(where: str, value, integer: bool = False):
@@ -93,7 +94,7 @@ def load_scenario(path: Path) -> Scenario:
     return scenario_from_dict(data, name)
 
 
-KNOWN_TABLES = ("seed", "home", "airframe", "wind", "noise", "sim", "world", "fire")
+KNOWN_TABLES = ("seed", "home", "airframe", "wind", "noise", "sim", "world", "fire", "script")
 
 
 def scenario_from_dict(data: dict, name: str = "scenario") -> Scenario:
@@ -135,4 +136,13 @@ def scenario_from_dict(data: dict, name: str = "scenario") -> Scenario:
         raise ScenarioError(str(exc)) from None
     sc.sim = SimConfig(airframe=airframe, wind=wind, noise=noise, physics_rate_hz=rate, seed=sc.seed,
                        world=sc.world)
+    if "script" in data:
+        from .script import ScriptError, parse_steps
+        table = data["script"]
+        if not isinstance(table, dict) or set(table) != {"steps"}:
+            raise ScenarioError(f"{name}: [script] must hold exactly one key, steps")
+        try:
+            sc.script = parse_steps(table["steps"], name)
+        except ScriptError as exc:
+            raise ScenarioError(str(exc)) from None
     return sc

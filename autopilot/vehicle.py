@@ -57,6 +57,7 @@ class Vehicle:
         self.auto_armed = False  # ArduCopter's flag: AUTO may start its mission from the ground
         self.reached: list[int] = []  # mission seqs reached, for MISSION_ITEM_REACHED
         self.failsafes = Failsafes()
+        self.script = None  # a scenario's scripted commands (autopilot.script.Script), if any
         n0, e0 = config.offset_ne_m
         self.origin = config.home
         self.sim = SimVehicle(config.sim, math.radians(config.home_yaw_deg), n0, e0)
@@ -377,6 +378,8 @@ class Vehicle:
     def _position_tick(self) -> None:
         dt = self._dt_pos
         sp = self.setpoint
+        if self.script is not None:
+            self.script.run_due(self)
         self.mode.update(self, sp, dt)
         b = self.body
         roll, pitch, yaw = self.attitude
