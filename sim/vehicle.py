@@ -6,8 +6,8 @@ from dataclasses import dataclass, field
 from .airframe import Airframe
 from .fire import FireWorld, TemperatureSensor
 from .battery import BatteryState, remaining_fraction, step_battery
-from .physics import PhysicsState, initial_state, step
-from .rotors import motor_lag_factor, rotor_shaft_power_w
+from .physics import PhysicsState, initial_state, make_fast_step
+from .rotors import rotor_shaft_power_w
 from .sensors import Barometer, Gps, Gyro, NoiseConfig
 from .wind import SteadyWind
 
@@ -30,7 +30,7 @@ class SimVehicle:
         self.config = config
         self.airframe = config.airframe
         self.dt = 1.0 / config.physics_rate_hz
-        self._lag = motor_lag_factor(self.airframe, self.dt)
+        self._step = make_fast_step(self.airframe, self.dt)
         self._wind_ned = config.wind.velocity_ned()
         self.state: PhysicsState = initial_state(yaw_rad, n_m, e_m)
         self.battery = BatteryState(0.0, 0.0, self.airframe.battery_cells * 4.2)
@@ -43,7 +43,7 @@ class SimVehicle:
 
     def step(self, omega_cmd: tuple) -> None:
         af = self.airframe
-        self.state = step(self.state, omega_cmd, af, self._wind_ned, self.dt, self._lag)
+        self.state = self._step(self.state, omega_cmd, self._wind_ned)
         self.steps += 1
         self.time_s = self.steps * self.dt
         if self.steps % BATTERY_EVERY == 0:  # the pack changes slowly: integrate it at a quarter rate
