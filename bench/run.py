@@ -306,7 +306,11 @@ def main() -> int:
     if "mission" not in skip:
         print("4-waypoint mission ...", flush=True)
         results["mission_flight"] = mission_flights(args.runs, ["1", "10", "50"])
-    (ROOT / "bench" / "results.json").write_text(json.dumps(results, indent=1, default=str))
+    # Figures skipped this time keep their last measured values (each records its own date).
+    path = ROOT / "bench" / "results.json"
+    previous = json.loads(path.read_text()) if path.exists() else {}
+    results = previous | results
+    path.write_text(json.dumps(results, indent=1, default=str))
     write_markdown(results, ROOT / "BENCHMARKS.md")
     print((ROOT / "BENCHMARKS.md").read_text())
     return 0
