@@ -235,7 +235,7 @@ def write_markdown(results: dict, path: Path) -> None:
     sr = r["step_response"]
     lines = [
         "# Firefly benchmarks", "",
-        f"Measured {r['date']} on {m['cpu']} ({m['cores']} cores), Python {m['python']}, {m['platform']}.",
+        f"Last run {r['date']} on {m['cpu']} ({m['cores']} cores), Python {m['python']}, {m['platform']}.",
         f"Rates: physics {rates['physics_hz']} Hz, attitude/rate loops {rates['attitude_hz']} Hz, "
         f"position loop and modes {rates['position_hz']} Hz. Timing figures: median (min–max) of the runs shown.",
         "", "| figure | value |", "|---|---|",
@@ -306,7 +306,7 @@ def main() -> int:
     if "mission" not in skip:
         print("4-waypoint mission ...", flush=True)
         results["mission_flight"] = mission_flights(args.runs, ["1", "10", "50"])
-    # Figures skipped this time keep their last measured values (each records its own date).
+    # Figures skipped this time keep their last measured values from an earlier run.
     path = ROOT / "bench" / "results.json"
     previous = json.loads(path.read_text()) if path.exists() else {}
     results = previous | results
