@@ -195,6 +195,74 @@ def mavsdk_flights(runs: int, ladder: list[str], reference_runs: int) -> dict:
     return result
 
 
+# ----- many vehicles in one process at speedup 1 ------------------------------------------------------
+def _proc_cpu_s(pid: int) -> float:
+    fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+
+
+def _proc_rss_mb(pid: int) -> float:
+    for line in Path(f"/proc/{pid}/status").read_text().splitlines():
+        if line.startswith("VmRSS:"):
+            return int(line.split()[1]) / 1024.0
+    return math.nan
+
+
+def swarm_trial(count: int, window_s: float) -> dict:
+    """Run `autopilot --count N` at 1x; sim time of vehicle 1 (SYSTEM_TIME) against wall time."""
+    from pymavlink import mavutil
+    sys.path.insert(0, str(ROOT / "tests"))
+    from sitl.conftest import free_udp_port
+    port = free_udp_port()
+    conn = mavutil.mavlink_connection(f"udpin:127.0.0.1:{port}", source_system=255)
+    proc = subprocess.Popen([sys.executable, "-m", "autopilot", "--count", str(count), "--speedup", "1",
+                             "--listen", "udp:127.0.0.1:0", "--out", f"udp:127.0.0.1:{port}", "--quiet",
+                             "--wipe", "--state-dir", str(ROOT / "bench" / "tmp" / "swarm")], cwd=ROOT)
+    try:
+        def boot_ms():
+            msg = conn.recv_match(type="SYSTEM_TIME", blocking=True, timeout=10)
+            return msg.time_boot_ms if msg else None
+        first = boot_ms()
+        if first is None:
+            return {"count": count, "ok": False, "why": "no telemetry"}
+        warm_until = time.monotonic() + 5.0
+        while time.monotonic() < warm_until:
+            boot_ms()
+        conn.recv_match(type="SYSTEM_TIME", blocking=True, timeout=10)
+        w0, b0, c0 = time.monotonic(), boot_ms(), _proc_cpu_s(proc.pid)
+        end = w0 + window_s
+        while time.monotonic() < end:
+            conn.recv_match(type="SYSTEM_TIME", blocking=True, timeout=1)
+        w1, b1, c1 = time.monotonic(), boot_ms(), _proc_cpu_s(proc.pid)
+        ratio = (b1 - b0) / 1000.0 / (w1 - w0)
+        return {"count": count, "ratio": ratio, "ok": ratio >= 0.98, "cpu_core_fraction": (c1 - c0) / (w1 - w0),
+                "rss_mb": _proc_rss_mb(proc.pid)}
+    finally:
+        proc.terminate()
+        proc.wait()
+        conn.close()
+
+
+def swarm(counts: list[int], window_s: float) -> dict:
+    trials = []
+    for count in counts:
+        trial = swarm_trial(count, window_s)
+        trials.append(trial)
+        progress(f"swarm {count}: sim/wall {trial.get('ratio', 0):.3f}, cpu {trial.get('cpu_core_fraction', 0):.2f} "
+                 f"core, rss {trial.get('rss_mb', 0):.0f} MB")
+        if not trial["ok"]:
+            break
+    passing = [t for t in trials if t["ok"]]
+    best = passing[-1] if passing else None
+    one = swarm_trial(1, min(window_s, 20.0))
+    out = {"trials": trials, "window_s": window_s, "single_vehicle": one}
+    if best:
+        out["swarm_max_realtime"] = best["count"]
+        out["cpu_per_vehicle_core"] = best["cpu_core_fraction"] / best["count"]
+        out["rss_per_added_vehicle_mb"] = (best["rss_mb"] - one["rss_mb"]) / max(best["count"] - 1, 1)
+    return out
+
+
 # ----- the 4-waypoint mission flown by `groundstation mission` ---------------------------------------
 def mission_flight(speedup: str) -> float | None:
     t0 = time.monotonic()
@@ -270,6 +338,13 @@ def write_markdown(results: dict, path: Path) -> None:
                          f"{', '.join(f['ladder_tried'])}) | {fmt(f['at_highest'], ' s')} |")
         if f.get("at_speedup_1", {}).get("passed"):
             lines.append(f"| mavsdk_flight_wall_s at speedup 1 | {fmt(f['at_speedup_1'], ' s')} |")
+    sw = r.get("swarm")
+    if sw and sw.get("swarm_max_realtime"):
+        lines.append(f"| swarm_max_realtime (vehicles in one process at 1x, sim time within 2 % of wall over "
+                     f"{sw['window_s']:g} s; counts tried {', '.join(str(t['count']) for t in sw['trials'])}) | "
+                     f"{sw['swarm_max_realtime']} |")
+        lines.append(f"| swarm: CPU per vehicle / resident memory per added vehicle | "
+                     f"{100 * sw['cpu_per_vehicle_core']:.2f} % of a core / {sw['rss_per_added_vehicle_mb']:.2f} MB |")
     for speedup, s in r.get("mission_flight", {}).items():
         if s.get("passed"):
             lines.append(f"| mission_4wp_wall_s (groundstation mission square.plan, process start to landed) "
@@ -282,7 +357,9 @@ def main() -> int:
     ap.add_argument("--runs", type=int, default=5)
     ap.add_argument("--reference-runs", type=int, default=None, help="runs of the speedup-1 flight (default --runs)")
     ap.add_argument("--ladder", default="10,20,50,100,200,inf")
-    ap.add_argument("--skip", default="", help="comma list of: rtf,startup,mavsdk,mission")
+    ap.add_argument("--skip", default="", help="comma list of: rtf,startup,mavsdk,mission,swarm")
+    ap.add_argument("--swarm", default="25,50,75,100,125,150", help="vehicle counts tried, in order")
+    ap.add_argument("--swarm-window", type=float, default=60.0, help="seconds each count is held")
     args = ap.parse_args()
     skip = set(filter(None, args.skip.split(",")))
     (ROOT / "bench" / "tmp").mkdir(parents=True, exist_ok=True)
@@ -303,6 +380,9 @@ def main() -> int:
         print("MAVSDK flight ...", flush=True)
         results["mavsdk_flight"] = mavsdk_flights(args.runs, args.ladder.split(","),
                                                   args.reference_runs or args.runs)
+    if "swarm" not in skip:
+        print("many vehicles at 1x ...", flush=True)
+        results["swarm"] = swarm([int(c) for c in args.swarm.split(",")], args.swarm_window)
     if "mission" not in skip:
         print("4-waypoint mission ...", flush=True)
         results["mission_flight"] = mission_flights(args.runs, ["1", "10", "50"])
