@@ -16,7 +16,7 @@ $(STAMP): pyproject.toml
 	touch $(STAMP)
 
 run: install
-	$(PY) -m groundstation demo
+	$(PY) -m groundstation explore --scenario scenarios/default.toml
 
 test: install
 	$(PY) -m pytest -q -ra

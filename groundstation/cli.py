@@ -1,4 +1,4 @@
-"""`groundstation`: the decision-layer companion. Subcommands: demo."""
+"""`groundstation`: the decision-layer companion. Subcommands: demo, mission, evaluate."""
 from __future__ import annotations
 
 import argparse
@@ -40,7 +40,70 @@ def build_parser() -> argparse.ArgumentParser:
     mission.add_argument("--url", help="MAVSDK connection URL of a running vehicle (default: start one)")
     mission.add_argument("--speedup", type=positive, default=10.0, help="speedup of the autopilot it starts")
     mission.add_argument("--plot", type=Path, default=Path("out/mission_track.png"), help="PNG of planned vs flown")
+    explore = sub.add_parser("explore", help="find the fire: fly the exploration strategy (starts its own autopilot unless --url)")
+    explore.add_argument("--url", help="MAVSDK connection URL of a running vehicle")
+    explore.add_argument("--scenario", type=Path, default=None, help="scenario TOML (world geometry; truth for the report)")
+    explore.add_argument("--policy", default="gig", help="strategy policy (gig, infotaxis, greedy, lawnmower, ...)")
+    explore.add_argument("--speedup", type=positive, default=20.0, help="speedup of the autopilot it starts")
+    explore.add_argument("--plot", type=Path, default=Path("out/explore.png"), help="PNG of track over final belief")
+    explore.add_argument("--no-truth", action="store_true", help="do not mark the scenario's fire (unknown world)")
+    ev = sub.add_parser("evaluate", help="judge the fire-localization policies on seeded decision-level episodes")
+    ev.add_argument("--scenario", type=Path, default=Path("scenarios/default.toml"), help="scenario TOML file")
+    ev.add_argument("--episodes", type=count, default=200, help="episodes per policy (default 200)")
+    ev.add_argument("--seed", type=integer, default=None, help="episode seed (default: the scenario's seed)")
+    ev.add_argument("--policies", default="gig,lawnmower,zigzag",
+                    help="comma-separated: gig, infotaxis, greedy, lawnmower, zigzag, random, gradient")
+    ev.add_argument("--start", choices=("corner", "centre"), default="corner", help="where the vehicle starts")
+    ev.add_argument("--kernel", choices=("R", "G"), default=None, help="override the scenario's kernel")
+    ev.add_argument("--noise", type=non_negative, default=None, help="override the sensor noise [K]")
+    ev.add_argument("--threshold", type=fraction, default=0.99, help="3x3 belief mass that declares (default 0.99)")
+    ev.add_argument("--confirm", type=non_negative, default=10.0, metavar="M",
+                    help="declare only after a reading within M metres of the cell's centre (default 10)")
+    ev.add_argument("--no-confirm", action="store_true", help="declare as soon as the belief is confident")
+    ev.add_argument("--subcells", type=count, default=3, help="sub-positions per cell side in the belief (default 3)")
+    ev.add_argument("--budget", type=positive, default=6000.0, help="path budget [m] before a forced declaration")
+    ev.add_argument("--speed", type=positive, default=5.0, help="flight speed [m/s]; one reading per second")
+    ev.add_argument("--fixed-fire", action="store_true", help="use the scenario's fires and ambient in every episode")
+    ev.add_argument("--jobs", type=count, default=1, help="worker processes (default 1: decision times undisturbed)")
+    ev.add_argument("--json", type=Path, default=None, help="write every episode's result to this JSON file")
+    ev.add_argument("--plot", type=Path, default=None, help="write a PNG of the path-length distributions")
+    ev.add_argument("--flight", type=count, default=None, metavar="K",
+                    help="also fly K episodes with the real autopilot (not available yet)")
     return p
+
+
+def count(text: str) -> int:
+    value = integer(text)
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"must be at least 1, got {text!r}")
+    return value
+
+
+def integer(text: str) -> int:
+    try:
+        return int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected an integer, got {text!r}") from None
+
+
+def non_negative(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
+    if not value >= 0 or math.isinf(value):
+        raise argparse.ArgumentTypeError(f"must be zero or positive, got {text!r}")
+    return value
+
+
+def fraction(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
+    if not 0 < value <= 1:
+        raise argparse.ArgumentTypeError(f"must be within (0, 1], got {text!r}")
+    return value
 
 
 def quiet_mavsdk_logs() -> None:
@@ -55,6 +118,15 @@ def main(argv=None) -> int:
     except CliError as exc:
         print(f"groundstation: error: {exc}", file=sys.stderr)
         return 2
+    if args.command == "evaluate":
+        from .evaluate import EvaluateError, evaluate
+        try:
+            return evaluate(args)
+        except EvaluateError as exc:
+            print(f"groundstation: error: {exc}", file=sys.stderr)
+            return 2
+        except KeyboardInterrupt:
+            return 130
     quiet_mavsdk_logs()
     from .mission_files import MissionFileError
     from .vehicle_link import LinkError
@@ -62,10 +134,16 @@ def main(argv=None) -> int:
         if args.command == "demo":
             from . import demo
             return demo.run(args.url, args.speedup, args.side, args.alt, args.plot)
+        if args.command == "explore":
+            from . import explore
+            return explore.run(args.url, args.scenario, args.policy, args.speedup, args.plot, not args.no_truth)
         if args.command == "mission":
             from . import mission_runner
             return mission_runner.run(args.file, args.url, args.speedup, args.plot)
     except MissionFileError as exc:
+        print(f"groundstation: error: {exc}", file=sys.stderr)
+        return 2
+    except ValueError as exc:  # bad policy name or scenario (ScenarioError is a ValueError)
         print(f"groundstation: error: {exc}", file=sys.stderr)
         return 2
     except LinkError as exc:

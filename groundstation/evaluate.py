@@ -1,0 +1,209 @@
+"""`groundstation evaluate`: every policy on the same seeded decision-level episodes
+(groundstation/strategy/episode.py), a table of the metrics STRATEGY.md asks for, the per-episode
+results as JSON and a PNG of the path-length distributions."""
+from __future__ import annotations
+
+import dataclasses
+import json
+import math
+import os
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+from .strategy.episode import EpisodeConfig, run_episode
+from .strategy.policies import POLICIES, make_policy
+
+
+class EvaluateError(ValueError):
+    pass
+
+
+def parse_policies(text: str) -> list[str]:
+    names = [p.strip() for p in text.split(",") if p.strip()]
+    if not names:
+        raise EvaluateError("--policies: give at least one policy")
+    for name in names:
+        if name not in POLICIES:
+            raise EvaluateError(f"--policies: unknown policy {name!r} (known: {', '.join(POLICIES)})")
+    if len(set(names)) != len(names):
+        raise EvaluateError("--policies: a policy is listed twice")
+    return names
+
+
+def override_world(world, kernel: str | None, noise: float | None):
+    changes = {}
+    if kernel is not None:
+        changes["kernel"] = kernel
+    if noise is not None:
+        changes["noise_k"] = noise
+    world = dataclasses.replace(world, **changes)
+    world.validate()
+    return world
+
+
+class Progress:
+    """A bar on a terminal, a line per 10 % otherwise; both on stderr."""
+
+    def __init__(self, total: int, stream=sys.stderr):
+        self.total, self.done, self.stream = max(1, total), 0, stream
+        self.tty = hasattr(stream, "isatty") and stream.isatty()
+        self.t0 = time.monotonic()
+        self.last_decile = -1
+
+    def step(self, label: str) -> None:
+        self.done += 1
+        frac = self.done / self.total
+        elapsed = time.monotonic() - self.t0
+        eta = elapsed / frac - elapsed if frac > 0 else 0.0
+        if self.tty:
+            bar = "#" * int(30 * frac) + "-" * (30 - int(30 * frac))
+            self.stream.write(f"\r[{bar}] {self.done}/{self.total} {label:<12} {elapsed:6.0f}s eta {eta:5.0f}s")
+            if self.done == self.total:
+                self.stream.write("\n")
+            self.stream.flush()
+        else:
+            decile = int(10 * frac)
+            if decile != self.last_decile or self.done == self.total:
+                self.last_decile = decile
+                self.stream.write(f"evaluate: {self.done}/{self.total} episodes ({label}), "
+                                  f"{elapsed:.0f} s elapsed, ~{eta:.0f} s to go\n")
+                self.stream.flush()
+
+
+_warm = False
+
+
+def warm_up() -> None:
+    """One throwaway decision per process, so one-time costs are not booked as decision time."""
+    global _warm
+    if not _warm:
+        from .strategy import Belief, Geometry, Planner
+        b = Belief(Geometry(), subcells=3)
+        b.update(0.0, 0.0, 20.0, 30.0)
+        b.update(5.0, 0.0, 20.5, 30.0)
+        Planner(Geometry(), rng=np.random.default_rng(0)).choose(b, (5.0, 0.0))
+        _warm = True
+
+
+def _one(job):
+    world, seed, index, name, config = job
+    warm_up()
+    return run_episode(world, seed, index, make_policy(name), config).to_dict()
+
+
+def run(world, policies: list[str], episodes: int, seed: int, config: EpisodeConfig, jobs: int = 1,
+        progress: Progress | None = None) -> dict[str, list[dict]]:
+    """Per policy, the results of episodes 0..episodes-1 (the same worlds for every policy)."""
+    results: dict[str, list[dict]] = {name: [] for name in policies}
+    work = [(world, seed, k, name, config) for name in policies for k in range(episodes)]
+    if jobs > 1:
+        import multiprocessing
+        with multiprocessing.get_context("fork").Pool(jobs) as pool:
+            for res in pool.imap(_one, work, chunksize=1):
+                results[res["policy"]].append(res)
+                if progress:
+                    progress.step(res["policy"])
+    else:
+        for job in work:
+            res = _one(job)
+            results[res["policy"]].append(res)
+            if progress:
+                progress.step(res["policy"])
+    return results
+
+
+def summarize(rows: list[dict]) -> dict:
+    paths = np.array([r["path_m"] for r in rows])
+    ok = [r for r in rows if r["success"]]
+    decisions = sum(r["decisions"] for r in rows)
+    ms_total = sum(r["ms_mean"] * r["decisions"] for r in rows)
+    return {
+        "episodes": len(rows),
+        "success_rate": len(ok) / len(rows) if rows else math.nan,
+        "path_mean_m": float(paths.mean()) if rows else math.nan,
+        "path_median_m": float(np.median(paths)) if rows else math.nan,
+        "path_p90_m": float(np.percentile(paths, 90)) if rows else math.nan,
+        "error_mean_m": float(np.mean([r["error_m"] for r in rows])) if rows else math.nan,
+        "false_declarations": sum(r["false_declaration"] for r in rows),
+        "forced_declarations": sum(r["forced"] for r in rows),
+        "ms_per_decision_mean": ms_total / decisions if decisions else 0.0,
+        "ms_per_decision_max": max((r["ms_max"] for r in rows), default=0.0),
+    }
+
+
+def table(summary: dict[str, dict]) -> str:
+    head = (f"{'policy':<10} {'success':>7} {'mean m':>8} {'median m':>8} {'p90 m':>8} {'err m':>6} "
+            f"{'false':>5} {'forced':>6} {'ms/dec':>7} {'max ms':>7}")
+    lines = [head, "-" * len(head)]
+    for name, s in summary.items():
+        lines.append(f"{name:<10} {s['success_rate']:>7.3f} {s['path_mean_m']:>8.0f} {s['path_median_m']:>8.0f} "
+                     f"{s['path_p90_m']:>8.0f} {s['error_mean_m']:>6.1f} {s['false_declarations']:>5d} "
+                     f"{s['forced_declarations']:>6d} {s['ms_per_decision_mean']:>7.2f} "
+                     f"{s['ms_per_decision_max']:>7.1f}")
+    return "\n".join(lines)
+
+
+def plot(results: dict[str, list[dict]], path: Path, title: str) -> None:
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    names = list(results)
+    data = [[r["path_m"] for r in results[n]] for n in names]
+    fig, ax = plt.subplots(figsize=(max(6.0, 1.3 * len(names) + 2), 4.5))
+    ax.boxplot(data, showmeans=True, whis=(5, 95))
+    ax.set_xticks(range(1, len(names) + 1))
+    ax.set_xticklabels([f"{n}\n{100 * np.mean([r['success'] for r in results[n]]):.1f}% ok" for n in names])
+    ax.set_ylabel("path length to declaration [m]")
+    ax.set_yscale("log")
+    ax.set_title(title + "\nbox: quartiles, whiskers: 5-95 %, triangle: mean", fontsize=10)
+    ax.grid(axis="y", alpha=0.3)
+    fig.tight_layout()
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def evaluate(args) -> int:
+    from autopilot.scenario import ScenarioError, load_scenario
+    if args.flight is not None:
+        raise EvaluateError("--flight: not available yet")
+    policies = parse_policies(args.policies)
+    try:
+        scenario = load_scenario(args.scenario)
+    except ScenarioError as exc:
+        raise EvaluateError(str(exc)) from None
+    try:
+        world = override_world(scenario.world, args.kernel, args.noise)
+    except ValueError as exc:
+        raise EvaluateError(str(exc)) from None
+    seed = scenario.seed if args.seed is None else args.seed
+    config = EpisodeConfig(start=args.start, threshold=args.threshold, budget_m=args.budget,
+                           fixed_fire=args.fixed_fire, speed_m_s=args.speed, subcells=args.subcells,
+                           confirm_m=None if args.no_confirm else args.confirm)
+    jobs = args.jobs or 1
+    progress = Progress(len(policies) * args.episodes)
+    t0 = time.monotonic()
+    results = run(world, policies, args.episodes, seed, config, jobs, progress)
+    summary = {name: summarize(rows) for name, rows in results.items()}
+    title = (f"{args.scenario.name}: kernel {world.kernel}, noise {world.noise_k:g} K, {args.start} start, "
+             f"{args.episodes} episodes, seed {seed}")
+    print(title)
+    print(table(summary))
+    confirm = "off" if config.confirm_m is None else f"within {config.confirm_m:g} m"
+    print(f"({time.monotonic() - t0:.0f} s, {jobs} job{'s' if jobs > 1 else ''}; declare at 3x3 mass >= "
+          f"{config.threshold:g}, confirmation {confirm}, budget {config.budget_m:g} m; success = declared cell "
+          f"within one cell of a fire; false = confident but wrong; forced = budget ran out)")
+    if args.json:
+        args.json.parent.mkdir(parents=True, exist_ok=True)
+        payload = {"scenario": str(args.scenario), "seed": seed, "episodes": args.episodes, "start": args.start,
+                   "kernel": world.kernel, "noise_k": world.noise_k, "config": dataclasses.asdict(config),
+                   "jobs": jobs, "cpus": os.cpu_count(), "summary": summary, "results": results}
+        args.json.write_text(json.dumps(payload, indent=1))
+        print(f"results: {args.json}")
+    if args.plot:
+        plot(results, args.plot, title)
+        print(f"plot: {args.plot}")
+    return 0
