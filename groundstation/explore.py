@@ -114,7 +114,7 @@ def path_length(points) -> float:
 
 async def explore(url: str, world: FireWorld, policy_name: str, plot: Path | None, truth: bool) -> dict:
     geometry = world_geometry(world)
-    survey = Survey(geometry, Belief(geometry), make_policy(policy_name), StoppingRule(0.95, 1, BUDGET_M))
+    survey = Survey(geometry, Belief(geometry, subcells=3), make_policy(policy_name), StoppingRule(0.99, 1, BUDGET_M))
     link = await VehicleLink.connect(url)
     tasks = []
     try:
