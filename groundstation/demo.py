@@ -6,6 +6,7 @@ import asyncio
 import time
 from pathlib import Path
 
+from .mission_runner import write_plot
 from .vehicle_link import VehicleLink
 
 
@@ -34,28 +35,9 @@ async def fly_square(url: str, side_m: float, alt_m: float, plot: Path | None, t
     finally:
         link.close()
     if plot is not None and track:
-        write_track_png(track, corners, plot)
+        write_plot([(0.0, 0.0)] + corners, track, plot, "Firefly demo flight")
         print(f"track plot: {plot}")
     return 0
-
-
-def write_track_png(track, corners, path: Path) -> None:
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    fig, ax = plt.subplots(figsize=(5, 5))
-    ax.plot([p[1] for p in track], [p[0] for p in track], lw=1.5, label="flown")
-    ax.plot([0] + [c[1] for c in corners], [0] + [c[0] for c in corners], "k--", lw=0.8, label="planned")
-    ax.plot(0, 0, "g^", ms=10, label="home")
-    ax.set_xlabel("east [m]")
-    ax.set_ylabel("north [m]")
-    ax.set_aspect("equal")
-    ax.legend(loc="best")
-    ax.set_title("Firefly demo flight")
-    fig.tight_layout()
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
 
 
 def run(url: str | None, speedup: float, side_m: float, alt_m: float, plot: Path | None) -> int:

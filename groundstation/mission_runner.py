@@ -168,7 +168,7 @@ async def fly_mission(url: str, plan: MissionPlan, plot: Path | None) -> dict:
     return summary
 
 
-def write_plot(planned: list, flown: list, path: Path) -> None:
+def write_plot(planned: list, flown: list, path: Path, title: str = "Mission: planned and flown") -> None:
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -180,7 +180,7 @@ def write_plot(planned: list, flown: list, path: Path) -> None:
     ax.set_ylabel("north [m]")
     ax.set_aspect("equal")
     ax.legend(loc="best")
-    ax.set_title("Mission: planned and flown")
+    ax.set_title(title)
     fig.tight_layout()
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path, dpi=110)

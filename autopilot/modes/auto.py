@@ -10,7 +10,7 @@ from __future__ import annotations
 import math
 
 from .base import Mode, Setpoint
-from .land import Rtl, descent_rate_m_s
+from .land import Rtl, descend_and_disarm
 
 CMD_WAYPOINT, CMD_LOITER_UNLIM, CMD_LOITER_TIME, CMD_RTL, CMD_LAND, CMD_TAKEOFF = 16, 17, 19, 20, 21, 22
 CMD_DO_JUMP, CMD_DO_CHANGE_SPEED, CMD_DO_SET_HOME = 177, 178, 179
@@ -169,10 +169,7 @@ class Auto(Mode):
             sp.pos_ne, sp.pos_d = (n, e), self._land_d  # fly over the landing point first
             return
         sp.pos_ne = (n, e) if not ctx.landed else None
-        rate = descent_rate_m_s(ctx)
-        sp.vel_d, sp.speed_dn = rate, rate
-        if ctx.landed and ctx.armed:
-            ctx.disarm("landed")
+        if descend_and_disarm(ctx, sp):
             self._complete(ctx)
 
     def _hold(self, ctx, sp: Setpoint) -> None:

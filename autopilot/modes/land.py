@@ -15,6 +15,17 @@ def descent_rate_m_s(ctx) -> float:
     return params["LAND_SPEED"] / 100.0
 
 
+def descend_and_disarm(ctx, sp: Setpoint) -> bool:
+    """The final descent shared by LAND, RTL and AUTO's land item; True once landed and disarmed."""
+    rate = descent_rate_m_s(ctx)
+    sp.vel_d = rate
+    sp.speed_dn = rate
+    if ctx.landed and ctx.armed:
+        ctx.disarm("landed")
+        return True
+    return False
+
+
 class Land(Mode):
     number, name = 9, "LAND"
     requires_position = False
@@ -26,11 +37,7 @@ class Land(Mode):
     def update(self, ctx, sp: Setpoint, dt: float) -> None:
         sp.clear()
         sp.pos_ne = self._hold_ne
-        rate = descent_rate_m_s(ctx)
-        sp.vel_d = rate
-        sp.speed_dn = rate
-        if ctx.landed and ctx.armed:
-            ctx.disarm("landed")
+        descend_and_disarm(ctx, sp)
 
     def landed_state_hint(self, ctx) -> str | None:
         return None if ctx.landed else "LANDING"
@@ -73,11 +80,7 @@ class Rtl(Mode):
                 self._stage = "LAND"
         if self._stage == "LAND":
             sp.pos_ne = home_ne if not ctx.landed else None
-            rate = descent_rate_m_s(ctx)
-            sp.vel_d = rate
-            sp.speed_dn = rate
-            if ctx.landed and ctx.armed:
-                ctx.disarm("landed")
+            descend_and_disarm(ctx, sp)
 
     def landed_state_hint(self, ctx) -> str | None:
         return "LANDING" if self._stage == "LAND" and not ctx.landed else None

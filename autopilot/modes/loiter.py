@@ -4,7 +4,7 @@ from __future__ import annotations
 import math
 
 from .base import Mode, Setpoint, hold_here, stick_deadzone
-from .manual import pilot_climb_rate
+from .manual import pilot_vertical
 
 
 class Loiter(Mode):
@@ -29,12 +29,7 @@ class Loiter(Mode):
             self._hold_ne = (ctx.body.n_m, ctx.body.e_m)
         else:
             sp.pos_ne = self._hold_ne
-        climb = pilot_climb_rate(ctx)
-        if climb != 0.0 or ctx.landed:
-            self._hold_d = ctx.body.d_m
-            sp.vel_d = -climb
-        else:
-            sp.pos_d = self._hold_d
+        self._hold_d = pilot_vertical(ctx, sp, self._hold_d)
         sp.yaw_rate = stick_deadzone(pilot.yaw) * math.radians(ctx.params["PILOT_Y_RATE"])
         if ctx.landed:
             self._hold_ne = (ctx.body.n_m, ctx.body.e_m)

@@ -34,6 +34,17 @@ def pilot_climb_rate(ctx) -> float:
     return stick * (up if stick > 0 else down)
 
 
+def pilot_vertical(ctx, sp: Setpoint, hold_d: float) -> float:
+    """Throttle stick in ALT_HOLD/LOITER: climb at the stick's rate, or hold the height it left;
+    returns the height to hold from now on."""
+    climb = pilot_climb_rate(ctx)
+    if climb != 0.0 or ctx.landed:
+        sp.vel_d = -climb
+        return ctx.body.d_m
+    sp.pos_d = hold_d
+    return hold_d
+
+
 class AltHold(Mode):
     number, name = 2, "ALT_HOLD"
     allows_arming = True
@@ -46,9 +57,4 @@ class AltHold(Mode):
     def update(self, ctx, sp: Setpoint, dt: float) -> None:
         sp.clear()
         pilot_lean_and_yaw(ctx, sp)
-        climb = pilot_climb_rate(ctx)
-        if climb != 0.0 or ctx.landed:
-            self._hold_d = ctx.body.d_m
-            sp.vel_d = -climb
-        else:
-            sp.pos_d = self._hold_d
+        self._hold_d = pilot_vertical(ctx, sp, self._hold_d)

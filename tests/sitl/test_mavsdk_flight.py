@@ -3,7 +3,6 @@ connect, wait for armable, arm, take off to 10 m, hold, go 30 m north, RTL, land
 Telemetry is checked against the flight as it happens."""
 from __future__ import annotations
 
-import asyncio
 import math
 
 import pytest
@@ -11,6 +10,8 @@ from mavsdk.asyncio import ComponentType, Configuration, Mavsdk
 from mavsdk.asyncio.plugins.action import ActionAsync
 from mavsdk.asyncio.plugins.param import ParamAsync
 from mavsdk.asyncio.plugins.telemetry import FlightMode, LandedState, TelemetryAsync
+
+from groundstation.vehicle_link import first  # fails (LinkError) naming what did not happen
 
 pytestmark = pytest.mark.sitl
 
@@ -21,18 +22,6 @@ def north_east_m(pos, home) -> tuple:
     n = (pos.latitude_deg - home.latitude_deg) * M_PER_DEG_LAT
     e = (pos.longitude_deg - home.longitude_deg) * M_PER_DEG_LAT * math.cos(math.radians(home.latitude_deg))
     return n, e
-
-
-async def first(stream, condition, timeout: float, what: str):
-    """First item of an async stream satisfying `condition`, or fail after `timeout` wall seconds."""
-    async def scan():
-        async for item in stream:
-            if condition(item):
-                return item
-    try:
-        return await asyncio.wait_for(scan(), timeout)
-    except asyncio.TimeoutError:
-        raise AssertionError(f"timed out after {timeout:g} s waiting for {what}") from None
 
 
 async def connect(url: str):
