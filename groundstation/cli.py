@@ -68,7 +68,10 @@ def build_parser() -> argparse.ArgumentParser:
     ev.add_argument("--json", type=Path, default=None, help="write every episode's result to this JSON file")
     ev.add_argument("--plot", type=Path, default=None, help="write a PNG of the path-length distributions")
     ev.add_argument("--flight", type=count, default=None, metavar="K",
-                    help="also fly K episodes with the real autopilot (not available yet)")
+                    help="also fly the first K episodes end to end through the real autopilot with the first policy")
+    ev.add_argument("--flight-speedup", type=positive, default=20.0, help="speedup of the flown episodes (default 20)")
+    ev.add_argument("--flight-plots", type=Path, default=None, metavar="DIR",
+                    help="write each flown episode's track over its belief to DIR/flight_K.png")
     return p
 
 
@@ -119,6 +122,8 @@ def main(argv=None) -> int:
         print(f"groundstation: error: {exc}", file=sys.stderr)
         return 2
     if args.command == "evaluate":
+        if args.flight:
+            quiet_mavsdk_logs()
         from .evaluate import EvaluateError, evaluate
         try:
             return evaluate(args)

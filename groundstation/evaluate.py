@@ -168,8 +168,10 @@ def plot(results: dict[str, list[dict]], path: Path, title: str) -> None:
 
 def evaluate(args) -> int:
     from autopilot.scenario import ScenarioError, load_scenario
-    if args.flight is not None:
-        raise EvaluateError("--flight: not available yet")
+    if args.flight is not None and args.start != "corner":
+        raise EvaluateError("--flight: flown episodes start at home, the area's corner; use --start corner")
+    if args.flight is not None and args.flight > args.episodes:
+        raise EvaluateError(f"--flight {args.flight}: at most --episodes ({args.episodes}) episodes can be flown")
     policies = parse_policies(args.policies)
     try:
         scenario = load_scenario(args.scenario)
@@ -196,14 +198,40 @@ def evaluate(args) -> int:
     print(f"({time.monotonic() - t0:.0f} s, {jobs} job{'s' if jobs > 1 else ''}; declare at 3x3 mass >= "
           f"{config.threshold:g}, confirmation {confirm}, budget {config.budget_m:g} m; success = declared cell "
           f"within one cell of a fire; false = confident but wrong; forced = budget ran out)")
+    flights = fly(args, scenario, world, seed, config, policies[0], results[policies[0]]) if args.flight else None
     if args.json:
         args.json.parent.mkdir(parents=True, exist_ok=True)
         payload = {"scenario": str(args.scenario), "seed": seed, "episodes": args.episodes, "start": args.start,
                    "kernel": world.kernel, "noise_k": world.noise_k, "config": dataclasses.asdict(config),
                    "jobs": jobs, "cpus": os.cpu_count(), "summary": summary, "results": results}
+        if flights is not None:
+            payload["flights"] = flights
         args.json.write_text(json.dumps(payload, indent=1))
         print(f"results: {args.json}")
     if args.plot:
         plot(results, args.plot, title)
         print(f"plot: {args.plot}")
     return 0
+
+
+def fly(args, scenario, world, seed: int, config: EpisodeConfig, policy: str, decided: list[dict]) -> dict:
+    """The first K episodes flown through the real autopilot with the first policy listed."""
+    import dataclasses as dc
+    from . import flown_episodes
+    scenario = dc.replace(scenario, world=world)
+    print(f"flying episodes 0..{args.flight - 1} with {policy} through the autopilot at speedup "
+          f"{args.flight_speedup:g}", flush=True)
+    flown = []
+    for k in range(args.flight):
+        plot = args.flight_plots / f"flight_{k}.png" if args.flight_plots else None
+        flown.append(flown_episodes.fly_episode(scenario, seed, k, policy, config, args.flight_speedup, plot))
+        r = flown[-1]
+        state = (f"path {r['path_m']:.0f} m, error {r['error_m']:.1f} m, {r['survey_wall_s']:.1f} s wall"
+                 if r["flown"] else f"not flown: {r['why']}")
+        print(f"flight {k + 1}/{args.flight}: {state}", file=sys.stderr, flush=True)
+    print(flown_episodes.table(flown, decided))
+    summary = flown_episodes.summarize(flown)
+    print(f"flown: success {summary['success_rate']:.2f}, mean path {summary['path_mean_m']:.0f} m, "
+          f"landed at home {summary['landed_home_rate']:.2f} ({summary['flown']}/{summary['episodes']} flown; "
+          f"ok = declared cell within one cell of the fire, home m = landed distance from home)")
+    return {"policy": policy, "speedup": args.flight_speedup, "summary": summary, "episodes": flown}

@@ -26,6 +26,7 @@ from mavsdk.asyncio.plugins.mavlink_direct import MavlinkDirectAsync
 from sim.fire import FireWorld
 
 from .strategy import Belief, Geometry, StoppingRule, make_policy
+from .strategy.episode import judge
 from .vehicle_link import LinkError, VehicleLink, first
 
 TEMPERATURE_NAME = "GND_TEMP"
@@ -36,6 +37,8 @@ ARRIVAL_M = 2.0
 SIM_READING_SPACING_M = 5.0
 LINK_SILENCE_S = 5.0  # wall seconds without a reading or a position: the link is lost
 BUDGET_M = 6000.0
+THRESHOLD = 0.99  # 3x3 block mass that declares: the decision-level episodes' default
+CONFIRM_M = 10.0  # declare only after a reading this close to the cell's centre (flown over it)
 
 
 class CommandRefused(RuntimeError):
@@ -112,14 +115,17 @@ def path_length(points) -> float:
     return float(sum(math.dist(a, b) for a, b in zip(points, points[1:])))
 
 
-async def explore(url: str, world: FireWorld, policy_name: str, plot: Path | None, truth: bool) -> dict:
+async def explore(url: str, world: FireWorld, policy_name: str, plot: Path | None, truth: bool,
+                  say=print) -> dict:
+    """Fly one search; `say` receives the progress lines (print by default)."""
     geometry = world_geometry(world)
-    survey = Survey(geometry, Belief(geometry, subcells=3), make_policy(policy_name), StoppingRule(0.99, 1, BUDGET_M))
+    survey = Survey(geometry, Belief(geometry, subcells=3), make_policy(policy_name),
+                    StoppingRule(THRESHOLD, 1, BUDGET_M, CONFIRM_M))
     link = await VehicleLink.connect(url)
     tasks = []
     try:
         await link.wait_armable()
-        print(f"vehicle armable; surveying {geometry.area_m:g} m x {geometry.area_m:g} m "
+        say(f"vehicle armable; surveying {geometry.area_m:g} m x {geometry.area_m:g} m "
               f"({geometry.cells_per_side}^2 cells) at {geometry.survey_alt_m:g} m with policy {policy_name}")
         direct = MavlinkDirectAsync(link.system)
         await link.telemetry.set_rate_position_velocity_ned(10.0)
@@ -164,24 +170,20 @@ async def explore(url: str, world: FireWorld, policy_name: str, plot: Path | Non
             "survey_wall_s": time.monotonic() - wall0,
             "path_m": path_length(survey.track), "readings": survey.readings,
         }
-        print(f"fire declared at N {est_n:.1f} m E {est_e:.1f} m (lat {est[0]:.7f}, lon {est[1]:.7f}), "
+        say(f"fire declared at N {est_n:.1f} m E {est_e:.1f} m (lat {est[0]:.7f}, lon {est[1]:.7f}), "
               f"3x3 mass {declaration.mass:.3f}, spread {spread:.1f} m, after {result['path_m']:.0f} m "
               f"and {result['survey_vehicle_s']:.0f} s of vehicle time")
         if truth and world.fires:
-            cell = geometry.cell_size_m
-            errors = [math.hypot(est_n - f.n_m, est_e - f.e_m) for f in world.fires]
-            best = world.fires[int(np.argmin(errors))]
-            decl_cell = geometry.cell_of(est_n, est_e)
-            true_cell = geometry.cell_of(best.n_m, best.e_m)
-            within = max(abs(decl_cell[0] - true_cell[0]), abs(decl_cell[1] - true_cell[1])) <= 1
-            result.update(true_n_m=best.n_m, true_e_m=best.e_m, error_m=min(errors), within_one_cell=within)
-            print(f"true fire at N {best.n_m:.1f} m E {best.e_m:.1f} m: error {min(errors):.1f} m "
-                  f"({'within' if within else 'NOT within'} one {cell:g} m cell)")
-        print("returning to launch")
+            error, within = judge(world, est_n, est_e)
+            best = min(world.fires, key=lambda f: math.hypot(est_n - f.n_m, est_e - f.e_m))
+            result.update(true_n_m=best.n_m, true_e_m=best.e_m, error_m=error, within_one_cell=within)
+            say(f"true fire at N {best.n_m:.1f} m E {best.e_m:.1f} m: error {error:.1f} m "
+                f"({'within' if within else 'NOT within'} one {geometry.cell_size_m:g} m cell)")
+        say("returning to launch")
         await link.land_and_disarm(600, rtl=True)
         final = await link.position()
         result["landed_from_home_m"] = math.hypot(*link.north_east_m(final))
-        print(f"landed and disarmed {result['landed_from_home_m']:.1f} m from home")
+        say(f"landed and disarmed {result['landed_from_home_m']:.1f} m from home")
     except (LinkError, CommandRefused) as exc:
         await make_safe(link)
         raise LinkError(str(exc)) from None
@@ -192,7 +194,7 @@ async def explore(url: str, world: FireWorld, policy_name: str, plot: Path | Non
     if plot is not None:
         write_plot(survey, world if truth else None, result, plot)
         result["plot"] = str(plot)
-        print(f"picture: {plot}")
+        say(f"picture: {plot}")
     return result
 
 
@@ -218,8 +220,17 @@ async def make_safe(link: VehicleLink) -> None:
 
 async def fly_survey(link: VehicleLink, survey: Survey):
     geometry, policy = survey.geometry, survey.policy
-    target, flown_at_decision = None, 0.0
+    target, flown_at_decision, confirming = None, 0.0, False
     alt = geometry.survey_alt_m
+
+    async def fly_to(point) -> None:
+        nonlocal target
+        if target is None or math.dist(point, target) > 0.5:
+            target = (float(point[0]), float(point[1]))
+            lat, lon = link.lat_lon_of(*target)
+            await command(link.action.goto_location(lat, lon, link.home.absolute_altitude_m + alt,
+                                                    float("nan")), "goto")
+
     while True:
         declaration = survey.rule.confident(survey.belief) if survey.readings else None
         flown = path_length(survey.track)
@@ -228,18 +239,21 @@ async def fly_survey(link: VehicleLink, survey: Survey):
         if flown >= BUDGET_M:
             return survey.rule.force(survey.belief, "budget")
         here = survey.positions[-1][1:3]
-        arrived = target is not None and math.dist(here, target) < ARRIVAL_M
-        replan = policy.wants_replan(int((flown - flown_at_decision) / SIM_READING_SPACING_M))
-        if target is None or arrived or replan:
-            choice = policy.next_waypoint(survey.belief, here)
-            flown_at_decision = flown
-            if choice is None:
-                return survey.rule.force(survey.belief, "end")
-            if target is None or math.dist(choice, target) > 0.5:
-                target = (float(choice[0]), float(choice[1]))
-                lat, lon = link.lat_lon_of(*target)
-                await command(link.action.goto_location(lat, lon, link.home.absolute_altitude_m + alt,
-                                                        float("nan")), "goto")
+        # Confident but not yet flown over: go and look (the episodes' rule, stopping.py).
+        check = survey.rule.to_confirm(survey.belief) if survey.readings else None
+        if check is not None:
+            confirming = True
+            await fly_to(check)
+        else:
+            arrived = target is not None and math.dist(here, target) < ARRIVAL_M
+            replan = policy.wants_replan(int((flown - flown_at_decision) / SIM_READING_SPACING_M))
+            if target is None or arrived or replan or confirming:
+                confirming = False  # the readings on the way overturned it: back to the policy
+                choice = policy.next_waypoint(survey.belief, here)
+                flown_at_decision = flown
+                if choice is None:
+                    return survey.rule.force(survey.belief, "end")
+                await fly_to(choice)
         # The loop runs once per new position report: wait for the next one (or give up on the link).
         survey.updated.clear()
         try:

@@ -109,6 +109,17 @@ def episode_world(world: FireWorld, seed: int, index: int, config: EpisodeConfig
     return dataclasses.replace(world, fires=(Fire(float(n), float(e), float(strength)),), ambient_c=float(ambient))
 
 
+def judge(world: FireWorld, n: float, e: float) -> tuple[float, bool]:
+    """Distance from a declared point to the nearest fire, and success: the declared cell within
+    one cell (Chebyshev) of a fire's cell."""
+    geometry = Geometry.from_world(world)
+    declared = geometry.cell_of(n, e)
+    errors = [math.hypot(n - f.n_m, e - f.e_m) for f in world.fires]
+    within = any(max(abs(declared[0] - i), abs(declared[1] - j)) <= 1
+                 for i, j in (geometry.cell_of(f.n_m, f.e_m) for f in world.fires))
+    return (min(errors) if errors else math.nan), within
+
+
 def start_position(geometry: Geometry, start: str) -> tuple[float, float]:
     return (0.0, 0.0) if start == "corner" else (geometry.area_m / 2, geometry.area_m / 2)
 
@@ -200,15 +211,13 @@ def run_episode(world: FireWorld, seed: int, index: int, policy: Policy,
         declared = (float(own[0]), float(own[1]))
     index_decl = geometry.cell_of(*declared)
     declared = geometry.centre_of(index_decl)
-    errors = [math.hypot(declared[0] - f.n_m, declared[1] - f.e_m) for f in ep_world.fires]
-    success = any(max(abs(index_decl[0] - fi), abs(index_decl[1] - fj)) <= 1
-                  for fi, fj in (geometry.cell_of(f.n_m, f.e_m) for f in ep_world.fires))
+    error, success = judge(ep_world, *declared)
     forced = declared_by == "budget" or (declared_by != "confident" and policy.uses_stopping_rule)
     ms = [1000.0 * x for x in times]
     return EpisodeResult(
         policy=policy.name, episode=index, seed=seed, kernel=ep_world.kernel, start=config.start,
         fires=[(f.n_m, f.e_m, f.strength_k) for f in ep_world.fires], ambient_c=ep_world.ambient_c,
-        path_m=path, declared=declared, declared_cell=index_decl, error_m=min(errors) if errors else math.nan,
+        path_m=path, declared=declared, declared_cell=index_decl, error_m=error,
         success=bool(success), declared_by=declared_by, forced=bool(forced),
         false_declaration=bool(declared_by == "confident" and not success),
         mass=belief.mass_around(index_decl, 1), readings=readings, decisions=len(times),

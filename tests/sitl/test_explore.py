@@ -2,6 +2,7 @@
 the scenario's, within one cell, and the vehicle ends on the ground at home, disarmed."""
 from __future__ import annotations
 
+import json
 import re
 import subprocess
 import sys
@@ -46,3 +47,20 @@ def test_explore_says_so_and_exits_nonzero_when_no_vehicle_answers(tmp_path):
                             timeout=60)
     assert result.returncode != 0
     assert "no autopilot answered" in result.stderr and "Traceback" not in result.stderr
+
+
+def test_evaluate_flight_flies_an_episode_and_lands_it_at_home(tmp_path):
+    out = tmp_path / "flight.json"
+    result = subprocess.run([sys.executable, "-m", "groundstation", "evaluate", "--scenario", str(SMALL_WORLD),
+                             "--episodes", "1", "--policies", "gig", "--flight", "1", "--json", str(out)],
+                            cwd=REPO, capture_output=True, text=True, timeout=240)
+    assert result.returncode == 0, result.stdout[-2000:] + result.stderr[-2000:]
+    flight = json.loads(out.read_text())["flights"]["episodes"][0]
+    assert flight["flown"], flight
+    # The episode's own fire (not the scenario file's): the flight must find it and come home.
+    (fire_n, fire_e, _), = flight["fire"]
+    assert (fire_n, fire_e) != (135.0, 72.0)
+    n, e = flight["declared"]
+    assert abs(n - fire_n) <= 15.0 and abs(e - fire_e) <= 15.0, (flight["declared"], flight["fire"])
+    assert flight["landed_from_home_m"] < 5.0
+    assert "flown: success 1.00" in result.stdout
