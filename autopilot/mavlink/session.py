@@ -31,7 +31,9 @@ class Session:
         self.missions = MissionService(vehicle.mission, vehicle, codec)
         self.link_s = 0.0  # link clock (wall time from the I/O layer) for transfer retries
         self._out: list = []
-        self.counters = {"received": 0, "ignored_other_system": 0, "bad_data": 0, "refused": 0}
+        self.counters = {"received": 0, "ignored_other_system": 0, "bad_data": 0, "refused": 0,
+                         "handler_errors": 0}
+        self.last_handler_error = ""
         self.gcs_last_heartbeat_s: float | None = None
         self._handlers = {
             "HEARTBEAT": self._on_heartbeat,
@@ -88,7 +90,12 @@ class Session:
             return []
         handler = self._handlers.get(msg.get_type())
         if handler is not None:
-            handler(msg, now_s)
+            try:
+                handler(msg, now_s)
+            except Exception as exc:  # noqa: BLE001 - a bug must not stop the vehicle loop
+                # Counted and kept for the exit report; the property tests require zero of these.
+                self.counters["handler_errors"] += 1
+                self.last_handler_error = f"{msg.get_type()}: {type(exc).__name__}: {exc}"
         return self._take()
 
     def _on_heartbeat(self, msg, now_s):
