@@ -17,14 +17,34 @@ def write_json_atomic(path: Path, data) -> None:
             f.flush()
             os.fsync(f.fileno())
         os.replace(tmp, path)
+        _fsync_dir(path.parent)  # the rename itself reaches the disk, not only the data
     except BaseException:
         if os.path.exists(tmp):
             os.unlink(tmp)
         raise
 
 
+def _fsync_dir(directory: Path) -> None:
+    fd = os.open(directory, os.O_RDONLY)
+    try:
+        os.fsync(fd)
+    finally:
+        os.close(fd)
+
+
+def remove_stale_temporaries(path: Path) -> int:
+    """Temporary files a killed writer left beside `path` (never the file itself); how many."""
+    removed = 0
+    for stale in path.parent.glob(f".{path.name}-*"):
+        stale.unlink(missing_ok=True)
+        removed += 1
+    return removed
+
+
 def read_json(path: Path):
-    """The file's JSON, or None when it is missing or unreadable."""
+    """The file's JSON, or None when it is missing or unreadable. Read at start-up, so it first
+    removes the temporaries a killed writer may have left beside the file."""
+    remove_stale_temporaries(path)
     try:
         return json.loads(path.read_text())
     except (OSError, ValueError):

@@ -131,3 +131,13 @@ def test_no_temp_files_left_behind(tmp_path):
     for v in (1000, 2000, 3000):
         store.set("RTL_ALT", v)
     assert [p.name for p in tmp_path.iterdir()] == ["params.json"]
+
+
+def test_a_killed_writers_temporary_is_removed_at_load_and_the_file_kept(tmp_path):
+    path = tmp_path / "params.json"
+    ParamStore(path).set("RTL_ALT", 2500)
+    torn = tmp_path / ".params.json-abc123"
+    torn.write_text('{"RTL_ALT": 30')  # what a write killed half-way leaves: never the real file
+    store = ParamStore(path)
+    assert store["RTL_ALT"] == 2500.0
+    assert not torn.exists() and path.exists()
