@@ -5,7 +5,7 @@ VENV ?= .venv
 PY := $(VENV)/bin/python
 STAMP := $(VENV)/.installed
 
-.PHONY: install run test unit sitl bench clean
+.PHONY: install run test unit sitl bench fuzz clean
 
 install: $(STAMP)
 
@@ -32,3 +32,7 @@ clean:
 
 bench: install
 	$(PY) bench/run.py
+
+# A million hostile datagrams through the real UDP endpoint and session (CI runs 20,000).
+fuzz: install
+	$(PY) -m tests.fuzz.receive_fuzz --frames 1000000 --json out/fuzz.json

@@ -19,6 +19,7 @@ from autopilot.mavlink.session import Session
 from autopilot.modes import MODE_BY_NUMBER, Guided
 from autopilot.params import PARAM_TABLE, SPEC_BY_NAME
 
+from ..fuzz.checks import vehicle_problems
 from ._util import GCS_COMPONENT, GCS_SYSTEM, client_codec, mav, ready_vehicle, wire
 
 SYSTEM_ID = 1
@@ -111,17 +112,8 @@ def _snapshot(v):
 
 
 def _assert_valid(v, session):
-    b = v.body
-    assert all(math.isfinite(x) for x in b), b
-    assert all(math.isfinite(w) for w in v.sim.state.omega_rad_s)
-    assert abs(b.qw ** 2 + b.qx ** 2 + b.qy ** 2 + b.qz ** 2 - 1.0) < 1e-6
-    assert b.d_m <= 0.01 + max(0.0, v.home_ned[2] if v.home_ned else 0.0)
-    assert math.sqrt(b.vn_m_s ** 2 + b.ve_m_s ** 2 + b.vd_m_s ** 2) < 60.0, b
-    assert v.mode.number in MODE_BY_NUMBER and v.modes[v.mode.number] is v.mode
-    for spec in PARAM_TABLE:
-        value = v.params[spec.name]
-        assert math.isfinite(value) and spec.low <= value <= spec.high, (spec.name, value)
-    assert session.counters.get("handler_errors", 0) == 0, session.last_handler_error
+    problems = vehicle_problems(v, session)
+    assert not problems, problems
 
 
 def _decode(session, out) -> list:
