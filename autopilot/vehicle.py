@@ -10,11 +10,10 @@ from dataclasses import dataclass, field
 
 from sim.airframe import GRAVITY_M_S2
 from sim.rigid_body import euler_from_quaternion
-from sim.vehicle import SimConfig, SimVehicle
+from sim.vehicle import BATTERY_EVERY, SimConfig, SimVehicle
 
-from .control.allocation import Allocator
-from .control.attitude import AttitudeController, wrap_pi
-from .control.position import PositionController
+from .control.attitude import wrap_pi
+from .control.cascade import Cascade
 from .failsafe import Failsafes
 from .geo import GeoPoint, global_from_ned, ned_from_global
 from .mission import MissionStore
@@ -65,9 +64,7 @@ class Vehicle:
         self.weight_n = airframe.weight_n
         self.thrust_max_n = 4.0 * airframe.max_rotor_thrust_n
         self.omega_idle = airframe.omega_idle_rad_s
-        self.attitude_ctl = AttitudeController(airframe, self.params)
-        self.position_ctl = PositionController(airframe, self.params)
-        self.allocator = Allocator(airframe)
+        self.cascade = Cascade(self.sim, self.params, config.rates)
         self.params.on_change(self._param_changed)
         self.modes = {number: cls() for number, cls in MODE_BY_NUMBER.items()}
         self.mode = self.modes[Stabilize.number]
@@ -78,17 +75,15 @@ class Vehicle:
         self.pilot_input = PilotInput()
         self.events: list[tuple[int, str]] = []
         self.nav_speed_m_s = self.params["WPNAV_SPEED"] / 100.0
-        self._ratio_pos = config.rates.ratio(config.rates.position_hz)
-        self._ratio_att = config.rates.ratio(config.rates.attitude_hz)
+        self._loiter_speed_max = self.params["LOIT_SPEED"] / 100.0 * 2.0
+        self._ratio_mode = config.rates.ratio(config.rates.mode_hz)
         self._ratio_gps = max(1, config.rates.physics_hz // GPS_RATE_HZ)
         self._ratio_temp = max(1, config.rates.physics_hz // TEMPERATURE_RATE_HZ)
+        # The cascade runs in chunks that end wherever Python has work: a mode tick, a sensor
+        # sample or a battery update (the sim integrates the battery every BATTERY_EVERY steps).
+        self._chunk = math.gcd(self._ratio_mode, self._ratio_gps, self._ratio_temp, BATTERY_EVERY)
         self.temperature = (0.0, float("nan"))  # (sim time of the sample, degrees C)
-        self._dt_pos = 1.0 / config.rates.position_hz
-        self._dt_att = 1.0 / config.rates.attitude_hz
-        self._lean_t = (0.0, 0.0)
-        self._thrust_t = 0.0
-        self._yaw_t = math.radians(config.home_yaw_deg)
-        self._omega_cmd = (0.0, 0.0, 0.0, 0.0)
+        self._dt_mode = 1.0 / config.rates.mode_hz
         self._landed_since: float | None = None
         self._disarm_timer_start: float | None = None
         self.gps = self.sim.gps.read(self.sim.state.body)
@@ -125,7 +120,7 @@ class Vehicle:
 
     @property
     def thrust_demand_n(self) -> float:
-        return self._thrust_t
+        return self.cascade.thrust_t
 
     def unix_time_us(self) -> int:
         return self.config.epoch_unix_us + int(self.time_s * 1e6)
@@ -192,8 +187,8 @@ class Vehicle:
         self.events.append((int(severity), text))
 
     def _param_changed(self, name: str, value: float) -> None:
-        self.attitude_ctl.configure(self.params)
-        self.position_ctl.configure(self.params)
+        self.cascade.configure(self.params)
+        self._loiter_speed_max = self.params["LOIT_SPEED"] / 100.0 * 2.0
         if name == "WPNAV_SPEED":
             self.nav_speed_m_s = value / 100.0
 
@@ -237,8 +232,7 @@ class Vehicle:
         self.armed_time_s = self.time_s
         self.landed = True
         self._disarm_timer_start = self.time_s
-        self._reset_controllers()
-        self._yaw_t = self.attitude[2]
+        self.cascade.reset()
         self.notify("Arming motors")
         return Result.ACCEPTED
 
@@ -275,7 +269,7 @@ class Vehicle:
             return Result.FAILED
         self.mode.exit(self)
         self.mode = cls_mode
-        self._reset_position_loop()
+        self.cascade.reset_position()
         return Result.ACCEPTED
 
     def takeoff(self, alt_m: float) -> Result:
@@ -339,16 +333,22 @@ class Vehicle:
         return ned_from_global(self.origin, lat, lon, alt_amsl)
 
     # ----- the loop ----------------------------------------------------------------------------
-    def _reset_controllers(self) -> None:
-        self.attitude_ctl.reset()
-        self._reset_position_loop()
-
-    def _reset_position_loop(self) -> None:
-        b = self.body
-        self.position_ctl.reset((b.vn_m_s, b.ve_m_s), b.vd_m_s)
-
     def step(self) -> None:
-        """One physics tick, running each control loop when its turn in the rate table comes."""
+        """One physics tick: the work due at this tick (sensors, flight mode), then the cascade."""
+        self._advance(1)
+
+    def run_until(self, t_s: float) -> None:
+        """Step until sim time reaches t_s (to within 1 ns), in as few cascade runs as it takes."""
+        dt, steps = self.sim.dt, self.sim.steps
+        target = max(steps, math.floor((t_s - 1e-9) / dt) - 1)
+        while target * dt < t_s - 1e-9:  # the same test as time_s < t_s - 1e-9, step by step
+            target += 1
+        while self.sim.steps < target:
+            self._advance(target - self.sim.steps)
+
+    def _advance(self, most: int) -> None:
+        """The Python work due at this physics step, then up to `most` steps of the cascade,
+        stopping before the next step that has Python work."""
         sim = self.sim
         steps = sim.steps
         if steps % self._ratio_gps == 0:
@@ -357,77 +357,21 @@ class Vehicle:
                 self._set_home_here()
         if steps % self._ratio_temp == 0:
             self.temperature = (sim.time_s, sim.read_temperature((self.home_ned or (0, 0, 0))[2]))
-        if steps % self._ratio_pos == 0:
-            self._position_tick()
-        if steps % self._ratio_att == 0:
-            self._attitude_tick()
-        sim.step(self._omega_cmd)
-
-    def run_until(self, t_s: float) -> None:
-        while self.sim.time_s < t_s - 1e-9:
-            self.step()
-
-    def _ground_idle(self) -> bool:
-        """Whether the motors should just idle (disarmed, or armed on the ground not taking off)."""
-        if not self.armed:
-            return True
-        if self.landed:
-            return not self.setpoint.wants_climb(self.body.d_m)
-        return False
-
-    def _position_tick(self) -> None:
-        dt = self._dt_pos
+        if steps % self._ratio_mode == 0:
+            self._mode_tick()
         sp = self.setpoint
+        self.cascade.command(sp, self.armed, self.landed, min(sp.speed_xy, self._loiter_speed_max))
+        self.cascade.run(min(most, self._chunk - steps % self._chunk))
+
+    def _mode_tick(self) -> None:
+        dt = self._dt_mode
         if self.script is not None:
             self.script.run_due(self)
-        self.mode.update(self, sp, dt)
-        b = self.body
-        roll, pitch, yaw = self.attitude
-        if self._ground_idle():
-            self._reset_controllers()
-            self._lean_t = (0.0, 0.0)
-            self._thrust_t = 0.0
-            self._yaw_t = yaw
-        else:
-            pc = self.position_ctl
-            if sp.lean is not None:
-                self._lean_t = sp.lean
-            else:
-                speed = min(sp.speed_xy, self.params["LOIT_SPEED"] / 100.0 * 2.0)
-                self._lean_t = pc.horizontal(sp.pos_ne, sp.vel_ne, speed, (b.n_m, b.e_m),
-                                             (b.vn_m_s, b.ve_m_s), yaw, dt)
-            if sp.throttle is not None:
-                self._thrust_t = self._manual_thrust(sp.throttle)
-            else:
-                self._thrust_t = pc.vertical(sp.pos_d, sp.vel_d, b.d_m, b.vd_m_s, roll, pitch, dt,
-                                             speed_dn=sp.speed_dn)
-            if sp.yaw is not None:
-                self._yaw_t = sp.yaw
-            else:
-                self._yaw_t = wrap_pi(self._yaw_t + sp.yaw_rate * dt)
+        self.mode.update(self, self.setpoint, dt)
         self._update_land_detector(dt)
         self._update_auto_disarm()
-        if self.sim.steps % (self._ratio_pos * 10) == 0:  # failsafe checks at 10 Hz
+        if self.sim.steps % (self._ratio_mode * 10) == 0:  # failsafe checks at 10 Hz
             self.failsafes.check(self)
-
-    def _manual_thrust(self, stick: float) -> float:
-        """STABILIZE throttle curve: mid stick = hover thrust, full stick = full thrust."""
-        hover = self.weight_n
-        if stick <= 0.5:
-            return 2.0 * stick * hover
-        return hover + (stick - 0.5) * 2.0 * (self.thrust_max_n - hover)
-
-    def _attitude_tick(self) -> None:
-        if self._ground_idle():
-            idle = self.omega_idle if self.armed else 0.0
-            self._omega_cmd = (idle, idle, idle, idle)
-            return
-        b = self.body
-        roll, pitch, yaw = self.attitude
-        u2, u3, u4 = self.attitude_ctl.update(self._lean_t[0], self._lean_t[1], self._yaw_t, 0.0,
-                                              roll, pitch, yaw, (b.p_rad_s, b.q_rad_s, b.r_rad_s),
-                                              self._dt_att)
-        self._omega_cmd = self.allocator.omega_commands(self._thrust_t, u2, u3, u4)
 
     def _update_land_detector(self, dt: float) -> None:
         b = self.body
@@ -439,7 +383,7 @@ class Vehicle:
         if not self.armed:
             self.landed = True
             return
-        low_thrust = self._thrust_t < 0.85 * self.weight_n
+        low_thrust = self.cascade.thrust_t < 0.85 * self.weight_n
         still = abs(b.vd_m_s) < 0.3 and math.hypot(b.vn_m_s, b.ve_m_s) < 0.5
         if low_thrust and still:
             if self._landed_since is None:

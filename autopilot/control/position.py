@@ -4,6 +4,9 @@ altitude -> climb rate -> vertical acceleration -> total thrust U1 with m*g feed
 Velocity targets from position errors use a square-root controller (linear near the target,
 constant deceleration further out) and are slewed at the acceleration limit, so a step in the
 target never asks for more than the configured acceleration.
+
+Vector lengths are sqrt(x*x + y*y) rather than math.hypot: the compiled twin (cascade.h) can then
+compute the very same bits, and these magnitudes are far from overflow.
 """
 from __future__ import annotations
 
@@ -27,6 +30,7 @@ def sqrt_controller(error: float, p: float, accel_max: float) -> float:
 class PositionController:
     def __init__(self, airframe: Airframe, params):
         self.mass = airframe.mass_kg
+        self.weight = airframe.weight_n
         self.thrust_max = 4.0 * airframe.max_rotor_thrust_n
         self.vel_pid_n = Pid(0)
         self.vel_pid_e = Pid(0)
@@ -66,17 +70,17 @@ class PositionController:
         vn_d, ve_d = vel_ff
         if pos_t is not None:
             en, ee = pos_t[0] - pos[0], pos_t[1] - pos[1]
-            dist = math.hypot(en, ee)
+            dist = math.sqrt(en * en + ee * ee)
             if dist > 1e-6:
                 v = sqrt_controller(dist, self.pos_xy_p, self.accel_xy_max)
                 vn_d += v * en / dist
                 ve_d += v * ee / dist
-        speed = math.hypot(vn_d, ve_d)
+        speed = math.sqrt(vn_d * vn_d + ve_d * ve_d)
         if speed > speed_max > 0.0:
             vn_d, ve_d = vn_d * speed_max / speed, ve_d * speed_max / speed
         # Slew the velocity target as a vector so a diagonal move keeps its heading.
         dn, de = vn_d - self.vel_target_ne[0], ve_d - self.vel_target_ne[1]
-        change = math.hypot(dn, de)
+        change = math.sqrt(dn * dn + de * de)
         step = self.accel_xy_max * dt
         if change > step:
             dn, de = dn * step / change, de * step / change
@@ -89,7 +93,7 @@ class PositionController:
 
     def lean_from_accel(self, an: float, ae: float, yaw: float) -> tuple:
         a_max = GRAVITY_M_S2 * math.tan(self.lean_max)
-        a = math.hypot(an, ae)
+        a = math.sqrt(an * an + ae * ae)
         if a > a_max:
             an, ae = an * a_max / a, ae * a_max / a
         # Rotate into the heading frame: forward and right accelerations.
@@ -118,3 +122,10 @@ class PositionController:
         tilt = max(math.cos(roll) * math.cos(pitch), 0.5)
         u1 = self.mass * (GRAVITY_M_S2 - accel_d) / tilt
         return max(0.0, min(self.thrust_max, u1))
+
+    def thrust_from_stick(self, stick: float) -> float:
+        """STABILIZE throttle curve: mid stick = hover thrust, full stick = full thrust."""
+        hover = self.weight
+        if stick <= 0.5:
+            return 2.0 * stick * hover
+        return hover + (stick - 0.5) * 2.0 * (self.thrust_max - hover)
