@@ -9,7 +9,8 @@ STAMP := $(VENV)/.installed
 
 install: $(STAMP)
 
-$(STAMP): pyproject.toml
+# setup.py builds the compiled cascade; its C sources rebuild it when they change.
+$(STAMP): pyproject.toml setup.py $(wildcard sim/*.h autopilot/control/*.h autopilot/control/*.c)
 	$(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install --quiet --upgrade pip
 	$(PY) -m pip install --quiet -e '.[test]'
@@ -28,7 +29,7 @@ sitl: install
 	$(PY) -m pytest -q tests/sitl
 
 clean:
-	rm -rf $(VENV) build *.egg-info .pytest_cache
+	rm -rf $(VENV) build *.egg-info .pytest_cache autopilot/control/_cascade*.so
 
 bench: install
 	$(PY) bench/run.py

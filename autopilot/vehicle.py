@@ -13,7 +13,7 @@ from sim.rigid_body import euler_from_quaternion
 from sim.vehicle import BATTERY_EVERY, SimConfig, SimVehicle
 
 from .control.attitude import wrap_pi
-from .control.cascade import Cascade
+from .control.compiled import make_cascade
 from .failsafe import Failsafes
 from .geo import GeoPoint, global_from_ned, ned_from_global
 from .mission import MissionStore
@@ -39,6 +39,7 @@ class VehicleConfig:
     rates: LoopRates = field(default_factory=LoopRates)
     system_id: int = 1
     epoch_unix_us: int = 1_790_000_000_000_000  # UNIX time at sim time 0 (SYSTEM_TIME only)
+    compiled: bool = True  # fly the compiled cascade when it is built (False: the Python reference)
 
 
 class Vehicle:
@@ -64,7 +65,7 @@ class Vehicle:
         self.weight_n = airframe.weight_n
         self.thrust_max_n = 4.0 * airframe.max_rotor_thrust_n
         self.omega_idle = airframe.omega_idle_rad_s
-        self.cascade = Cascade(self.sim, self.params, config.rates)
+        self.cascade = make_cascade(self.sim, self.params, config.rates, config.compiled)
         self.params.on_change(self._param_changed)
         self.modes = {number: cls() for number, cls in MODE_BY_NUMBER.items()}
         self.mode = self.modes[Stabilize.number]

@@ -34,19 +34,26 @@ def step(state: PhysicsState, omega_cmd: tuple, airframe: Airframe, wind_ned: tu
     return PhysicsState(body, omega, on_ground)
 
 
+def fast_step_constants(airframe: Airframe, dt: float, wind_ned: tuple = (0.0, 0.0, 0.0)) -> tuple:
+    """The numbers the hot path binds: (m, ixx, iyy, izz, b, arm, c, k, kr, lag, w_max, g, half,
+    dt, wind n, e, d). One list for make_fast_step and for the compiled twin (physics.h)."""
+    from .airframe import GRAVITY_M_S2
+    from .rotors import motor_lag_factor
+    return (airframe.mass_kg, airframe.ixx_kg_m2, airframe.iyy_kg_m2, airframe.izz_kg_m2,
+            airframe.thrust_coeff_b, airframe.arm_length_m, airframe.torque_ratio_c,
+            airframe.linear_drag_n_per_m_s, airframe.angular_drag_nm_per_rad_s,
+            motor_lag_factor(airframe, dt), airframe.omega_max_rad_s, GRAVITY_M_S2, 0.5 * dt, dt,
+            *wind_ned)
+
+
 def make_fast_step(airframe: Airframe, dt: float):
     """The same step as `step`, specialised for one airframe and dt: constants bound once, the
     motor, mixer and rigid-body arithmetic inlined over plain floats. Returns
     fast_step(state, omega_cmd, wind_ned) -> PhysicsState; a test checks it agrees with `step`.
     This is the hot path: at 400 Hz it runs 400 times per simulated second for every vehicle.
+    Its C twin is physics.h (used by the compiled cascade).
     """
-    from .airframe import GRAVITY_M_S2
-    from .rotors import motor_lag_factor
-
-    m, ixx, iyy, izz = airframe.mass_kg, airframe.ixx_kg_m2, airframe.iyy_kg_m2, airframe.izz_kg_m2
-    b, arm, c = airframe.thrust_coeff_b, airframe.arm_length_m, airframe.torque_ratio_c
-    k, kr = airframe.linear_drag_n_per_m_s, airframe.angular_drag_nm_per_rad_s
-    lag, w_max, g, half = motor_lag_factor(airframe, dt), airframe.omega_max_rad_s, GRAVITY_M_S2, 0.5 * dt
+    m, ixx, iyy, izz, b, arm, c, k, kr, lag, w_max, g, half, dt = fast_step_constants(airframe, dt)[:14]
     sqrt, new_body, new_state = __import__("math").sqrt, BodyState._make, PhysicsState
 
     def fast_step(state: PhysicsState, omega_cmd: tuple, wind_ned: tuple) -> PhysicsState:

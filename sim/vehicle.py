@@ -42,9 +42,18 @@ class SimVehicle:
         self.steps = 0
 
     def step(self, omega_cmd: tuple) -> None:
-        af = self.airframe
         self.state = self._step(self.state, omega_cmd, self._wind_ned)
-        self.steps += 1
+        self._count(1)
+
+    def take(self, state: PhysicsState, n: int) -> None:
+        """The state after n physics steps taken elsewhere (the compiled cascade steps the same
+        physics in C). n must not carry the step count past a multiple of BATTERY_EVERY."""
+        self.state = state
+        self._count(n)
+
+    def _count(self, n: int) -> None:
+        af = self.airframe
+        self.steps += n
         self.time_s = self.steps * self.dt
         if self.steps % BATTERY_EVERY == 0:  # the pack changes slowly: integrate it at a quarter rate
             b = af.thrust_coeff_b

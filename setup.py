@@ -1,0 +1,21 @@
+"""Builds the compiled control cascade (autopilot/control/_cascade.c) at `pip install`.
+
+Everything else is declared in pyproject.toml. The extension is optional: if it cannot be built,
+the install still succeeds and vehicles fly the Python reference (autopilot/control/cascade.py).
+The flags keep IEEE double semantics exactly as CPython's floats have them, so the C twin
+computes the very same bits: no FP contraction into fused multiply-adds, no fast-math, and no
+builtin replacement of libm calls (gcc would fuse sin and cos into sincos).
+"""
+from setuptools import Extension, setup
+
+HEADERS = ["sim/pyfloat.h", "sim/physics.h", "autopilot/control/pid.h", "autopilot/control/attitude.h",
+           "autopilot/control/position.h", "autopilot/control/allocation.h", "autopilot/control/cascade.h"]
+
+setup(ext_modules=[Extension(
+    "autopilot.control._cascade",
+    sources=["autopilot/control/_cascade.c"],
+    depends=HEADERS,
+    include_dirs=["sim", "autopilot/control"],
+    extra_compile_args=["-O2", "-ffp-contract=off", "-fno-fast-math", "-fno-builtin"],
+    optional=True,
+)])

@@ -1,0 +1,174 @@
+"""The compiled cascade (C) and the readable Python reference compute the very same bits: the
+physics step alone over random motor commands, and whole vehicles flown through every part of
+the cascade (ground idle, takeoff, far gotos, yaw, velocity control, manual throttle and lean,
+saturating gains, landing) — compared at every physics step, exactly."""
+from __future__ import annotations
+
+import dataclasses
+import random
+
+import pytest
+
+from autopilot.control import compiled
+from autopilot.control.cascade import Cascade
+from autopilot.modes import Guided, Land, Stabilize
+from autopilot.params import SPEC_BY_NAME
+from autopilot.rates import LoopRates
+from autopilot.vehicle import Vehicle, VehicleConfig
+from sim.physics import initial_state, make_fast_step
+from sim.rigid_body import BodyState
+from sim.vehicle import SimConfig, SimVehicle
+from sim.wind import SteadyWind
+
+needs_extension = pytest.mark.skipif(not compiled.available(), reason="compiled cascade not built")
+
+
+def twins(**config) -> tuple[Vehicle, Vehicle]:
+    """The same vehicle twice: compiled cascade, Python reference."""
+    a = Vehicle(VehicleConfig(compiled=True, **config))
+    b = Vehicle(VehicleConfig(compiled=False, **config))
+    assert isinstance(a.cascade, compiled.CompiledCascade)
+    assert type(b.cascade) is Cascade
+    return a, b
+
+
+def assert_same(a: Vehicle, b: Vehicle) -> None:
+    assert a.sim.steps == b.sim.steps
+    assert a.sim.state == b.sim.state  # every float, exactly
+    assert a.cascade.thrust_t == b.cascade.thrust_t
+    assert a.cascade.lean_t == b.cascade.lean_t
+    assert a.cascade.yaw_t == b.cascade.yaw_t
+    assert a.cascade.omega_cmd == b.cascade.omega_cmd
+
+
+def lockstep(a: Vehicle, b: Vehicle, seconds: float) -> int:
+    """Advance both one physics step at a time, comparing after every step. Returns how many
+    steps the reference's allocator saturated (so a test can show it went there)."""
+    saturated = 0
+    for _ in range(round(seconds / a.sim.dt)):
+        a.step()
+        b.step()
+        assert_same(a, b)
+        saturated += b.cascade.allocator.saturated
+    return saturated
+
+
+def both(a: Vehicle, b: Vehicle, action) -> None:
+    assert action(a) == action(b)
+
+
+@needs_extension
+def test_physics_step_twin_agrees_bit_for_bit_over_random_commands():
+    rng = random.Random(11)
+    sim = SimVehicle(SimConfig(wind=SteadyWind(4.0, 30.0)))
+    sim.state = initial_state()._replace(body=BodyState(d_m=-20.0, qw=0.96, qx=0.2, qy=-0.1, qz=0.17), on_ground=False)
+    loop = compiled.make_cascade(sim, Vehicle(VehicleConfig()).params, LoopRates()).loop
+    fast = make_fast_step(sim.airframe, sim.dt)
+    state = sim.state
+    for i in range(4000):  # 10 s: random commands (some out of range), then a fall to the ground
+        cmd = tuple(rng.uniform(-50, 700) for _ in range(4)) if i < 2000 else (0.0, 0.0, 0.0, 0.0)
+        state = fast(state, cmd, sim.wind_ned)
+        loop.run_physics(1, cmd)
+        assert loop.state() == state
+    assert state.on_ground
+
+
+@needs_extension
+def test_guided_flight_is_bit_identical_compiled_and_in_python():
+    a, b = twins(sim=SimConfig(wind=SteadyWind(5.0, 200.0)), home_yaw_deg=30.0)
+    lockstep(a, b, 0.6)  # disarmed: props stopped, controllers idle
+    for action in (lambda v: v.set_mode(Guided.number), lambda v: v.arm()):
+        both(a, b, action)
+    lockstep(a, b, 0.5)  # armed on the ground: idle props
+    both(a, b, lambda v: v.takeoff(12.0))
+    lockstep(a, b, 8.0)
+    both(a, b, lambda v: v.guided_goto(60.0, -40.0, -20.0, yaw=2.5))  # speed limited, yaw across pi
+    lockstep(a, b, 6.0)
+    both(a, b, lambda v: v.guided_velocity(-3.0, 2.0, -1.0))
+    lockstep(a, b, 2.0)
+    both(a, b, lambda v: v.set_yaw(170.0, relative=True, direction=-1))
+    for name, value in (("ATC_RAT_RLL_P", 0.5), ("ATC_RAT_PIT_P", 0.5), ("ATC_RAT_YAW_P", 2.0)):
+        both(a, b, lambda v: v.params.set(name, value))  # harsh gains, re-read by both
+    both(a, b, lambda v: v.guided_goto(0.0, 0.0, -5.0))
+    lockstep(a, b, 4.0)
+    for name in ("ATC_RAT_RLL_P", "ATC_RAT_PIT_P", "ATC_RAT_YAW_P"):
+        both(a, b, lambda v: v.params.set(name, SPEC_BY_NAME[name].default))
+    both(a, b, lambda v: v.set_mode(Land.number))
+    lockstep(a, b, 40.0)
+    assert not a.armed and a.body.d_m == 0.0  # it flew the whole way down and disarmed
+
+
+@needs_extension
+def test_manual_flight_is_bit_identical_compiled_and_in_python():
+    a, b = twins()
+    lockstep(a, b, 0.5)
+    both(a, b, lambda v: v.set_mode(Stabilize.number))
+    both(a, b, lambda v: v.arm())
+    saturated = 0
+    for roll, pitch, yaw, throttle, seconds in ((0.0, 0.0, 0.0, 0.9, 2.0), (1.0, -1.0, 0.5, 0.6, 1.5),
+                                                (-0.7, 0.3, -1.0, 1.0, 1.0), (0.0, 0.0, 0.0, 0.3, 2.0)):
+        for v in (a, b):
+            v.pilot_input.update(roll, pitch, yaw, throttle, v.time_s)
+        saturated += lockstep(a, b, seconds)
+    assert a.body.d_m < -1.0  # it really flew
+    assert saturated > 0  # full throttle with lean: the allocator's priorities were used
+
+
+@needs_extension
+def test_a_state_set_from_outside_is_where_the_compiled_cascade_goes_on_from():
+    a, b = twins()
+    for v in (a, b):
+        v.run_until(0.5)
+        v.set_mode(Guided.number)
+        v.arm()
+        v.takeoff(5.0)
+        v.run_until(3.0)
+        v.sim.state = v.sim.state._replace(body=v.body._replace(n_m=7.0, vn_m_s=1.5))
+    lockstep(a, b, 2.0)
+
+
+@needs_extension
+@pytest.mark.parametrize("rates", [LoopRates(800, 400, 100, 200), LoopRates(200, 200, 100)])
+def test_other_loop_rates_agree_too(rates):
+    sim = dataclasses.replace(SimConfig(), physics_rate_hz=rates.physics_hz)
+    a, b = twins(sim=sim, rates=rates)
+    for v in (a, b):
+        v.run_until(0.5)
+        v.set_mode(Guided.number)
+        v.arm()
+        v.takeoff(8.0)
+    lockstep(a, b, 6.0)
+    both(a, b, lambda v: v.guided_goto(15.0, 10.0, -8.0))
+    lockstep(a, b, 4.0)
+
+
+@needs_extension
+def test_run_until_in_chunks_flies_the_same_as_single_steps():
+    chunked, single = Vehicle(VehicleConfig()), Vehicle(VehicleConfig())
+    for v in (chunked, single):
+        v.run_until(0.5)
+        v.set_mode(Guided.number)
+        v.arm()
+        v.takeoff(10.0)
+    chunked.run_until(9.0037)  # not a multiple of any loop period
+    while single.time_s < 9.0037 - 1e-9:
+        single.step()
+    assert chunked.sim.steps == single.sim.steps
+    assert chunked.sim.state == single.sim.state
+    assert chunked.sim.battery == single.sim.battery
+
+
+def test_without_the_extension_vehicles_fly_the_reference_after_one_warning(monkeypatch, capsys):
+    monkeypatch.setattr(compiled, "_cascade", None)
+    monkeypatch.setattr(compiled, "_why_missing", "No module named 'autopilot.control._cascade'")
+    vehicles = [Vehicle(VehicleConfig()) for _ in range(3)]
+    assert all(type(v.cascade) is Cascade for v in vehicles)
+    warning = capsys.readouterr().err.splitlines()
+    assert len(warning) == 1 and "flying the Python reference" in warning[0]
+    v = vehicles[0]
+    v.run_until(0.5)
+    v.set_mode(Guided.number)
+    v.arm()
+    v.takeoff(5.0)
+    v.run_until(8.0)
+    assert v.body.d_m == pytest.approx(-5.0, abs=0.3)
