@@ -65,11 +65,11 @@ class Runner:
         node.tlog.maybe_flush()
 
     def _advance(self) -> None:
-        self.sim_time_s += self.tick_s
+        self.ticks += 1
+        self.sim_time_s = self.ticks * self.tick_s  # counted, not summed: 0.01 added 500 times is not 5.0
         target = self.sim_time_s
         for node in self.nodes:
             node.vehicle.run_until(target)
-        self.ticks += 1
         if self.ticks % STATE_LOG_EVERY == 0:
             for node in self.nodes:
                 if node.state_log is not None:
@@ -80,7 +80,7 @@ class Runner:
         wall0 = time.monotonic()
         sim0 = self.sim_time_s
         fds = [n.endpoint for n in self.nodes]
-        while not self._stop and self.sim_time_s < duration_s:
+        while not self._stop and self.sim_time_s < duration_s - 1e-9:
             self._exchange()
             self._advance()
             if self.speedup == math.inf:
