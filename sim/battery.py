@@ -5,6 +5,7 @@ discharge curve; terminal voltage = cells * OCV(soc) - I * R_internal.
 """
 from __future__ import annotations
 
+from bisect import bisect_left
 from typing import NamedTuple
 
 # (state of charge, open-circuit volts per cell): a typical LiPo discharge curve.
@@ -18,12 +19,15 @@ class BatteryState(NamedTuple):
     voltage_v: float = 0.0
 
 
+_SOC_POINTS = tuple(soc for soc, _ in _OCV_CURVE)
+
+
 def open_circuit_volts_per_cell(soc: float) -> float:
+    """Linear interpolation in _OCV_CURVE, on the first segment whose upper end is >= soc."""
     soc = min(max(soc, 0.0), 1.0)
-    for (s0, v0), (s1, v1) in zip(_OCV_CURVE, _OCV_CURVE[1:]):
-        if soc <= s1:
-            return v0 + (v1 - v0) * (soc - s0) / (s1 - s0)
-    return _OCV_CURVE[-1][1]
+    i = bisect_left(_SOC_POINTS, soc, 1, len(_SOC_POINTS) - 1)
+    (s0, v0), (s1, v1) = _OCV_CURVE[i - 1], _OCV_CURVE[i]
+    return v0 + (v1 - v0) * (soc - s0) / (s1 - s0)
 
 
 def step_battery(state: BatteryState, power_w: float, cells: int, capacity_mah: float,

@@ -41,10 +41,13 @@ def unmix(u1: float, u2: float, u3: float, u4: float, l: float, c: float) -> tup
     return (base + pitch + yaw, base + roll - yaw, base - pitch + yaw, base - roll - yaw)
 
 
+def shaft_power_per_thrust_1p5(airframe: Airframe, air_density: float = 1.225) -> float:
+    """k in P = k * F^1.5: momentum-theory power of one rotor at thrust F (hover approximation)."""
+    disk_area = math.pi * airframe.prop_radius_m ** 2
+    return 1.0 / (math.sqrt(2.0 * air_density * disk_area) * airframe.figure_of_merit)
+
+
 def rotor_shaft_power_w(force_n: float, airframe: Airframe, air_density: float = 1.225) -> float:
-    """Momentum-theory power of one rotor at thrust F (hover approximation)."""
     if force_n <= 0.0:
         return 0.0
-    disk_area = math.pi * airframe.prop_radius_m ** 2
-    ideal = force_n ** 1.5 / math.sqrt(2.0 * air_density * disk_area)
-    return ideal / airframe.figure_of_merit
+    return shaft_power_per_thrust_1p5(airframe, air_density) * force_n ** 1.5

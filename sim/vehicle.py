@@ -7,7 +7,7 @@ from .airframe import Airframe
 from .fire import FireWorld, TemperatureSensor
 from .battery import BatteryState, remaining_fraction, step_battery
 from .physics import PhysicsState, initial_state, make_fast_step
-from .rotors import rotor_shaft_power_w
+from .rotors import shaft_power_per_thrust_1p5
 from .sensors import Barometer, Gps, Gyro, NoiseConfig
 from .wind import SteadyWind
 
@@ -40,6 +40,10 @@ class SimVehicle:
         self.thermometer = TemperatureSensor(config.world, config.seed)
         self.time_s = 0.0
         self.steps = 0
+        af = self.airframe
+        self._power_per_omega_cubed = shaft_power_per_thrust_1p5(af) * af.thrust_coeff_b ** 1.5 / af.motor_efficiency
+        self._battery_constants = (af.battery_cells, af.battery_capacity_mah, af.battery_internal_resistance_ohm,
+                                   af.avionics_current_a, self.dt * BATTERY_EVERY)
 
     def step(self, omega_cmd: tuple) -> None:
         self.state = self._step(self.state, omega_cmd, self._wind_ned)
@@ -52,15 +56,13 @@ class SimVehicle:
         self._count(n)
 
     def _count(self, n: int) -> None:
-        af = self.airframe
         self.steps += n
         self.time_s = self.steps * self.dt
         if self.steps % BATTERY_EVERY == 0:  # the pack changes slowly: integrate it at a quarter rate
-            b = af.thrust_coeff_b
-            shaft = sum(rotor_shaft_power_w(b * w * w, af) for w in self.state.omega_rad_s)
-            self.battery = step_battery(self.battery, shaft / af.motor_efficiency, af.battery_cells,
-                                        af.battery_capacity_mah, af.battery_internal_resistance_ohm,
-                                        af.avionics_current_a, self.dt * BATTERY_EVERY)
+            # Electrical power = sum of k F^1.5 / efficiency with F = b w^2, i.e. a constant times sum w^3.
+            o1, o2, o3, o4 = self.state.omega_rad_s
+            power = self._power_per_omega_cubed * (o1 * o1 * o1 + o2 * o2 * o2 + o3 * o3 * o3 + o4 * o4 * o4)
+            self.battery = step_battery(self.battery, power, *self._battery_constants)
 
     def read_temperature(self, home_d_m: float) -> float:
         """The downward radiometric sensor: reads the ground below at the vehicle's height."""
