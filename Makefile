@@ -5,7 +5,7 @@ VENV ?= .venv
 PY := $(VENV)/bin/python
 STAMP := $(VENV)/.installed
 
-.PHONY: install run test unit sitl bench fuzz clean
+.PHONY: install run test unit sitl bench fuzz soak clean
 
 install: $(STAMP)
 
@@ -37,3 +37,7 @@ bench: install
 # A million hostile datagrams through the real UDP endpoint and session (CI runs 20,000).
 fuzz: install
 	$(PY) -m tests.fuzz.receive_fuzz --frames 1000000 --json out/fuzz.json
+
+# A simulated hour at 60x with a pilot and three noisy clients; checks every tick ran, memory flat.
+soak: install
+	$(PY) -m tests.fuzz.soak --sim-hours 1 --speedup 60 --json out/soak.json

@@ -68,6 +68,8 @@ def build_parser() -> argparse.ArgumentParser:
                    help="record every MAVLink frame sent and received to this .tlog (appends)")
     p.add_argument("--state-log", default=None, metavar="FILE",
                    help="write the true body state every 0.1 s of sim time (CSV; for determinism checks)")
+    p.add_argument("--stats", default=None, metavar="FILE",
+                   help="at exit, write a JSON report: ticks run, sim time, frames refused and dropped per vehicle")
     p.add_argument("--quiet", action="store_true", help="print nothing but errors")
     return p
 
@@ -187,11 +189,18 @@ def main(argv=None) -> int:
                   f"out {' '.join(f'{h}:{p}' for h, p in outs)}, speedup {args.speedup}", flush=True)
         if len(built) > 10:
             print(f"... and {len(built) - 10} more vehicles", flush=True)
+    escaped, wall0 = None, time.monotonic()
     try:
         runner.run(args.duration)
     except KeyboardInterrupt:
         pass
+    except Exception as exc:
+        escaped = exc
+        raise
     finally:
+        if args.stats:
+            from . import exit_report
+            exit_report.write(Path(args.stats), runner, nodes, escaped, time.monotonic() - wall0)
         for node in nodes:
             node.endpoint.close()
             if node.tlog is not None:

@@ -1,0 +1,38 @@
+"""The process's exit report (--stats FILE): what ran and what was refused, as JSON.
+
+Written when the loop ends for any reason, so a soak or a CI job can check from outside that every
+tick ran, nothing escaped, and how much hostile input was dropped or refused, per vehicle.
+"""
+from __future__ import annotations
+
+import math
+import resource
+from pathlib import Path
+
+from .persist import write_json_atomic
+
+
+def report(runner, nodes, exception: BaseException | None, wall_s: float) -> dict:
+    vehicles = []
+    for node in nodes:
+        v, session, endpoint = node.vehicle, node.session, node.endpoint
+        counters = dict(session.counters)
+        counters["decode_errors"] = endpoint.decode_errors
+        counters["send_errors"] = endpoint.send_errors
+        signing = getattr(session, "signing", None)
+        if signing is not None and hasattr(signing, "counters"):
+            counters.update({f"signing_{k}": n for k, n in signing.counters.items()})
+        vehicles.append({
+            "system_id": v.system_id, "sim_s": v.time_s, "physics_steps": v.sim.steps,
+            "armed": v.armed, "mode": v.mode.number,
+            "state_finite": all(math.isfinite(x) for x in v.body),
+            "counters": counters, "last_handler_error": getattr(session, "last_handler_error", ""),
+        })
+    return {"ticks": runner.ticks, "sim_s": runner.sim_time_s, "wall_s": wall_s,
+            "exception": None if exception is None else f"{type(exception).__name__}: {exception}",
+            "max_rss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0,
+            "vehicles": vehicles}
+
+
+def write(path: Path, runner, nodes, exception: BaseException | None, wall_s: float) -> None:
+    write_json_atomic(path, report(runner, nodes, exception, wall_s))
