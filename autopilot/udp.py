@@ -3,12 +3,19 @@
 It sends to the configured outputs (like MAVProxy's --out behind ArduPilot SITL) and to every
 address that has sent it a valid MAVLink frame, so whoever talks to the vehicle is answered.
 Each peer gets its own parser, so interleaved datagrams from different clients never mix.
+With MAVLink 2 signing on, frames that fail it are dropped here (and counted by the link's
+LinkSigning) before anything else sees them, and their senders are not answered. Frames are judged
+in arrival order against the key as it is then: what follows a SETUP_SIGNING waits until the
+session has handled it. The signing timestamp follows the wall clock, read here at the I/O edge.
 """
 from __future__ import annotations
 
 import socket
+import time
+from collections import deque
 
 from .mavlink.dialect import new_codec
+from .mavlink.signing import signing_time
 
 MAX_DATAGRAM = 1400
 
@@ -22,6 +29,8 @@ class UdpEndpoint:
         self.peers: list[tuple] = list(dict.fromkeys(outs))
         self._parsers: dict = {}
         self._system_id = system_id
+        self.signing = None  # the session's LinkSigning, to drop frames that fail signing
+        self._held: deque = deque()  # (sender, messages) that arrived after a SETUP_SIGNING
         self.decode_errors = 0
         self.send_errors = 0
 
@@ -34,27 +43,52 @@ class UdpEndpoint:
 
     def receive(self) -> list:
         """Every message waiting on the socket, decoded (bad frames come back as BAD_DATA)."""
+        if self.signing is not None and self.signing.enabled:
+            self.signing.advance(signing_time(time.time()))
         messages = []
+        while True:
+            batch = self._held.popleft() if self._held else self._read_datagram()
+            if batch is None:
+                return messages
+            addr, decoded = batch
+            for k, msg in enumerate(decoded):
+                if not self._admit(msg, addr):
+                    continue
+                messages.append(msg)
+                if msg.get_type() == "SETUP_SIGNING":
+                    # The key may change once the session handles it: judge what follows after.
+                    if k + 1 < len(decoded):
+                        self._held.appendleft((addr, decoded[k + 1:]))
+                    return messages
+
+    def _read_datagram(self):
+        """(sender, its decoded messages) for the next datagram, or None when there is none."""
         while True:
             try:
                 data, addr = self.sock.recvfrom(65535)
             except (BlockingIOError, InterruptedError):
-                return messages
+                return None
             except OSError:  # e.g. ICMP port unreachable reported on some systems
                 continue
             parser = self._parsers.get(addr)
             if parser is None:
                 parser = self._parsers[addr] = new_codec(self._system_id)
             try:
-                decoded = parser.parse_buffer(data) or []
+                return addr, parser.parse_buffer(data) or []
             except Exception:  # noqa: BLE001 - any malformed frame is counted and dropped
                 self.decode_errors += 1
                 parser.buf = bytearray()
                 parser.buf_index = 0
-                continue
-            if any(m.get_type() != "BAD_DATA" for m in decoded) and addr not in self.peers:
-                self.peers.append(addr)
-            messages.extend(decoded)
+
+    def _admit(self, msg, addr) -> bool:
+        """Whether `msg` goes on to the session; its sender becomes a peer if it passed signing."""
+        if msg.get_type() == "BAD_DATA":  # the session counts it
+            return True
+        if self.signing is not None and not self.signing.admit(msg.get_msgbuf()):
+            return False
+        if addr not in self.peers:
+            self.peers.append(addr)
+        return True
 
     def send(self, frames: list[bytes]) -> None:
         """Send packed frames to every peer, several frames per datagram."""

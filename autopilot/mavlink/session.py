@@ -13,6 +13,7 @@ from .dialect import mavlink as mav
 from .guided_setpoints import handle_global_int, handle_local_ned
 from .mission_service import MissionService
 from .params_service import ParamService
+from .signing import LinkSigning
 from .streams import StreamScheduler
 from .telemetry import BUILDERS
 
@@ -23,6 +24,7 @@ class Session:
     def __init__(self, vehicle, codec):
         self.vehicle = vehicle
         self.codec = codec
+        self.signing = LinkSigning(codec)  # off until a key is set; the socket layer admits frames
         self.system_id = codec.srcSystem
         self.streams = StreamScheduler(vehicle.params)
         vehicle.params.on_change(self.streams.param_changed)
@@ -58,6 +60,7 @@ class Session:
             "SET_POSITION_TARGET_LOCAL_NED": self._on_setpoint_local,
             "SET_POSITION_TARGET_GLOBAL_INT": self._on_setpoint_global,
             "TIMESYNC": self._on_timesync,
+            "SETUP_SIGNING": lambda m, now: self.signing.setup(m, self.vehicle.armed),
         }
 
     # ----- output helpers used by the services ------------------------------------------------
