@@ -66,6 +66,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--duration", type=float, default=math.inf, help="stop after this many sim seconds")
     p.add_argument("--tlog", default=None, metavar="FILE",
                    help="record every MAVLink frame sent and received to this .tlog (appends)")
+    p.add_argument("--signing-key", default=None, metavar="FILE",
+                   help="MAVLink 2 signing: FILE holds 64 hex digits (the key) or a passphrase "
+                        "(SHA-256, as MAVProxy's 'signing setup'); unsigned commands are then dropped")
     p.add_argument("--state-log", default=None, metavar="FILE",
                    help="write the true body state every 0.1 s of sim time (CSV; for determinism checks)")
     p.add_argument("--stats", default=None, metavar="FILE",
@@ -90,6 +93,8 @@ def build(args) -> list:
         scenario.home, scenario.home_yaw_deg = parse_home(args.home)
     if args.seed is not None:
         scenario.seed = args.seed
+    if args.signing_key:
+        scenario.signing_key = signing_key_option(args.signing_key)
     outs = [parse_udp(o, "--out") for o in args.out] if args.out else None
     listen = parse_udp(args.listen, "--listen") if args.listen else None
     epoch_us = int(time.time() * 1e6)
@@ -102,6 +107,14 @@ def build(args) -> list:
             node.endpoint.close()
         raise
     return built
+
+
+def signing_key_option(path: str) -> bytes:
+    from .signing_keys import SigningKeyError, read_key_file
+    try:
+        return read_key_file(Path(path))
+    except SigningKeyError as exc:
+        raise CliError(f"--signing-key {path}: {exc}") from None
 
 
 def _offset_port(address: tuple, offset: int) -> tuple:
@@ -118,6 +131,7 @@ def build_vehicle(args, scenario, k: int, outs, listen, epoch_us: int):
     from .params import ParamStore
     from .rates import LoopRates
     from .runner import Node
+    from .signing_keys import attach_state
     from .udp import UdpEndpoint
     from .vehicle import Vehicle, VehicleConfig
 
@@ -145,10 +159,14 @@ def build_vehicle(args, scenario, k: int, outs, listen, epoch_us: int):
     if scenario.script:
         from .script import Script
         vehicle.script = Script(scenario.script)
+    session = Session(vehicle, new_codec(n + 1))
+    attach_state(session.signing, state_root / f"instance-{n}" / "signing.json", scenario.signing_key,
+                 args.wipe)
     try:
         endpoint = UdpEndpoint(bind, vehicle_outs, n + 1)
     except OSError as exc:
         raise CliError(f"--listen: cannot bind udp:{bind[0]}:{bind[1]}: {exc.strerror}") from None
+    endpoint.signing = session.signing
     tlog = None
     if args.tlog:
         from .tlog import TlogWriter
@@ -166,7 +184,7 @@ def build_vehicle(args, scenario, k: int, outs, listen, epoch_us: int):
         except OSError as exc:
             endpoint.close()
             raise CliError(f"--state-log: cannot open {path}: {exc.strerror}") from None
-    return Node(vehicle, Session(vehicle, new_codec(n + 1)), endpoint, tlog, state_log), vehicle_outs
+    return Node(vehicle, session, endpoint, tlog, state_log), vehicle_outs
 
 
 def main(argv=None) -> int:
@@ -185,8 +203,9 @@ def main(argv=None) -> int:
     if not args.quiet:
         for node, outs in built[:10]:
             host, port = node.endpoint.address
+            signed = ", MAVLink 2 signing on" if node.session.signing.enabled else ""
             print(f"Firefly autopilot: system {node.vehicle.system_id}, udp:{host}:{port}, "
-                  f"out {' '.join(f'{h}:{p}' for h, p in outs)}, speedup {args.speedup}", flush=True)
+                  f"out {' '.join(f'{h}:{p}' for h, p in outs)}, speedup {args.speedup}{signed}", flush=True)
         if len(built) > 10:
             print(f"... and {len(built) - 10} more vehicles", flush=True)
     escaped, wall0 = None, time.monotonic()
@@ -202,12 +221,22 @@ def main(argv=None) -> int:
             from . import exit_report
             exit_report.write(Path(args.stats), runner, nodes, escaped, time.monotonic() - wall0)
         for node in nodes:
+            report_signing(node, args.quiet)
             node.endpoint.close()
             if node.tlog is not None:
                 node.tlog.close()
             if node.state_log is not None:
                 node.state_log.close()
     return 0
+
+
+def report_signing(node, quiet: bool) -> None:
+    """Save the signing timestamp for the next run and say what signing dropped."""
+    signing = node.session.signing
+    if signing.enabled:
+        signing.save()
+    if not quiet and (signing.enabled or any(signing.counters.values())):
+        print(f"system {node.vehicle.system_id}: {signing.summary()}", flush=True)
 
 
 if __name__ == "__main__":

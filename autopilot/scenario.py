@@ -32,6 +32,7 @@ class Scenario:
     sim: SimConfig = dataclasses.field(default_factory=SimConfig)
     world: FireWorld = dataclasses.field(default_factory=FireWorld)
     script: list = dataclasses.field(default_factory=list)  # (time_s, verb, args) steps
+    signing_key: bytes | None = None  # MAVLink 2 signing key ([signing] or --signing-key)
 
 
 def _number(where: str, value, integer: bool = False):
@@ -91,13 +92,14 @@ def load_scenario(path: Path) -> Scenario:
         raise ScenarioError(f"{name}: cannot read ({exc})") from None
     except tomllib.TOMLDecodeError as exc:
         raise ScenarioError(f"{name}: not valid TOML: {exc}") from None
-    return scenario_from_dict(data, name)
+    return scenario_from_dict(data, name, Path(path).parent)
 
 
-KNOWN_TABLES = ("seed", "home", "airframe", "wind", "noise", "sim", "world", "fire", "script")
+KNOWN_TABLES = ("seed", "home", "airframe", "wind", "noise", "sim", "world", "fire", "script", "signing")
 
 
-def scenario_from_dict(data: dict, name: str = "scenario") -> Scenario:
+def scenario_from_dict(data: dict, name: str = "scenario", base_dir: Path = Path(".")) -> Scenario:
+    """The scenario `data` describes; `base_dir` is where relative file names (key_file) start."""
     for key in data:
         if key not in KNOWN_TABLES:
             raise ScenarioError(f"{name}: unknown key '{key}' (known: {', '.join(KNOWN_TABLES)})")
@@ -145,4 +147,21 @@ def scenario_from_dict(data: dict, name: str = "scenario") -> Scenario:
             sc.script = parse_steps(table["steps"], name)
         except ScriptError as exc:
             raise ScenarioError(str(exc)) from None
+    if "signing" in data:
+        sc.signing_key = _signing_key(data["signing"], name, base_dir)
     return sc
+
+
+def _signing_key(table, name: str, base_dir: Path) -> bytes:
+    """[signing] holds exactly one of key (the text of a key file) or key_file (a path)."""
+    from .signing_keys import SigningKeyError, key_from_text, read_key_file
+    if not isinstance(table, dict) or len(table) != 1 or not set(table) <= {"key", "key_file"}:
+        raise ScenarioError(f"{name}: [signing] must hold exactly one key: key or key_file")
+    (field, value), = table.items()
+    if not isinstance(value, str):
+        raise ScenarioError(f"{name}: [signing].{field}: expected a string, got {value!r}")
+    try:
+        return key_from_text(value) if field == "key" else read_key_file(base_dir / value)
+    except SigningKeyError as exc:
+        shown = f" {value}" if field == "key_file" else ""  # never echo a secret
+        raise ScenarioError(f"{name}: [signing].{field}{shown}: {exc}") from None
