@@ -12,7 +12,6 @@ import json
 import math
 import os
 import platform
-import statistics
 import subprocess
 import sys
 import time
@@ -21,12 +20,10 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
+from autopilot.control import compiled as compiled_cascade  # noqa: E402
 from autopilot.rates import LoopRates  # noqa: E402
 from autopilot.vehicle import Vehicle, VehicleConfig  # noqa: E402
-
-
-def summary(values: list[float]) -> dict:
-    return {"median": statistics.median(values), "min": min(values), "max": max(values), "runs": len(values)}
+from report import summary, write_markdown  # noqa: E402
 
 
 def progress(text: str) -> None:
@@ -86,35 +83,17 @@ def headless_pattern(v: Vehicle) -> None:
         v.run_until(v.time_s + 1.0)
 
 
-def rtf_headless(runs: int) -> dict:
+def rtf_headless(runs: int, compiled: bool = True) -> dict:
     values = []
     for i in range(runs):
-        v = Vehicle(VehicleConfig())
+        v = Vehicle(VehicleConfig(compiled=compiled))
         t0 = time.perf_counter()
         headless_pattern(v)
         wall = time.perf_counter() - t0
         values.append(v.time_s / wall)
-        progress(f"rtf run {i + 1}/{runs}: {v.time_s:.1f} sim s in {wall:.2f} wall s = {values[-1]:.0f}x")
+        progress(f"rtf run {i + 1}/{runs} ({'compiled' if compiled else 'Python reference'}): "
+                 f"{v.time_s:.1f} sim s in {wall:.2f} wall s = {values[-1]:.0f}x")
     return summary(values)
-
-
-def step_cost_us(n: int = 20000) -> dict:
-    v = Vehicle(VehicleConfig())
-    v.set_mode(4)
-    v.arm()
-    v.takeoff(10.0)
-    v.run_until(5.0)
-    cmd = v.cascade.omega_cmd
-    t0 = time.perf_counter()
-    for _ in range(n):
-        v.sim.step(cmd)
-    physics = (time.perf_counter() - t0) / n * 1e6
-    t0 = time.perf_counter()
-    for _ in range(n):
-        v.step()
-    total = (time.perf_counter() - t0) / n * 1e6
-    return {"physics_step_us": physics, "control_per_physics_step_us": total - physics,
-            "vehicle_step_us": total}
 
 
 # ----- process start-up ------------------------------------------------------------------------------
@@ -208,8 +187,9 @@ def _proc_rss_mb(pid: int) -> float:
     return math.nan
 
 
-def swarm_trial(count: int, window_s: float) -> dict:
-    """Run `autopilot --count N` at 1x; sim time of vehicle 1 (SYSTEM_TIME) against wall time."""
+def swarm_trial(count: int, window_s: float, segments: int = 6) -> dict:
+    """Run `autopilot --count N` at 1x; sim time of vehicle 1 (SYSTEM_TIME) against wall time over
+    the window, and over each of its `segments` equal parts (for median, min and max)."""
     from pymavlink import mavutil
     sys.path.insert(0, str(ROOT / "tests"))
     from sitl.conftest import free_udp_port
@@ -219,24 +199,37 @@ def swarm_trial(count: int, window_s: float) -> dict:
                              "--listen", "udp:127.0.0.1:0", "--out", f"udp:127.0.0.1:{port}", "--quiet",
                              "--wipe", "--state-dir", str(ROOT / "bench" / "tmp" / "swarm")], cwd=ROOT)
     try:
-        def boot_ms():
+        def sample():
+            """(wall time at receipt, sim ms it carries, process CPU s) of the next SYSTEM_TIME."""
             msg = conn.recv_match(type="SYSTEM_TIME", blocking=True, timeout=10)
-            return msg.time_boot_ms if msg else None
-        first = boot_ms()
-        if first is None:
+            return (time.monotonic(), msg.time_boot_ms, _proc_cpu_s(proc.pid)) if msg else None
+        if sample() is None:
             return {"count": count, "ok": False, "why": "no telemetry"}
         warm_until = time.monotonic() + 5.0
         while time.monotonic() < warm_until:
-            boot_ms()
-        conn.recv_match(type="SYSTEM_TIME", blocking=True, timeout=10)
-        w0, b0, c0 = time.monotonic(), boot_ms(), _proc_cpu_s(proc.pid)
-        end = w0 + window_s
-        while time.monotonic() < end:
-            conn.recv_match(type="SYSTEM_TIME", blocking=True, timeout=1)
-        w1, b1, c1 = time.monotonic(), boot_ms(), _proc_cpu_s(proc.pid)
-        ratio = (b1 - b0) / 1000.0 / (w1 - w0)
-        return {"count": count, "ratio": ratio, "ok": ratio >= 0.98, "cpu_core_fraction": (c1 - c0) / (w1 - w0),
-                "rss_mb": _proc_rss_mb(proc.pid)}
+            sample()
+        points = [sample()]
+        if points[0] is None:
+            return {"count": count, "ok": False, "why": "telemetry stopped"}
+        for k in range(1, segments + 1):
+            due = points[0][0] + window_s * k / segments
+            while (point := sample()) is not None and point[0] < due:
+                pass
+            if point is None:
+                return {"count": count, "ok": False, "why": "telemetry stopped"}
+            points.append(point)
+
+        def ratio(a, b):
+            return (b[1] - a[1]) / 1000.0 / (b[0] - a[0])
+
+        def cpu(a, b):
+            return (b[2] - a[2]) / (b[0] - a[0])
+        pairs = list(zip(points, points[1:]))
+        whole = ratio(points[0], points[-1])
+        return {"count": count, "ratio": whole, "ok": abs(whole - 1.0) <= 0.02,
+                "ratio_segments": summary([ratio(a, b) for a, b in pairs]),
+                "cpu_core_fraction": cpu(points[0], points[-1]),
+                "cpu_segments": summary([cpu(a, b) for a, b in pairs]), "rss_mb": _proc_rss_mb(proc.pid)}
     finally:
         proc.terminate()
         proc.wait()
@@ -256,10 +249,13 @@ def swarm(counts: list[int], window_s: float) -> dict:
     best = passing[-1] if passing else None
     one = swarm_trial(1, min(window_s, 20.0))
     out = {"trials": trials, "window_s": window_s, "single_vehicle": one}
+    for t in passing:  # per vehicle: CPU share of the whole process, memory above one vehicle's process
+        t["cpu_per_vehicle_core"] = t["cpu_core_fraction"] / t["count"]
+        t["rss_per_added_vehicle_mb"] = (t["rss_mb"] - one["rss_mb"]) / max(t["count"] - 1, 1)
     if best:
         out["swarm_max_realtime"] = best["count"]
-        out["cpu_per_vehicle_core"] = best["cpu_core_fraction"] / best["count"]
-        out["rss_per_added_vehicle_mb"] = (best["rss_mb"] - one["rss_mb"]) / max(best["count"] - 1, 1)
+        out["cpu_per_vehicle_core"] = best["cpu_per_vehicle_core"]
+        out["rss_per_added_vehicle_mb"] = best["rss_per_added_vehicle_mb"]
     return out
 
 
@@ -297,69 +293,15 @@ def machine() -> dict:
             "platform": platform.platform()}
 
 
-def write_markdown(results: dict, path: Path) -> None:
-    r = results
-    m, rates = r["machine"], r["rates"]
-    sr = r["step_response"]
-    lines = [
-        "# Firefly benchmarks", "",
-        f"Last run {r['date']} on {m['cpu']} ({m['cores']} cores), Python {m['python']}, {m['platform']}.",
-        f"Rates: physics {rates['physics_hz']} Hz, attitude/rate loops {rates['attitude_hz']} Hz, "
-        f"position loop {rates['position_hz']} Hz, flight modes {rates.get('mode_hz', rates['position_hz'])} Hz. "
-        "Timing figures: median (min–max) of the runs shown.",
-        "", "| figure | value |", "|---|---|",
-    ]
-
-    def fmt(s, unit="", digits=2):
-        return f"{s['median']:.{digits}f}{unit} ({s['min']:.{digits}f}–{s['max']:.{digits}f}, n={s['runs']})"
-
-    t = sr["takeoff_10m"]
-    g = sr["guided_30m"]
-    lines += [
-        f"| 10 m takeoff: overshoot | {t['overshoot_pct']:.2f} % |",
-        f"| 10 m takeoff: rise time 10–90 % | {t['rise_time_10_90_s']:.2f} s |",
-        f"| 10 m takeoff: settling time (±0.3 m) | {t['settling_time_0p3m_s']:.2f} s |",
-        f"| 30 m GUIDED move: first within 1 m | {g['first_within_1m_s']:.2f} s |",
-        f"| 30 m GUIDED move: overshoot | {g['overshoot_m']:.2f} m |",
-        f"| 30 m GUIDED move: final error | {g['final_error_m']:.3f} m |",
-    ]
-    if "rtf_headless" in r:
-        lines.append(f"| rtf_headless (sim s per wall s, speedup inf, no client) | {fmt(r['rtf_headless'], '', 0)} |")
-    if "step_cost_us" in r:
-        c = r["step_cost_us"]
-        lines.append(f"| step_cost_us: physics step / control per physics step | {c['physics_step_us']:.1f} µs / "
-                     f"{c['control_per_physics_step_us']:.1f} µs |")
-    if "startup" in r:
-        lines.append(f"| startup_heartbeat_s | {fmt(r['startup']['startup_heartbeat_s'], ' s', 3)} |")
-        lines.append(f"| startup_armable_s | {fmt(r['startup']['startup_armable_s'], ' s', 3)} |")
-    if "mavsdk_flight" in r:
-        f = r["mavsdk_flight"]
-        if f.get("at_highest"):
-            lines.append(f"| mavsdk_flight_wall_s at speedup {f['highest_passing_speedup']} (highest passing of "
-                         f"{', '.join(f['ladder_tried'])}) | {fmt(f['at_highest'], ' s')} |")
-        if f.get("at_speedup_1", {}).get("passed"):
-            lines.append(f"| mavsdk_flight_wall_s at speedup 1 | {fmt(f['at_speedup_1'], ' s')} |")
-    sw = r.get("swarm")
-    if sw and sw.get("swarm_max_realtime"):
-        lines.append(f"| swarm_max_realtime (vehicles in one process at 1x, sim time within 2 % of wall over "
-                     f"{sw['window_s']:g} s; counts tried {', '.join(str(t['count']) for t in sw['trials'])}) | "
-                     f"{sw['swarm_max_realtime']} |")
-        lines.append(f"| swarm: CPU per vehicle / resident memory per added vehicle | "
-                     f"{100 * sw['cpu_per_vehicle_core']:.2f} % of a core / {sw['rss_per_added_vehicle_mb']:.2f} MB |")
-    for speedup, s in r.get("mission_flight", {}).items():
-        if s.get("passed"):
-            lines.append(f"| mission_4wp_wall_s (groundstation mission square.plan, process start to landed) "
-                         f"at speedup {speedup} | {fmt(s, ' s')} |")
-    path.write_text("\n".join(lines) + "\n")
-
-
 def main() -> int:
     ap = argparse.ArgumentParser()
     ap.add_argument("--runs", type=int, default=5)
     ap.add_argument("--reference-runs", type=int, default=None, help="runs of the speedup-1 flight (default --runs)")
-    ap.add_argument("--ladder", default="10,20,50,100,200,inf")
+    ap.add_argument("--ladder", default="10,20,50,100,200,500,inf")
     ap.add_argument("--skip", default="", help="comma list of: rtf,startup,mavsdk,mission,swarm")
-    ap.add_argument("--swarm", default="25,50,75,100,125,150", help="vehicle counts tried, in order")
+    ap.add_argument("--swarm", default="50,100,150,200,250",
+                    help="vehicle counts tried, in order (MAVLink system ids stop at 255)")
+    ap.add_argument("--batch", default="1,10,100,1000", help="vehicle counts of the batched step cost")
     ap.add_argument("--swarm-window", type=float, default=60.0, help="seconds each count is held")
     args = ap.parse_args()
     skip = set(filter(None, args.skip.split(",")))
@@ -367,13 +309,19 @@ def main() -> int:
     rates = LoopRates()
     results = {"date": datetime.date.today().isoformat(), "machine": machine(),
                "rates": {"physics_hz": rates.physics_hz, "attitude_hz": rates.attitude_hz,
-                         "position_hz": rates.position_hz, "mode_hz": rates.mode_hz}}
+                         "position_hz": rates.position_hz, "mode_hz": rates.mode_hz},
+               "cascade": "compiled" if compiled_cascade.available() else "python"}
     print("step response ...", flush=True)
     results["step_response"] = step_response()
     if "rtf" not in skip:
         print("headless real-time factor ...", flush=True)
         results["rtf_headless"] = rtf_headless(args.runs)
-        results["step_cost_us"] = step_cost_us()
+        results["rtf_headless_python_reference"] = rtf_headless(args.runs, compiled=False)
+        if compiled_cascade.available():
+            from step_cost import batched, single
+            print("step cost ...", flush=True)
+            results["step_cost_us"] = single(args.runs)
+            results["step_cost_batched_us"] = batched([int(n) for n in args.batch.split(",")], args.runs)
     if "startup" not in skip:
         print("start-up ...", flush=True)
         results["startup"] = startup(args.runs)

@@ -1,0 +1,119 @@
+"""BENCHMARKS.md from bench/results.json: the machine, the loop rates, and each figure as
+median (min–max, n) of its runs. Sections whose figures were never measured are left out."""
+from __future__ import annotations
+
+import statistics
+from pathlib import Path
+
+
+def summary(values: list[float]) -> dict:
+    """A figure's record: median, min, max and the number of runs."""
+    return {"median": statistics.median(values), "min": min(values), "max": max(values), "runs": len(values)}
+
+
+def fmt(s: dict, unit: str = "", digits: int = 2) -> str:
+    return f"{s['median']:.{digits}f}{unit} ({s['min']:.{digits}f}–{s['max']:.{digits}f}, n={s['runs']})"
+
+
+def header(r: dict) -> list[str]:
+    m, rates = r["machine"], r["rates"]
+    mode_hz = rates.get("mode_hz", rates["position_hz"])
+    how = {"compiled": "compiled (C, autopilot/control/_cascade.c)",
+           "python": "the Python reference (the extension was not built)"}.get(r.get("cascade"), "Python")
+    return ["# Firefly benchmarks", "",
+            f"Last run {r['date']} on {m['cpu']} ({m['cores']} cores, shared with other work: timings are noisy), "
+            f"Python {m['python']}, {m['platform']}.", "",
+            f"Loop rates: physics {rates['physics_hz']} Hz; position and altitude loops {rates['position_hz']} Hz, "
+            f"attitude (angle) and rate loops {rates['attitude_hz']} Hz, allocation with them — the cascade runs "
+            f"{how}; flight modes (setpoint generation) and the land detector {mode_hz} Hz; failsafe checks "
+            f"{mode_hz // 10} Hz.", "",
+            "Timing figures: median (min–max, n = runs).", ""]
+
+
+def control_rows(sr: dict) -> list[str]:
+    t, g = sr["takeoff_10m"], sr["guided_30m"]
+    return [f"| 10 m takeoff: overshoot | {t['overshoot_pct']:.2f} % |",
+            f"| 10 m takeoff: rise time 10–90 % | {t['rise_time_10_90_s']:.2f} s |",
+            f"| 10 m takeoff: settling time (±0.3 m) | {t['settling_time_0p3m_s']:.2f} s |",
+            f"| 30 m GUIDED move: first within 1 m | {g['first_within_1m_s']:.2f} s |",
+            f"| 30 m GUIDED move: overshoot | {g['overshoot_m']:.2f} m |",
+            f"| 30 m GUIDED move: final error | {g['final_error_m']:.3f} m |"]
+
+
+def speed_rows(r: dict) -> list[str]:
+    rows = []
+    if "rtf_headless" in r:
+        rows.append(f"| rtf_headless (sim s per wall s, speedup inf, no client) | {fmt(r['rtf_headless'], '', 0)} |")
+    if "rtf_headless_python_reference" in r:
+        rows.append(f"| rtf_headless with the Python reference cascade | "
+                    f"{fmt(r['rtf_headless_python_reference'], '', 0)} |")
+    c = r.get("step_cost_us")
+    if c and "cascade_step_us" in c:
+        rows += [f"| step_cost_us, one vehicle: physics step (compiled) | {fmt(c['physics_step_us'], ' µs', 3)} |",
+                 f"| step_cost_us, one vehicle: control step (position + attitude + rate + allocation; "
+                 f"cascade minus physics medians) | {c['control_step_us']:.3f} µs |",
+                 f"| step_cost_us, one vehicle: physics + control (compiled cascade, 4 steps per call) | "
+                 f"{fmt(c['cascade_step_us'], ' µs', 3)} |",
+                 f"| step_cost_us, one vehicle: whole headless vehicle per physics step (cascade + Python at 100 Hz) | "
+                 f"{fmt(c['vehicle_step_us'], ' µs', 2)} |",
+                 f"| step_cost_us, Python reference: physics step / whole vehicle per physics step | "
+                 f"{fmt(c['python_reference_physics_step_us'], ' µs', 2)} / "
+                 f"{fmt(c['python_reference_vehicle_step_us'], ' µs', 2)} |"]
+    return rows
+
+
+def batched_table(b: dict) -> list[str]:
+    lines = ["", "step_cost_us per vehicle and physics step when N hovering vehicles step together:", "",
+             "| N | one C call for all (run_many) | one C call per vehicle | whole vehicles in turn (Python at 100 Hz included) |",
+             "|---|---|---|---|"]
+    for n, row in b.items():
+        lines.append(f"| {n} | {fmt(row['run_many_us'], ' µs', 3)} | {fmt(row['one_call_each_us'], ' µs', 3)} | "
+                     f"{fmt(row['whole_vehicles_us'], ' µs', 2)} |")
+    return lines
+
+
+def swarm_rows(sw: dict) -> list[str]:
+    rows = [f"| swarm_max_realtime (vehicles in one `autopilot --count N` process at 1x, default telemetry each, "
+            f"sim time within 2 % of wall over {sw['window_s']:g} s; counts tried "
+            f"{', '.join(str(t['count']) for t in sw['trials'])}) | {sw['swarm_max_realtime']} |"]
+    for t in sw["trials"]:
+        if "cpu_per_vehicle_core" not in t:
+            rows.append(f"| swarm at {t['count']}: sim/wall over the window (fails the 2 % test) | "
+                        f"{t.get('ratio', 0):.3f} |")
+            continue
+        rows.append(f"| swarm at {t['count']}: sim/wall over the window; per 10 s | {t['ratio']:.4f}; "
+                    f"{fmt(t['ratio_segments'], '', 4)} |")
+        rows.append(f"| swarm at {t['count']}: CPU per vehicle (process CPU / N; per 10 s) / resident memory per "
+                    f"added vehicle | {100 * t['cpu_per_vehicle_core']:.3f} % of a core "
+                    f"({fmt({k: 100 * v / t['count'] if k != 'runs' else v for k, v in t['cpu_segments'].items()}, ' %', 3)}) "
+                    f"/ {t['rss_per_added_vehicle_mb']:.2f} MB |")
+    return rows
+
+
+def flight_rows(r: dict) -> list[str]:
+    rows = []
+    if "startup" in r:
+        rows.append(f"| startup_heartbeat_s | {fmt(r['startup']['startup_heartbeat_s'], ' s', 3)} |")
+        rows.append(f"| startup_armable_s | {fmt(r['startup']['startup_armable_s'], ' s', 3)} |")
+    f = r.get("mavsdk_flight", {})
+    if f.get("at_highest"):
+        rows.append(f"| mavsdk_flight_wall_s at speedup {f['highest_passing_speedup']} (highest passing of "
+                    f"{', '.join(f['ladder_tried'])}) | {fmt(f['at_highest'], ' s')} |")
+    if f.get("at_speedup_1", {}).get("passed"):
+        rows.append(f"| mavsdk_flight_wall_s at speedup 1 | {fmt(f['at_speedup_1'], ' s')} |")
+    for speedup, s in r.get("mission_flight", {}).items():
+        if s.get("passed"):
+            rows.append(f"| mission_4wp_wall_s (groundstation mission square.plan, process start to landed) "
+                        f"at speedup {speedup} | {fmt(s, ' s')} |")
+    return rows
+
+
+def write_markdown(r: dict, path: Path) -> None:
+    lines = header(r) + ["| figure | value |", "|---|---|"] + control_rows(r["step_response"]) + speed_rows(r)
+    sw = r.get("swarm")
+    if sw and sw.get("swarm_max_realtime"):
+        lines += swarm_rows(sw)
+    lines += flight_rows(r)
+    if r.get("step_cost_batched_us"):
+        lines += batched_table(r["step_cost_batched_us"])
+    path.write_text("\n".join(lines) + "\n")
