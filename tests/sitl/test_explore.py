@@ -9,7 +9,7 @@ import sys
 
 import pytest
 
-from .conftest import REPO
+from .conftest import REPO, free_udp_port
 from .pymav import Gcs
 
 pytestmark = pytest.mark.sitl
@@ -42,7 +42,7 @@ def test_explore_finds_the_fire_and_lands(autopilot_factory, tmp_path):
 
 
 def test_explore_says_so_and_exits_nonzero_when_no_vehicle_answers(tmp_path):
-    result = subprocess.run([sys.executable, "-m", "groundstation", "explore", "--url", "udpin://127.0.0.1:9",
+    result = subprocess.run([sys.executable, "-m", "groundstation", "explore", "--url", f"udpin://127.0.0.1:{free_udp_port()}",
                              "--plot", str(tmp_path / "x.png")], cwd=REPO, capture_output=True, text=True,
                             timeout=60)
     assert result.returncode != 0
