@@ -17,8 +17,7 @@ def report(runner, nodes, exception: BaseException | None, wall_s: float) -> dic
     for node in nodes:
         v, session, endpoint = node.vehicle, node.session, node.endpoint
         counters = dict(session.counters)
-        counters["decode_errors"] = endpoint.decode_errors
-        counters["send_errors"] = endpoint.send_errors
+        counters.update({f"udp_{k}": n for k, n in endpoint.totals().items()})
         signing = getattr(session, "signing", None)
         if signing is not None and hasattr(signing, "counters"):
             counters.update({f"signing_{k}": n for k, n in signing.counters.items()})

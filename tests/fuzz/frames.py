@@ -17,12 +17,13 @@ PARAM_NAMES = [s.name.encode() for s in PARAM_TABLE] + [b"", b"X" * 16, b"\xff\x
 
 
 class FrameSource:
-    def __init__(self, seed: int, target_system: int = 1):
+    def __init__(self, seed: int, target_system: int = 1, others: tuple = (0, 2, 255)):
+        """`others`: the other target ids mixed in (0 is broadcast: it reaches the vehicle too)."""
         self.rng = random.Random(seed)
         self.codec = new_codec(255, 190)
         self.v1 = mav.MAVLink(None, srcSystem=255, srcComponent=190)
         self.v1.WIRE_PROTOCOL_VERSION = "1.0"
-        self.target = target_system
+        self.targets = (target_system,) * 3 + tuple(others)
 
     # ----- values -----------------------------------------------------------------------------
     def f(self) -> float:
@@ -34,7 +35,7 @@ class FrameSource:
         return r.choice((lo, hi, 0 if lo <= 0 <= hi else lo)) if r.random() < 0.3 else r.randint(lo, hi)
 
     def tgt(self) -> int:
-        return self.rng.choice((self.target, self.target, self.target, 0, 2, 255))
+        return self.rng.choice(self.targets)
 
     # ----- well-formed messages ----------------------------------------------------------------
     def message(self):

@@ -1,0 +1,108 @@
+"""Floods at the socket: the endpoint reads a bounded number of datagrams per tick, counts what the
+kernel dropped, bounds the peers and parsers a flood of source ports creates, and the real process
+keeps flying a legitimate client's commands through a 10,000-datagram-per-second flood."""
+from __future__ import annotations
+
+import json
+import socket
+import threading
+import time
+
+import pytest
+
+from autopilot import udp
+from autopilot.mavlink.dialect import new_codec
+
+from ..sitl.conftest import start_autopilot
+from ..sitl.pymav import Gcs
+from .frames import FrameSource
+
+
+def _heartbeat() -> bytes:
+    return bytes(new_codec(255, 190).heartbeat_encode(6, 8, 0, 0, 4).pack(new_codec(255, 190)))
+
+
+def test_one_receive_reads_a_bounded_batch_and_kernel_drops_are_counted():
+    endpoint = udp.UdpEndpoint(("127.0.0.1", 0), [], 1)
+    endpoint.sock.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 8192)  # overflow on purpose
+    sent = 3000
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as client:
+        frame = _heartbeat()
+        for _ in range(sent):
+            client.sendto(frame, endpoint.address)
+        first = endpoint.receive()
+        assert 0 < len(first) <= udp.MAX_DATAGRAMS_PER_RECEIVE
+        total = len(first)
+        while batch := endpoint.receive():
+            total += len(batch)
+    dropped = endpoint.totals()["kernel_dropped"]
+    assert dropped > 0
+    assert total + dropped == sent  # every datagram read or counted
+    endpoint.close()
+
+
+def test_a_flood_of_source_ports_cannot_grow_peers_or_parsers_without_bound():
+    out = ("127.0.0.1", 9)
+    endpoint = udp.UdpEndpoint(("127.0.0.1", 0), [out], 1)
+    clients = [socket.socket(socket.AF_INET, socket.SOCK_DGRAM) for _ in range(150)]
+    for c in clients:
+        c.bind(("127.0.0.1", 0))
+    try:
+        for c in clients:
+            c.sendto(_heartbeat(), endpoint.address)
+            endpoint.receive()
+        assert len(endpoint.peers) == 1 + udp.MAX_PEERS and endpoint.peers[0] == out  # outputs stay
+        assert clients[-1].getsockname() in endpoint.peers  # the latest sender is answered
+        assert clients[0].getsockname() not in endpoint.peers
+        assert len(endpoint._parsers) == udp.MAX_PARSERS
+        assert endpoint.counters["peers_evicted"] == 150 - udp.MAX_PEERS
+    finally:
+        for c in clients:
+            c.close()
+        endpoint.close()
+
+
+class Flood(threading.Thread):
+    def __init__(self, address, rate: float):
+        super().__init__(daemon=True)
+        self.address, self.rate, self.stop, self.sent = address, rate, threading.Event(), 0
+        self.source = FrameSource(9, target_system=2, others=(3,))  # hostile, for other systems only
+
+    def run(self):
+        frames = [self.source.frame()[1] for _ in range(2000)]
+        with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:
+            t0 = time.monotonic()
+            while not self.stop.is_set():
+                s.sendto(frames[self.sent % len(frames)], self.address)
+                self.sent += 1
+                if self.sent % 100 == 0:
+                    ahead = self.sent / self.rate - (time.monotonic() - t0)
+                    if ahead > 0:
+                        time.sleep(ahead)  # pacing the flood itself, not waiting for a result
+
+
+@pytest.mark.sitl
+def test_the_vehicle_flies_a_clients_commands_through_a_10khz_flood(tmp_path):
+    from ..sitl.conftest import free_udp_port
+    listen = free_udp_port()
+    stats = tmp_path / "stats.json"
+    ap = start_autopilot(tmp_path, "5", ("--listen", f"udp:127.0.0.1:{listen}", "--stats", str(stats)))
+    flood = Flood(("127.0.0.1", listen), 10_000)
+    try:
+        gcs = Gcs(ap.pymavlink_url)
+        flood.start()
+        assert gcs.command(176, 1, 4) == 0  # GUIDED
+        assert gcs.command(400, 1) == 0  # arm
+        assert gcs.command(22, 0, 0, 0, 0, 0, 0, 10.0) == 0  # takeoff 10 m
+        climbed = gcs.recv("GLOBAL_POSITION_INT", 30, lambda m: m.relative_alt > 9000)
+        assert climbed is not None, "no climb to 9 m during the flood"
+        assert flood.sent > 5000
+    finally:
+        flood.stop.set()
+        flood.join()
+        ap.stop()
+    report = json.loads(stats.read_text())
+    counters = report["vehicles"][0]["counters"]
+    assert report["exception"] is None and counters["handler_errors"] == 0
+    assert counters["udp_datagrams"] + counters["udp_kernel_dropped"] >= flood.sent
+    assert counters["ignored_other_system"] + counters["bad_data"] > flood.sent // 2
