@@ -18,6 +18,8 @@ def report(runner, nodes, exception: BaseException | None, wall_s: float) -> dic
         v, session, endpoint = node.vehicle, node.session, node.endpoint
         counters = dict(session.counters)
         counters.update({f"udp_{k}": n for k, n in endpoint.totals().items()})
+        counters["param_sets_refused"] = session.params.refused
+        counters["mission_uploads_refused"] = session.missions.refused
         signing = getattr(session, "signing", None)
         if signing is not None and hasattr(signing, "counters"):
             counters.update({f"signing_{k}": n for k, n in signing.counters.items()})

@@ -78,6 +78,7 @@ class MissionService:
         self.vehicle = vehicle
         self.codec = codec
         self.upload: Upload | None = None
+        self.refused = 0  # uploads refused: unsupported list, no space, busy, an invalid item
 
     # ----- helpers ----------------------------------------------------------------------------
     def _ack(self, peer: tuple, result: int, kind: int):
@@ -101,12 +102,16 @@ class MissionService:
     def on_count(self, msg, link_s: float) -> list:
         peer = (msg.get_srcSystem(), msg.get_srcComponent())
         kind = msg.mission_type
+        refusal = None
         if kind not in MAX_ITEMS:
-            return [self._ack(peer, mav.MAV_MISSION_UNSUPPORTED, kind)]
-        if self.upload is not None and self.upload.peer != peer:
-            return [self._ack(peer, mav.MAV_MISSION_DENIED, kind)]  # someone else is uploading
-        if msg.count > MAX_ITEMS[kind] + (1 if kind == MISSION else 0):
-            return [self._ack(peer, mav.MAV_MISSION_NO_SPACE, kind)]
+            refusal = mav.MAV_MISSION_UNSUPPORTED
+        elif self.upload is not None and self.upload.peer != peer:
+            refusal = mav.MAV_MISSION_DENIED  # someone else is uploading
+        elif msg.count > MAX_ITEMS[kind] + (1 if kind == MISSION else 0):
+            refusal = mav.MAV_MISSION_NO_SPACE
+        if refusal is not None:
+            self.refused += 1
+            return [self._ack(peer, refusal, kind)]
         if msg.count == 0:
             self.upload = None
             self.store.clear(kind)
@@ -125,6 +130,7 @@ class MissionService:
         result = check_item(item)
         if result != mav.MAV_MISSION_ACCEPTED:
             self.upload = None
+            self.refused += 1
             self.vehicle.notify(f"Mission upload refused: item {msg.seq} invalid", 4)
             return [self._ack(peer, result, up.kind)]
         up.items.append(item)

@@ -17,6 +17,7 @@ class ParamService:
         self.params = params
         self.codec = codec
         self._names = params.names()
+        self.refused = 0  # PARAM_SETs refused: unknown name, not finite, out of the table's range
 
     def value_message(self, name: str):
         spec = SPEC_BY_NAME[name]
@@ -39,10 +40,12 @@ class ParamService:
         """Apply PARAM_SET. A refused value is answered with the unchanged value and a reason."""
         name = _name(msg.param_id)
         if name not in SPEC_BY_NAME:
+            self.refused += 1
             notify(f"Param set failed: unknown parameter {name}", Severity.WARNING)
             return []
         try:
             self.params.set(name, msg.param_value)
         except ParamError as exc:
+            self.refused += 1
             notify(f"Param set failed: {exc}", Severity.WARNING)
         return [self.value_message(name)]

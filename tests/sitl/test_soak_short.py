@@ -16,5 +16,7 @@ def test_two_simulated_minutes_under_hostile_traffic_run_every_tick():
     assert stats["ticks"] == 12_000 and stats["exception"] is None
     (vehicle,) = stats["vehicles"]
     assert vehicle["physics_steps"] == 48_000
-    assert vehicle["counters"]["bad_data"] > 0 and vehicle["counters"]["received"] > 1000
+    counters = vehicle["counters"]
+    assert counters["bad_data"] > 0 and counters["received"] > 1000
+    assert counters["param_sets_refused"] > 0 and counters["mission_uploads_refused"] > 0
     assert result["pilot_flights"] >= 1

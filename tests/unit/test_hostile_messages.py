@@ -191,7 +191,7 @@ def test_every_known_command_with_any_params_is_acked_once_and_arms_only_when_as
 def test_param_set_never_leaves_the_table_range(changes):
     v, session = _link(flying=False)
     for name, value in changes:
-        before = v.params[name]
+        before, refused = v.params[name], session.params.refused
         out = _decode(session, session.receive(wire(CLIENT.param_set_encode(SYSTEM_ID, 1, name.encode(), value, 9),
                                                     CLIENT), v.time_s))
         echoed = [m for m in out if m.get_type() == "PARAM_VALUE"]
@@ -199,6 +199,7 @@ def test_param_set_never_leaves_the_table_range(changes):
         spec = SPEC_BY_NAME[name]
         in_range = math.isfinite(value) and spec.low <= value <= spec.high
         assert (v.params[name] != before) <= in_range
+        assert session.params.refused == refused + (not in_range)  # every refusal counted
         assert echoed[0].param_value == v.params[name] or math.isclose(echoed[0].param_value, v.params[name],
                                                                          rel_tol=1e-6)
     _assert_valid(v, session)
