@@ -20,6 +20,7 @@ class BatteryState(NamedTuple):
 
 
 _SOC_POINTS = tuple(soc for soc, _ in _OCV_CURVE)
+_OCV_POINTS = tuple(volts for _, volts in _OCV_CURVE)
 
 
 def open_circuit_volts_per_cell(soc: float) -> float:
@@ -28,6 +29,18 @@ def open_circuit_volts_per_cell(soc: float) -> float:
     i = bisect_left(_SOC_POINTS, soc, 1, len(_SOC_POINTS) - 1)
     (s0, v0), (s1, v1) = _OCV_CURVE[i - 1], _OCV_CURVE[i]
     return v0 + (v1 - v0) * (soc - s0) / (s1 - s0)
+
+
+def soc_at_open_circuit_volts(volts_per_cell: float) -> float:
+    """The state of charge at which a cell rests at this voltage (the inverse of the curve,
+    clamped to empty and full)."""
+    if volts_per_cell <= _OCV_POINTS[0]:
+        return 0.0
+    if volts_per_cell >= _OCV_POINTS[-1]:
+        return 1.0
+    i = bisect_left(_OCV_POINTS, volts_per_cell, 1, len(_OCV_POINTS) - 1)
+    (s0, v0), (s1, v1) = _OCV_CURVE[i - 1], _OCV_CURVE[i]
+    return s0 + (s1 - s0) * (volts_per_cell - v0) / (v1 - v0)
 
 
 def step_battery(state: BatteryState, power_w: float, cells: int, capacity_mah: float,

@@ -16,9 +16,10 @@ typedef struct { /* sim.physics.PhysicsState */
     int on_ground;
 } Physics;
 
-typedef struct { /* sim.physics.fast_step_constants, in that order */
+typedef struct { /* sim.physics.fast_step_constants, in that order, then the motors' health */
     double m, ixx, iyy, izz, b, arm, c, k, kr, lag, w_max, g, half, dt;
     double wind[3];
+    double speed_scale[4]; /* sim.rotors.step_motors: 1 = healthy, 0 = stopped */
 } PhysicsConstants;
 
 static void euler_from_quaternion(double qw, double qx, double qy, double qz, double out[3])
@@ -70,13 +71,13 @@ static void physics_step(Physics *st, const double cmd[4], const PhysicsConstant
     const double m = K->m, ixx = K->ixx, iyy = K->iyy, izz = K->izz, b = K->b, arm = K->arm;
     const double c = K->c, k = K->k, kr = K->kr, lag = K->lag, w_max = K->w_max, g = K->g;
     const double half = K->half, dt = K->dt;
-    const double *wind_ned = K->wind;
+    const double *wind_ned = K->wind, *scale = K->speed_scale;
     Body *s = &st->body;
     double o1 = st->omega[0], o2 = st->omega[1], o3 = st->omega[2], o4 = st->omega[3];
-    o1 += (motor_command(cmd[0], w_max) - o1) * lag;
-    o2 += (motor_command(cmd[1], w_max) - o2) * lag;
-    o3 += (motor_command(cmd[2], w_max) - o3) * lag;
-    o4 += (motor_command(cmd[3], w_max) - o4) * lag;
+    o1 += (motor_command(cmd[0], w_max) * scale[0] - o1) * lag;
+    o2 += (motor_command(cmd[1], w_max) * scale[1] - o2) * lag;
+    o3 += (motor_command(cmd[2], w_max) * scale[2] - o3) * lag;
+    o4 += (motor_command(cmd[3], w_max) * scale[3] - o4) * lag;
     double f1 = b * o1 * o1, f2 = b * o2 * o2, f3 = b * o3 * o3, f4 = b * o4 * o4;
     double u1 = f1 + f2 + f3 + f4;
     double qw = s->qw, qx = s->qx, qy = s->qy, qz = s->qz, p = s->p, q = s->q, r = s->r;

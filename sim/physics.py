@@ -8,7 +8,7 @@ from typing import NamedTuple
 
 from .airframe import Airframe
 from .rigid_body import BodyState, apply_ground, step_body
-from .rotors import mix_forces, rotor_forces, step_motors
+from .rotors import HEALTHY, mix_forces, rotor_forces, step_motors
 
 
 class PhysicsState(NamedTuple):
@@ -25,9 +25,10 @@ def initial_state(yaw_rad: float = 0.0, n_m: float = 0.0, e_m: float = 0.0) -> P
 
 
 def step(state: PhysicsState, omega_cmd: tuple, airframe: Airframe, wind_ned: tuple,
-         dt: float, motor_lag: float) -> PhysicsState:
-    """Advance by dt. `motor_lag` is rotors.motor_lag_factor(airframe, dt), computed once."""
-    omega = step_motors(state.omega_rad_s, omega_cmd, motor_lag, airframe.omega_max_rad_s)
+         dt: float, motor_lag: float, speed_scale: tuple = HEALTHY) -> PhysicsState:
+    """Advance by dt. `motor_lag` is rotors.motor_lag_factor(airframe, dt), computed once;
+    `speed_scale` is each motor's health (rotors.step_motors)."""
+    omega = step_motors(state.omega_rad_s, omega_cmd, motor_lag, airframe.omega_max_rad_s, speed_scale)
     forces = rotor_forces(omega, airframe.thrust_coeff_b)
     u = mix_forces(forces, airframe.arm_length_m, airframe.torque_ratio_c)
     body, on_ground = apply_ground(step_body(state.body, u, airframe, wind_ned, dt))
@@ -49,21 +50,24 @@ def fast_step_constants(airframe: Airframe, dt: float, wind_ned: tuple = (0.0, 0
 def make_fast_step(airframe: Airframe, dt: float):
     """The same step as `step`, specialised for one airframe and dt: constants bound once, the
     motor, mixer and rigid-body arithmetic inlined over plain floats. Returns
-    fast_step(state, omega_cmd, wind_ned) -> PhysicsState; a test checks it agrees with `step`.
+    fast_step(state, omega_cmd, wind_ned, speed_scale) -> PhysicsState; a test checks it agrees
+    with `step`.
     This is the hot path: at 400 Hz it runs 400 times per simulated second for every vehicle.
     Its C twin is physics.h (used by the compiled cascade).
     """
     m, ixx, iyy, izz, b, arm, c, k, kr, lag, w_max, g, half, dt = fast_step_constants(airframe, dt)[:14]
     sqrt, new_body, new_state = __import__("math").sqrt, BodyState._make, PhysicsState
 
-    def fast_step(state: PhysicsState, omega_cmd: tuple, wind_ned: tuple) -> PhysicsState:
+    def fast_step(state: PhysicsState, omega_cmd: tuple, wind_ned: tuple,
+                  speed_scale: tuple = HEALTHY) -> PhysicsState:
         n, e, d, vn, ve, vd, qw, qx, qy, qz, p, q, r = state.body
         o1, o2, o3, o4 = state.omega_rad_s
         c1, c2, c3, c4 = omega_cmd
-        o1 += ((0.0 if c1 < 0.0 else w_max if c1 > w_max else c1) - o1) * lag
-        o2 += ((0.0 if c2 < 0.0 else w_max if c2 > w_max else c2) - o2) * lag
-        o3 += ((0.0 if c3 < 0.0 else w_max if c3 > w_max else c3) - o3) * lag
-        o4 += ((0.0 if c4 < 0.0 else w_max if c4 > w_max else c4) - o4) * lag
+        s1, s2, s3, s4 = speed_scale
+        o1 += ((0.0 if c1 < 0.0 else w_max if c1 > w_max else c1) * s1 - o1) * lag
+        o2 += ((0.0 if c2 < 0.0 else w_max if c2 > w_max else c2) * s2 - o2) * lag
+        o3 += ((0.0 if c3 < 0.0 else w_max if c3 > w_max else c3) * s3 - o3) * lag
+        o4 += ((0.0 if c4 < 0.0 else w_max if c4 > w_max else c4) * s4 - o4) * lag
         f1, f2, f3, f4 = b * o1 * o1, b * o2 * o2, b * o3 * o3, b * o4 * o4
         u1 = f1 + f2 + f3 + f4
         r02 = 2.0 * (qx * qz + qw * qy)

@@ -1,5 +1,9 @@
 """Rotors: F = b*omega^2, first-order motor lag with saturation, and the paper's mixer (eq. 2).
 
+A motor's speed scale (1 = healthy) multiplies its saturated command: a weak or failed motor
+(fault injection) reaches only that fraction of the speed it is asked for, so it delivers the
+square of it in thrust, and a scale of 0 stops it.
+
 U1 = F1+F2+F3+F4, U2 = l(F2-F4), U3 = l(F1-F3), U4 = c(F1-F2+F3-F4).
 """
 from __future__ import annotations
@@ -14,10 +18,14 @@ def motor_lag_factor(airframe: Airframe, dt: float) -> float:
     return 1.0 - math.exp(-dt / airframe.motor_time_constant_s)
 
 
-def step_motors(omega: tuple, omega_cmd: tuple, lag: float, omega_max: float) -> tuple:
-    """Advance the four motor speeds toward their saturated commands."""
+HEALTHY = (1.0, 1.0, 1.0, 1.0)
+
+
+def step_motors(omega: tuple, omega_cmd: tuple, lag: float, omega_max: float,
+                speed_scale: tuple = HEALTHY) -> tuple:
+    """Advance the four motor speeds toward their saturated commands times their speed scales."""
     o1, o2, o3, o4 = omega
-    c1, c2, c3, c4 = (min(max(c, 0.0), omega_max) for c in omega_cmd)
+    c1, c2, c3, c4 = (min(max(c, 0.0), omega_max) * s for c, s in zip(omega_cmd, speed_scale))
     return (o1 + (c1 - o1) * lag, o2 + (c2 - o2) * lag,
             o3 + (c3 - o3) * lag, o4 + (c4 - o4) * lag)
 

@@ -2,6 +2,9 @@
 
 Each sensor owns its own numpy Generator (seeded from the vehicle seed and the sensor's name) so
 adding a sensor never changes another's noise. Noise draws happen at each sensor's own rate.
+
+Faults are plain attributes set from outside (autopilot/faults.py): the GPS can be switched off,
+glitched by a fixed offset or left with few satellites; the barometer can drift.
 """
 from __future__ import annotations
 
@@ -52,26 +55,53 @@ class NoisySource:
         return self._buf.pop()
 
 
+NO_FIX, FIX_2D, FIX_3D = 1, 2, 3  # MAVLink GPS_FIX_TYPE
+
+
+def fix_for(satellites: int) -> int:
+    """What a receiver solves with this many satellites: 4 fix a position in 3D, 3 in 2D only."""
+    return FIX_3D if satellites >= 4 else FIX_2D if satellites == 3 else NO_FIX
+
+
 class Gps:
     def __init__(self, seed: int, noise: NoiseConfig):
         self._src = NoisySource(sensor_rng(seed, "gps"))
         self._noise = noise
+        self.enabled = True
+        self.satellites = 10  # ArduPilot SITL's SIM_GPS_NUMSATS default
+        self.glitch_ned = (0.0, 0.0, 0.0)  # metres added to every position reading
 
     def read(self, body) -> GpsReading:
         nz, h, v, vel = self._src.normal, self._noise.gps_horizontal_m, self._noise.gps_vertical_m, \
             self._noise.gps_velocity_m_s
-        return GpsReading(body.n_m + h * nz(), body.e_m + h * nz(), body.d_m + v * nz(),
+        gn, ge, gd = self.glitch_ned
+        sats = self.satellites if self.enabled else 0
+        return GpsReading(body.n_m + gn + h * nz(), body.e_m + ge + h * nz(), body.d_m + gd + v * nz(),
                           body.vn_m_s + vel * nz(), body.ve_m_s + vel * nz(),
-                          body.vd_m_s + vel * nz(), 16, 3)
+                          body.vd_m_s + vel * nz(), sats, fix_for(sats))
 
 
 class Barometer:
+    """Altitude above the origin from pressure, with noise and an error that grows at
+    drift_m_s from the moment the drift is set (setting 0 makes the sensor good again)."""
+
     def __init__(self, seed: int, noise: NoiseConfig):
         self._src = NoisySource(sensor_rng(seed, "baro"))
         self._noise = noise
+        self.drift_m_s = 0.0
+        self._drift_since = (0.0, 0.0)  # (sim time, error at that time)
 
-    def altitude_m(self, body) -> float:
-        return -body.d_m + self._noise.baro_m * self._src.normal()
+    def set_drift(self, rate_m_s: float, t_s: float) -> None:
+        self._drift_since = (t_s, self.error_m(t_s) if rate_m_s else 0.0)
+        self.drift_m_s = rate_m_s
+
+    def error_m(self, t_s: float) -> float:
+        """How much higher than the truth the sensor reads, leaving noise aside."""
+        t0, error0 = self._drift_since
+        return error0 + self.drift_m_s * (t_s - t0)
+
+    def altitude_m(self, body, t_s: float) -> float:
+        return -body.d_m + self.error_m(t_s) + self._noise.baro_m * self._src.normal()
 
 
 class Gyro:

@@ -1,18 +1,22 @@
-"""One simulated vehicle: physics state, battery and sensors, advanced in fixed steps of sim time."""
+"""One simulated vehicle: physics state, battery, wind and sensors, advanced in fixed steps of
+sim time. Injected faults reach it as plain settings: motor health (set_motor_thrust_scale), the
+wind (self.wind), the sensors' fault attributes, the battery's resting voltage."""
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 from .airframe import Airframe
 from .fire import FireWorld, TemperatureSensor
-from .battery import BatteryState, remaining_fraction, step_battery
+from .battery import (BatteryState, open_circuit_volts_per_cell, remaining_fraction,
+                      soc_at_open_circuit_volts, step_battery)
 from .physics import PhysicsState, initial_state, make_fast_step
-from .rotors import shaft_power_per_thrust_1p5
+from .rotors import HEALTHY, shaft_power_per_thrust_1p5
 from .sensors import Barometer, Gps, Gyro, NoiseConfig
-from .wind import SteadyWind
+from .wind import SteadyWind, Wind
 
 
-BATTERY_EVERY = 4  # physics steps per battery step
+BATTERY_EVERY = 4  # physics steps per battery step; the wind changes at the same steps
 
 
 @dataclass
@@ -31,7 +35,10 @@ class SimVehicle:
         self.airframe = config.airframe
         self.dt = 1.0 / config.physics_rate_hz
         self._step = make_fast_step(self.airframe, self.dt)
-        self._wind_ned = config.wind.velocity_ned()
+        self.wind = Wind(config.wind, config.seed)
+        self._wind_ned = self.wind.velocity_ned
+        self._speed_scale = HEALTHY
+        self.conditions_version = 0  # bumped whenever the wind or the motors' health changes
         self.state: PhysicsState = initial_state(yaw_rad, n_m, e_m)
         self.battery = BatteryState(0.0, 0.0, self.airframe.battery_cells * 4.2)
         self.gps = Gps(config.seed, config.noise)
@@ -46,7 +53,7 @@ class SimVehicle:
                                    af.avionics_current_a, self.dt * BATTERY_EVERY)
 
     def step(self, omega_cmd: tuple) -> None:
-        self.state = self._step(self.state, omega_cmd, self._wind_ned)
+        self.state = self._step(self.state, omega_cmd, self._wind_ned, self._speed_scale)
         self._count(1)
 
     def take(self, state: PhysicsState, n: int) -> None:
@@ -63,6 +70,29 @@ class SimVehicle:
             o1, o2, o3, o4 = self.state.omega_rad_s
             power = self._power_per_omega_cubed * (o1 * o1 * o1 + o2 * o2 * o2 + o3 * o3 * o3 + o4 * o4 * o4)
             self.battery = step_battery(self.battery, power, *self._battery_constants)
+            if self.wind.changing:
+                self._wind_ned = self.wind.advance(self.dt * BATTERY_EVERY)
+                self.conditions_version += 1
+
+    def set_motor_thrust_scale(self, thrust_scale: tuple) -> None:
+        """Each motor's share of the thrust it is asked for (1 healthy, 0.7 weak, 0 failed): its
+        speed reaches sqrt of that share of the command, thrust going with speed squared."""
+        self._speed_scale = tuple(math.sqrt(min(max(x, 0.0), 1.0)) for x in thrust_scale)
+        self.conditions_version += 1
+
+    @property
+    def motor_speed_scale(self) -> tuple:
+        return self._speed_scale
+
+    def set_battery_resting_voltage(self, volts: float) -> None:
+        """Re-initialise the pack's charge to where it rests at `volts` (at most full): a battery
+        fault, or a partly charged pack, as ArduPilot's SIM_BATT_VOLTAGE."""
+        cells, capacity = self.airframe.battery_cells, self.airframe.battery_capacity_mah
+        soc = soc_at_open_circuit_volts(volts / cells)
+        current = self.battery.current_a
+        ocv = cells * open_circuit_volts_per_cell(soc)
+        r = self.airframe.battery_internal_resistance_ohm
+        self.battery = BatteryState((1.0 - soc) * capacity, current, max(ocv - current * r, 0.0))
 
     def read_temperature(self, home_d_m: float) -> float:
         """The downward radiometric sensor: reads the ground below at the vehicle's height."""

@@ -86,6 +86,8 @@ static int Loop_init(LoopObject *self, PyObject *args, PyObject *kwds)
     constant_slots(&self->c, slots);
     if (read_doubles(constants, slots, N_CONSTANTS, "constants") < 0)
         return -1;
+    for (int i = 0; i < 4; i++)
+        self->c.physics_k.speed_scale[i] = 1.0; /* healthy motors until set_conditions() says otherwise */
     self->c.ratio_pos = ratio_pos, self->c.ratio_att = ratio_att;
     Py_INCREF(body_type);
     Py_XSETREF(self->body_type, body_type);
@@ -107,6 +109,22 @@ static PyObject *Loop_configure(LoopObject *self, PyObject *gains)
     gain_slots(&self->c, slots);
     if (read_doubles(gains, slots, N_GAINS, "gains") < 0)
         return NULL;
+    Py_RETURN_NONE;
+}
+
+/* set_conditions(wind_ned, speed_scale): the sim's wind now and its motors' health (fault injection),
+ * used from the next physics step on. */
+static PyObject *Loop_set_conditions(LoopObject *self, PyObject *args)
+{
+    PyObject *wind, *scale;
+    if (!PyArg_ParseTuple(args, "OO", &wind, &scale))
+        return NULL;
+    PhysicsConstants k = self->c.physics_k;
+    double *wind_slots[3] = {&k.wind[0], &k.wind[1], &k.wind[2]};
+    double *scale_slots[4] = {&k.speed_scale[0], &k.speed_scale[1], &k.speed_scale[2], &k.speed_scale[3]};
+    if (read_doubles(wind, wind_slots, 3, "wind_ned") < 0 || read_doubles(scale, scale_slots, 4, "speed_scale") < 0)
+        return NULL;
+    self->c.physics_k = k;
     Py_RETURN_NONE;
 }
 
@@ -292,6 +310,7 @@ static PyObject *Loop_get_omega_cmd(LoopObject *self, void *closure)
 static PyMethodDef Loop_methods[] = {
     {"configure", (PyCFunction)Loop_configure, METH_O, "configure(gains): controller gains, in compiled.py's order"},
     {"load", (PyCFunction)Loop_load, METH_O, "load(PhysicsState)"},
+    {"set_conditions", (PyCFunction)Loop_set_conditions, METH_VARARGS, "set_conditions(wind_ned, speed_scale)"},
     {"state", (PyCFunction)Loop_state, METH_NOARGS, "state() -> PhysicsState"},
     {"command", (PyCFunction)(void (*)(void))Loop_command, METH_FASTCALL, "command(setpoint, armed, landed, speed_xy)"},
     {"run", (PyCFunction)(void (*)(void))Loop_run, METH_FASTCALL, "run(first_step, n)"},

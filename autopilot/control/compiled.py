@@ -4,7 +4,8 @@ Python enters once per chunk (normally the four physics steps between two flight
 instead of several times per physics step. The physics and controller state live in a C struct
 (_cascade.c over cascade.h and sim/physics.h); after every run the sim's PhysicsState is replaced
 by a snapshot of it, so everything outside the cascade reads the same plain state as before.
-Gains and constants are read from the Python controllers, so parameters have one source.
+Gains and constants are read from the Python controllers, so parameters have one source; the
+sim's wind and motor health are handed over again whenever the sim says they changed.
 If the extension was not built, vehicles fly the Python reference (after one warning line).
 """
 from __future__ import annotations
@@ -51,6 +52,7 @@ class CompiledCascade(Cascade):
         self.loop.configure(self._gains())
         self.loop.load(sim.state)
         self._loaded = sim.state
+        self._conditions = None  # the sim's conditions_version last handed to the loop
         self.loop.reset()  # holds the heading the vehicle starts with, as the reference does
 
     def _gains(self) -> tuple:
@@ -85,6 +87,9 @@ class CompiledCascade(Cascade):
     def run(self, n: int) -> None:
         sim = self.sim
         self._sync()
+        if sim.conditions_version != self._conditions:
+            self.loop.set_conditions(sim.wind_ned, sim.motor_speed_scale)
+            self._conditions = sim.conditions_version
         self.loop.run(sim.steps, n)
         self._loaded = self.loop.state()
         sim.take(self._loaded, n)

@@ -1,7 +1,8 @@
 """The compiled cascade (C) and the readable Python reference compute the very same bits: the
 physics step alone over random motor commands, and whole vehicles flown through every part of
 the cascade (ground idle, takeoff, far gotos, yaw, velocity control, manual throttle and lean,
-saturating gains, landing) — compared at every physics step, exactly."""
+saturating gains, landing) — compared at every physics step, exactly; and the physics twin under
+the same motor health and changing wind."""
 from __future__ import annotations
 
 import dataclasses
@@ -71,6 +72,25 @@ def test_physics_step_twin_agrees_bit_for_bit_over_random_commands():
         loop.run_physics(1, cmd)
         assert loop.state() == state
     assert state.on_ground
+
+
+@needs_extension
+def test_physics_step_twin_applies_the_same_motor_health_and_wind():
+    rng = random.Random(12)
+    sim = SimVehicle(SimConfig())
+    sim.state = initial_state()._replace(body=BodyState(d_m=-30.0), on_ground=False)
+    loop = compiled.make_cascade(sim, Vehicle(VehicleConfig()).params, LoopRates()).loop
+    fast = make_fast_step(sim.airframe, sim.dt)
+    state = sim.state
+    for i in range(2000):
+        if i % 100 == 0:  # new conditions every quarter second: a wind and four motor speed scales
+            wind = tuple(rng.uniform(-8, 8) for _ in range(3))
+            scale = tuple(rng.choice((1.0, 0.0, rng.random())) for _ in range(4))
+            loop.set_conditions(wind, scale)
+        cmd = tuple(rng.uniform(0, 650) for _ in range(4))
+        state = fast(state, cmd, wind, scale)
+        loop.run_physics(1, cmd)
+        assert loop.state() == state
 
 
 @needs_extension
