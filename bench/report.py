@@ -81,9 +81,10 @@ def swarm_rows(sw: dict) -> list[str]:
             rows.append(f"| swarm at {t['count']}: sim/wall over the window (fails the 2 % test) | "
                         f"{t.get('ratio', 0):.3f} |")
             continue
-        rows.append(f"| swarm at {t['count']}: sim/wall over the window; per 10 s | {t['ratio']:.4f}; "
+        per = f"per {t.get('segment_s', 10):g} s"
+        rows.append(f"| swarm at {t['count']}: sim/wall over the window; {per} | {t['ratio']:.4f}; "
                     f"{fmt(t['ratio_segments'], '', 4)} |")
-        rows.append(f"| swarm at {t['count']}: CPU per vehicle (process CPU / N; per 10 s) / resident memory per "
+        rows.append(f"| swarm at {t['count']}: CPU per vehicle (process CPU / N; {per}) / resident memory per "
                     f"added vehicle | {100 * t['cpu_per_vehicle_core']:.3f} % of a core "
                     f"({fmt({k: 100 * v / t['count'] if k != 'runs' else v for k, v in t['cpu_segments'].items()}, ' %', 3)}) "
                     f"/ {t['rss_per_added_vehicle_mb']:.2f} MB |")
