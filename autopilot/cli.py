@@ -154,7 +154,7 @@ def build_vehicle(args, scenario, k: int, outs, listen, epoch_us: int):
     config = VehicleConfig(home=scenario.home, home_yaw_deg=scenario.home_yaw_deg, sim=sim,
                            offset_ne_m=(GRID_SPACING_M * (k // cols), GRID_SPACING_M * (k % cols)),
                            rates=LoopRates(rate, min(400, rate), 100), system_id=n + 1,
-                           epoch_unix_us=epoch_us)
+                           epoch_unix_us=epoch_us, faults=scenario.faults)
     vehicle = Vehicle(config, params, mission)
     if scenario.script:
         from .script import Script

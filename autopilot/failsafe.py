@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import math
 
+from .ekf_check import EkfCheck
 from .results import Result, Severity
 
 RTL, LAND = 6, 9
@@ -34,12 +35,13 @@ class Failsafes:
         self.battery_level = 0  # 0 ok, 1 low, 2 critical
         self.gcs = False
         self.fence_breached = False
+        self.ekf = EkfCheck()
         self._fence_version = None
         self._zones: list = []
 
     @property
     def active(self) -> bool:
-        return bool(self.battery_level or self.gcs or self.fence_breached)
+        return bool(self.battery_level or self.gcs or self.fence_breached or self.ekf.failsafe)
 
     def _act(self, v, mode: int | None, reason: str) -> None:
         if mode is None or not v.armed or v.landed:
@@ -135,3 +137,4 @@ class Failsafes:
     def check(self, v) -> None:
         self.check_battery(v)
         self.check_fence(v)
+        self.ekf.check(v)

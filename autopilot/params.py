@@ -3,6 +3,10 @@
 Values follow ArduCopter's units (cm, cm/s, centidegrees) so that ground stations show what they
 expect; the controller converts at construction. Integers are sent by value in the float field,
 as ArduPilot does.
+
+SIM_* parameters inject faults into the simulated world (autopilot/faults.py), with ArduPilot
+SITL's names where it has one. Unlike ArduPilot's they are never saved: a run's faults come from
+its scenario and from what is set during the run, so a restart does not bring back a failed motor.
 """
 from __future__ import annotations
 
@@ -21,6 +25,11 @@ class ParamSpec:
     high: float
     is_int: bool = False
     doc: str = ""
+
+    @property
+    def saved(self) -> bool:
+        """Whether the value persists across restarts (everything but the simulation's faults)."""
+        return not self.name.startswith("SIM_")
 
 
 def _f(name, default, low, high, doc=""):
@@ -87,16 +96,34 @@ PARAM_TABLE: tuple[ParamSpec, ...] = (
     _f("MOT_THST_HOVER", 0.35, 0.125, 0.6875, "hover throttle (learned)"),
     # Arming
     _i("ARMING_CHECK", 1, 0, 0x7FFFF, "pre-arm checks bitmask, 0 = none"),
-    # Failsafes (acted on in a later issue; present so ground stations find them)
+    # Failsafes
     _i("FS_THR_ENABLE", 0, 0, 7), _i("FS_GCS_ENABLE", 0, 0, 7), _f("FS_GCS_TIMEOUT", 5, 2, 120),
     _i("FS_BATT_ENABLE", 0, 0, 6), _f("BATT_LOW_VOLT", 10.5, 0, 120), _f("BATT_CRT_VOLT", 0, 0, 120),
     _f("BATT_LOW_MAH", 0, 0, 500000), _f("BATT_CRT_MAH", 0, 0, 500000),
     _f("BATT_CAPACITY", 5000, 0, 500000, "battery capacity [mAh]"),
     _i("FENCE_ENABLE", 0, 0, 1), _i("FENCE_TYPE", 7, 0, 15), _i("FENCE_ACTION", 1, 0, 5),
     _f("FENCE_ALT_MAX", 100, 10, 1000), _f("FENCE_RADIUS", 300, 30, 10000),
+    _i("FS_EKF_ACTION", 1, 1, 3, "EKF failsafe: 1 LAND, 2 ALT_HOLD, 3 LAND even in STABILIZE"),
+    _f("FS_EKF_THRESH", 0.8, 0, 1, "EKF failsafe variance threshold, 0 = no EKF failsafe"),
     # Telemetry stream rates (ArduPilot SRn_ names, Hz; SITL streams by default)
     _i("SR0_EXT_STAT", 2, 0, 50), _i("SR0_POSITION", 4, 0, 50), _i("SR0_EXTRA1", 10, 0, 50),
     _i("SR0_EXTRA2", 4, 0, 50), _i("SR0_EXTRA3", 2, 0, 50),
+    # Simulation faults (ArduPilot SITL 4.5's SIM_ names; SIM_LINK_* are Firefly's own)
+    _i("SIM_ENGINE_FAIL", 0, 0, 3, "motor SIM_ENGINE_MUL applies to, 0 = motor 1 (front)"),
+    _f("SIM_ENGINE_MUL", 1, 0, 1, "thrust multiplier of motor SIM_ENGINE_FAIL, 0 = failed"),
+    _i("SIM_GPS_DISABLE", 0, 0, 1, "1 = the GPS has no fix"),
+    _f("SIM_GPS_GLITCH_X", 0, -1, 1, "GPS latitude offset [deg]"),
+    _f("SIM_GPS_GLITCH_Y", 0, -1, 1, "GPS longitude offset [deg]"),
+    _f("SIM_GPS_GLITCH_Z", 0, -1000, 1000, "GPS altitude offset [m]"),
+    _i("SIM_GPS_NUMSATS", 10, 0, 40, "satellites in view; under 4 no 3D fix"),
+    _f("SIM_BARO_DRIFT", 0, -10, 10, "barometer altitude drift [m/s], 0 = none"),
+    _f("SIM_WIND_SPD", 0, 0, 100, "mean wind speed [m/s], from the scenario's [wind]"),
+    _f("SIM_WIND_DIR", 0, 0, 360, "direction the wind blows from [deg], from the scenario's [wind]"),
+    _f("SIM_WIND_TURB", 0, 0, 20, "turbulence, standard deviation per axis [m/s]"),
+    _f("SIM_WIND_TC", 5, 0, 120, "time over which a wind change takes effect [s]"),
+    _f("SIM_BATT_VOLTAGE", 16.8, 0, 100, "battery resting voltage [V]; setting it re-initialises the charge"),
+    _f("SIM_LINK_DOWN", 0, 0, 3600, "ground-station link cut for this many wall seconds, then 0"),
+    _f("SIM_LINK_LOSS", 0, 0, 100, "share of MAVLink frames lost each way [%]"),
 )
 
 SPEC_BY_NAME = {spec.name: spec for spec in PARAM_TABLE}
@@ -104,6 +131,22 @@ SPEC_BY_NAME = {spec.name: spec for spec in PARAM_TABLE}
 
 class ParamError(ValueError):
     pass
+
+
+def checked_value(name: str, value) -> float:
+    """The value `name` would take (integers rounded), or ParamError naming what is wrong."""
+    spec = SPEC_BY_NAME.get(name)
+    if spec is None:
+        raise ParamError(f"unknown parameter {name}")
+    try:
+        value = float(value)
+    except (TypeError, ValueError):
+        raise ParamError(f"{name}: not a number") from None
+    if not math.isfinite(value):
+        raise ParamError(f"{name}: value must be finite")
+    if not spec.low <= value <= spec.high:
+        raise ParamError(f"{name}: {value:g} out of range {spec.low:g}..{spec.high:g}")
+    return float(round(value)) if spec.is_int else value
 
 
 class ParamStore:
@@ -119,8 +162,10 @@ class ParamStore:
     def _load(self, path: Path) -> None:
         saved = read_json(path)  # an unreadable file is ignored; defaults stand until the next save
         for name, value in saved.items() if isinstance(saved, dict) else ():
+            if name in SPEC_BY_NAME and not SPEC_BY_NAME[name].saved:
+                continue
             try:
-                self._values[name] = self._checked(name, value)
+                self._values[name] = checked_value(name, value)
             except ParamError:
                 continue
 
@@ -142,26 +187,12 @@ class ParamStore:
     def on_change(self, callback) -> None:
         self._listeners.append(callback)
 
-    @staticmethod
-    def _checked(name: str, value) -> float:
-        spec = SPEC_BY_NAME.get(name)
-        if spec is None:
-            raise ParamError(f"unknown parameter {name}")
-        try:
-            value = float(value)
-        except (TypeError, ValueError):
-            raise ParamError(f"{name}: not a number") from None
-        if not math.isfinite(value):
-            raise ParamError(f"{name}: value must be finite")
-        if not spec.low <= value <= spec.high:
-            raise ParamError(f"{name}: {value:g} out of range {spec.low:g}..{spec.high:g}")
-        return float(round(value)) if spec.is_int else value
-
     def set(self, name: str, value) -> float:
         """Set and persist; raises ParamError (naming the problem) and changes nothing on bad input."""
-        value = self._checked(name, value)
+        value = checked_value(name, value)
         self._values[name] = value
-        self._save()
+        if SPEC_BY_NAME[name].saved:
+            self._save()
         for callback in self._listeners:
             callback(name, value)
         return value
@@ -172,4 +203,4 @@ class ParamStore:
     def _save(self) -> None:
         if self.path is not None:
             write_json_atomic(self.path, {n: v for n, v in self._values.items()
-                                          if v != SPEC_BY_NAME[n].default})
+                                          if v != SPEC_BY_NAME[n].default and SPEC_BY_NAME[n].saved})

@@ -1,4 +1,4 @@
-"""Scenario files (TOML): home, airframe, wind, sensor noise, seed.
+"""Scenario files (TOML): home, airframe, wind, sensor noise, seed, faults to start with.
 
 Every mistake is reported as one ScenarioError line naming the file, the table and the key.
 """
@@ -15,7 +15,9 @@ from sim.sensors import NoiseConfig
 from sim.vehicle import SimConfig
 from sim.wind import SteadyWind
 
+from .faults import world_values
 from .geo import GeoPoint
+from .params import SPEC_BY_NAME, ParamError, checked_value
 
 DEFAULT_HOME = (-35.363261, 149.165230, 584.0, 0.0)  # ArduPilot SITL's CMAC field, Canberra
 
@@ -33,6 +35,7 @@ class Scenario:
     world: FireWorld = dataclasses.field(default_factory=FireWorld)
     script: list = dataclasses.field(default_factory=list)  # (time_s, verb, args) steps
     signing_key: bytes | None = None  # MAVLink 2 signing key ([signing] or --signing-key)
+    faults: dict = dataclasses.field(default_factory=dict)  # SIM_* parameter values from [faults]
 
 
 def _number(where: str, value, integer: bool = False):
@@ -95,7 +98,12 @@ def load_scenario(path: Path) -> Scenario:
     return scenario_from_dict(data, name, Path(path).parent)
 
 
-KNOWN_TABLES = ("seed", "home", "airframe", "wind", "noise", "sim", "world", "fire", "script", "signing")
+KNOWN_TABLES = ("seed", "home", "airframe", "wind", "noise", "sim", "world", "fire", "script", "signing",
+                "faults")
+FAULT_NAMES = tuple(name for name in SPEC_BY_NAME if name.startswith("SIM_"))
+# SIM_* values the scenario's own tables give, and where a scenario sets them instead of [faults].
+WORLD_SOURCES = {"SIM_WIND_SPD": "[wind].speed_m_s", "SIM_WIND_DIR": "[wind].from_direction_deg",
+                 "SIM_BATT_VOLTAGE": "[airframe].battery_cells"}
 
 
 def scenario_from_dict(data: dict, name: str = "scenario", base_dir: Path = Path(".")) -> Scenario:
@@ -138,6 +146,13 @@ def scenario_from_dict(data: dict, name: str = "scenario", base_dir: Path = Path
         raise ScenarioError(str(exc)) from None
     sc.sim = SimConfig(airframe=airframe, wind=wind, noise=noise, physics_rate_hz=rate, seed=sc.seed,
                        world=sc.world)
+    for param, value in world_values(sc.sim).items():
+        try:
+            checked_value(param, value)
+        except ParamError as exc:
+            raise ScenarioError(f"{name}: {WORLD_SOURCES[param]}: {exc}") from None
+    if "faults" in data:
+        sc.faults = _faults(data["faults"], name)
     if "script" in data:
         from .script import ScriptError, parse_steps
         table = data["script"]
@@ -150,6 +165,25 @@ def scenario_from_dict(data: dict, name: str = "scenario", base_dir: Path = Path
     if "signing" in data:
         sc.signing_key = _signing_key(data["signing"], name, base_dir)
     return sc
+
+
+def _faults(table, name: str) -> dict:
+    """[faults]: SIM_* parameters by their names, set before the vehicle first moves."""
+    if not isinstance(table, dict):
+        raise ScenarioError(f"{name}: [faults] must be a table")
+    faults = {}
+    for key, value in table.items():
+        where = f"{name}: [faults].{key}"
+        if key not in FAULT_NAMES:
+            raise ScenarioError(f"{where}: unknown fault (known: {', '.join(FAULT_NAMES)})")
+        if key in WORLD_SOURCES:
+            raise ScenarioError(f"{where}: the scenario sets this with {WORLD_SOURCES[key]}")
+        _number(where, value)
+        try:
+            faults[key] = checked_value(key, value)
+        except ParamError as exc:
+            raise ScenarioError(f"{where}: {str(exc).removeprefix(key + ': ')}") from None
+    return faults
 
 
 def _signing_key(table, name: str, base_dir: Path) -> bytes:

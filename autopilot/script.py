@@ -6,13 +6,17 @@ identically at any speedup (used for determinism checks and for headless benchma
              [25.0, "mode", 6]]
 
 Each step is [time_s, verb, args...]; verbs: mode N, arm, disarm, takeoff ALT, goto N E ALT
-(local metres, altitude above home), speed M_S.
+(local metres, altitude above home), speed M_S, param NAME VALUE (any parameter, e.g. a fault:
+[20.0, "param", "SIM_GPS_DISABLE", 1]).
 """
 from __future__ import annotations
 
 import math
 
-VERBS = {"mode": 1, "arm": 0, "disarm": 0, "takeoff": 1, "goto": 3, "speed": 1}
+from .params import ParamError, checked_value
+from .results import Result
+
+VERBS = {"mode": 1, "arm": 0, "disarm": 0, "takeoff": 1, "goto": 3, "speed": 1, "param": 2}
 
 
 class ScriptError(ValueError):
@@ -32,11 +36,27 @@ def parse_steps(steps, where: str) -> list[tuple]:
             raise ScriptError(f"{at}: time must be a non-negative number")
         if verb not in VERBS:
             raise ScriptError(f"{at}: unknown verb {verb!r} (known: {', '.join(VERBS)})")
-        if len(args) != VERBS[verb] or not all(isinstance(a, (int, float)) and not isinstance(a, bool)
-                                               and math.isfinite(a) for a in args):
+        if verb == "param":
+            parsed.append((float(t), verb, _param_args(args, at)))
+            continue
+        if len(args) != VERBS[verb] or not all(_is_number(a) for a in args):
             raise ScriptError(f"{at}: {verb} takes {VERBS[verb]} number(s)")
         parsed.append((float(t), verb, tuple(float(a) for a in args)))
     return sorted(parsed, key=lambda s: s[0])
+
+
+def _is_number(a) -> bool:
+    return isinstance(a, (int, float)) and not isinstance(a, bool) and math.isfinite(a)
+
+
+def _param_args(args: list, at: str) -> tuple:
+    """(NAME, value) for a param step, checked against the parameter table now, not mid-flight."""
+    if len(args) != 2 or not isinstance(args[0], str) or not _is_number(args[1]):
+        raise ScriptError(f"{at}: param takes a parameter name and a number")
+    try:
+        return args[0], checked_value(args[0], args[1])
+    except ParamError as exc:
+        raise ScriptError(f"{at}: {exc}") from None
 
 
 class Script:
@@ -64,4 +84,7 @@ class Script:
         if verb == "goto":
             home = v.home_ned or (0.0, 0.0, 0.0)
             return v.guided_goto(args[0], args[1], home[2] - args[2])
+        if verb == "param":
+            v.params.set(*args)
+            return Result.ACCEPTED
         return v.set_speed(args[0])

@@ -15,6 +15,7 @@ from sim.vehicle import BATTERY_EVERY, SimConfig, SimVehicle
 from .control.attitude import wrap_pi
 from .control.compiled import make_cascade
 from .failsafe import Failsafes
+from .faults import Faults, world_values
 from .geo import GeoPoint, global_from_ned, ned_from_global
 from .mission import MissionStore
 from .modes import MODE_BY_NUMBER, Auto, Guided, Setpoint, Stabilize
@@ -22,6 +23,7 @@ from .params import ParamStore
 from .pilot import CENTRED, CENTRED_MANUAL, PilotInput
 from .rates import LoopRates
 from .results import Result, Severity
+from .thrust_loss import ThrustLossCheck
 
 FORCE_ARM_MAGIC = 2989
 FORCE_DISARM_MAGIC = 21196
@@ -40,6 +42,7 @@ class VehicleConfig:
     system_id: int = 1
     epoch_unix_us: int = 1_790_000_000_000_000  # UNIX time at sim time 0 (SYSTEM_TIME only)
     compiled: bool = True  # fly the compiled cascade when it is built (False: the Python reference)
+    faults: dict = field(default_factory=dict)  # SIM_* parameter values to start with (a scenario's [faults])
 
 
 class Vehicle:
@@ -61,6 +64,11 @@ class Vehicle:
         n0, e0 = config.offset_ne_m
         self.origin = config.home
         self.sim = SimVehicle(config.sim, math.radians(config.home_yaw_deg), n0, e0)
+        for name, value in {**world_values(config.sim), **config.faults}.items():
+            self.params.set(name, value)
+        self.faults = Faults(self.sim, self.params, self.origin)
+        self.thrust_loss = ThrustLossCheck()
+        self._alt_error_m = 0.0  # how far the barometer, and so the height estimate, reads high
         airframe = config.sim.airframe
         self.weight_n = airframe.weight_n
         self.thrust_max_n = 4.0 * airframe.max_rotor_thrust_n
@@ -99,8 +107,10 @@ class Vehicle:
 
     @property
     def body(self):
-        """The state estimate. The estimator is perfect: the sim's own state (an ideal EKF)."""
-        return self.sim.state.body
+        """The state estimate: the sim's own state (an ideal EKF), except that its height is the
+        barometer's, as ArduCopter's EKF takes it, so a drifting barometer moves it."""
+        b = self.sim.state.body
+        return b._replace(d_m=b.d_m - self._alt_error_m) if self._alt_error_m else b
 
     @property
     def attitude(self) -> tuple:
@@ -200,6 +210,8 @@ class Vehicle:
             return None
         if not self.has_position():
             return "Need 3D Fix"
+        if self.failsafes.ekf.gps_glitching:
+            return "GPS glitching"
         if self.home_ned is None:
             return "Waiting for home"
         roll, pitch, _ = self.attitude
@@ -361,11 +373,15 @@ class Vehicle:
         if steps % self._ratio_mode == 0:
             self._mode_tick()
         sp = self.setpoint
+        if self._alt_error_m and sp.pos_d is not None:
+            sp = in_true_height(sp, self._alt_error_m)
         self.cascade.command(sp, self.armed, self.landed, min(sp.speed_xy, self._loiter_speed_max))
         self.cascade.run(min(most, self._chunk - steps % self._chunk))
 
     def _mode_tick(self) -> None:
         dt = self._dt_mode
+        baro = self.sim.baro
+        self._alt_error_m = baro.error_m(self.time_s) if baro.drift_m_s else 0.0
         if self.script is not None:
             self.script.run_due(self)
         self.mode.update(self, self.setpoint, dt)
@@ -373,6 +389,7 @@ class Vehicle:
         self._update_auto_disarm()
         if self.sim.steps % (self._ratio_mode * 10) == 0:  # failsafe checks at 10 Hz
             self.failsafes.check(self)
+            self.thrust_loss.check(self, 10 * dt)
 
     def _update_land_detector(self, dt: float) -> None:
         b = self.body
@@ -407,3 +424,13 @@ class Vehicle:
             self._disarm_timer_start = self.time_s
         elif self.time_s - self._disarm_timer_start >= delay:
             self.disarm("auto")
+
+
+def in_true_height(sp: Setpoint, alt_error_m: float) -> Setpoint:
+    """The setpoint as the cascade, which flies the true state, must see it when the height
+    estimate reads alt_error_m high: holding an estimated height means being that much lower."""
+    true_sp = Setpoint()
+    for name in Setpoint.__slots__:
+        setattr(true_sp, name, getattr(sp, name))
+    true_sp.pos_d = sp.pos_d + alt_error_m
+    return true_sp

@@ -55,6 +55,8 @@ def sys_status(v, codec):
     healthy = SENSORS | (PREARM if v.is_armable() else 0)
     if v.failsafes.battery_level:
         healthy &= ~mav.MAV_SYS_STATUS_SENSOR_BATTERY
+    if not v.has_position():  # as ArduCopter: the GPS is healthy only with a 3D fix
+        healthy &= ~mav.MAV_SYS_STATUS_SENSOR_GPS
     # As ArduPilot: the fence bit is healthy unless a fence is enabled and breached (MAVProxy
     # reads a missing health bit as a breach even when no fence exists).
     if v.params["FENCE_ENABLE"]:
@@ -163,9 +165,21 @@ def ground_temperature(v, codec):
     return codec.named_value_float_encode(int(t_s * 1000.0) & 0xFFFFFFFF, TEMPERATURE_NAME, value)
 
 
+EKF_GOOD = (mav.EKF_ATTITUDE | mav.EKF_VELOCITY_HORIZ | mav.EKF_VELOCITY_VERT | mav.EKF_POS_HORIZ_REL
+            | mav.EKF_POS_HORIZ_ABS | mav.EKF_POS_VERT_ABS | mav.EKF_POS_VERT_AGL
+            | mav.EKF_PRED_POS_HORIZ_REL | mav.EKF_PRED_POS_HORIZ_ABS)
+# Without a GPS fix the estimate keeps attitude and height but not where it is: constant position mode.
+EKF_NO_POSITION = (mav.EKF_ATTITUDE | mav.EKF_VELOCITY_VERT | mav.EKF_POS_VERT_ABS | mav.EKF_POS_VERT_AGL
+                   | mav.EKF_CONST_POS_MODE)
+EKF_GPS_GLITCH = 32768  # MAVLink's EKF_GPS_GLITCH flag, newer than this pymavlink's dialect
+
+
 def ekf_status_report(v, codec):
-    flags = 0x1FF  # attitude, velocity, position (rel/abs), altitude, const-pos-mode off: all good
-    return codec.ekf_status_report_encode(flags, 0.01, 0.01, 0.01, 0.01, 0.0)
+    """Flags for what the estimate knows; horizontal variances over FS_EKF_THRESH without a fix."""
+    flags, variance = (EKF_GOOD, 0.01) if v.has_position() else (EKF_NO_POSITION, 1.0)
+    if v.failsafes.ekf.gps_glitching:
+        flags |= EKF_GPS_GLITCH
+    return codec.ekf_status_report_encode(flags, variance, variance, 0.01, 0.01, 0.0)
 
 
 BUILDERS = {

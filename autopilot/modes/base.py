@@ -49,7 +49,7 @@ class Mode:
 
     The context `ctx` offers: ctx.body (estimated state: n_m, e_m, d_m, vn_m_s, ve_m_s, vd_m_s),
     ctx.attitude (roll, pitch, yaw), ctx.params, ctx.pilot (PilotInput), ctx.armed, ctx.landed,
-    ctx.home_ned, ctx.time_s, ctx.notify(text, severity), ctx.disarm(reason).
+    ctx.home_ned, ctx.time_s, ctx.has_position(), ctx.notify(text, severity), ctx.disarm(reason).
     """
     number: int = -1
     name: str = "?"

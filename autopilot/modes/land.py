@@ -27,16 +27,23 @@ def descend_and_disarm(ctx, sp: Setpoint) -> bool:
 
 
 class Land(Mode):
+    """Descend and disarm, holding the point where LAND began; without a position (no GPS fix)
+    it comes down level instead, for the rest of the landing, as ArduCopter's LAND without GPS."""
     number, name = 9, "LAND"
     requires_position = False
 
     def enter(self, ctx) -> str | None:
-        self._hold_ne, _ = hold_here(ctx)
+        self._hold_ne = hold_here(ctx)[0] if ctx.has_position() else None
         return None
 
     def update(self, ctx, sp: Setpoint, dt: float) -> None:
         sp.clear()
-        sp.pos_ne = self._hold_ne
+        if not ctx.has_position():
+            self._hold_ne = None
+        if self._hold_ne is None:
+            sp.lean = (0.0, 0.0)
+        else:
+            sp.pos_ne = self._hold_ne
         descend_and_disarm(ctx, sp)
 
     def landed_state_hint(self, ctx) -> str | None:

@@ -1,8 +1,8 @@
 """The compiled cascade (C) and the readable Python reference compute the very same bits: the
 physics step alone over random motor commands, and whole vehicles flown through every part of
 the cascade (ground idle, takeoff, far gotos, yaw, velocity control, manual throttle and lean,
-saturating gains, landing) — compared at every physics step, exactly; and the physics twin under
-the same motor health and changing wind."""
+saturating gains, landing) and through injected faults (weak and failed motors, turbulence, a
+changing wind, a drifting barometer) — compared at every physics step, exactly."""
 from __future__ import annotations
 
 import dataclasses
@@ -91,6 +91,25 @@ def test_physics_step_twin_applies_the_same_motor_health_and_wind():
         state = fast(state, cmd, wind, scale)
         loop.run_physics(1, cmd)
         assert loop.state() == state
+
+
+@needs_extension
+def test_faults_fly_bit_identical_compiled_and_in_python():
+    a, b = twins(sim=SimConfig(wind=SteadyWind(3.0, 90.0), seed=4))
+    for v in (a, b):
+        v.run_until(0.5)
+    for action in (lambda v: v.set_mode(Guided.number), lambda v: v.arm(), lambda v: v.takeoff(10.0)):
+        both(a, b, action)
+    lockstep(a, b, 6.0)
+    for name, value in (("SIM_WIND_TURB", 2.5), ("SIM_WIND_TC", 1.0), ("SIM_WIND_SPD", 8.0),
+                        ("SIM_ENGINE_FAIL", 2), ("SIM_ENGINE_MUL", 0.6), ("SIM_BARO_DRIFT", 0.4)):
+        both(a, b, lambda v: v.params.set(name, value))
+    both(a, b, lambda v: v.guided_goto(20.0, 5.0, -12.0))
+    lockstep(a, b, 6.0)
+    both(a, b, lambda v: v.params.set("SIM_ENGINE_MUL", 0.0))  # the motor fails outright
+    lockstep(a, b, 3.0)
+    assert a.sim.wind_ned != SteadyWind(8.0, 90.0).velocity_ned()  # turbulence was really on
+    assert a.sim.state.omega_rad_s[2] < 1.0  # and motor 3 really stopped
 
 
 @needs_extension

@@ -27,6 +27,7 @@ def ctx(d_m=0.0, landed=False, armed=True, pilot=None, params=None, **body):
                         nav_speed_m_s=10.0, disarms=disarms)
     c.disarm = lambda reason="": disarms.append(reason)
     c.notify = lambda *a: None
+    c.has_position = lambda: True
     return c
 
 

@@ -1,0 +1,78 @@
+"""Fault injection: the SIM_* parameters turned into the simulated vehicle's plain settings.
+
+The parameters are the interface (PARAM_SET at run time, a scenario's [faults] table at start,
+its [script] "param" steps at a sim time); sim/ only sees numbers: motor thrust shares, the GPS's
+switch, satellites and offset in metres, the barometer's drift rate, the wind, the battery's
+resting voltage. SIM_LINK_* act on the MAVLink link, not on the sim (autopilot/link_faults.py).
+"""
+from __future__ import annotations
+
+from sim.wind import SteadyWind
+
+from .geo import ned_from_global
+
+
+def world_values(sim_config) -> dict:
+    """The SIM_* values that describe the scenario's own world before any fault: its wind and a
+    full battery. They are what a ground station reads back until something changes them."""
+    wind = sim_config.wind
+    return {"SIM_WIND_SPD": wind.speed_m_s, "SIM_WIND_DIR": wind.from_direction_deg % 360.0,
+            "SIM_BATT_VOLTAGE": sim_config.airframe.battery_cells * 4.2}
+
+
+class Faults:
+    """Applies every SIM_* parameter to `sim` once, then each one again whenever it changes."""
+
+    def __init__(self, sim, params, origin):
+        self.sim = sim
+        self.params = params
+        self.origin = origin  # GeoPoint the GPS glitch's degrees are measured from
+        for apply in dict.fromkeys(APPLY.values()):
+            apply(self)
+        self.sim.wind.set_mean(self._steady_wind(), immediately=True)  # the scenario's wind from the start
+        params.on_change(self.changed)
+
+    def changed(self, name: str, value: float) -> None:
+        apply = APPLY.get(name)
+        if apply is not None:
+            apply(self)
+
+    def _motors(self) -> None:
+        shares = [1.0, 1.0, 1.0, 1.0]
+        shares[int(self.params["SIM_ENGINE_FAIL"])] = self.params["SIM_ENGINE_MUL"]
+        self.sim.set_motor_thrust_scale(tuple(shares))
+
+    def _gps(self) -> None:
+        p, gps = self.params, self.sim.gps
+        gps.enabled = not p["SIM_GPS_DISABLE"]
+        gps.satellites = int(p["SIM_GPS_NUMSATS"])
+        o = self.origin
+        n, e, d = ned_from_global(o, o.lat_deg + p["SIM_GPS_GLITCH_X"], o.lon_deg + p["SIM_GPS_GLITCH_Y"],
+                                  o.alt_m + p["SIM_GPS_GLITCH_Z"])
+        gps.glitch_ned = (n, e, d)
+
+    def _baro(self) -> None:
+        self.sim.baro.set_drift(self.params["SIM_BARO_DRIFT"], self.sim.time_s)
+
+    def _steady_wind(self) -> SteadyWind:
+        return SteadyWind(self.params["SIM_WIND_SPD"], self.params["SIM_WIND_DIR"])
+
+    def _wind(self) -> None:
+        wind = self.sim.wind
+        wind.turbulence_m_s = self.params["SIM_WIND_TURB"]
+        wind.change_tc_s = self.params["SIM_WIND_TC"]
+        wind.set_mean(self._steady_wind())
+
+    def _battery(self) -> None:
+        self.sim.set_battery_resting_voltage(self.params["SIM_BATT_VOLTAGE"])
+
+
+APPLY = {
+    "SIM_ENGINE_FAIL": Faults._motors, "SIM_ENGINE_MUL": Faults._motors,
+    "SIM_GPS_DISABLE": Faults._gps, "SIM_GPS_NUMSATS": Faults._gps, "SIM_GPS_GLITCH_X": Faults._gps,
+    "SIM_GPS_GLITCH_Y": Faults._gps, "SIM_GPS_GLITCH_Z": Faults._gps,
+    "SIM_BARO_DRIFT": Faults._baro,
+    "SIM_WIND_SPD": Faults._wind, "SIM_WIND_DIR": Faults._wind, "SIM_WIND_TURB": Faults._wind,
+    "SIM_WIND_TC": Faults._wind,
+    "SIM_BATT_VOLTAGE": Faults._battery,
+}

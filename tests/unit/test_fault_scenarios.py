@@ -1,0 +1,85 @@
+"""Faults from a scenario file: the [faults] table (from the start), [script] "param" steps (at a
+sim time), the wind of [wind] as SIM_WIND_*; every mistake one line naming table and key."""
+from __future__ import annotations
+
+import pytest
+
+from autopilot import cli
+from autopilot.script import Script, ScriptError, parse_steps
+from autopilot.scenario import ScenarioError, scenario_from_dict
+from autopilot.vehicle import Vehicle, VehicleConfig
+
+
+def one_line_error(data: dict) -> str:
+    with pytest.raises(ScenarioError) as info:
+        scenario_from_dict(data, "test.toml")
+    message = str(info.value)
+    assert "\n" not in message and message.startswith("test.toml")
+    return message
+
+
+def test_faults_table_is_read_and_checked_against_the_parameter_table():
+    sc = scenario_from_dict({"faults": {"SIM_ENGINE_MUL": 0.7, "SIM_GPS_NUMSATS": 5, "SIM_LINK_LOSS": 10}})
+    assert sc.faults == {"SIM_ENGINE_MUL": 0.7, "SIM_GPS_NUMSATS": 5.0, "SIM_LINK_LOSS": 10.0}
+
+
+@pytest.mark.parametrize("faults,words", [
+    ({"SIM_ENGINE_MULT": 0.5}, ["[faults].SIM_ENGINE_MULT", "unknown fault", "SIM_ENGINE_MUL"]),
+    ({"RTL_ALT": 2000}, ["[faults].RTL_ALT", "unknown fault"]),  # only SIM_* belong here
+    ({"SIM_ENGINE_MUL": 1.5}, ["[faults].SIM_ENGINE_MUL", "out of range 0..1"]),
+    ({"SIM_GPS_DISABLE": True}, ["[faults].SIM_GPS_DISABLE", "expected a number"]),
+    ({"SIM_WIND_SPD": 5.0}, ["[faults].SIM_WIND_SPD", "[wind].speed_m_s"]),
+])
+def test_faults_mistakes_name_the_table_and_key(faults, words):
+    message = one_line_error({"faults": faults})
+    for word in words:
+        assert word in message
+
+
+def test_faults_must_be_a_table():
+    assert "[faults] must be a table" in one_line_error({"faults": [1, 2]})
+
+
+def test_a_wind_the_parameters_cannot_hold_is_refused():
+    assert "[wind].speed_m_s" in one_line_error({"wind": {"speed_m_s": -3.0}})
+
+
+def test_script_param_steps_set_a_parameter_at_their_time():
+    steps = parse_steps([[2.0, "param", "SIM_GPS_DISABLE", 1], [0.5, "mode", 4]], "test.toml")
+    assert steps[1] == (2.0, "param", ("SIM_GPS_DISABLE", 1.0))
+    v = Vehicle(VehicleConfig())
+    v.script = Script(steps)
+    v.run_until(1.9)
+    assert v.has_position()
+    v.run_until(2.2)
+    assert v.params["SIM_GPS_DISABLE"] == 1 and not v.has_position()
+    assert (2.0, "param", 0) in v.script.results
+
+
+@pytest.mark.parametrize("step,words", [
+    ([1.0, "param", "NO_SUCH", 1], ["steps[0]", "unknown parameter NO_SUCH"]),
+    ([1.0, "param", "SIM_ENGINE_MUL", 3], ["steps[0]", "out of range"]),
+    ([1.0, "param", 5, 1], ["steps[0]", "param takes a parameter name and a number"]),
+    ([1.0, "param", "SIM_ENGINE_MUL"], ["steps[0]", "param takes"]),
+])
+def test_script_param_mistakes_are_found_when_the_file_is_read(step, words):
+    with pytest.raises(ScriptError) as info:
+        parse_steps([step], "test.toml")
+    for word in words:
+        assert word in str(info.value)
+
+
+class FakeEndpoint:
+    def __init__(self, bind, outs, system_id):
+        self.address = bind
+
+
+def test_the_command_line_flies_the_scenario_faults(monkeypatch, tmp_path):
+    monkeypatch.setattr("autopilot.udp.UdpEndpoint", FakeEndpoint)
+    path = tmp_path / "faulty.toml"
+    path.write_text("[wind]\nspeed_m_s = 5.0\n[faults]\nSIM_GPS_DISABLE = 1\nSIM_LINK_LOSS = 20\n")
+    node, _ = cli.build(cli.build_parser().parse_args(["--scenario", str(path), "--state-dir", str(tmp_path)]))[0]
+    params = node.vehicle.params
+    assert (params["SIM_GPS_DISABLE"], params["SIM_LINK_LOSS"], params["SIM_WIND_SPD"]) == (1, 20, 5.0)
+    node.vehicle.run_until(0.5)
+    assert not node.vehicle.has_position()

@@ -1,0 +1,251 @@
+"""Fault injection on the vehicle, no sockets: each SIM_* parameter set mid-flight, and how the
+vehicle reacts as ArduCopter would (failsafe action, STATUSTEXT, SYS_STATUS and EKF flags) or as
+physics says it must (a weak motor flown around, a failed one falling)."""
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from autopilot.ekf_check import EKF_CHECK_ITERATIONS_MAX
+from autopilot.mavlink import telemetry
+from autopilot.mavlink.dialect import mavlink as mav
+from autopilot.mavlink.dialect import new_codec
+from autopilot.modes import AltHold, Guided, Land
+from autopilot.params import ParamStore
+from autopilot.results import Result, Severity
+from autopilot.vehicle import Vehicle, VehicleConfig
+from sim.airframe import Airframe
+from sim.vehicle import SimConfig
+from sim.wind import SteadyWind
+
+from ._util import altitude, fly_until, hovering_vehicle, ready_vehicle
+
+CODEC = new_codec(1)
+EKF_FAILSAFE_S = EKF_CHECK_ITERATIONS_MAX / 10.0  # ten bad checks at 10 Hz
+
+
+def texts(v: Vehicle) -> list[str]:
+    return [text for _, text in v.events]
+
+
+def said(v: Vehicle, text: str) -> bool:
+    return any(text in t for t in texts(v))
+
+
+def gps_healthy(v: Vehicle) -> bool:
+    return bool(telemetry.sys_status(v, CODEC).onboard_control_sensors_health & mav.MAV_SYS_STATUS_SENSOR_GPS)
+
+
+def true_altitude(v: Vehicle) -> float:
+    return v.home_ned[2] - v.sim.state.body.d_m
+
+
+def horizontal_distance(v: Vehicle, ne: tuple) -> float:
+    b = v.sim.state.body
+    return math.hypot(b.n_m - ne[0], b.e_m - ne[1])
+
+
+def hovering_with(*settings) -> tuple[Vehicle, tuple]:
+    """A vehicle hovering at 10 m in GUIDED, the point it holds, and then these (name, value)s set."""
+    v = hovering_vehicle(10.0)
+    b = v.sim.state.body
+    v.events.clear()
+    for name, value in settings:
+        v.params.set(name, value)
+    return v, (b.n_m, b.e_m)
+
+
+# ----- GPS loss: the EKF failsafe -------------------------------------------------------------------
+@pytest.mark.parametrize("fault", [("SIM_GPS_DISABLE", 1), ("SIM_GPS_NUMSATS", 3)])
+def test_gps_loss_in_guided_lands_with_ekf_failsafe_and_recovers_when_the_gps_returns(fault):
+    v = hovering_vehicle(10.0)
+    v.events.clear()
+    t0 = v.time_s
+    v.params.set(*fault)
+    assert fly_until(v, lambda x: x.mode.number == Land.number, 3.0)
+    assert v.time_s - t0 == pytest.approx(EKF_FAILSAFE_S, abs=0.15)  # ArduCopter's 1 s of bad checks
+    assert texts(v)[:2] == ["EKF variance", "EKF Failsafe: changed to LAND Mode"]
+    assert (int(Severity.CRITICAL), "EKF variance") in v.events
+    assert not gps_healthy(v) and not v.has_position()
+    assert telemetry.heartbeat(v, CODEC).system_status == mav.MAV_STATE_CRITICAL
+    ekf = telemetry.ekf_status_report(v, CODEC)
+    assert ekf.flags & mav.EKF_CONST_POS_MODE and not ekf.flags & mav.EKF_POS_HORIZ_ABS
+    assert v.set_mode(Guided.number) == Result.FAILED  # no position, no GUIDED
+    v.run_until(v.time_s + 2.0)
+    assert altitude(v) < 9.5  # LAND is coming down
+
+    v.params.set(fault[0], {"SIM_GPS_DISABLE": 0, "SIM_GPS_NUMSATS": 10}[fault[0]])
+    assert fly_until(v, lambda x: said(x, "EKF Failsafe Cleared"), 2.0)
+    assert gps_healthy(v) and not v.failsafes.active
+    assert v.mode.number == Land.number  # ArduCopter does not go back to the mode it left
+    assert v.set_mode(Guided.number) == Result.ACCEPTED
+
+
+def test_land_without_gps_comes_down_level_and_drifts_with_the_wind():
+    v = hovering_vehicle(10.0, sim=SimConfig(wind=SteadyWind(4.0, 270.0)))  # from the west
+    start_e = v.sim.state.body.e_m
+    v.params.set("SIM_GPS_DISABLE", 1)
+    assert fly_until(v, lambda x: not x.armed, 40.0)
+    assert v.cascade.lean_t == (0.0, 0.0)
+    assert v.sim.state.body.e_m - start_e > 3.0  # nothing held it against the wind
+
+
+def test_gps_loss_in_alt_hold_keeps_the_mode_unless_fs_ekf_action_is_3():
+    for action, mode in ((1, AltHold.number), (3, Land.number)):
+        v = hovering_vehicle(10.0)
+        v.params.set("FS_EKF_ACTION", action)
+        assert v.set_mode(AltHold.number) == Result.ACCEPTED
+        v.params.set("SIM_GPS_DISABLE", 1)
+        v.run_until(v.time_s + 2 * EKF_FAILSAFE_S)
+        assert v.failsafes.ekf.failsafe
+        assert v.mode.number == mode
+
+
+def test_fs_ekf_action_2_switches_to_alt_hold():
+    v, _ = hovering_with(("FS_EKF_ACTION", 2), ("SIM_GPS_DISABLE", 1))
+    assert fly_until(v, lambda x: x.mode.number == AltHold.number, 3.0)
+    assert said(v, "EKF Failsafe: changed to ALT_HOLD Mode")
+
+
+def test_no_ekf_failsafe_when_fs_ekf_thresh_is_zero():
+    v, _ = hovering_with(("FS_EKF_THRESH", 0), ("SIM_GPS_DISABLE", 1))
+    v.run_until(v.time_s + 3.0)
+    assert v.mode.number == Guided.number and not v.failsafes.ekf.failsafe
+
+
+@pytest.mark.parametrize("fault,reason", [(("SIM_GPS_DISABLE", 1), "Need 3D Fix"),
+                                          (("SIM_GPS_GLITCH_Y", -0.0005), "GPS glitching")])
+def test_arming_is_refused_without_a_fix_or_while_the_gps_glitches(fault, reason):
+    v = ready_vehicle()
+    v.params.set(*fault)
+    v.run_until(v.time_s + 0.3)
+    v.set_mode(Guided.number)
+    assert v.arm() == Result.FAILED
+    assert f"PreArm: {reason}" in texts(v)
+
+
+# ----- GPS glitch -----------------------------------------------------------------------------------
+def test_gps_glitch_is_announced_rejected_and_cleared():
+    v, hold = hovering_with(("SIM_GPS_GLITCH_X", 0.001))  # about 111 m north
+    assert fly_until(v, lambda x: said(x, "GPS Glitch or Compass error"), 0.3)
+    assert v.gps.n_m - v.sim.state.body.n_m == pytest.approx(111.3, abs=1.5)
+    assert telemetry.ekf_status_report(v, CODEC).flags & telemetry.EKF_GPS_GLITCH
+    v.run_until(v.time_s + 3.0)
+    assert horizontal_distance(v, hold) < 0.3  # the estimate did not follow the glitch
+    assert v.mode.number == Guided.number and gps_healthy(v)  # still a 3D fix: no failsafe
+    v.params.set("SIM_GPS_GLITCH_X", 0.0)
+    assert fly_until(v, lambda x: said(x, "Glitch cleared"), 0.3)
+
+
+# ----- motors ---------------------------------------------------------------------------------------
+def test_a_motor_at_70_percent_thrust_still_holds_position():
+    v, hold = hovering_with(("SIM_ENGINE_FAIL", 0), ("SIM_ENGINE_MUL", 0.7))
+    worst_xy = worst_z = 0.0
+    for _ in range(200):  # 10 s
+        v.run_until(v.time_s + 0.05)
+        worst_xy = max(worst_xy, horizontal_distance(v, hold))
+        worst_z = max(worst_z, abs(true_altitude(v) - 10.0))
+    assert worst_xy < 0.5 and worst_z < 0.3
+    assert v.cascade.omega_cmd[0] > max(v.cascade.omega_cmd[1:])  # the weak motor is driven harder
+    assert not said(v, "Thrust Loss")
+
+
+def test_a_failed_motor_on_a_quad_cannot_keep_it_flying():
+    v = hovering_vehicle(20.0)
+    v.params.set("SIM_ENGINE_FAIL", 1)
+    v.params.set("SIM_ENGINE_MUL", 0.0)
+    assert fly_until(v, lambda x: true_altitude(x) < 0.05, 10.0)  # down within seconds
+    assert v.sim.state.omega_rad_s[1] == pytest.approx(0.0, abs=1e-6)  # motor 2 stopped
+
+
+def test_a_loaded_copter_with_a_weak_motor_reports_potential_thrust_loss():
+    heavy = SimConfig(airframe=Airframe(mass_kg=3.6))  # hovers at 78 % thrust
+    v = hovering_vehicle(20.0, sim=heavy)
+    v.params.set("SIM_ENGINE_FAIL", 0)
+    v.params.set("SIM_ENGINE_MUL", 0.5)  # total thrust available now below the weight
+    assert fly_until(v, lambda x: said(x, "Potential Thrust Loss"), 5.0)
+    assert (int(Severity.EMERGENCY), "Potential Thrust Loss (1)") in v.events
+    assert true_altitude(v) < 19.5  # it was coming down
+
+
+# ----- barometer ----------------------------------------------------------------------------------
+def test_baro_drift_moves_the_height_estimate_so_the_vehicle_sinks_while_reporting_its_height():
+    v, _ = hovering_with(("SIM_BARO_DRIFT", 0.5))
+    v.run_until(v.time_s + 8.0)
+    assert altitude(v) - true_altitude(v) == pytest.approx(4.0, abs=0.01)  # 8 s at 0.5 m/s (updated at 100 Hz)
+    # It holds the height it believes in, lagging the ramp by about drift / PSC_POSZ_P.
+    assert 10.0 < altitude(v) < 10.0 + 0.5 / v.params["PSC_POSZ_P"] + 0.1
+    assert telemetry.global_position_int(v, CODEC).relative_alt == pytest.approx(altitude(v) * 1000, abs=1)
+    assert true_altitude(v) < 7.0  # where it really is
+    assert -v.gps.d_m == pytest.approx(true_altitude(v), abs=2.0)  # the GPS altitude tells the truth
+    v.params.set("SIM_BARO_DRIFT", 0.0)
+    assert fly_until(v, lambda x: abs(true_altitude(x) - 10.0) < 0.2, 10.0)
+
+
+# ----- wind -----------------------------------------------------------------------------------------
+def turbulent_track(seed: int, turbulence: float) -> list:
+    v = hovering_vehicle(10.0, sim=SimConfig(seed=seed, wind=SteadyWind(3.0, 45.0)))
+    v.params.set("SIM_WIND_TURB", turbulence)
+    track = []
+    for _ in range(100):  # 10 s
+        v.run_until(v.time_s + 0.1)
+        track.append(v.sim.state.body[:3])
+    return track
+
+
+def test_turbulence_moves_the_vehicle_the_same_way_for_the_same_seed():
+    calm, gusty = turbulent_track(1, 0.0), turbulent_track(1, 3.0)
+    assert gusty == turbulent_track(1, 3.0)  # deterministic per seed
+    assert gusty != turbulent_track(2, 3.0)
+    start = calm[0]
+    spread = max(math.dist(p, start) for p in gusty)
+    assert spread > 3 * max(math.dist(p, start) for p in calm)
+    assert 0.2 < spread < 5.0  # pushed about, and still held by the position loop
+
+
+def test_a_wind_change_blows_in_over_sim_wind_tc_and_is_held_against():
+    v, hold = hovering_with(("SIM_WIND_TC", 2.0), ("SIM_WIND_SPD", 8.0), ("SIM_WIND_DIR", 90.0))  # from the east
+    v.run_until(v.time_s + 2.0)
+    assert v.sim.wind_ned[1] == pytest.approx(-8.0 * (1 - math.exp(-1.0)), abs=0.3)
+    v.run_until(v.time_s + 15.0)
+    assert v.sim.wind_ned[1] == pytest.approx(-8.0, abs=0.01)
+    assert horizontal_distance(v, hold) < 0.3
+
+
+# ----- battery --------------------------------------------------------------------------------------
+def test_a_battery_that_suddenly_rests_low_triggers_the_battery_failsafe():
+    v, _ = hovering_with(("BATT_LOW_VOLT", 14.0), ("FS_BATT_ENABLE", 2))
+    v.run_until(v.time_s + 1.0)
+    assert not v.failsafes.battery_level
+    v.params.set("SIM_BATT_VOLTAGE", 13.6)  # 3.4 V a cell: nearly empty
+    assert fly_until(v, lambda x: x.mode.name == "RTL", 1.0)
+    assert said(v, "Battery 1 is low")
+    status = telemetry.sys_status(v, CODEC)
+    assert not status.onboard_control_sensors_health & mav.MAV_SYS_STATUS_SENSOR_BATTERY
+    assert status.battery_remaining < 10
+
+
+# ----- where faults come from -------------------------------------------------------------------
+def test_faults_in_the_vehicle_config_apply_from_the_start():
+    v = Vehicle(VehicleConfig(faults={"SIM_GPS_DISABLE": 1, "SIM_ENGINE_MUL": 0.5}))
+    v.run_until(0.5)
+    assert not v.has_position() and v.home_ned is None
+    assert v.sim.motor_speed_scale[0] == pytest.approx(math.sqrt(0.5))
+
+
+def test_the_wind_and_battery_parameters_start_as_the_scenario_describes_them():
+    config = VehicleConfig(sim=SimConfig(wind=SteadyWind(6.0, -90.0), airframe=Airframe(battery_cells=6)))
+    params = ParamStore()
+    Vehicle(config, params)
+    assert (params["SIM_WIND_SPD"], params["SIM_WIND_DIR"]) == (6.0, 270.0)
+    assert params["SIM_BATT_VOLTAGE"] == pytest.approx(25.2)
+
+
+def test_fault_parameters_are_not_kept_across_restarts(tmp_path):
+    path = tmp_path / "params.json"
+    params = ParamStore(path)
+    params.set("SIM_ENGINE_MUL", 0.0)
+    params.set("RTL_ALT", 2000)
+    again = ParamStore(path)
+    assert again["RTL_ALT"] == 2000 and again["SIM_ENGINE_MUL"] == 1.0
