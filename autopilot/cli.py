@@ -125,6 +125,7 @@ def build_vehicle(args, scenario, k: int, outs, listen, epoch_us: int):
     """Vehicle k of this process: instance args.instance + k, its own ports, state and seed."""
     import dataclasses
 
+    from .link_faults import LinkFaults
     from .mavlink.dialect import new_codec
     from .mavlink.session import Session
     from .mission import MissionStore
@@ -184,7 +185,8 @@ def build_vehicle(args, scenario, k: int, outs, listen, epoch_us: int):
         except OSError as exc:
             endpoint.close()
             raise CliError(f"--state-log: cannot open {path}: {exc.strerror}") from None
-    return Node(vehicle, session, endpoint, tlog, state_log), vehicle_outs
+    link_faults = LinkFaults(params, sim.seed)
+    return Node(vehicle, session, endpoint, tlog, state_log, link_faults), vehicle_outs
 
 
 def main(argv=None) -> int:

@@ -20,6 +20,8 @@ def report(runner, nodes, exception: BaseException | None, wall_s: float) -> dic
         counters.update({f"udp_{k}": n for k, n in endpoint.totals().items()})
         counters["param_sets_refused"] = session.params.refused
         counters["mission_uploads_refused"] = session.missions.refused
+        if node.link_faults is not None:
+            counters.update({f"link_dropped_{way}": n for way, n in node.link_faults.dropped.items()})
         signing = getattr(session, "signing", None)
         if signing is not None and hasattr(signing, "counters"):
             counters.update({f"signing_{k}": n for k, n in signing.counters.items()})

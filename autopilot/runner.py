@@ -22,6 +22,7 @@ class Node:
     endpoint: object
     tlog: object = None  # TlogWriter, or None
     state_log: object = None  # open text file: the body state every STATE_LOG_EVERY ticks, or None
+    link_faults: object = None  # LinkFaults (SIM_LINK_*), or None
 
 
 class Runner:
@@ -45,10 +46,15 @@ class Runner:
             codec = node.session.codec
             out = []
             received = node.endpoint.receive()
+            faults = node.link_faults
+            if faults is not None and faults.active:
+                received = faults.admit(received, link)
             for msg in received:
                 out.extend(node.session.receive(msg, now, link))
             out.extend(node.session.poll(now, link))
             frames = [m.pack(codec) for m in out]
+            if frames and faults is not None and faults.active:
+                frames = faults.pass_out(frames)
             if frames:
                 node.endpoint.send(frames)
             if node.tlog is not None:

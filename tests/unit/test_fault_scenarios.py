@@ -83,3 +83,4 @@ def test_the_command_line_flies_the_scenario_faults(monkeypatch, tmp_path):
     assert (params["SIM_GPS_DISABLE"], params["SIM_LINK_LOSS"], params["SIM_WIND_SPD"]) == (1, 20, 5.0)
     node.vehicle.run_until(0.5)
     assert not node.vehicle.has_position()
+    assert node.link_faults.active
