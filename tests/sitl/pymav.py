@@ -1,9 +1,13 @@
 """Helpers for pymavlink-driven tests: a GCS-like connection and condition waits."""
 from __future__ import annotations
 
+import math
 import time
 
 from pymavlink import mavutil
+
+mav = mavutil.mavlink
+GUIDED = 4
 
 
 class Gcs:
@@ -57,3 +61,28 @@ class Gcs:
 
     def close(self) -> None:
         self.conn.close()
+
+
+def set_param(gcs: Gcs, name: str, value: float) -> None:
+    """PARAM_SET, and the echoed PARAM_VALUE that says it took."""
+    gcs.mav.param_set_send(1, 1, name.encode(), value, mav.MAV_PARAM_TYPE_REAL32)
+    echo = gcs.recv("PARAM_VALUE", 5, lambda m: m.param_id == name)
+    assert echo is not None and math.isclose(echo.param_value, value, rel_tol=1e-6), f"{name} not set"
+
+
+def take_off(gcs: Gcs, alt: float = 10.0) -> None:
+    """GUIDED, arm, take off, and wait until the vehicle is near alt."""
+    assert gcs.command(mav.MAV_CMD_DO_SET_MODE, 1, GUIDED) == mav.MAV_RESULT_ACCEPTED
+    assert gcs.command(mav.MAV_CMD_COMPONENT_ARM_DISARM, 1) == mav.MAV_RESULT_ACCEPTED
+    assert gcs.command(mav.MAV_CMD_NAV_TAKEOFF, 0, 0, 0, 0, 0, 0, alt) == mav.MAV_RESULT_ACCEPTED
+    assert gcs.recv("GLOBAL_POSITION_INT", 20, lambda m: m.relative_alt > (alt - 0.5) * 1000) is not None
+
+
+def expect_failsafe(gcs: Gcs, words: str, mode: int, timeout: float = 30.0):
+    """A STATUSTEXT containing `words`, then a HEARTBEAT in `mode` with system status CRITICAL."""
+    text = gcs.recv("STATUSTEXT", timeout, lambda m: words in m.text)
+    assert text is not None, f"no STATUSTEXT containing {words!r}"
+    hb = gcs.recv("HEARTBEAT", 5, lambda m: m.custom_mode == mode)
+    assert hb is not None, f"vehicle did not switch to mode {mode}"
+    assert hb.system_status == mav.MAV_STATE_CRITICAL
+    return text
