@@ -32,9 +32,16 @@ from .vehicle_link import LinkError, VehicleLink, first
 TEMPERATURE_NAME = "GND_TEMP"
 SURVEY_SPEED_M_S = 5.0
 ARRIVAL_M = 2.0
-# The policies count their replanning cadence in readings of the decision-level simulation,
-# which takes one every 5 m; in flight readings come far more often, so distance flown is counted.
+# The decision-level episodes take one reading per 5 m of track or per second, and the belief's
+# resolution (3 x 3 sub-positions per cell, 3.3 m apart) was judged at that density. In flight the
+# sensor reads ten times a second; fed one by one, those readings multiply the small misfit of a
+# fire between two sub-positions tenfold, and on a straight pass that was seen to lock the belief,
+# confidently, on the mirror image of the fire across the track. So the flight gives the belief one
+# observation per 5 m or per second, as evaluated: the mean of the readings taken over it, at their
+# mean position, with the sensor's own sigma (conservative: the mean is less noisy than that).
+# The policies' replanning cadence (in readings of the episodes) is counted as distance / 5 m.
 SIM_READING_SPACING_M = 5.0
+SIM_READING_INTERVAL_MS = 1000
 LINK_SILENCE_S = 5.0  # wall seconds without a reading or a position: the link is lost
 BUDGET_M = 6000.0
 THRESHOLD = 0.99  # 3x3 block mass that declares: the decision-level episodes' default
@@ -55,6 +62,8 @@ class Survey:
     pending: list = field(default_factory=list)  # readings waiting for a later position
     track: list = field(default_factory=list)  # (n, e) of paired readings
     readings: int = 0
+    observations: int = 0  # belief updates: one per bin of readings
+    bin: list = field(default_factory=list)  # (t_ms, n, e, height, z) not yet given to the belief
     active: bool = True  # readings update the belief only until the fire is declared
     updated: asyncio.Event = field(default_factory=asyncio.Event)  # set by every new position
     vehicle_t0_ms: int | None = None
@@ -101,10 +110,16 @@ class Survey:
         height = -d
         if height < self.geometry.survey_alt_m * 0.8:
             return  # climbing or descending: readings from other heights are not used
-        self.belief.update(n, e, z, height)
-        self.policy.observe(n, e, z)
         self.track.append((n, e))
         self.readings += 1
+        self.bin.append((t_ms, n, e, height, z))
+        first = self.bin[0]
+        if math.dist(first[1:3], (n, e)) >= SIM_READING_SPACING_M or t_ms - first[0] >= SIM_READING_INTERVAL_MS:
+            _, n, e, height, z = (sum(column) / len(self.bin) for column in zip(*self.bin))
+            self.bin.clear()
+            self.belief.update(n, e, z, height)
+            self.policy.observe(n, e, z)
+            self.observations += 1
 
 
 def world_geometry(world: FireWorld) -> Geometry:
@@ -169,6 +184,7 @@ async def explore(url: str, world: FireWorld, policy_name: str, plot: Path | Non
             "survey_vehicle_s": (survey.vehicle_t_ms - start_readings_t) / 1000.0,
             "survey_wall_s": time.monotonic() - wall0,
             "path_m": path_length(survey.track), "readings": survey.readings,
+            "observations": survey.observations,
         }
         say(f"fire declared at N {est_n:.1f} m E {est_e:.1f} m (lat {est[0]:.7f}, lon {est[1]:.7f}), "
               f"3x3 mass {declaration.mass:.3f}, spread {spread:.1f} m, after {result['path_m']:.0f} m "
@@ -232,7 +248,7 @@ async def fly_survey(link: VehicleLink, survey: Survey):
                                                     float("nan")), "goto")
 
     while True:
-        declaration = survey.rule.confident(survey.belief) if survey.readings else None
+        declaration = survey.rule.confident(survey.belief) if survey.observations else None
         flown = path_length(survey.track)
         if declaration is not None:
             return declaration
@@ -240,7 +256,7 @@ async def fly_survey(link: VehicleLink, survey: Survey):
             return survey.rule.force(survey.belief, "budget")
         here = survey.positions[-1][1:3]
         # Confident but not yet flown over: go and look (the episodes' rule, stopping.py).
-        check = survey.rule.to_confirm(survey.belief) if survey.readings else None
+        check = survey.rule.to_confirm(survey.belief) if survey.observations else None
         if check is not None:
             confirming = True
             await fly_to(check)
