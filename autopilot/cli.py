@@ -77,6 +77,7 @@ def build_parser() -> argparse.ArgumentParser:
     return p
 
 
+MAX_SYSTEM_ID = 255
 GRID_SPACING_M = 5.0  # vehicles of one process start this far apart, on a square grid
 
 
@@ -86,8 +87,9 @@ def build(args) -> list:
 
     if not 0 <= args.instance <= 200:
         raise CliError(f"--instance: must be 0..200, got {args.instance}")
-    if not 1 <= args.count <= 1000:
-        raise CliError(f"--count: must be 1..1000, got {args.count}")
+    if not 1 <= args.count <= MAX_SYSTEM_ID - args.instance:  # system ids instance+1 .. instance+count
+        raise CliError(f"--count: must be 1..{MAX_SYSTEM_ID - args.instance} with --instance {args.instance} "
+                       f"(MAVLink system ids end at {MAX_SYSTEM_ID}), got {args.count}")
     scenario = load_scenario(Path(args.scenario)) if args.scenario else Scenario()
     if args.home:
         scenario.home, scenario.home_yaw_deg = parse_home(args.home)

@@ -27,6 +27,8 @@ def run_cli(*args, timeout=30):
     (("--out", "udp:127.0.0.1:99999"), "port"),
     (("--no-such-flag",), "--no-such-flag"),
     (("--instance", "-1"), "--instance"),
+    (("--count", "256"), "system ids end at 255"),
+    (("--instance", "10", "--count", "250"), "1..245"),
 ])
 def test_bad_flags_get_one_line_not_a_traceback(args, mentions):
     result = run_cli(*args, "--duration", "0.1")
