@@ -95,8 +95,8 @@ def swarm_rows(sw: dict) -> list[str]:
 def flight_rows(r: dict) -> list[str]:
     rows = []
     if "startup" in r:
-        rows.append(f"| startup_heartbeat_s | {fmt(r['startup']['startup_heartbeat_s'], ' s', 3)} |")
-        rows.append(f"| startup_armable_s | {fmt(r['startup']['startup_armable_s'], ' s', 3)} |")
+        rows.append(f"| startup_heartbeat_s (process start to first HEARTBEAT on loopback; sources byte-compiled, as after a pip install) | {fmt(r['startup']['startup_heartbeat_s'], ' s', 3)} |")
+        rows.append(f"| startup_armable_s (to SYS_STATUS with the PREARM bit healthy) | {fmt(r['startup']['startup_armable_s'], ' s', 3)} |")
     f = r.get("mavsdk_flight", {})
     if f.get("at_highest"):
         rows.append(f"| mavsdk_flight_wall_s at speedup {f['highest_passing_speedup']} (highest passing of "
