@@ -10,7 +10,9 @@ from autopilot.params import PARAM_TABLE
 def vehicle_problems(v, session=None) -> list[str]:
     """Every way the vehicle (and its session) is not in a valid state; empty when it is."""
     problems = []
-    b = v.body
+    if not all(math.isfinite(x) for x in v.body):
+        problems.append(f"estimate not finite: {v.body}")
+    b = v.sim.state.body  # the physical truth: the estimate may legitimately drift (SIM_BARO_DRIFT)
     if not all(math.isfinite(x) for x in b):
         problems.append(f"state not finite: {b}")
         return problems
