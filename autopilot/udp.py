@@ -134,8 +134,11 @@ class UdpEndpoint:
         """Whether `msg` goes on to the session; its sender becomes a peer if it passed signing."""
         if msg.get_type() == "BAD_DATA":  # the session counts it
             return True
-        if self.signing is not None and not self.signing.admit(msg.get_msgbuf()):
+        signing = self.signing
+        if signing is not None and not signing.admit(msg.get_msgbuf()):
             return False
+        if signing is not None and signing.enabled and not signing.last_verified:
+            return True  # an unsigned RADIO_STATUS may pass, but must not make its sender a peer
         if addr in self._heard:
             self._heard.move_to_end(addr)
         else:

@@ -66,6 +66,7 @@ class LinkSigning:
         self._out = codec.signing  # pymavlink signs every frame `codec` packs from this state
         self._out.link_id = 0
         self.streams: dict[tuple, int] = {}  # (sysid, compid, link id) -> last accepted timestamp
+        self.last_verified = False  # whether admit() last let a frame in for a good signature
         self.setup_key: bytes | None = None  # the key set by SETUP_SIGNING, which is persisted
         self.persist = None  # callable(record) -> bool that saves record() durably, or None
         self._saved_timestamp = 0
@@ -129,6 +130,7 @@ class LinkSigning:
     # ----- incoming ---------------------------------------------------------------------------
     def admit(self, frame: bytes) -> bool:
         """True if the frame may reach the session; a dropped frame is counted by its reason."""
+        self.last_verified = False
         if not self.enabled:
             return True
         header = _frame_header(frame)
@@ -138,6 +140,7 @@ class LinkSigning:
         reason = self._check_signed(bytes(frame), sysid, compid) if signed else "unsigned"
         if reason is None:
             self.counters["accepted_signed"] += 1
+            self.last_verified = True
             return True
         if msg_id in ACCEPT_UNSIGNED:  # as the C library: its callback overrides any failed check
             self.counters["accepted_unsigned"] += 1
