@@ -19,6 +19,7 @@ def report(runner, nodes, exception: BaseException | None, wall_s: float) -> dic
         counters = dict(session.counters)
         counters.update({f"udp_{k}": n for k, n in endpoint.totals().items()})
         counters["param_sets_refused"] = session.params.refused
+        counters["param_save_errors"] = v.params.save_errors
         counters["mission_uploads_refused"] = session.missions.refused
         if node.link_faults is not None:
             counters.update({f"link_dropped_{way}": n for way, n in node.link_faults.dropped.items()})

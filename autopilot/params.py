@@ -156,6 +156,8 @@ class ParamStore:
         self.path = path
         self._values = {spec.name: spec.default for spec in PARAM_TABLE}
         self._listeners = []
+        self.save_errors = 0
+        self.last_save_error = ""
         if path is not None and path.exists() and not wipe:
             self._load(path)
 
@@ -190,6 +192,8 @@ class ParamStore:
     def set(self, name: str, value) -> float:
         """Set and persist; raises ParamError (naming the problem) and changes nothing on bad input."""
         value = checked_value(name, value)
+        if value == self._values[name]:
+            return value  # nothing changes: a GCS re-sending its whole list must not re-trigger faults
         self._values[name] = value
         if SPEC_BY_NAME[name].saved:
             self._save()
@@ -201,6 +205,13 @@ class ParamStore:
         self._save()
 
     def _save(self) -> None:
-        if self.path is not None:
+        """Persist; a disk that refuses (full, read-only, directory gone) is counted, and the value
+        still takes effect in flight: the vehicle must not stop or half-apply a change for it."""
+        if self.path is None:
+            return
+        try:
             write_json_atomic(self.path, {n: v for n, v in self._values.items()
                                           if v != SPEC_BY_NAME[n].default and SPEC_BY_NAME[n].saved})
+        except OSError as exc:
+            self.save_errors += 1
+            self.last_save_error = f"{self.path}: {exc.strerror or exc}"

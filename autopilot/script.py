@@ -85,6 +85,9 @@ class Script:
             home = v.home_ned or (0.0, 0.0, 0.0)
             return v.guided_goto(args[0], args[1], home[2] - args[2])
         if verb == "param":
-            v.params.set(*args)
+            try:
+                v.params.set(*args)
+            except ValueError:  # ParamError: refused, as a PARAM_SET would be
+                return Result.FAILED
             return Result.ACCEPTED
         return v.set_speed(args[0])

@@ -141,3 +141,27 @@ def test_a_killed_writers_temporary_is_removed_at_load_and_the_file_kept(tmp_pat
     store = ParamStore(path)
     assert store["RTL_ALT"] == 2500.0
     assert not torn.exists() and path.exists()
+
+
+def test_a_refusing_disk_is_counted_and_the_value_still_takes_effect(tmp_path):
+    gone = tmp_path / "gone"
+    gone.mkdir()
+    store = ParamStore(gone / "params.json")
+    seen = []
+    store.on_change(lambda name, value: seen.append((name, value)))
+    gone.rmdir()
+    gone.write_text("a file where the state directory was")  # the save cannot create the directory
+    assert store.set("WPNAV_SPEED", 600) == 600.0
+    assert store["WPNAV_SPEED"] == 600.0 and seen == [("WPNAV_SPEED", 600.0)]
+    assert store.save_errors == 1 and "params.json" in store.last_save_error
+
+
+def test_setting_the_value_in_force_changes_nothing_and_notifies_no_one(tmp_path):
+    store = ParamStore(tmp_path / "params.json")
+    seen = []
+    store.on_change(lambda name, value: seen.append(name))
+    store.set("SIM_BATT_VOLTAGE", store["SIM_BATT_VOLTAGE"])  # a GCS re-sending its whole list
+    store.set("RTL_ALT", store["RTL_ALT"])
+    assert seen == []
+    store.set("RTL_ALT", 2000)
+    assert seen == ["RTL_ALT"]
