@@ -197,6 +197,8 @@ def main(argv=None) -> int:
         args = build_parser().parse_args(argv)
         speedup = parse_speedup(args.speedup)
         built = build(args)
+        if args.stats:
+            check_writable(Path(args.stats), "--stats")
     except (CliError, ScenarioError) as exc:
         print(f"autopilot: error: {exc}", file=sys.stderr)
         return 2
@@ -223,7 +225,10 @@ def main(argv=None) -> int:
     finally:
         if args.stats:
             from . import exit_report
-            exit_report.write(Path(args.stats), runner, nodes, escaped, time.monotonic() - wall0)
+            try:
+                exit_report.write(Path(args.stats), runner, nodes, escaped, time.monotonic() - wall0)
+            except OSError as exc:  # the rest of the shutdown (signing state, tlog) must still run
+                print(f"autopilot: error: --stats {args.stats}: {exc.strerror or exc}", file=sys.stderr)
         for node in nodes:
             report_signing(node, args.quiet)
             node.endpoint.close()
@@ -232,6 +237,15 @@ def main(argv=None) -> int:
             if node.state_log is not None:
                 node.state_log.close()
     return 0
+
+
+def check_writable(path: Path, option: str) -> None:
+    """Fail at start, in one line, rather than at exit with a traceback."""
+    directory = path.parent if str(path.parent) else Path(".")
+    if not directory.is_dir():
+        raise CliError(f"{option} {path}: no such directory {directory}")
+    if not os.access(directory, os.W_OK) or (path.exists() and not os.access(path, os.W_OK)):
+        raise CliError(f"{option} {path}: not writable")
 
 
 def report_signing(node, quiet: bool) -> None:

@@ -28,6 +28,7 @@ def run_cli(*args, timeout=30):
     (("--no-such-flag",), "--no-such-flag"),
     (("--instance", "-1"), "--instance"),
     (("--count", "256"), "system ids end at 255"),
+    (("--stats", "/proc/no-such-dir/stats.json"), "--stats"),
     (("--instance", "10", "--count", "250"), "1..245"),
 ])
 def test_bad_flags_get_one_line_not_a_traceback(args, mentions):
