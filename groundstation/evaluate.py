@@ -198,7 +198,7 @@ def evaluate(args) -> int:
     print(f"({time.monotonic() - t0:.0f} s, {jobs} job{'s' if jobs > 1 else ''}; declare at 3x3 mass >= "
           f"{config.threshold:g}, confirmation {confirm}, budget {config.budget_m:g} m; success = declared cell "
           f"within one cell of a fire; false = confident but wrong; forced = budget ran out)")
-    flights = fly(args, scenario, world, seed, config, policies[0], results[policies[0]]) if args.flight else None
+    flights = fly(args, world, seed, config, policies[0], results[policies[0]]) if args.flight else None
     if args.json:
         args.json.parent.mkdir(parents=True, exist_ok=True)
         payload = {"scenario": str(args.scenario), "seed": seed, "episodes": args.episodes, "start": args.start,
@@ -214,17 +214,17 @@ def evaluate(args) -> int:
     return 0
 
 
-def fly(args, scenario, world, seed: int, config: EpisodeConfig, policy: str, decided: list[dict]) -> dict:
+def fly(args, world, seed: int, config: EpisodeConfig, policy: str, decided: list[dict]) -> dict:
     """The first K episodes flown through the real autopilot with the first policy listed."""
-    import dataclasses as dc
+    import tomllib
     from . import flown_episodes
-    scenario = dc.replace(scenario, world=world)
+    base = tomllib.loads(args.scenario.read_text())  # already validated by load_scenario
     print(f"flying episodes 0..{args.flight - 1} with {policy} through the autopilot at speedup "
           f"{args.flight_speedup:g}", flush=True)
     flown = []
     for k in range(args.flight):
         plot = args.flight_plots / f"flight_{k}.png" if args.flight_plots else None
-        flown.append(flown_episodes.fly_episode(scenario, seed, k, policy, config, args.flight_speedup, plot))
+        flown.append(flown_episodes.fly_episode(base, world, seed, k, policy, config, args.flight_speedup, plot))
         r = flown[-1]
         state = (f"path {r['path_m']:.0f} m, error {r['error_m']:.1f} m, {r['survey_wall_s']:.1f} s wall"
                  if r["flown"] else f"not flown: {r['why']}")

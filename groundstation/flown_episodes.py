@@ -11,6 +11,7 @@ same fire but not the same noise samples.
 from __future__ import annotations
 
 import asyncio
+import json
 import math
 import tempfile
 from pathlib import Path
@@ -26,26 +27,39 @@ WORLD_FIELDS = ("area_m", "cell_m", "survey_alt_m", "ambient_c", "kernel", "plum
                 "outlier_rate", "outlier_k", "wind_tilt", "wind_to_deg")
 
 
-def scenario_text(home, home_yaw_deg: float, seed: int, world: FireWorld) -> str:
-    """A scenario file (autopilot/scenario.py's format) for one episode's world."""
-    lines = [f"seed = {seed}", "", "[home]", f"lat = {home.lat_deg!r}", f"lon = {home.lon_deg!r}",
-             f"alt = {home.alt_m!r}", f"yaw = {float(home_yaw_deg)!r}", "", "[world]"]
-    for name in WORLD_FIELDS:
-        value = getattr(world, name)
-        lines.append(f'{name} = "{value}"' if isinstance(value, str) else f"{name} = {float(value)!r}")
-    for fire in world.fires:
-        lines += ["", "[[fire]]", f"n_m = {fire.n_m!r}", f"e_m = {fire.e_m!r}",
-                  f"strength_k = {fire.strength_k!r}", f"growth_k_per_s = {fire.growth_k_per_s!r}"]
+def scenario_text(base: dict, seed: int, world: FireWorld) -> str:
+    """The scenario file (autopilot/scenario.py's format) of one episode: the original scenario's
+    tables (home, airframe, wind, noise, faults, ...) with the episode's seed, world and fires. A
+    [script] is left out: the companion flies the vehicle."""
+    tables = {k: v for k, v in base.items() if k not in ("seed", "world", "fire", "script")}
+    tables["seed"] = seed
+    tables["world"] = {name: getattr(world, name) for name in WORLD_FIELDS}
+    tables["fire"] = [{"n_m": f.n_m, "e_m": f.e_m, "strength_k": f.strength_k, "growth_k_per_s": f.growth_k_per_s}
+                      for f in world.fires]
+    return toml_text(tables)
+
+
+def toml_text(tables: dict) -> str:
+    """A TOML document of scalars, tables and arrays of tables (JSON's literals are TOML's too)."""
+    lines = [f"{k} = {json.dumps(v)}" for k, v in tables.items() if not isinstance(v, (dict, list))]
+    for name, table in tables.items():
+        if isinstance(table, dict):
+            lines += ["", f"[{name}]", *(f"{k} = {json.dumps(v)}" for k, v in table.items())]
+    for name, array in tables.items():
+        if isinstance(array, list):
+            for table in array:
+                lines += ["", f"[[{name}]]", *(f"{k} = {json.dumps(v)}" for k, v in table.items())]
     return "\n".join(lines) + "\n"
 
 
-def fly_episode(scenario, seed: int, index: int, policy: str, config: EpisodeConfig, speedup: float,
-                plot: Path | None) -> dict:
-    world = episode_world(scenario.world, seed, index, config)
+def fly_episode(base: dict, world: FireWorld, seed: int, index: int, policy: str, config: EpisodeConfig,
+                speedup: float, plot: Path | None) -> dict:
+    """Episode `index` of `world` flown on the scenario `base` (its TOML tables)."""
+    world = episode_world(world, seed, index, config)
     row = {"episode": index, "policy": policy, "fire": [(f.n_m, f.e_m, f.strength_k) for f in world.fires]}
     with tempfile.TemporaryDirectory(prefix="firefly-flight-") as tmp:
         path = Path(tmp) / f"episode_{index}.toml"
-        path.write_text(scenario_text(scenario.home, scenario.home_yaw_deg, seed + index, world))
+        path.write_text(scenario_text(base, seed + index, world))
         with AutopilotProcess(speedup, ("--scenario", str(path))) as ap:
             try:
                 result = asyncio.run(explore(ap.url, world, policy, plot, truth=True, say=lambda text: None))

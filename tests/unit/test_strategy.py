@@ -291,17 +291,23 @@ def test_block_masses_match_mass_around_and_the_declared_cell_holds_the_most():
     assert forced.index == best and forced.position == Geometry().centre_of(best)
 
 
-def test_a_flown_episode_scenario_file_loads_back_as_the_same_world():
-    from autopilot.scenario import load_scenario, scenario_from_dict
+def test_a_flown_episode_scenario_file_keeps_the_scenario_and_loads_back_as_the_episode_world():
     import tomllib
+    from autopilot.scenario import scenario_from_dict
     from groundstation.flown_episodes import scenario_text
     from groundstation.strategy.episode import EpisodeConfig, episode_world
-    base = load_scenario(DEFAULT_SCENARIO)
+    base = tomllib.loads(DEFAULT_SCENARIO.read_text())
+    base |= {"wind": {"speed_m_s": 4.0, "from_direction_deg": 250.0}, "airframe": {"mass_kg": 1.6},
+             "script": {"steps": [[0.5, "arm"]]}}
+    original = scenario_from_dict(base)
     for index in range(3):
-        ep = episode_world(dataclasses.replace(base.world, kernel="G", outlier_rate=0.01), 5, index, EpisodeConfig())
-        loaded = scenario_from_dict(tomllib.loads(scenario_text(base.home, 90.0, 5 + index, ep)))
-        assert loaded.world == ep
-        assert loaded.home == base.home and loaded.home_yaw_deg == 90.0 and loaded.seed == 5 + index
+        ep = episode_world(dataclasses.replace(original.world, kernel="G", outlier_rate=0.01), 5, index,
+                           EpisodeConfig())
+        loaded = scenario_from_dict(tomllib.loads(scenario_text(base, 5 + index, ep)))
+        assert loaded.world == ep and loaded.seed == 5 + index
+        assert loaded.home == original.home and loaded.home_yaw_deg == original.home_yaw_deg
+        assert loaded.sim.wind == original.sim.wind and loaded.sim.airframe == original.sim.airframe
+        assert loaded.script == []  # the companion flies it
 
 
 def test_flight_readings_reach_the_belief_at_the_evaluated_density():
