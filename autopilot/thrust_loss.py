@@ -24,7 +24,7 @@ class ThrustLossCheck:
         self.announced = False  # stays until no motor is at its limit (ArduCopter's thrust boost)
 
     def check(self, v, dt: float) -> None:
-        """Called at the flight-mode rate."""
+        """Called with the failsafe checks, at a tenth of the flight-mode rate (10 Hz)."""
         cascade = v.cascade
         commands = cascade.omega_cmd
         at_limit = max(commands) >= SATURATED * v.sim.airframe.omega_max_rad_s

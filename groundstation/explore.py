@@ -109,6 +109,7 @@ class Survey:
         n, e, d = self.position_at(t_ms)
         height = -d
         if height < self.geometry.survey_alt_m * 0.8:
+            self.bin.clear()  # an observation averages only readings taken in one stretch
             return  # climbing or descending: readings from other heights are not used
         self.track.append((n, e))
         self.readings += 1

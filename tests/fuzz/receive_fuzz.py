@@ -59,7 +59,8 @@ def run(frames: int, seed: int = 1, progress=None) -> dict:
                 vehicle.step()
             if vehicle.armed and not armed:
                 raise FuzzFailure("the vehicle armed itself between messages")
-            session.poll(vehicle.time_s, vehicle.time_s)
+            for m in session.poll(vehicle.time_s, vehicle.time_s):
+                m.pack(session.codec)  # telemetry after hostile input must still encode
             problems = vehicle_problems(vehicle, session)
             if problems:
                 raise FuzzFailure(f"after {sent} datagrams: {problems}")

@@ -80,13 +80,11 @@ def test_a_cut_link_trips_the_gcs_failsafe_and_its_return_shows_rtl(autopilot_fa
     recv_as_gcs(gcs, "HEARTBEAT", 2)
     take_off(gcs)
     set_param(gcs, "SIM_LINK_DOWN", 4)  # wall seconds
-    cut = time.monotonic()
     # While the link is down nothing arrives, though the ground station keeps talking.
     assert recv_as_gcs(gcs, "HEARTBEAT", 3) is None
     # The first thing through: our heartbeat got in, so the failsafe it had tripped clears.
     cleared = recv_as_gcs(gcs, "STATUSTEXT", 6, lambda m: "GCS Failsafe" in m.text)
     assert cleared is not None and cleared.text == "GCS Failsafe Cleared"
-    assert time.monotonic() - cut >= 3.9
     assert recv_as_gcs(gcs, "HEARTBEAT", 3, lambda m: m.custom_mode == RTL) is not None
     gcs.close()
 

@@ -148,7 +148,7 @@ def _check_one(v, session, msg, steps):
     for _ in range(steps):
         v.step()
     assert v.armed <= armed, "the vehicle armed itself"
-    session.poll(v.time_s)
+    _decode(session, session.poll(v.time_s))  # telemetry after hostile input must still encode
     _assert_valid(v, session)
 
 
