@@ -15,6 +15,16 @@ typedef struct {
 
 static PyTypeObject LoopType;
 
+static int initialised(LoopObject *self)
+{
+    if (self->body_type == NULL) { /* Loop.__new__ without __init__: its ratios are 0 */
+        PyErr_SetString(PyExc_RuntimeError, "Loop used before __init__ succeeded");
+        return 0;
+    }
+    return 1;
+}
+
+
 /* The order of the numbers handed over by compiled.py: constants once, gains on every change. */
 static void constant_slots(Cascade *c, double *s[])
 {
@@ -49,16 +59,17 @@ static void gain_slots(Cascade *c, double *s[])
 
 static int read_doubles(PyObject *seq, double *out[], Py_ssize_t n, const char *what)
 {
-    PyObject *fast = PySequence_Fast(seq, what);
+    /* A tuple copy: a list could change size under us while __float__ of its items runs. */
+    PyObject *fast = PySequence_Tuple(seq);
     if (!fast)
         return -1;
-    if (PySequence_Fast_GET_SIZE(fast) != n) {
-        PyErr_Format(PyExc_ValueError, "%s: expected %zd numbers, got %zd", what, n, PySequence_Fast_GET_SIZE(fast));
+    if (PyTuple_GET_SIZE(fast) != n) {
+        PyErr_Format(PyExc_ValueError, "%s: expected %zd numbers, got %zd", what, n, PyTuple_GET_SIZE(fast));
         Py_DECREF(fast);
         return -1;
     }
     for (Py_ssize_t i = 0; i < n; i++) {
-        double x = PyFloat_AsDouble(PySequence_Fast_GET_ITEM(fast, i));
+        double x = PyFloat_AsDouble(PyTuple_GET_ITEM(fast, i));
         if (x == -1.0 && PyErr_Occurred()) {
             Py_DECREF(fast);
             return -1;
@@ -81,14 +92,22 @@ static int Loop_init(LoopObject *self, PyObject *args, PyObject *kwds)
         PyErr_SetString(PyExc_ValueError, "loop ratios must be at least 1");
         return -1;
     }
-    memset(&self->c, 0, sizeof self->c);
+    if (!PyType_IsSubtype((PyTypeObject *)body_type, &PyTuple_Type) ||
+        !PyType_IsSubtype((PyTypeObject *)state_type, &PyTuple_Type)) {
+        PyErr_SetString(PyExc_TypeError, "body_type and state_type must be tuple types (NamedTuples)");
+        return -1;
+    }
+    /* Built aside and copied in only when complete: a failed re-init leaves the loop as it was. */
+    Cascade c;
+    memset(&c, 0, sizeof c);
     double *slots[N_CONSTANTS];
-    constant_slots(&self->c, slots);
+    constant_slots(&c, slots);
     if (read_doubles(constants, slots, N_CONSTANTS, "constants") < 0)
         return -1;
     for (int i = 0; i < 4; i++)
-        self->c.physics_k.speed_scale[i] = 1.0; /* healthy motors until set_conditions() says otherwise */
-    self->c.ratio_pos = ratio_pos, self->c.ratio_att = ratio_att;
+        c.physics_k.speed_scale[i] = 1.0; /* healthy motors until set_conditions() says otherwise */
+    c.ratio_pos = ratio_pos, c.ratio_att = ratio_att;
+    self->c = c;
     Py_INCREF(body_type);
     Py_XSETREF(self->body_type, body_type);
     Py_INCREF(state_type);
@@ -105,6 +124,8 @@ static void Loop_dealloc(LoopObject *self)
 
 static PyObject *Loop_configure(LoopObject *self, PyObject *gains)
 {
+    if (!initialised(self))
+        return NULL;
     double *slots[N_GAINS];
     gain_slots(&self->c, slots);
     if (read_doubles(gains, slots, N_GAINS, "gains") < 0)
@@ -116,6 +137,8 @@ static PyObject *Loop_configure(LoopObject *self, PyObject *gains)
  * used from the next physics step on. */
 static PyObject *Loop_set_conditions(LoopObject *self, PyObject *args)
 {
+    if (!initialised(self))
+        return NULL;
     PyObject *wind, *scale;
     if (!PyArg_ParseTuple(args, "OO", &wind, &scale))
         return NULL;
@@ -138,6 +161,8 @@ static void body_slots(Body *b, double *s[13]) /* BodyState's field order */
 /* load(PhysicsState): the sim's state, when something outside the cascade has set it. */
 static PyObject *Loop_load(LoopObject *self, PyObject *state)
 {
+    if (!initialised(self))
+        return NULL;
     Physics ph = self->c.physics;
     double *body[13], *omega[4] = {&ph.omega[0], &ph.omega[1], &ph.omega[2], &ph.omega[3]};
     body_slots(&ph.body, body);
@@ -176,6 +201,8 @@ static PyObject *float_tuple(PyTypeObject *type, const double *x[], Py_ssize_t n
 /* state() -> PhysicsState: a snapshot for everything outside the cascade. */
 static PyObject *Loop_state(LoopObject *self, PyObject *unused)
 {
+    if (!initialised(self))
+        return NULL;
     if (!self->body_type) {
         PyErr_SetString(PyExc_RuntimeError, "Loop was not initialised");
         return NULL;
@@ -226,6 +253,8 @@ static int read_setpoint(PyObject *sp, PyObject *name, double *out, int n)
 /* command(setpoint, armed, landed, speed_xy) */
 static PyObject *Loop_command(LoopObject *self, PyObject *const *args, Py_ssize_t nargs)
 {
+    if (!initialised(self))
+        return NULL;
     if (nargs != 4) {
         PyErr_SetString(PyExc_TypeError, "command(setpoint, armed, landed, speed_xy)");
         return NULL;
@@ -261,7 +290,7 @@ static int parse_run(PyObject *const *args, Py_ssize_t nargs, long long *first, 
 static PyObject *Loop_run(LoopObject *self, PyObject *const *args, Py_ssize_t nargs)
 {
     long long first, n;
-    if (parse_run(args, nargs, &first, &n) < 0)
+    if (!initialised(self) || parse_run(args, nargs, &first, &n) < 0)
         return NULL;
     cascade_run(&self->c, first, n);
     Py_RETURN_NONE;
@@ -271,6 +300,8 @@ static PyObject *Loop_run(LoopObject *self, PyObject *const *args, Py_ssize_t na
  * split of the step cost between physics and control). */
 static PyObject *Loop_run_physics(LoopObject *self, PyObject *args)
 {
+    if (!initialised(self))
+        return NULL;
     long long n;
     double cmd[4];
     if (!PyArg_ParseTuple(args, "L(dddd)", &n, &cmd[0], &cmd[1], &cmd[2], &cmd[3]))
@@ -282,12 +313,16 @@ static PyObject *Loop_run_physics(LoopObject *self, PyObject *args)
 
 static PyObject *Loop_reset(LoopObject *self, PyObject *unused)
 {
+    if (!initialised(self))
+        return NULL;
     cascade_reset(&self->c);
     Py_RETURN_NONE;
 }
 
 static PyObject *Loop_reset_position(LoopObject *self, PyObject *unused)
 {
+    if (!initialised(self))
+        return NULL;
     cascade_reset_position(&self->c);
     Py_RETURN_NONE;
 }
@@ -356,6 +391,10 @@ static PyObject *run_many(PyObject *module, PyObject *const *args, Py_ssize_t na
     Py_ssize_t count = PySequence_Fast_GET_SIZE(fast);
     PyObject **items = PySequence_Fast_ITEMS(fast);
     for (Py_ssize_t i = 0; i < count; i++) {
+        if (PyObject_TypeCheck(items[i], &LoopType) && !initialised((LoopObject *)items[i])) {
+            Py_DECREF(fast);
+            return NULL;
+        }
         if (!PyObject_TypeCheck(items[i], &LoopType)) {
             Py_DECREF(fast);
             PyErr_SetString(PyExc_TypeError, "run_many: every item must be a Loop");

@@ -211,3 +211,25 @@ def test_without_the_extension_vehicles_fly_the_reference_after_one_warning(monk
     v.takeoff(5.0)
     v.run_until(8.0)
     assert v.body.d_m == pytest.approx(-5.0, abs=0.3)
+
+
+@needs_extension
+def test_misusing_the_loop_object_raises_instead_of_crashing():
+    from autopilot.control import _cascade
+    from sim.physics import PhysicsState
+    loop = _cascade.Loop
+    with pytest.raises(RuntimeError):
+        loop.__new__(loop).run(0, 1)  # never initialised: its loop ratios are 0
+    with pytest.raises(RuntimeError):
+        loop.__new__(loop).state()
+    with pytest.raises(RuntimeError):
+        _cascade.run_many([loop.__new__(loop)], 0, 1)
+    with pytest.raises(TypeError):
+        loop((), 1, 1, dict, dict)  # state() would fill these as tuples
+
+    class Shrinking(float):
+        def __float__(self):
+            numbers.clear()  # the list changes size while being read
+            return 1.0
+    numbers = [Shrinking(1.0)] * 31
+    assert isinstance(loop(numbers, 1, 1, BodyState, PhysicsState), loop)  # read from a copy: no crash
