@@ -59,6 +59,9 @@ class SimVehicle:
     def take(self, state: PhysicsState, n: int) -> None:
         """The state after n physics steps taken elsewhere (the compiled cascade steps the same
         physics in C). n must not carry the step count past a multiple of BATTERY_EVERY."""
+        if n < 1 or (self.steps % BATTERY_EVERY) + n > BATTERY_EVERY:
+            # The battery and wind steps between would be skipped: the caller's chunking is wrong.
+            raise ValueError(f"take({n}) at step {self.steps} skips a battery step (every {BATTERY_EVERY})")
         self.state = state
         self._count(n)
 
