@@ -90,6 +90,9 @@ def _messages(c):
                   st.lists(u8, min_size=251, max_size=251)),
         st.builds(lambda v: c.named_value_float_encode(0, b"GND_TEMP", v), f32),  # not for the vehicle
         st.builds(lambda t: c.system_time_encode(t, 0), st.integers(0, 2**64 - 1)),  # not handled
+        st.builds(lambda t, key, ts: c.setup_signing_encode(t, 1, key, ts), target,
+                  st.sampled_from([bytes(32), b"\x01" * 32]) | st.binary(min_size=32, max_size=32),
+                  st.integers(0, 2**64 - 1)),
     )
 
 
