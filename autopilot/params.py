@@ -106,7 +106,7 @@ PARAM_TABLE: tuple[ParamSpec, ...] = (
     _i("FS_EKF_ACTION", 1, 1, 3, "EKF failsafe: 1 LAND, 2 ALT_HOLD, 3 LAND even in STABILIZE"),
     _f("FS_EKF_THRESH", 0.8, 0, 1, "EKF failsafe variance threshold, 0 = no EKF failsafe"),
     # Telemetry stream rates (ArduPilot SRn_ names, Hz; SITL streams by default)
-    _i("SR0_EXT_STAT", 2, 0, 50), _i("SR0_POSITION", 4, 0, 50), _i("SR0_EXTRA1", 10, 0, 50),
+    _i("SR0_RAW_SENS", 2, 0, 50), _i("SR0_EXT_STAT", 2, 0, 50), _i("SR0_POSITION", 4, 0, 50), _i("SR0_EXTRA1", 10, 0, 50),
     _i("SR0_EXTRA2", 4, 0, 50), _i("SR0_EXTRA3", 2, 0, 50),
     # Simulation faults (ArduPilot SITL 4.5's SIM_ names; SIM_LINK_* are Firefly's own)
     _i("SIM_ENGINE_FAIL", 0, 0, 3, "motor SIM_ENGINE_MUL applies to, 0 = motor 1 (front)"),

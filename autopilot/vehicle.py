@@ -96,6 +96,7 @@ class Vehicle:
         self._landed_since: float | None = None
         self._disarm_timer_start: float | None = None
         self.gps = self.sim.gps.read(self.sim.state.body)
+        self.baro_alt_m = 0.0  # the barometer's last sample (altitude above the origin), at the GPS rate
         self.armed_time_s = 0.0
         if self.has_position():  # the simulated GPS has a fix at once: armable from the first heartbeat
             self._set_home_here()
@@ -366,6 +367,9 @@ class Vehicle:
         steps = sim.steps
         if steps % self._ratio_gps == 0:
             self.gps = sim.gps.read(sim.state.body)
+            # Sampled here at a fixed sim rate, never by telemetry: its noise stream stays the same
+            # whatever a client asks for.
+            self.baro_alt_m = sim.baro.altitude_m(sim.state.body, sim.time_s)
             if self.home_ned is None and self.gps.fix_type >= 3:
                 self._set_home_here()
         if steps % self._ratio_temp == 0:

@@ -103,6 +103,14 @@ def gps_raw_int(v, codec):
                                     int(speed * 100), cog, g.satellites)
 
 
+def scaled_pressure(v, codec):
+    """The barometer as ArduPilot reports it: absolute pressure [hPa] and temperature [cdegC] of
+    the International Standard Atmosphere at the altitude the (possibly drifting) sensor reads."""
+    alt_m = v.origin.alt_m + v.baro_alt_m
+    pressure_hpa = 1013.25 * (1.0 - 2.25577e-5 * alt_m) ** 5.25588
+    return codec.scaled_pressure_encode(_ms(v), pressure_hpa, 0.0, int(round((15.0 - 0.0065 * alt_m) * 100)), 0)
+
+
 def attitude(v, codec):
     b = v.body
     roll, pitch, yaw = v.attitude
@@ -189,6 +197,7 @@ BUILDERS = {
     mav.MAVLINK_MSG_ID_GLOBAL_POSITION_INT: global_position_int,
     mav.MAVLINK_MSG_ID_LOCAL_POSITION_NED: local_position_ned,
     mav.MAVLINK_MSG_ID_GPS_RAW_INT: gps_raw_int,
+    mav.MAVLINK_MSG_ID_SCALED_PRESSURE: scaled_pressure,
     mav.MAVLINK_MSG_ID_ATTITUDE: attitude,
     mav.MAVLINK_MSG_ID_ATTITUDE_QUATERNION: attitude_quaternion,
     mav.MAVLINK_MSG_ID_VFR_HUD: vfr_hud,
@@ -203,6 +212,7 @@ BUILDERS = {
 
 # ArduPilot's stream groups (REQUEST_DATA_STREAM ids) and the SRn_ parameter that sets each rate.
 STREAM_GROUPS = {
+    mav.MAV_DATA_STREAM_RAW_SENSORS: ("SR0_RAW_SENS", (mav.MAVLINK_MSG_ID_SCALED_PRESSURE,)),
     mav.MAV_DATA_STREAM_EXTENDED_STATUS: ("SR0_EXT_STAT", (mav.MAVLINK_MSG_ID_SYS_STATUS,
                                                           mav.MAVLINK_MSG_ID_GPS_RAW_INT,
                                                           mav.MAVLINK_MSG_ID_MISSION_CURRENT)),

@@ -183,6 +183,18 @@ def test_baro_drift_moves_the_height_estimate_so_the_vehicle_sinks_while_reporti
     assert fly_until(v, lambda x: abs(true_altitude(x) - 10.0) < 0.2, 10.0)
 
 
+def test_scaled_pressure_reports_what_the_drifting_barometer_reads():
+    v = ready_vehicle()
+    before = telemetry.scaled_pressure(v, CODEC)
+    v.params.set("SIM_BARO_DRIFT", 1.0)
+    v.run_until(v.time_s + 20.0)  # still on the ground: only the sensor rises, by 20 m
+    after = telemetry.scaled_pressure(v, CODEC)
+    # About 0.12 hPa per metre near sea level (this home is at 150 m).
+    assert before.press_abs - after.press_abs == pytest.approx(20 * 0.118, rel=0.05)
+    assert 1013.25 > before.press_abs > 900 and after.temperature < before.temperature
+    assert -v.gps.d_m == pytest.approx(0.0, abs=2.0)  # the GPS still says the ground
+
+
 # ----- wind -----------------------------------------------------------------------------------------
 def turbulent_track(seed: int, turbulence: float) -> list:
     v = hovering_vehicle(10.0, sim=SimConfig(seed=seed, wind=SteadyWind(3.0, 45.0)))
