@@ -78,6 +78,7 @@ class MissionService:
         self.vehicle = vehicle
         self.codec = codec
         self.upload: Upload | None = None
+        self._completed = None  # (peer, kind, last seq) of the upload just stored, to re-ACK a resend
         self.refused = 0  # uploads refused: unsupported list, no space, busy, an invalid item
 
     # ----- helpers ----------------------------------------------------------------------------
@@ -116,12 +117,16 @@ class MissionService:
             self.upload = None
             self.store.clear(kind)
             return [self._ack(peer, mav.MAV_MISSION_ACCEPTED, kind)]
+        self._completed = None
         self.upload = Upload(kind, msg.count, peer)
         return [self._request(self.upload, link_s)]
 
     def on_item(self, msg, link_s: float) -> list:
         up = self.upload
         peer = (msg.get_srcSystem(), msg.get_srcComponent())
+        if up is None and self._completed == (peer, msg.mission_type, msg.seq):
+            # Our ACK was lost and the client resends its last item: tell it again, store nothing.
+            return [self._ack(peer, mav.MAV_MISSION_ACCEPTED, msg.mission_type)]
         if up is None or peer != up.peer or msg.mission_type != up.kind:
             return []
         if msg.seq != len(up.items):  # a duplicate or out-of-order item: ask again for the one we need
@@ -138,6 +143,7 @@ class MissionService:
         if len(up.items) < up.count:
             return [self._request(up, link_s)]
         self.upload = None
+        self._completed = (peer, up.kind, up.count - 1)
         items = up.items[1:] if up.kind == MISSION else up.items  # seq 0 is home: not stored
         self.store.replace(up.kind, items)
         return [self._ack(peer, mav.MAV_MISSION_ACCEPTED, up.kind)]

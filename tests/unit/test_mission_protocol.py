@@ -66,7 +66,8 @@ class GroundStation:
     def on(self, msg, now):
         t = msg.get_type()
         if t == "MISSION_REQUEST_INT" and msg.seq < len(self.items):
-            self.send(self.items[msg.seq], now, retry=False)
+            # The last item is resent until the ACK arrives (MAVSDK's upload does the same).
+            self.send(self.items[msg.seq], now, retry=msg.seq == len(self.items) - 1)
         elif t == "MISSION_ACK":
             self.done = msg.type
             self.retry = None
@@ -125,7 +126,7 @@ def setup():
     return v, Session(v, new_codec(1))
 
 
-@pytest.mark.parametrize("seed", range(5))
+@pytest.mark.parametrize("seed", range(8))
 def test_upload_completes_over_a_lossy_link(setup, seed):
     v, session = setup
     gcs = GroundStation()
@@ -215,3 +216,18 @@ def test_clear_all(setup):
     replies = session.receive(msg, 0.0, 0.0)
     assert [r.get_type() for r in replies] == ["MISSION_ACK"] and replies[0].type == 0
     assert v.mission.items(0) == []
+
+
+def test_a_resent_last_item_after_a_lost_ack_is_acked_again_and_stored_once(setup):
+    v, session = setup
+    gcs = GroundStation()
+    items = plan(4)
+    gcs.start_upload(items, 0.0)
+    run(session, gcs, LossyLink(0.0, 0))
+    assert gcs.done == mav.MAV_MISSION_ACCEPTED
+    version = v.mission.version
+    again = session.receive(new_codec(0, 0).parse_buffer(items[-1].pack(gcs.codec))[0], 0.0, 1.0)
+    assert [(m.get_type(), m.type) for m in again] == [("MISSION_ACK", mav.MAV_MISSION_ACCEPTED)]
+    assert v.mission.version == version  # nothing stored twice
+    other = session.receive(new_codec(0, 0).parse_buffer(items[1].pack(gcs.codec))[0], 0.0, 1.0)
+    assert other == []  # only the last item is answered
