@@ -23,14 +23,12 @@ def report(runner, nodes, exception: BaseException | None, wall_s: float) -> dic
         counters["mission_uploads_refused"] = session.missions.refused
         if node.link_faults is not None:
             counters.update({f"link_dropped_{way}": n for way, n in node.link_faults.dropped.items()})
-        signing = getattr(session, "signing", None)
-        if signing is not None and hasattr(signing, "counters"):
-            counters.update({f"signing_{k}": n for k, n in signing.counters.items()})
+        counters.update({f"signing_{k}": n for k, n in session.signing.counters.items()})
         vehicles.append({
             "system_id": v.system_id, "sim_s": v.time_s, "physics_steps": v.sim.steps,
             "armed": v.armed, "mode": v.mode.number,
             "state_finite": all(math.isfinite(x) for x in v.body),
-            "counters": counters, "last_handler_error": getattr(session, "last_handler_error", ""),
+            "counters": counters, "last_handler_error": session.last_handler_error,
         })
     return {"ticks": runner.ticks, "sim_s": runner.sim_time_s, "wall_s": wall_s,
             "exception": None if exception is None else f"{type(exception).__name__}: {exception}",

@@ -150,7 +150,8 @@ class UdpEndpoint:
 
     def send(self, frames: list[bytes]) -> None:
         """Send packed frames to every peer, several frames per datagram."""
-        if not frames or not self.peers:
+        peers = self.peers
+        if not frames or not peers:
             return
         datagrams, current = [], b""
         for frame in frames:
@@ -159,7 +160,7 @@ class UdpEndpoint:
                 current = b""
             current += frame
         datagrams.append(current)
-        for peer in self.peers:
+        for peer in peers:
             for datagram in datagrams:
                 try:
                     self.sock.sendto(datagram, peer)

@@ -16,15 +16,12 @@ import math
 import tempfile
 from pathlib import Path
 
-from sim.fire import FireWorld
+from sim.fire import WORLD_KEYS, FireWorld
 
 from .autopilot_process import AutopilotProcess
 from .explore import explore
 from .strategy.episode import EpisodeConfig, episode_world
 from .vehicle_link import LinkError
-
-WORLD_FIELDS = ("area_m", "cell_m", "survey_alt_m", "ambient_c", "kernel", "plume_sigma_m", "noise_k",
-                "outlier_rate", "outlier_k", "wind_tilt", "wind_to_deg")
 
 
 def scenario_text(base: dict, seed: int, world: FireWorld) -> str:
@@ -33,7 +30,7 @@ def scenario_text(base: dict, seed: int, world: FireWorld) -> str:
     [script] is left out: the companion flies the vehicle."""
     tables = {k: v for k, v in base.items() if k not in ("seed", "world", "fire", "script")}
     tables["seed"] = seed
-    tables["world"] = {name: getattr(world, name) for name in WORLD_FIELDS}
+    tables["world"] = {name: getattr(world, name) for name in sorted(WORLD_KEYS)}
     tables["fire"] = [{"n_m": f.n_m, "e_m": f.e_m, "strength_k": f.strength_k, "growth_k_per_s": f.growth_k_per_s}
                       for f in world.fires]
     return toml_text(tables)

@@ -23,18 +23,13 @@ import threading
 import time
 from pathlib import Path
 
+from ..sitl.conftest import free_udp_port
 from .frames import FrameSource
 
 REPO = Path(__file__).resolve().parents[2]
 TICK_S = 0.01
 PHYSICS_HZ = 400
 MEMORY_GROWTH_LIMIT_MB = 8.0
-
-
-def free_port() -> int:
-    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
 
 
 def rss_mb(pid: int) -> float:
@@ -117,7 +112,7 @@ class Pilot(threading.Thread):
 
 def soak(sim_hours: float, speedup: float, noisy_clients: int, rate: float, seed: int, progress=print) -> dict:
     duration = 3600.0 * sim_hours
-    listen, out = free_port(), free_port()
+    listen, out = free_udp_port(), free_udp_port()
     stop = threading.Event()
     with tempfile.TemporaryDirectory(prefix="firefly-soak-") as tmp:
         stats_path = Path(tmp) / "stats.json"

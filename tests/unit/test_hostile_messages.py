@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import math
 
+import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
@@ -158,18 +159,11 @@ def _check_one(v, session, msg, steps):
 SETTINGS = settings(max_examples=80, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 
 
+@pytest.mark.parametrize("flying", [False, True], ids=["on_the_ground", "in_flight"])
 @SETTINGS
 @given(st.lists(st.tuples(MESSAGES, STEPS), min_size=1, max_size=25))
-def test_hostile_sequences_on_the_ground_leave_the_vehicle_valid(sequence):
-    v, session = _link(flying=False)
-    for built, steps in sequence:
-        _check_one(v, session, wire(built, CLIENT), steps)
-
-
-@SETTINGS
-@given(st.lists(st.tuples(MESSAGES, STEPS), min_size=1, max_size=25))
-def test_hostile_sequences_in_flight_leave_the_vehicle_valid(sequence):
-    v, session = _link(flying=True)
+def test_hostile_sequences_leave_the_vehicle_valid(flying, sequence):
+    v, session = _link(flying=flying)
     for built, steps in sequence:
         _check_one(v, session, wire(built, CLIENT), steps)
 
