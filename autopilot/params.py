@@ -14,7 +14,7 @@ import math
 from dataclasses import dataclass
 from pathlib import Path
 
-from .persist import read_json, write_json_atomic
+from .io.persist import read_json, write_json_atomic
 
 
 @dataclass(frozen=True)

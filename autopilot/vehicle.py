@@ -14,16 +14,16 @@ from sim.vehicle import BATTERY_EVERY, SimConfig, SimVehicle
 
 from .control.attitude import wrap_pi
 from .control.compiled import make_cascade
-from .failsafe import Failsafes
-from .faults import Faults, world_values
-from .geo import GeoPoint, global_from_ned, ned_from_global
+from .safety.failsafe import Failsafes
+from .faults.world import Faults, world_values
+from sim.geo import GeoPoint, global_from_ned, ned_from_global
 from .mission import MissionStore
 from .modes import MODE_BY_NUMBER, Auto, Guided, Setpoint, Stabilize
 from .params import ParamStore
 from .pilot import CENTRED, CENTRED_MANUAL, PilotInput
 from .rates import LoopRates
 from .results import Result, Severity
-from .thrust_loss import ThrustLossCheck
+from .safety.thrust_loss import ThrustLossCheck
 
 FORCE_ARM_MAGIC = 2989
 FORCE_DISARM_MAGIC = 21196
@@ -60,7 +60,7 @@ class Vehicle:
         self.auto_armed = False  # ArduCopter's flag: AUTO may start its mission from the ground
         self.reached: list[int] = []  # mission seqs reached, for MISSION_ITEM_REACHED
         self.failsafes = Failsafes()
-        self.script = None  # a scenario's scripted commands (autopilot.script.Script), if any
+        self.script = None  # a scenario's scripted commands (autopilot.cli.script.Script), if any
         n0, e0 = config.offset_ne_m
         self.origin = config.home
         self.sim = SimVehicle(config.sim, math.radians(config.home_yaw_deg), n0, e0)

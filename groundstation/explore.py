@@ -308,7 +308,7 @@ def write_plot(survey: Survey, world: FireWorld | None, result: dict, path: Path
 
 def run(url: str | None, scenario: Path | None, policy: str, speedup: float, plot: Path | None,
         truth: bool) -> int:
-    from autopilot.scenario import Scenario, load_scenario
+    from sim.scenario import Scenario, load_scenario
     sc = load_scenario(scenario) if scenario else Scenario()
     make_policy(policy)  # a bad name fails here, before anything starts
     if url:

@@ -10,7 +10,7 @@ from __future__ import annotations
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
-from ..persist import read_json, write_json_atomic
+from ..io.persist import read_json, write_json_atomic
 
 MISSION, FENCE, RALLY = 0, 1, 2
 

@@ -17,7 +17,7 @@ import time
 
 from autopilot.mavlink.dialect import new_codec
 from autopilot.mavlink.session import Session
-from autopilot.udp import UdpEndpoint
+from autopilot.io.udp import UdpEndpoint
 from autopilot.vehicle import Vehicle, VehicleConfig
 
 from .checks import vehicle_problems

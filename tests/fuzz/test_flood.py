@@ -10,7 +10,7 @@ import time
 
 import pytest
 
-from autopilot import udp
+from autopilot.io import udp
 from autopilot.mavlink.dialect import new_codec
 
 from ..sitl.conftest import start_autopilot

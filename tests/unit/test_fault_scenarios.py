@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import pytest
 
-from autopilot import cli
-from autopilot.script import Script, ScriptError, parse_steps
-from autopilot.scenario import ScenarioError, scenario_from_dict
+from autopilot.cli import main as cli
+from autopilot.cli.script import Script, ScriptError, parse_steps
+from autopilot.cli.scenario import ScenarioError, scenario_from_dict
 from autopilot.vehicle import Vehicle, VehicleConfig
 
 
@@ -75,7 +75,7 @@ class FakeEndpoint:
 
 
 def test_the_command_line_flies_the_scenario_faults(monkeypatch, tmp_path):
-    monkeypatch.setattr("autopilot.udp.UdpEndpoint", FakeEndpoint)
+    monkeypatch.setattr("autopilot.io.udp.UdpEndpoint", FakeEndpoint)
     path = tmp_path / "faulty.toml"
     path.write_text("[wind]\nspeed_m_s = 5.0\n[faults]\nSIM_GPS_DISABLE = 1\nSIM_LINK_LOSS = 20\n")
     node, _ = cli.build(cli.build_parser().parse_args(["--scenario", str(path), "--state-dir", str(tmp_path)]))[0]

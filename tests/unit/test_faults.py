@@ -7,7 +7,7 @@ import math
 
 import pytest
 
-from autopilot.ekf_check import EKF_CHECK_ITERATIONS_MAX
+from autopilot.safety.ekf_check import EKF_CHECK_ITERATIONS_MAX
 from autopilot.mavlink import telemetry
 from autopilot.mavlink.dialect import mavlink as mav
 from autopilot.mavlink.dialect import new_codec

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from autopilot.link_faults import LinkFaults
+from autopilot.faults.link import LinkFaults
 from autopilot.mavlink.dialect import new_codec
 from autopilot.mavlink.session import Session
 from autopilot.modes import Rtl

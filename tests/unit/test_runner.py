@@ -5,7 +5,7 @@ import math
 
 import pytest
 
-from autopilot.runner import Runner
+from autopilot.io.runner import Runner
 
 
 @pytest.mark.parametrize("duration_s", [0.3, 5.0, 60.0, 3600.0])

@@ -8,13 +8,13 @@ from types import SimpleNamespace
 
 import pytest
 
-from autopilot import cli
+from autopilot.cli import main as cli
 from autopilot.mavlink.dialect import new_codec
 from autopilot.mavlink.session import Session
 from autopilot.mavlink.signing import RESTART_MARGIN, LinkSigning
-from autopilot.persist import read_json
-from autopilot.scenario import ScenarioError, load_scenario, scenario_from_dict
-from autopilot.signing_keys import (MAX_KEY_FILE_BYTES, SigningKeyError, attach_state, key_from_text,
+from autopilot.io.persist import read_json
+from autopilot.cli.scenario import ScenarioError, load_scenario, scenario_from_dict
+from autopilot.io.signing_keys import (MAX_KEY_FILE_BYTES, SigningKeyError, attach_state, key_from_text,
                                     read_key_file)
 
 from ._util import ready_vehicle

@@ -225,7 +225,7 @@ def test_episode_worlds_follow_the_recipe():
 
 
 def test_gig_succeeds_on_seeded_default_world_episodes():
-    from autopilot.scenario import load_scenario
+    from autopilot.cli.scenario import load_scenario
     scenario = load_scenario(DEFAULT_SCENARIO)
     results = [run_episode(scenario.world, scenario.seed, k, make_policy("gig")) for k in range(5)]
     for r in results:
@@ -293,7 +293,7 @@ def test_block_masses_match_mass_around_and_the_declared_cell_holds_the_most():
 
 def test_a_flown_episode_scenario_file_keeps_the_scenario_and_loads_back_as_the_episode_world():
     import tomllib
-    from autopilot.scenario import scenario_from_dict
+    from autopilot.cli.scenario import scenario_from_dict
     from groundstation.flown_episodes import scenario_text
     from groundstation.strategy.episode import EpisodeConfig, episode_world
     base = tomllib.loads(DEFAULT_SCENARIO.read_text())

@@ -112,7 +112,7 @@ def build(args) -> list:
 
 
 def signing_key_option(path: str) -> bytes:
-    from .signing_keys import SigningKeyError, read_key_file
+    from ..io.signing_keys import SigningKeyError, read_key_file
     try:
         return read_key_file(Path(path))
     except SigningKeyError as exc:
@@ -127,16 +127,16 @@ def build_vehicle(args, scenario, k: int, outs, listen, epoch_us: int):
     """Vehicle k of this process: instance args.instance + k, its own ports, state and seed."""
     import dataclasses
 
-    from .link_faults import LinkFaults
-    from .mavlink.dialect import new_codec
-    from .mavlink.session import Session
-    from .mission import MissionStore
-    from .params import ParamStore
-    from .rates import LoopRates
-    from .runner import Node
-    from .signing_keys import attach_state
-    from .udp import UdpEndpoint
-    from .vehicle import Vehicle, VehicleConfig
+    from ..faults.link import LinkFaults
+    from ..mavlink.dialect import new_codec
+    from ..mavlink.session import Session
+    from ..mission import MissionStore
+    from ..params import ParamStore
+    from ..rates import LoopRates
+    from ..io.runner import Node
+    from ..io.signing_keys import attach_state
+    from ..io.udp import UdpEndpoint
+    from ..vehicle import Vehicle, VehicleConfig
 
     n = args.instance + k
     offset = 10 * n
@@ -172,7 +172,7 @@ def build_vehicle(args, scenario, k: int, outs, listen, epoch_us: int):
     endpoint.signing = session.signing
     tlog = None
     if args.tlog:
-        from .tlog import TlogWriter
+        from ..io.tlog import TlogWriter
         path = Path(args.tlog) if args.count == 1 else Path(args.tlog).with_suffix(f".{n}.tlog")
         try:
             tlog = TlogWriter(path)
@@ -202,7 +202,7 @@ def main(argv=None) -> int:
     except (CliError, ScenarioError) as exc:
         print(f"autopilot: error: {exc}", file=sys.stderr)
         return 2
-    from .runner import Runner
+    from ..io.runner import Runner
     nodes = [node for node, _ in built]
     runner = Runner(nodes, speedup)
     signal.signal(signal.SIGTERM, lambda *_: runner.stop())
@@ -224,7 +224,7 @@ def main(argv=None) -> int:
         raise
     finally:
         if args.stats:
-            from . import exit_report
+            from ..io import exit_report
             try:
                 exit_report.write(Path(args.stats), runner, nodes, escaped, time.monotonic() - wall0)
             except OSError as exc:  # the rest of the shutdown (signing state, tlog) must still run

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import math
 
-from .results import Severity
+from ..results import Severity
 
 TRIGGER_S = 1.0  # THRUST_LOSS_CHECK_TRIGGER_SEC
 LEAN_MAX_RAD = math.radians(15.0)  # THRUST_LOSS_CHECK_ANGLE_DEVIATION_CD

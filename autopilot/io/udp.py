@@ -20,8 +20,8 @@ import socket
 import time
 from collections import OrderedDict, deque
 
-from .mavlink.dialect import new_codec
-from .mavlink.signing import signing_time
+from ..mavlink.dialect import new_codec
+from ..mavlink.signing import signing_time
 
 MAX_DATAGRAM = 1400
 MAX_DATAGRAMS_PER_RECEIVE = 512  # per loop tick: 51,200 a second at 1x, five times a 10 kHz flood

@@ -9,7 +9,7 @@ from __future__ import annotations
 import math
 
 from .ekf_check import EkfCheck
-from .results import Result, Severity
+from ..results import Result, Severity
 
 RTL, LAND = 6, 9
 # FS_BATT_ENABLE / FS_GCS_ENABLE values -> mode to switch to (SmartRTL is flown as RTL here).

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import math
 
-from .results import Result, Severity
+from ..results import Result, Severity
 
 EKF_CHECK_ITERATIONS_MAX = 10  # 1 s of bad checks at 10 Hz
 GPS_GLITCH_GATE_M = 5.0  # horizontal GPS-to-estimate distance beyond which a fix is rejected

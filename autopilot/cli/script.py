@@ -13,8 +13,8 @@ from __future__ import annotations
 
 import math
 
-from .params import ParamError, checked_value
-from .results import Result
+from ..params import ParamError, checked_value
+from ..results import Result
 
 VERBS = {"mode": 1, "arm": 0, "disarm": 0, "takeoff": 1, "goto": 3, "speed": 1, "param": 2}
 

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from sim.wind import SteadyWind
 
-from .geo import ned_from_global
+from sim.geo import ned_from_global
 
 
 def world_values(sim_config) -> dict:

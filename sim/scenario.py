@@ -1,6 +1,9 @@
-"""Scenario files (TOML): home, airframe, wind, sensor noise, seed, faults to start with.
+"""Scenario files (TOML): the world a run takes place in — home, airframe, wind, sensor noise,
+physics rate, seed, and the fire world — read the same way by the autopilot and the companion.
 
-Every mistake is reported as one ScenarioError line naming the file, the table and the key.
+The tables that only the vehicle acts on ([script], [signing], [faults]) are kept as written in
+`vehicle_tables`; the autopilot checks them (autopilot/cli/scenario.py). Every mistake is reported
+as one ScenarioError line naming the file, the table and the key.
 """
 from __future__ import annotations
 
@@ -9,15 +12,12 @@ import math
 import tomllib
 from pathlib import Path
 
-from sim.airframe import Airframe
-from sim.fire import FireWorld, world_from_tables
-from sim.sensors import NoiseConfig
-from sim.vehicle import SimConfig
-from sim.wind import SteadyWind
-
-from .faults import world_values
+from .airframe import Airframe
+from .fire import FireWorld, world_from_tables
 from .geo import GeoPoint
-from .params import SPEC_BY_NAME, ParamError, checked_value
+from .sensors import NoiseConfig
+from .vehicle import SimConfig
+from .wind import SteadyWind
 
 DEFAULT_HOME = (-35.363261, 149.165230, 584.0, 0.0)  # ArduPilot SITL's CMAC field, Canberra
 
@@ -33,12 +33,10 @@ class Scenario:
     seed: int = 0
     sim: SimConfig = dataclasses.field(default_factory=SimConfig)
     world: FireWorld = dataclasses.field(default_factory=FireWorld)
-    script: list = dataclasses.field(default_factory=list)  # (time_s, verb, args) steps
-    signing_key: bytes | None = None  # MAVLink 2 signing key ([signing] or --signing-key)
-    faults: dict = dataclasses.field(default_factory=dict)  # SIM_* parameter values from [faults]
+    vehicle_tables: dict = dataclasses.field(default_factory=dict)  # VEHICLE_TABLES as written
 
 
-def _number(where: str, value, integer: bool = False):
+def number(where: str, value, integer: bool = False):
     if isinstance(value, bool) or not isinstance(value, (int, float)) or \
             (integer and not isinstance(value, int)):
         raise ScenarioError(f"{where}: expected {'an integer' if integer else 'a number'}, got {value!r}")
@@ -57,7 +55,7 @@ def _table_to(cls, table: dict, where: str):
     for key, value in table.items():
         if key not in fields:
             raise ScenarioError(f"{where}: unknown key '{key}' (known: {', '.join(fields)})")
-        values[key] = _number(f"{where}.{key}", value, fields[key].type in ("int", int))
+        values[key] = number(f"{where}.{key}", value, fields[key].type in ("int", int))
     try:
         obj = cls(**values)
         if hasattr(obj, "validate"):
@@ -85,7 +83,7 @@ def parse_home(text: str, where: str = "--home") -> tuple[GeoPoint, float]:
     return home, values[3]
 
 
-def load_scenario(path: Path) -> Scenario:
+def read_toml(path: Path) -> dict:
     name = str(path)
     try:
         data = tomllib.loads(Path(path).read_text())
@@ -95,25 +93,28 @@ def load_scenario(path: Path) -> Scenario:
         raise ScenarioError(f"{name}: cannot read ({exc})") from None
     except tomllib.TOMLDecodeError as exc:
         raise ScenarioError(f"{name}: not valid TOML: {exc}") from None
-    return scenario_from_dict(data, name, Path(path).parent)
+    return data
 
 
-KNOWN_TABLES = ("seed", "home", "airframe", "wind", "noise", "sim", "world", "fire", "script", "signing",
-                "faults")
-FAULT_NAMES = tuple(name for name in SPEC_BY_NAME if name.startswith("SIM_"))
-# SIM_* values the scenario's own tables give, and where a scenario sets them instead of [faults].
-WORLD_SOURCES = {"SIM_WIND_SPD": "[wind].speed_m_s", "SIM_WIND_DIR": "[wind].from_direction_deg",
-                 "SIM_BATT_VOLTAGE": "[airframe].battery_cells"}
+def load_scenario(path: Path) -> Scenario:
+    return scenario_from_dict(read_toml(path), str(path))
 
 
-def scenario_from_dict(data: dict, name: str = "scenario", base_dir: Path = Path(".")) -> Scenario:
-    """The scenario `data` describes; `base_dir` is where relative file names (key_file) start."""
+WORLD_TABLES = ("seed", "home", "airframe", "wind", "noise", "sim", "world", "fire")
+VEHICLE_TABLES = ("script", "signing", "faults")  # what the vehicle acts on: checked by the autopilot
+KNOWN_TABLES = WORLD_TABLES + VEHICLE_TABLES
+
+
+def scenario_from_dict(data: dict, name: str = "scenario") -> Scenario:
+    """The scenario `data` describes; the vehicle's own tables are kept, unread, in vehicle_tables."""
+    if not isinstance(data, dict):
+        raise ScenarioError(f"{name}: expected TOML tables")
     for key in data:
         if key not in KNOWN_TABLES:
             raise ScenarioError(f"{name}: unknown key '{key}' (known: {', '.join(KNOWN_TABLES)})")
     sc = Scenario()
     if "seed" in data:
-        sc.seed = _number(f"{name}: seed", data["seed"], integer=True)
+        sc.seed = number(f"{name}: seed", data["seed"], integer=True)
     for key in ("home", "airframe", "wind", "noise", "sim"):
         if key in data and not isinstance(data[key], dict):
             raise ScenarioError(f"{name}: [{key}] must be a table")
@@ -125,9 +126,9 @@ def scenario_from_dict(data: dict, name: str = "scenario", base_dir: Path = Path
         missing = {"lat", "lon", "alt"} - set(home)
         if missing:
             raise ScenarioError(f"{name}: [home] missing '{sorted(missing)[0]}'")
-        text = ",".join(str(_number(f"{name}: [home].{k}", home[k])) for k in ("lat", "lon", "alt"))
+        text = ",".join(str(number(f"{name}: [home].{k}", home[k])) for k in ("lat", "lon", "alt"))
         sc.home, _ = parse_home(text, f"{name}: [home]")
-        sc.home_yaw_deg = _number(f"{name}: [home].yaw", home.get("yaw", 0.0))
+        sc.home_yaw_deg = number(f"{name}: [home].yaw", home.get("yaw", 0.0))
     airframe = _table_to(Airframe, data.get("airframe", {}), f"{name}: [airframe]")
     wind = _table_to(SteadyWind, data.get("wind", {}), f"{name}: [wind]")
     noise = _table_to(NoiseConfig, data.get("noise", {}), f"{name}: [noise]")
@@ -135,7 +136,7 @@ def scenario_from_dict(data: dict, name: str = "scenario", base_dir: Path = Path
     unknown = set(sim_table) - {"physics_rate_hz"}
     if unknown:
         raise ScenarioError(f"{name}: [sim] unknown key '{sorted(unknown)[0]}' (known: physics_rate_hz)")
-    rate = _number(f"{name}: [sim].physics_rate_hz", sim_table.get("physics_rate_hz", 400), integer=True)
+    rate = number(f"{name}: [sim].physics_rate_hz", sim_table.get("physics_rate_hz", 400), integer=True)
     if rate not in (100, 200) and (rate < 400 or rate % 400):
         raise ScenarioError(f"{name}: [sim].physics_rate_hz must be 100, 200 or a multiple of 400, got {rate}")
     if "fire" in data and not isinstance(data["fire"], list):
@@ -146,56 +147,5 @@ def scenario_from_dict(data: dict, name: str = "scenario", base_dir: Path = Path
         raise ScenarioError(str(exc)) from None
     sc.sim = SimConfig(airframe=airframe, wind=wind, noise=noise, physics_rate_hz=rate, seed=sc.seed,
                        world=sc.world)
-    for param, value in world_values(sc.sim).items():
-        try:
-            checked_value(param, value)
-        except ParamError as exc:
-            raise ScenarioError(f"{name}: {WORLD_SOURCES[param]}: {exc}") from None
-    if "faults" in data:
-        sc.faults = _faults(data["faults"], name)
-    if "script" in data:
-        from .script import ScriptError, parse_steps
-        table = data["script"]
-        if not isinstance(table, dict) or set(table) != {"steps"}:
-            raise ScenarioError(f"{name}: [script] must hold exactly one key, steps")
-        try:
-            sc.script = parse_steps(table["steps"], name)
-        except ScriptError as exc:
-            raise ScenarioError(str(exc)) from None
-    if "signing" in data:
-        sc.signing_key = _signing_key(data["signing"], name, base_dir)
+    sc.vehicle_tables = {key: data[key] for key in VEHICLE_TABLES if key in data}
     return sc
-
-
-def _faults(table, name: str) -> dict:
-    """[faults]: SIM_* parameters by their names, set before the vehicle first moves."""
-    if not isinstance(table, dict):
-        raise ScenarioError(f"{name}: [faults] must be a table")
-    faults = {}
-    for key, value in table.items():
-        where = f"{name}: [faults].{key}"
-        if key not in FAULT_NAMES:
-            raise ScenarioError(f"{where}: unknown fault (known: {', '.join(FAULT_NAMES)})")
-        if key in WORLD_SOURCES:
-            raise ScenarioError(f"{where}: the scenario sets this with {WORLD_SOURCES[key]}")
-        _number(where, value)
-        try:
-            faults[key] = checked_value(key, value)
-        except ParamError as exc:
-            raise ScenarioError(f"{where}: {str(exc).removeprefix(key + ': ')}") from None
-    return faults
-
-
-def _signing_key(table, name: str, base_dir: Path) -> bytes:
-    """[signing] holds exactly one of key (the text of a key file) or key_file (a path)."""
-    from .signing_keys import SigningKeyError, key_from_text, read_key_file
-    if not isinstance(table, dict) or len(table) != 1 or not set(table) <= {"key", "key_file"}:
-        raise ScenarioError(f"{name}: [signing] must hold exactly one key: key or key_file")
-    (field, value), = table.items()
-    if not isinstance(value, str):
-        raise ScenarioError(f"{name}: [signing].{field}: expected a string, got {value!r}")
-    try:
-        return key_from_text(value) if field == "key" else read_key_file(base_dir / value)
-    except SigningKeyError as exc:
-        shown = f" {value}" if field == "key_file" else ""  # never echo a secret
-        raise ScenarioError(f"{name}: [signing].{field}{shown}: {exc}") from None

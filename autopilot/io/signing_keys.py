@@ -16,7 +16,7 @@ import re
 import time
 from pathlib import Path
 
-from .mavlink.signing import LinkSigning, signing_time
+from ..mavlink.signing import LinkSigning, signing_time
 from .persist import read_json, write_json_atomic
 
 MAX_KEY_FILE_BYTES = 4096

@@ -1,0 +1,1 @@
+"""The `autopilot` command: options, the scenario tables the vehicle reads, scripted commands, assembly."""

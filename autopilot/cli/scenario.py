@@ -1,0 +1,90 @@
+"""The scenario tables the vehicle acts on, on top of the world that sim/scenario.py reads:
+[faults] (SIM_* parameters to start with), [script] (commands in sim time) and [signing] (the
+MAVLink 2 key). Every mistake is one ScenarioError line naming the file, the table and the key.
+"""
+from __future__ import annotations
+
+import dataclasses
+from pathlib import Path
+
+from sim import scenario as world
+from sim.scenario import DEFAULT_HOME, ScenarioError, parse_home  # noqa: F401 - the CLI's names
+
+from ..faults.world import world_values
+from ..params import SPEC_BY_NAME, ParamError, checked_value
+
+FAULT_NAMES = tuple(name for name in SPEC_BY_NAME if name.startswith("SIM_"))
+# SIM_* values the scenario's own tables give, and where a scenario sets them instead of [faults].
+WORLD_SOURCES = {"SIM_WIND_SPD": "[wind].speed_m_s", "SIM_WIND_DIR": "[wind].from_direction_deg",
+                 "SIM_BATT_VOLTAGE": "[airframe].battery_cells"}
+
+
+@dataclasses.dataclass
+class Scenario(world.Scenario):
+    script: list = dataclasses.field(default_factory=list)  # (time_s, verb, args) steps
+    signing_key: bytes | None = None  # MAVLink 2 signing key ([signing] or --signing-key)
+    faults: dict = dataclasses.field(default_factory=dict)  # SIM_* parameter values from [faults]
+
+
+def load_scenario(path: Path) -> Scenario:
+    return scenario_from_dict(world.read_toml(path), str(path), Path(path).parent)
+
+
+def scenario_from_dict(data: dict, name: str = "scenario", base_dir: Path = Path(".")) -> Scenario:
+    """The scenario `data` describes; `base_dir` is where relative file names (key_file) start."""
+    base = world.scenario_from_dict(data, name)
+    sc = Scenario(**{f.name: getattr(base, f.name) for f in dataclasses.fields(world.Scenario)})
+    for param, value in world_values(sc.sim).items():
+        try:
+            checked_value(param, value)
+        except ParamError as exc:
+            raise ScenarioError(f"{name}: {WORLD_SOURCES[param]}: {exc}") from None
+    data = sc.vehicle_tables
+    if "faults" in data:
+        sc.faults = _faults(data["faults"], name)
+    if "script" in data:
+        from .script import ScriptError, parse_steps
+        table = data["script"]
+        if not isinstance(table, dict) or set(table) != {"steps"}:
+            raise ScenarioError(f"{name}: [script] must hold exactly one key, steps")
+        try:
+            sc.script = parse_steps(table["steps"], name)
+        except ScriptError as exc:
+            raise ScenarioError(str(exc)) from None
+    if "signing" in data:
+        sc.signing_key = _signing_key(data["signing"], name, base_dir)
+    return sc
+
+
+def _faults(table, name: str) -> dict:
+    """[faults]: SIM_* parameters by their names, set before the vehicle first moves."""
+    if not isinstance(table, dict):
+        raise ScenarioError(f"{name}: [faults] must be a table")
+    faults = {}
+    for key, value in table.items():
+        where = f"{name}: [faults].{key}"
+        if key not in FAULT_NAMES:
+            raise ScenarioError(f"{where}: unknown fault (known: {', '.join(FAULT_NAMES)})")
+        if key in WORLD_SOURCES:
+            raise ScenarioError(f"{where}: the scenario sets this with {WORLD_SOURCES[key]}")
+        world.number(where, value)
+        try:
+            faults[key] = checked_value(key, value)
+        except ParamError as exc:
+            raise ScenarioError(f"{where}: {str(exc).removeprefix(key + ': ')}") from None
+    return faults
+
+
+def _signing_key(table, name: str, base_dir: Path) -> bytes:
+    """[signing] holds exactly one of key (the text of a key file) or key_file (a path)."""
+    from ..io.signing_keys import SigningKeyError, key_from_text, read_key_file
+    if not isinstance(table, dict) or len(table) != 1 or not set(table) <= {"key", "key_file"}:
+        raise ScenarioError(f"{name}: [signing] must hold exactly one key: key or key_file")
+    (field, value), = table.items()
+    if not isinstance(value, str):
+        raise ScenarioError(f"{name}: [signing].{field}: expected a string, got {value!r}")
+    try:
+        return key_from_text(value) if field == "key" else read_key_file(base_dir / value)
+    except SigningKeyError as exc:
+        shown = f" {value}" if field == "key_file" else ""  # never echo a secret
+        raise ScenarioError(f"{name}: [signing].{field}{shown}: {exc}") from None

@@ -1,0 +1,1 @@
+"""Safety: failsafes and the geofence, the EKF check, the thrust-loss check."""
