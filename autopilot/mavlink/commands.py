@@ -10,8 +10,9 @@ from __future__ import annotations
 import math
 from typing import NamedTuple
 
+from ..modes.numbers import ModeNumber
 from ..results import Result
-from ..vehicle import FORCE_ARM_MAGIC, FORCE_DISARM_MAGIC
+from ..safety.arming import FORCE_ARM_MAGIC, FORCE_DISARM_MAGIC
 from .dialect import mavlink as mav
 
 RETRY_WINDOW_S = 1.5
@@ -70,11 +71,11 @@ def takeoff(s, c: Command) -> Result:
 
 
 def land(s, c: Command) -> Result:
-    return s.vehicle.set_mode(9)
+    return s.vehicle.set_mode(ModeNumber.LAND)
 
 
 def return_to_launch(s, c: Command) -> Result:
-    return s.vehicle.set_mode(6)
+    return s.vehicle.set_mode(ModeNumber.RTL)
 
 
 def do_set_mode(s, c: Command) -> Result:
@@ -108,12 +109,12 @@ def target_ned(s, c: Command):
 def do_reposition(s, c: Command) -> Result:
     v = s.vehicle
     change_mode = _int_param(c.p2, 0, 255) if math.isfinite(c.p2) else 0
-    if v.mode.number != 4 and not (change_mode and change_mode & mav.MAV_DO_REPOSITION_FLAGS_CHANGE_MODE):
+    if v.mode.number != ModeNumber.GUIDED and not (change_mode and change_mode & mav.MAV_DO_REPOSITION_FLAGS_CHANGE_MODE):
         return Result.DENIED
     target = target_ned(s, c)
     if target is None or v.home_ned is None:
         return Result.DENIED
-    if v.mode.number != 4 and v.set_mode(4) != Result.ACCEPTED:
+    if v.mode.number != ModeNumber.GUIDED and v.set_mode(ModeNumber.GUIDED) != Result.ACCEPTED:
         return Result.FAILED
     if math.isfinite(c.p1) and c.p1 > 0:
         v.set_speed(c.p1)

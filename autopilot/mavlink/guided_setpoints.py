@@ -7,6 +7,8 @@ from __future__ import annotations
 
 import math
 
+from ..modes.numbers import ModeNumber
+from ..results import Result
 from .dialect import mavlink as mav
 
 POS_IGNORE = 0x7
@@ -45,16 +47,15 @@ def _apply(v, mask: int, pos, vel, yaw) -> bool:
     if vel_used and math.sqrt(sum(x * x for x in vel)) > MAX_SPEED_M_S:
         return False
     if pos_used:
-        v.guided_goto(pos[0], pos[1], pos[2], yaw, vel if vel_used else (0.0, 0.0, 0.0))
-        return v.mode.number == 4
+        return v.guided_goto(pos[0], pos[1], pos[2], yaw, vel if vel_used else (0.0, 0.0, 0.0)) == Result.ACCEPTED
     if vel_used:
-        return v.guided_velocity(*vel, yaw=yaw) == 0
+        return v.guided_velocity(*vel, yaw=yaw) == Result.ACCEPTED
     return False
 
 
 def handle_local_ned(v, msg) -> bool:
     mask, frame = msg.type_mask, msg.coordinate_frame
-    if v.mode.number != 4 or frame not in LOCAL_FRAMES:
+    if v.mode.number != ModeNumber.GUIDED or frame not in LOCAL_FRAMES:
         return False
     if not _used_finite(mask, (POS_IGNORE, msg.x, msg.y, msg.z), (VEL_IGNORE, msg.vx, msg.vy, msg.vz),
                         (YAW_IGNORE, msg.yaw)):
@@ -72,7 +73,7 @@ def handle_local_ned(v, msg) -> bool:
 
 def handle_global_int(v, msg) -> bool:
     mask, frame = msg.type_mask, msg.coordinate_frame
-    if v.mode.number != 4 or frame not in GLOBAL_FRAMES or v.home_ned is None:
+    if v.mode.number != ModeNumber.GUIDED or frame not in GLOBAL_FRAMES or v.home_ned is None:
         return False
     lat, lon = msg.lat_int * 1e-7, msg.lon_int * 1e-7
     if not _used_finite(mask, (POS_IGNORE, msg.alt), (VEL_IGNORE, msg.vx, msg.vy, msg.vz),

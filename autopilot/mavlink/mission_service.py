@@ -14,6 +14,7 @@ import math
 from dataclasses import dataclass, field
 
 from ..mission import FENCE, MISSION, RALLY, MissionItem
+from ..results import Severity
 from .dialect import mavlink as mav
 
 RETRY_S = 0.4
@@ -136,7 +137,7 @@ class MissionService:
         if result != mav.MAV_MISSION_ACCEPTED:
             self.upload = None
             self.refused += 1
-            self.vehicle.notify(f"Mission upload refused: item {msg.seq} invalid", 4)
+            self.vehicle.notify(f"Mission upload refused: item {msg.seq} invalid", Severity.WARNING)
             return [self._ack(peer, result, up.kind)]
         up.items.append(item)
         up.retries = 0
@@ -174,7 +175,7 @@ class MissionService:
         if not 0 <= msg.seq < len(items):
             return [self._ack(peer, mav.MAV_MISSION_INVALID_SEQUENCE, msg.mission_type)]
         it = items[msg.seq]
-        current = 1 if msg.seq == self.vehicle.mission_current_seq() else 0
+        current = 1 if msg.seq == self.vehicle.mission_progress.current_seq() else 0
         if msg.get_type() == "MISSION_REQUEST_INT":
             return [self.codec.mission_item_int_encode(peer[0], peer[1], msg.seq, it.frame, it.command,
                                                        current, it.autocontinue, it.p1, it.p2, it.p3,

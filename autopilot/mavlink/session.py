@@ -163,7 +163,7 @@ class Session:
         last = self.gcs_last_heartbeat_s
         if last is not None and self.link_s - last > self.vehicle.params["FS_GCS_TIMEOUT"]:
             self.vehicle.failsafes.gcs_lost(self.vehicle)
-        for seq in self.vehicle.drain_reached():
+        for seq in self.vehicle.mission_progress.drain_reached():
             self._out.append(self.codec.mission_item_reached_encode(seq))
         for msg_id in self.streams.due(now_s):  # heartbeat first, then the rest
             self.queue(self.build(msg_id))

@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import math
 
+from ..mission.progress import MissionState
 from ..modes import MODE_BY_NUMBER
 from .dialect import mavlink as mav
 
@@ -63,19 +64,20 @@ def sys_status(v, codec):
         present |= mav.MAV_SYS_STATUS_GEOFENCE
     if not v.failsafes.fence_breached:
         healthy |= mav.MAV_SYS_STATUS_GEOFENCE
-    batt = v.sim.battery
+    est = v.estimate
+    batt = est.battery
     return codec.sys_status_encode(present, present, healthy, 100,
                                    int(batt.voltage_v * 1000), int(batt.current_a * 100),
-                                   int(round(v.sim.battery_remaining * 100)), 0, 0, 0, 0, 0, 0)
+                                   int(round(est.battery_remaining * 100)), 0, 0, 0, 0, 0, 0)
 
 
 def battery_status(v, codec):
-    batt = v.sim.battery
+    batt = v.estimate.battery
     volts = [min(int(batt.voltage_v * 1000), 65534)] + [65535] * 9
     return codec.battery_status_encode(0, mav.MAV_BATTERY_FUNCTION_ALL, mav.MAV_BATTERY_TYPE_LIPO,
                                        32767, volts, int(batt.current_a * 100),
                                        int(batt.consumed_mah), -1,
-                                       int(round(v.sim.battery_remaining * 100)))
+                                       int(round(v.estimate.battery_remaining * 100)))
 
 
 def global_position_int(v, codec):
@@ -106,7 +108,7 @@ def gps_raw_int(v, codec):
 def scaled_pressure(v, codec):
     """The barometer as ArduPilot reports it: absolute pressure [hPa] and temperature [cdegC] of
     the International Standard Atmosphere at the altitude the (possibly drifting) sensor reads."""
-    alt_m = v.origin.alt_m + v.baro_alt_m
+    alt_m = v.origin.alt_m + v.estimate.baro_alt_m
     pressure_hpa = 1013.25 * (1.0 - 2.25577e-5 * alt_m) ** 5.25588
     return codec.scaled_pressure_encode(_ms(v), pressure_hpa, 0.0, int(round((15.0 - 0.0065 * alt_m) * 100)), 0)
 
@@ -149,14 +151,15 @@ def system_time(v, codec):
     return codec.system_time_encode(v.unix_time_us(), _ms(v))
 
 
-MISSION_STATE = {"NOT_STARTED": mav.MISSION_STATE_NOT_STARTED, "ACTIVE": mav.MISSION_STATE_ACTIVE,
-                 "PAUSED": mav.MISSION_STATE_PAUSED, "COMPLETE": mav.MISSION_STATE_COMPLETE}
+MISSION_STATE = {MissionState.NOT_STARTED: mav.MISSION_STATE_NOT_STARTED, MissionState.ACTIVE: mav.MISSION_STATE_ACTIVE,
+                 MissionState.PAUSED: mav.MISSION_STATE_PAUSED, MissionState.COMPLETE: mav.MISSION_STATE_COMPLETE}
 
 
 def mission_current(v, codec):
-    total = len(v.mission.items(0))
-    state = MISSION_STATE[v.mission_state] if total else mav.MISSION_STATE_NO_MISSION
-    return codec.mission_current_encode(v.mission_current_seq(), total + 1 if total else 0, state, 0)
+    progress = v.mission_progress
+    total = len(progress.items())
+    state = MISSION_STATE[progress.state] if total else mav.MISSION_STATE_NO_MISSION
+    return codec.mission_current_encode(progress.current_seq(), total + 1 if total else 0, state, 0)
 
 
 def autopilot_version(v, codec):
@@ -169,7 +172,7 @@ TEMPERATURE_NAME = b"GND_TEMP"  # downward radiometer reading, degrees C; time_b
 
 
 def ground_temperature(v, codec):
-    t_s, value = v.temperature
+    t_s, value = v.estimate.temperature
     return codec.named_value_float_encode(int(t_s * 1000.0) & 0xFFFFFFFF, TEMPERATURE_NAME, value)
 
 

@@ -5,10 +5,12 @@ from .guided import Guided
 from .land import Land, Rtl
 from .loiter import Brake, Loiter
 from .manual import AltHold, Stabilize
+from .numbers import ModeNumber
 
 MODE_CLASSES = (Stabilize, AltHold, Auto, Guided, Loiter, Rtl, Land, Brake)
 MODE_BY_NUMBER = {cls.number: cls for cls in MODE_CLASSES}
 MODE_BY_NAME = {cls.name: cls for cls in MODE_CLASSES}
+assert set(MODE_BY_NUMBER) == set(ModeNumber), "every number in the table has its mode class"
 
-__all__ = ["Mode", "Setpoint", "MODE_CLASSES", "MODE_BY_NUMBER", "MODE_BY_NAME",
+__all__ = ["ModeNumber", "Mode", "Setpoint", "MODE_CLASSES", "MODE_BY_NUMBER", "MODE_BY_NAME",
            "Stabilize", "AltHold", "Auto", "Guided", "Loiter", "Rtl", "Land", "Brake"]

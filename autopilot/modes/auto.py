@@ -9,8 +9,11 @@ from __future__ import annotations
 
 import math
 
+from ..mission.progress import MissionState
+from ..results import Severity
 from .base import Mode, Setpoint
 from .land import Rtl, descend_and_disarm
+from .numbers import ModeNumber
 
 CMD_WAYPOINT, CMD_LOITER_UNLIM, CMD_LOITER_TIME, CMD_RTL, CMD_LAND, CMD_TAKEOFF = 16, 17, 19, 20, 21, 22
 CMD_DO_JUMP, CMD_DO_CHANGE_SPEED, CMD_DO_SET_HOME = 177, 178, 179
@@ -26,29 +29,28 @@ def first_nav_is_takeoff(items) -> bool:
 
 
 class Auto(Mode):
-    number, name = 3, "AUTO"
+    number = ModeNumber.AUTO
     requires_position = True
-    has_user_takeoff = False
 
     def enter(self, ctx) -> str | None:
-        items = ctx.mission.items(0)
+        mission = ctx.mission
+        items = mission.items()
         if not items:
             return "no mission"
-        if ctx.armed and ctx.landed and not first_nav_is_takeoff(items[ctx.mission_index():]):
-            ctx.notify("Auto: Missing Takeoff Cmd", 2)
+        if ctx.armed and ctx.landed and not first_nav_is_takeoff(items[mission.index:]):
+            ctx.notify("Auto: Missing Takeoff Cmd", Severity.CRITICAL)
             return "missing takeoff command"
         self._items = items
-        self._version = ctx.mission.version
+        self._version = mission.version
         self._jumps_done: dict[int, int] = {}
         self._rtl = None
         self._index = None
         self._hold_ne, self._hold_d = (ctx.body.n_m, ctx.body.e_m), ctx.body.d_m
-        ctx.mission_state = "NOT_STARTED"
+        mission.stop()  # flown once AUTO may start it (update)
         return None
 
     def exit(self, ctx) -> None:
-        if ctx.mission_state == "ACTIVE":
-            ctx.mission_state = "PAUSED"
+        ctx.mission.pause()
 
     # ----- item sequencing --------------------------------------------------------------------
     def _start_item(self, ctx, index: int) -> None:
@@ -58,7 +60,7 @@ class Auto(Mode):
                 self._finish(ctx)
                 return
             item = self._items[index]
-            ctx.set_mission_index(index)
+            ctx.mission.set_index(index)
             if item.command in NAV_COMMANDS:
                 self._index = index
                 self._begin_nav(ctx, item)
@@ -70,8 +72,7 @@ class Auto(Mode):
         """Mission over: hold where we are (a landed vehicle has already disarmed)."""
         self._index = None
         self._hold_ne, self._hold_d = (ctx.body.n_m, ctx.body.e_m), ctx.body.d_m
-        if ctx.mission_state != "COMPLETE":
-            ctx.mission_state = "COMPLETE"
+        if ctx.mission.complete():
             ctx.notify("Mission complete")
 
     def _do_item(self, ctx, index: int, item) -> int:
@@ -88,8 +89,8 @@ class Auto(Mode):
         elif item.command == CMD_DO_SET_HOME:
             ctx.set_home(None if item.p1 == 1 else self._target_ned(ctx, item))
         else:
-            ctx.notify(f"Skipping unsupported mission command {item.command}", 4)
-        ctx.mission_item_reached(index)
+            ctx.notify(f"Skipping unsupported mission command {item.command}", Severity.WARNING)
+        ctx.mission.item_reached(index)
         return index + 1
 
     def _target_ned(self, ctx, item) -> tuple:
@@ -98,7 +99,7 @@ class Auto(Mode):
         if item.x == 0 and item.y == 0:
             n, e = b.n_m, b.e_m
         else:
-            n, e, _ = ctx.ned_of(item.x * 1e-7, item.y * 1e-7, ctx.origin.alt_m)
+            n, e, _ = ctx.ned_of(item.x * 1e-7, item.y * 1e-7, ctx.origin_alt_m)
         if item.frame in GLOBAL_AMSL_FRAMES:
             d = ctx.ned_of(item.x * 1e-7, item.y * 1e-7, item.z)[2]
         else:
@@ -121,19 +122,20 @@ class Auto(Mode):
 
     def _complete(self, ctx) -> None:
         index = self._index
-        ctx.mission_item_reached(index)
+        ctx.mission.item_reached(index)
         self._start_item(ctx, index + 1)
 
     # ----- loop ----------------------------------------------------------------------------------
     def update(self, ctx, sp: Setpoint, dt: float) -> None:
         sp.clear()
         sp.speed_xy = ctx.nav_speed_m_s
-        if ctx.mission.version != self._version:  # a new mission was uploaded: hold until restarted
-            self._items, self._version, self._index = ctx.mission.items(0), ctx.mission.version, None
-            ctx.mission_state = "NOT_STARTED"
-        if ctx.mission_state == "NOT_STARTED" and (ctx.auto_armed or not ctx.landed):
-            ctx.mission_state = "ACTIVE"
-            self._start_item(ctx, ctx.mission_index())
+        mission = ctx.mission
+        if mission.version != self._version:  # a new mission was uploaded: hold until restarted
+            self._items, self._version, self._index = mission.items(), mission.version, None
+            mission.stop()
+        if mission.state is MissionState.NOT_STARTED and (ctx.auto_armed or not ctx.landed):
+            mission.resume()
+            self._start_item(ctx, mission.index)
         if self._index is None:
             self._hold(ctx, sp)
             return

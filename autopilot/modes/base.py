@@ -8,6 +8,8 @@ from __future__ import annotations
 
 import math
 
+from .numbers import ModeNumber
+
 
 class Setpoint:
     """What the controllers should achieve this tick. None = that loop is not controlled.
@@ -45,18 +47,25 @@ class Setpoint:
 
 
 class Mode:
-    """Base flight mode.
+    """Base flight mode. Every method gets `ctx`, a ModeContext (context.py): what a mode may see
+    of the vehicle and do to it.
 
-    The context `ctx` offers: ctx.body (estimated state: n_m, e_m, d_m, vn_m_s, ve_m_s, vd_m_s),
-    ctx.attitude (roll, pitch, yaw), ctx.params, ctx.pilot (PilotInput), ctx.armed, ctx.landed,
-    ctx.home_ned, ctx.time_s, ctx.has_position(), ctx.notify(text, severity), ctx.disarm(reason).
+    Declared capabilities, read by the vehicle: requires_position (refused without a 3D fix),
+    allows_arming, has_user_takeoff (NAV_TAKEOFF while armed on the ground: the mode implements
+    user_takeoff), manual_throttle (the pilot's throttle stick is the thrust). Ground-station
+    targets (goto, velocity, heading) are refused unless the mode flies them (GUIDED).
     """
-    number: int = -1
+    number: ModeNumber  # set by each mode; its name is the table's
     name: str = "?"
     requires_position = False
     allows_arming = False
     has_user_takeoff = False
     manual_throttle = False
+
+    def __init_subclass__(cls, **kwargs):
+        super().__init_subclass__(**kwargs)
+        if "number" in cls.__dict__:
+            cls.name = cls.number.name
 
     def enter(self, ctx) -> str | None:
         """Prepare to take over; return None to accept, or the reason for refusing."""
@@ -71,6 +80,22 @@ class Mode:
     def landed_state_hint(self, ctx) -> str | None:
         """'TAKEOFF' or 'LANDING' while the mode is doing either, else None."""
         return None
+
+    # ----- commands from a ground station; refused unless the mode flies them ----------------
+    def user_takeoff(self, ctx, alt_above_home_m: float) -> None:
+        """Climb to alt_above_home_m; called only if has_user_takeoff, armed on the ground."""
+        raise NotImplementedError(f"{self.name} declares no user takeoff")
+
+    def goto(self, ctx, n: float, e: float, d: float | None, yaw: float | None,
+             vel_ff: tuple) -> bool:
+        """Fly to a local NED point (d None: keep the height); False if this mode does not."""
+        return False
+
+    def set_velocity(self, ctx, vn: float, ve: float, vd: float, yaw: float | None) -> bool:
+        return False
+
+    def set_heading(self, ctx, yaw_rad: float) -> bool:
+        return False
 
 
 def hold_here(ctx) -> tuple:

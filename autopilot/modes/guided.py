@@ -4,12 +4,13 @@ from __future__ import annotations
 import math
 
 from .base import Mode, Setpoint, hold_here
+from .numbers import ModeNumber
 
 VELOCITY_TIMEOUT_S = 3.0  # ArduCopter stops if velocity setpoints stop arriving
 
 
 class Guided(Mode):
-    number, name = 4, "GUIDED"
+    number = ModeNumber.GUIDED
     requires_position = True
     allows_arming = True
     has_user_takeoff = True
@@ -27,13 +28,13 @@ class Guided(Mode):
         self.velocity_time_s = ctx.time_s
 
     # Commands from the ground station -------------------------------------------------------
-    def set_takeoff(self, ctx, alt_above_home_m: float) -> None:
+    def user_takeoff(self, ctx, alt_above_home_m: float) -> None:
         self.hold(ctx)
         self.takeoff_d = ctx.home_ned[2] - alt_above_home_m
         self.target_d = self.takeoff_d
 
-    def set_position(self, ctx, n: float, e: float, d: float | None, yaw: float | None = None,
-                     vel_ff: tuple = (0.0, 0.0, 0.0)) -> None:
+    def goto(self, ctx, n: float, e: float, d: float | None, yaw: float | None = None,
+             vel_ff: tuple = (0.0, 0.0, 0.0)) -> bool:
         self.takeoff_d = None
         self.velocity_mode = False
         self.target_ne = (n, e)
@@ -41,13 +42,19 @@ class Guided(Mode):
             self.target_d = d
         self.target_vel_ne, self.target_vel_d = (vel_ff[0], vel_ff[1]), vel_ff[2]
         self.target_yaw = yaw
+        return True
 
-    def set_velocity(self, ctx, vn: float, ve: float, vd: float, yaw: float | None = None) -> None:
+    def set_velocity(self, ctx, vn: float, ve: float, vd: float, yaw: float | None = None) -> bool:
         self.takeoff_d = None
         self.velocity_mode = True
         self.target_vel_ne, self.target_vel_d = (vn, ve), vd
         self.target_yaw = yaw
         self.velocity_time_s = ctx.time_s
+        return True
+
+    def set_heading(self, ctx, yaw_rad: float) -> bool:
+        self.target_yaw = yaw_rad
+        return True
 
     # Loop --------------------------------------------------------------------------------------
     def update(self, ctx, sp: Setpoint, dt: float) -> None:

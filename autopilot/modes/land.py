@@ -4,6 +4,7 @@ from __future__ import annotations
 import math
 
 from .base import Mode, Setpoint, hold_here
+from .numbers import ModeNumber
 
 
 def descent_rate_m_s(ctx) -> float:
@@ -29,7 +30,7 @@ def descend_and_disarm(ctx, sp: Setpoint) -> bool:
 class Land(Mode):
     """Descend and disarm, holding the point where LAND began; without a position (no GPS fix)
     it comes down level instead, for the rest of the landing, as ArduCopter's LAND without GPS."""
-    number, name = 9, "LAND"
+    number = ModeNumber.LAND
     requires_position = False
 
     def enter(self, ctx) -> str | None:
@@ -52,7 +53,7 @@ class Land(Mode):
 
 class Rtl(Mode):
     """Climb to RTL_ALT (or stay higher), fly home, loiter RTL_LOIT_TIME, land and disarm."""
-    number, name = 6, "RTL"
+    number = ModeNumber.RTL
     requires_position = True
 
     def enter(self, ctx) -> str | None:

@@ -5,13 +5,13 @@ import math
 
 from .base import Mode, Setpoint, hold_here, stick_deadzone
 from .manual import pilot_vertical
+from .numbers import ModeNumber
 
 
 class Loiter(Mode):
-    number, name = 5, "LOITER"
+    number = ModeNumber.LOITER
     requires_position = True
     allows_arming = True
-    has_user_takeoff = True
 
     def enter(self, ctx) -> str | None:
         self._hold_ne, self._hold_d = hold_here(ctx)
@@ -37,7 +37,7 @@ class Loiter(Mode):
 
 class Brake(Mode):
     """Stop as hard as the position controller allows, then hold. Arming is refused here."""
-    number, name = 17, "BRAKE"
+    number = ModeNumber.BRAKE
     requires_position = True
 
     def enter(self, ctx) -> str | None:

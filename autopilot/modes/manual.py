@@ -4,6 +4,7 @@ from __future__ import annotations
 import math
 
 from .base import Mode, Setpoint, stick_deadzone
+from .numbers import ModeNumber
 
 
 def pilot_lean_and_yaw(ctx, sp: Setpoint) -> None:
@@ -16,7 +17,7 @@ def pilot_lean_and_yaw(ctx, sp: Setpoint) -> None:
 
 
 class Stabilize(Mode):
-    number, name = 0, "STABILIZE"
+    number = ModeNumber.STABILIZE
     allows_arming = True
     manual_throttle = True
 
@@ -46,9 +47,8 @@ def pilot_vertical(ctx, sp: Setpoint, hold_d: float) -> float:
 
 
 class AltHold(Mode):
-    number, name = 2, "ALT_HOLD"
+    number = ModeNumber.ALT_HOLD
     allows_arming = True
-    has_user_takeoff = True
 
     def enter(self, ctx) -> str | None:
         self._hold_d = ctx.body.d_m

@@ -12,11 +12,11 @@ from __future__ import annotations
 
 import math
 
+from ..modes.numbers import ModeNumber
 from ..results import Result, Severity
 
 EKF_CHECK_ITERATIONS_MAX = 10  # 1 s of bad checks at 10 Hz
 GPS_GLITCH_GATE_M = 5.0  # horizontal GPS-to-estimate distance beyond which a fix is rejected
-ALT_HOLD, LAND = 2, 9
 ACTION_LAND, ACTION_ALT_HOLD, ACTION_LAND_EVEN_STABILIZE = 1, 2, 3
 
 
@@ -50,10 +50,10 @@ class EkfCheck:
         action = int(v.params["FS_EKF_ACTION"])
         if not v.mode.requires_position and action != ACTION_LAND_EVEN_STABILIZE:
             return
-        if v.mode.number == LAND:
+        if v.mode.number == ModeNumber.LAND:
             return
-        if action != ACTION_ALT_HOLD or v.set_mode(ALT_HOLD) != Result.ACCEPTED:
-            v.set_mode(LAND)
+        if action != ACTION_ALT_HOLD or v.set_mode(ModeNumber.ALT_HOLD) != Result.ACCEPTED:
+            v.set_mode(ModeNumber.LAND)
         self.acted = True
         v.notify(f"EKF Failsafe: changed to {v.mode.name} Mode", Severity.CRITICAL)
 

@@ -8,10 +8,12 @@ from __future__ import annotations
 
 import math
 
-from .ekf_check import EkfCheck
+from ..mission import FENCE
+from ..modes.numbers import ModeNumber
 from ..results import Result, Severity
+from .ekf_check import EkfCheck
 
-RTL, LAND = 6, 9
+RTL, LAND, AUTO = ModeNumber.RTL, ModeNumber.LAND, ModeNumber.AUTO
 # FS_BATT_ENABLE / FS_GCS_ENABLE values -> mode to switch to (SmartRTL is flown as RTL here).
 BATT_ACTIONS = {1: LAND, 2: RTL, 3: RTL, 4: RTL}
 GCS_ACTIONS = {1: RTL, 2: RTL, 3: RTL, 4: RTL, 5: LAND}
@@ -46,7 +48,7 @@ class Failsafes:
     def _act(self, v, mode: int | None, reason: str) -> None:
         if mode is None or not v.armed or v.landed:
             return
-        if v.mode.number in (LAND,) or (mode == RTL and v.mode.number == RTL):
+        if v.mode.number == LAND or (mode == RTL and v.mode.number == RTL):
             return
         if v.set_mode(mode) != Result.ACCEPTED and mode == RTL:
             v.set_mode(LAND)
@@ -54,7 +56,7 @@ class Failsafes:
     # ----- battery ------------------------------------------------------------------------------
     def check_battery(self, v) -> None:
         p = v.params
-        volts, used = v.sim.battery.voltage_v, v.sim.battery.consumed_mah
+        volts, used = v.estimate.battery.voltage_v, v.estimate.battery.consumed_mah
         critical = (p["BATT_CRT_VOLT"] > 0 and volts < p["BATT_CRT_VOLT"]) or \
                    (p["BATT_CRT_MAH"] > 0 and p["BATT_CAPACITY"] - used < p["BATT_CRT_MAH"])
         low = critical or (p["BATT_LOW_VOLT"] > 0 and volts < p["BATT_LOW_VOLT"]) or \
@@ -75,7 +77,7 @@ class Failsafes:
         self.gcs = True
         v.notify("GCS Failsafe", Severity.CRITICAL)
         action = int(v.params["FS_GCS_ENABLE"])
-        if action == 2 and v.mode.number == 3:
+        if action == 2 and v.mode.number == AUTO:
             return  # continue the mission in AUTO
         self._act(v, GCS_ACTIONS.get(action), "gcs")
 
@@ -90,7 +92,7 @@ class Failsafes:
         if self._fence_version == v.mission.version:
             return self._zones
         zones, vertices = [], []
-        for item in v.mission.items(1):
+        for item in v.mission.items(FENCE):
             n, e, _ = v.ned_of(item.x * 1e-7, item.y * 1e-7, v.origin.alt_m)
             if item.command in (CMD_POLY_INCLUSION, CMD_POLY_EXCLUSION):
                 vertices.append((n, e))

@@ -25,9 +25,8 @@ class ThrustLossCheck:
 
     def check(self, v, dt: float) -> None:
         """Called with the failsafe checks, at a tenth of the flight-mode rate (10 Hz)."""
-        cascade = v.cascade
-        commands = cascade.omega_cmd
-        at_limit = max(commands) >= SATURATED * v.sim.airframe.omega_max_rad_s
+        commands = v.motor_commands
+        at_limit = max(commands) >= SATURATED * v.omega_max_rad_s
         if self.announced:
             self.announced = at_limit
             return
@@ -45,10 +44,10 @@ class ThrustLossCheck:
     def _suspected(v, at_limit: bool) -> bool:
         if not v.armed or v.landed:
             return False
-        roll_t, pitch_t = v.cascade.lean_t
+        roll_t, pitch_t = v.lean_target
         if math.hypot(roll_t, pitch_t) > LEAN_MAX_RAD:
             return False
-        throttle = v.cascade.thrust_t / v.thrust_max_n
+        throttle = v.thrust_demand_n / v.thrust_max_n
         if throttle < THROTTLE_LOW or (throttle < THROTTLE_HIGH and not at_limit):
             return False
         if v.body.vd_m_s <= 0.0:  # not descending

@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 from autopilot.mission import MissionItem
+from autopilot.mission.progress import MissionState
 from autopilot.results import Result
 
 from ._util import altitude, fly_until, hovering_vehicle, ready_vehicle
@@ -35,18 +36,18 @@ def test_auto_on_the_ground_waits_for_mission_start():
     v.arm()
     assert v.set_mode(3) == Result.ACCEPTED
     v.run_until(v.time_s + 3.0)
-    assert v.landed and v.mission_state == "NOT_STARTED"
+    assert v.landed and v.mission_progress.state is MissionState.NOT_STARTED
     assert v.mission_start() == Result.ACCEPTED
     assert fly_until(v, lambda x: altitude(x) > 9.5, 20.0)
     assert fly_until(v, lambda x: abs(x.body.n_m - 20) < 2.0, 20.0)
-    assert v.reached[:2] == [1, 2]
+    assert v.mission_progress.reached[:2] == [1, 2]
 
 
 def test_auto_in_the_air_starts_at_once_without_takeoff_item():
     v = hovering_vehicle()
     v.mission.replace(0, [wp_at(v, 0, 25), wp_at(v, 25, 25)])
     assert v.set_mode(3) == Result.ACCEPTED
-    assert fly_until(v, lambda x: v.mission_state == "COMPLETE", 60.0)
+    assert fly_until(v, lambda x: v.mission_progress.state is MissionState.COMPLETE, 60.0)
     assert abs(v.body.n_m - 25) < 2.0 and abs(v.body.e_m - 25) < 2.0
     assert v.armed  # a mission that does not land ends in a hover
 
@@ -57,8 +58,8 @@ def test_do_jump_repeats_and_unsupported_items_are_skipped():
              MissionItem(31000, 2), wp_at(v, 0, 10)]
     v.mission.replace(0, items)
     v.set_mode(3)
-    assert fly_until(v, lambda x: v.mission_state == "COMPLETE", 120.0)
-    assert v.reached.count(1) == 3 and v.reached.count(2) == 3  # first pass + two repeats
+    assert fly_until(v, lambda x: v.mission_progress.state is MissionState.COMPLETE, 120.0)
+    assert v.mission_progress.reached.count(1) == 3 and v.mission_progress.reached.count(2) == 3  # first pass + two repeats
     assert any("unsupported mission command 31000" in text for _, text in v.events)
 
 
@@ -67,7 +68,7 @@ def test_loiter_time_holds_for_its_time():
     v.mission.replace(0, [wp_at(v, 0, 0, command=19, p1=8.0), wp_at(v, 10, 0)])
     v.set_mode(3)
     t0 = v.time_s
-    assert fly_until(v, lambda x: 1 in x.reached, 30.0)
+    assert fly_until(v, lambda x: 1 in x.mission_progress.reached, 30.0)
     assert v.time_s - t0 >= 8.0
 
 
@@ -81,7 +82,7 @@ def test_mission_land_and_rtl_end_disarmed_at_the_spot():
     v2.mission.replace(0, [MissionItem(21, REL, x=0, y=0, z=0)])
     v2.set_mode(3)
     assert fly_until(v2, lambda x: not x.armed, 60.0)
-    assert v2.mission_state == "COMPLETE"
+    assert v2.mission_progress.state is MissionState.COMPLETE
 
 
 def test_set_current_jumps_in_flight():

@@ -107,7 +107,7 @@ def test_guided_on_the_ground_without_takeoff_stays_put():
     mode = Guided()
     c = ctx(d_m=0.0, landed=True)
     mode.enter(c)
-    mode.set_position(c, 10.0, 0.0, -5.0)
+    mode.goto(c, 10.0, 0.0, -5.0)
     sp = Setpoint()
     mode.update(c, sp, 0.01)
     assert not sp.wants_climb(0.0)

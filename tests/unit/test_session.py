@@ -10,7 +10,7 @@ from autopilot.mavlink.dialect import new_codec
 from autopilot.mavlink.session import Session
 from autopilot.modes import Brake, Guided, Land, Loiter
 from autopilot.params import PARAM_TABLE
-from autopilot.vehicle import FORCE_DISARM_MAGIC
+from autopilot.safety.arming import FORCE_DISARM_MAGIC
 
 from ._util import (GCS_COMPONENT, GCS_SYSTEM, client_codec, command_long, mav, of_type,
                     ready_vehicle, statustexts, wire)

@@ -1,0 +1,70 @@
+"""The state estimate: what the vehicle knows of itself, and the sensor samples it is made of.
+
+The estimate is ideal, as a perfect EKF would be (the sim's own state), except its height, which
+is the barometer's, as ArduCopter's EKF takes it: a drifting barometer moves the estimate, and
+the vehicle holds the height it believes in while truly sinking or climbing. The GPS, barometer
+and downward temperature sensor are sampled here at fixed sim rates, never when telemetry asks,
+so what a client requests cannot change a noise stream. The battery is read as a perfect
+monitor reads it.
+"""
+from __future__ import annotations
+
+import math
+
+from sim.rigid_body import euler_from_quaternion
+
+GPS_RATE_HZ = 10  # GPS and barometer samples
+TEMPERATURE_RATE_HZ = 10
+
+
+class StateEstimate:
+    def __init__(self, sim):
+        self.sim = sim
+        physics_hz = round(1.0 / sim.dt)
+        self.gps_every = max(1, physics_hz // GPS_RATE_HZ)  # physics steps between GPS samples
+        self.temperature_every = max(1, physics_hz // TEMPERATURE_RATE_HZ)
+        self.gps = sim.gps.read(sim.state.body)
+        self.baro_alt_m = 0.0  # the barometer's last sample (altitude above the origin)
+        self.temperature = (0.0, math.nan)  # (sim time of the sample, degrees C)
+        self.alt_error_m = 0.0  # how far the barometer, and so the height estimate, reads high
+
+    # ----- sampling, called by the vehicle loop ------------------------------------------------
+    def sample_gps(self) -> None:
+        sim = self.sim
+        self.gps = sim.gps.read(sim.state.body)
+        self.baro_alt_m = sim.baro.altitude_m(sim.state.body, sim.time_s)
+
+    def sample_temperature(self, home_d_m: float) -> None:
+        self.temperature = (self.sim.time_s, self.sim.read_temperature(home_d_m))
+
+    def track_barometer(self) -> None:
+        """Follow the barometer's error into the height estimate (at the flight-mode rate)."""
+        baro = self.sim.baro
+        self.alt_error_m = baro.error_m(self.sim.time_s) if baro.drift_m_s else 0.0
+
+    # ----- what the vehicle believes ---------------------------------------------------------
+    @property
+    def body(self):
+        """Position, velocity, attitude quaternion and rates (sim.rigid_body.BodyState)."""
+        b = self.sim.state.body
+        return b._replace(d_m=b.d_m - self.alt_error_m) if self.alt_error_m else b
+
+    @property
+    def attitude(self) -> tuple:
+        """(roll, pitch, yaw) in radians."""
+        b = self.sim.state.body
+        return euler_from_quaternion(b.qw, b.qx, b.qy, b.qz)
+
+    def has_position(self) -> bool:
+        """Whether the horizontal position is known: only with a 3D GPS fix."""
+        return self.gps.fix_type >= 3
+
+    @property
+    def battery(self):
+        """The pack as a perfect monitor reads it: voltage_v, current_a, consumed_mah."""
+        return self.sim.battery
+
+    @property
+    def battery_remaining(self) -> float:
+        """Remaining charge, 0..1."""
+        return self.sim.battery_remaining

@@ -1,0 +1,88 @@
+"""What a flight mode sees of the vehicle, and all it may do to it.
+
+Modes get this context, never the vehicle: what they read and the few things they may change
+are listed here and nowhere else. It reads through to the vehicle's parts, so it is always
+current, also when a mode is entered between two ticks (a command from a ground station).
+"""
+from __future__ import annotations
+
+
+class ModeContext:
+    """State (read only):
+        body          the state estimate: n_m, e_m, d_m, vn_m_s, ve_m_s, vd_m_s, quaternion, rates
+        attitude      (roll, pitch, yaw) in radians
+        params        the parameter store (ArduCopter names and units)
+        pilot         the pilot's sticks (PilotInput), centred when none arrive
+        armed, landed, time_s (sim seconds), home_ned (None until home is set)
+        nav_speed_m_s the horizontal speed AUTO and GUIDED fly (WPNAV_SPEED, DO_CHANGE_SPEED)
+        has_position() whether the horizontal position is known (3D GPS fix)
+        mission       mission progress (mission/progress.py): items, current index, state
+        auto_armed    AUTO may start its mission from the ground
+        origin_alt_m  altitude of the local frame's origin above sea level
+        ned_of(lat, lon, alt_amsl) -> (n, e, d) in the local frame
+    Actions:
+        notify(text, severity)   a STATUSTEXT
+        disarm(reason)           refused (False result) while flying
+        set_speed(m_s)           as DO_CHANGE_SPEED
+        set_home(ned or None)    as DO_SET_HOME (None = here)
+    """
+    __slots__ = ("_v", "_estimate", "_arming", "_land", "_sim", "params", "mission", "notify", "disarm",
+                 "set_speed", "set_home", "ned_of")
+
+    def __init__(self, vehicle):
+        # The parts are kept one hop away: modes read them at 100 Hz on every vehicle.
+        self._v = vehicle
+        self._estimate = vehicle.estimate
+        self._arming = vehicle.arming
+        self._land = vehicle.land_detector
+        self._sim = vehicle.sim
+        self.params = vehicle.params
+        self.mission = vehicle.mission_progress
+        self.notify = vehicle.notify
+        self.disarm = vehicle.disarm
+        self.set_speed = vehicle.set_speed
+        self.set_home = vehicle.set_home
+        self.ned_of = vehicle.ned_of
+
+    @property
+    def body(self):
+        return self._estimate.body
+
+    @property
+    def attitude(self) -> tuple:
+        return self._estimate.attitude
+
+    @property
+    def pilot(self):
+        return self._v.pilot
+
+    @property
+    def armed(self) -> bool:
+        return self._arming.armed
+
+    @property
+    def landed(self) -> bool:
+        return self._land.landed
+
+    @property
+    def time_s(self) -> float:
+        return self._sim.time_s
+
+    @property
+    def home_ned(self):
+        return self._v.home_ned
+
+    @property
+    def nav_speed_m_s(self) -> float:
+        return self._v.nav_speed_m_s
+
+    @property
+    def auto_armed(self) -> bool:
+        return self._arming.auto_armed
+
+    @property
+    def origin_alt_m(self) -> float:
+        return self._v.origin.alt_m
+
+    def has_position(self) -> bool:
+        return self._estimate.has_position()

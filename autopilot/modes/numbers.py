@@ -1,0 +1,15 @@
+"""ArduCopter's flight-mode numbers (HEARTBEAT custom_mode, DO_SET_MODE, FLTMODEn): the one table.
+
+Only the modes Firefly flies are listed; any other number is refused as an unknown mode."""
+from enum import IntEnum
+
+
+class ModeNumber(IntEnum):
+    STABILIZE = 0
+    ALT_HOLD = 2
+    AUTO = 3
+    GUIDED = 4
+    LOITER = 5
+    RTL = 6
+    LAND = 9
+    BRAKE = 17
