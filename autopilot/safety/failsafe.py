@@ -18,6 +18,7 @@ RTL, LAND, AUTO = ModeNumber.RTL, ModeNumber.LAND, ModeNumber.AUTO
 BATT_ACTIONS = {1: LAND, 2: RTL, 3: RTL, 4: RTL}
 GCS_ACTIONS = {1: RTL, 2: RTL, 3: RTL, 4: RTL, 5: LAND}
 FENCE_ACTIONS = {1: RTL, 2: LAND, 3: RTL, 4: RTL, 5: RTL}
+GCS_CONTINUE_IN_AUTO = 2  # FS_GCS_ENABLE: a mission in AUTO flies on
 FENCE_ALT, FENCE_CIRCLE, FENCE_POLYGON = 1, 2, 4
 CMD_POLY_INCLUSION, CMD_POLY_EXCLUSION, CMD_CIRCLE_INCLUSION, CMD_CIRCLE_EXCLUSION = 5001, 5002, 5003, 5004
 
@@ -77,8 +78,8 @@ class Failsafes:
         self.gcs = True
         v.notify("GCS Failsafe", Severity.CRITICAL)
         action = int(v.params["FS_GCS_ENABLE"])
-        if action == 2 and v.mode.number == AUTO:
-            return  # continue the mission in AUTO
+        if action == GCS_CONTINUE_IN_AUTO and v.mode.number == AUTO:
+            return
         self._act(v, GCS_ACTIONS.get(action), "gcs")
 
     def gcs_regained(self, v) -> None:

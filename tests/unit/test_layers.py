@@ -1,0 +1,48 @@
+"""The layers talk one way: sim/ imports neither the autopilot, the companion nor MAVLink; the
+autopilot never imports the companion; inside the autopilot, flight modes and the vehicle's
+parts never import the MAVLink layer or the I/O edge."""
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def absolute_imports(path: Path) -> set[str]:
+    """Every module a file imports, relative imports resolved against its package."""
+    package = path.relative_to(ROOT).with_suffix("").parts[:-1]
+    found = set()
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.Import):
+            found.update(alias.name for alias in node.names)
+        elif isinstance(node, ast.ImportFrom):
+            base = package[:len(package) - node.level + 1] if node.level else ()
+            module = ".".join((*base, node.module or ""))
+            found.add(module.rstrip("."))
+    return found
+
+
+def imports_under(folder: str) -> dict[str, set[str]]:
+    return {str(p.relative_to(ROOT)): absolute_imports(p) for p in (ROOT / folder).rglob("*.py")}
+
+
+@pytest.mark.parametrize("folder, forbidden", [
+    ("sim", ("autopilot", "groundstation", "pymavlink", "mavsdk")),
+    ("autopilot", ("groundstation", "mavsdk")),
+    ("autopilot/modes", ("autopilot.mavlink", "autopilot.io", "autopilot.vehicle", "pymavlink")),
+    ("autopilot/safety", ("autopilot.mavlink", "autopilot.io", "pymavlink")),
+    ("autopilot/control", ("autopilot.mavlink", "autopilot.io", "autopilot.modes", "pymavlink")),
+    ("autopilot/mission", ("autopilot.mavlink", "pymavlink")),
+])
+def test_imports_point_one_way(folder, forbidden):
+    wrong = {f"{path} imports {module}" for path, modules in imports_under(folder).items()
+             for module in modules if module.split(".")[0] in forbidden or module.startswith(forbidden)}
+    assert not wrong, sorted(wrong)
+
+
+def test_the_check_sees_relative_imports():
+    modules = absolute_imports(ROOT / "autopilot" / "modes" / "auto.py")
+    assert "autopilot.mission.progress" in modules and "autopilot.modes.base" in modules
