@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from operator import attrgetter
 
 from sim.geo import GeoPoint, global_from_ned, ned_from_global
 from sim.vehicle import BATTERY_EVERY, SimConfig, SimVehicle
@@ -99,33 +100,16 @@ class Vehicle:
             self._set_home_here()
 
     # ----- state, as modes, safety checks and telemetry read it -------------------------------
-    @property
-    def time_s(self) -> float:
-        return self.sim.time_s
-
-    @property
-    def body(self):
-        """The state estimate (see estimate.py)."""
-        return self.estimate.body
-
-    @property
-    def attitude(self) -> tuple:
-        return self.estimate.attitude
-
-    @property
-    def gps(self):
-        return self.estimate.gps
+    # The state most read, as C-level attribute getters (failsafes and telemetry read them often).
+    time_s = property(attrgetter("sim.time_s"), doc="Sim time [s].")
+    body = property(attrgetter("estimate.body"), doc="The state estimate (estimate.py).")
+    attitude = property(attrgetter("estimate.attitude"), doc="(roll, pitch, yaw) [rad].")
+    gps = property(attrgetter("estimate.gps"), doc="The last GPS sample.")
+    armed = property(attrgetter("arming.armed"))
+    landed = property(attrgetter("land_detector.landed"))
 
     def has_position(self) -> bool:
         return self.estimate.has_position()
-
-    @property
-    def armed(self) -> bool:
-        return self.arming.armed
-
-    @property
-    def landed(self) -> bool:
-        return self.land_detector.landed
 
     @property
     def pilot(self) -> PilotInput:

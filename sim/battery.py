@@ -6,6 +6,7 @@ discharge curve; terminal voltage = cells * OCV(soc) - I * R_internal.
 from __future__ import annotations
 
 from bisect import bisect_left
+from functools import partial
 from typing import NamedTuple
 
 # (state of charge, open-circuit volts per cell): a typical LiPo discharge curve.
@@ -19,16 +20,23 @@ class BatteryState(NamedTuple):
     voltage_v: float = 0.0
 
 
+# Builds the NamedTuple without its Python-level __new__: the pack steps for every vehicle at 100 Hz.
+_new_state = partial(tuple.__new__, BatteryState)
 _SOC_POINTS = tuple(soc for soc, _ in _OCV_CURVE)
 _OCV_POINTS = tuple(volts for _, volts in _OCV_CURVE)
+# Per segment ending at point i: (s0, v0, v1 - v0, s1 - s0), so the interpolation below does the
+# same float operations as the textbook formula without re-reading the curve (it runs for every
+# vehicle at 100 Hz).
+_SEGMENTS = (None,) + tuple((s0, v0, v1 - v0, s1 - s0) for (s0, v0), (s1, v1) in zip(_OCV_CURVE, _OCV_CURVE[1:]))
+_LAST_SEGMENT = len(_SOC_POINTS) - 1
 
 
 def open_circuit_volts_per_cell(soc: float) -> float:
-    """Linear interpolation in _OCV_CURVE, on the first segment whose upper end is >= soc."""
-    soc = min(max(soc, 0.0), 1.0)
-    i = bisect_left(_SOC_POINTS, soc, 1, len(_SOC_POINTS) - 1)
-    (s0, v0), (s1, v1) = _OCV_CURVE[i - 1], _OCV_CURVE[i]
-    return v0 + (v1 - v0) * (soc - s0) / (s1 - s0)
+    """Linear interpolation in _OCV_CURVE, on the first segment whose upper end is >= soc:
+    v0 + (v1 - v0) * (soc - s0) / (s1 - s0)."""
+    soc = 0.0 if soc < 0.0 else 1.0 if soc > 1.0 else soc
+    s0, v0, dv, ds = _SEGMENTS[bisect_left(_SOC_POINTS, soc, 1, _LAST_SEGMENT)]
+    return v0 + dv * (soc - s0) / ds
 
 
 def soc_at_open_circuit_volts(volts_per_cell: float) -> float:
@@ -52,7 +60,7 @@ def step_battery(state: BatteryState, power_w: float, cells: int, capacity_mah: 
     current = (ocv - disc ** 0.5) / (2.0 * r_internal_ohm) if disc > 0 else ocv / (2 * r_internal_ohm)
     current += extra_current_a
     consumed = state.consumed_mah + current * dt / 3.6
-    return BatteryState(consumed, current, max(ocv - current * r_internal_ohm, 0.0))
+    return _new_state((consumed, current, max(ocv - current * r_internal_ohm, 0.0)))
 
 
 def remaining_fraction(state: BatteryState, capacity_mah: float) -> float:
