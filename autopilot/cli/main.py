@@ -129,6 +129,7 @@ def build_vehicle(args, scenario, k: int, outs, listen, epoch_us: int):
 
     from ..faults.link import LinkFaults
     from ..mavlink.dialect import new_codec
+    from ..mavlink.link import Link
     from ..mavlink.session import Session
     from ..mission import MissionStore
     from ..params import ParamStore
@@ -169,7 +170,6 @@ def build_vehicle(args, scenario, k: int, outs, listen, epoch_us: int):
         endpoint = UdpEndpoint(bind, vehicle_outs, n + 1)
     except OSError as exc:
         raise CliError(f"--listen: cannot bind udp:{bind[0]}:{bind[1]}: {exc.strerror}") from None
-    endpoint.signing = session.signing
     tlog = None
     if args.tlog:
         from ..io.tlog import TlogWriter
@@ -187,8 +187,8 @@ def build_vehicle(args, scenario, k: int, outs, listen, epoch_us: int):
         except OSError as exc:
             endpoint.close()
             raise CliError(f"--state-log: cannot open {path}: {exc.strerror}") from None
-    link_faults = LinkFaults(params, sim.seed)
-    return Node(vehicle, session, endpoint, tlog, state_log, link_faults), vehicle_outs
+    link = Link(session.codec, session.signing, LinkFaults(params, sim.seed))
+    return Node(vehicle, session, endpoint, link, tlog, state_log), vehicle_outs
 
 
 def main(argv=None) -> int:

@@ -1,9 +1,11 @@
-"""Ground-station link faults, applied at the I/O edge between the UDP endpoint and the session.
+"""Ground-station link faults: a stage of the vehicle's sans-IO link (autopilot/mavlink/link.py),
+between the frames received and the session, and between the frames packed and the socket.
 
-SIM_LINK_DOWN = S cuts the link both ways for S wall-clock seconds, then sets itself back to 0
-(as ArduPilot's SIM_SHOVE_TIME ends its shove); wall time, because the link and the GCS failsafe
-that watches it (FS_GCS_TIMEOUT) both live on the wall clock. SIM_LINK_LOSS = P drops P % of the
-frames each way, drawn from the link's own seeded generator. The sans-IO session never knows:
+SIM_LINK_DOWN = S cuts the link both ways for S seconds of the link clock, then sets itself back to
+0 (as ArduPilot's SIM_SHOVE_TIME ends its shove); the link clock is the monotonic wall clock the I/O
+edge hands in (`advance`), because the link and the GCS failsafe that watches it (FS_GCS_TIMEOUT)
+both live on wall time. SIM_LINK_LOSS = P drops P % of the frames each way, drawn from the link's
+own seeded generator, one draw per frame in the order they pass. The sans-IO session never knows:
 it just hears nothing, as behind a dead radio. Every dropped frame is counted.
 ArduPilot has no such parameter (MAVProxy's link commands and SITL's SIM_UART_LOSS, which drops
 bytes on a serial port, come closest), so these two are named in its style.
@@ -19,15 +21,15 @@ class LinkFaults:
         self._rng = sensor_rng(seed, "link")
         self.dropped = {"in": 0, "out": 0}
         self._loss = 0.0  # probability of losing one frame
-        self._cut_s = 0.0  # a requested outage not yet started, in wall seconds
-        self._down_until: float | None = None  # wall clock time the outage ends
+        self._cut_s = 0.0  # a requested outage not yet started, in link-clock seconds
+        self._down_until: float | None = None  # link clock time the outage ends
         params.on_change(self._changed)
         for name in ("SIM_LINK_DOWN", "SIM_LINK_LOSS"):
             self._changed(name, params[name])
 
     @property
     def active(self) -> bool:
-        """Whether frames need filtering at all (the runner skips the calls when not)."""
+        """Whether frames need filtering at all (the link skips the calls when not)."""
         return self._loss > 0.0 or self._cut_s > 0.0 or self._down_until is not None
 
     @property
@@ -38,29 +40,32 @@ class LinkFaults:
         if name == "SIM_LINK_LOSS":
             self._loss = value / 100.0
         elif name == "SIM_LINK_DOWN":
-            self._cut_s = value  # starts with the next frames received, so this answer still goes out
+            self._cut_s = value  # starts at the next advance(), so this answer still goes out
             if value == 0.0:
                 self._down_until = None
 
-    def admit(self, messages: list, wall_s: float) -> list:
-        """The received messages that got through."""
+    def advance(self, link_s: float) -> None:
+        """Start a requested outage, or end one that is over, at link-clock time `link_s`."""
         if self._cut_s > 0.0:
-            self._down_until, self._cut_s = wall_s + self._cut_s, 0.0
-        if self._down_until is not None and wall_s >= self._down_until:
+            self._down_until, self._cut_s = link_s + self._cut_s, 0.0
+        if self._down_until is not None and link_s >= self._down_until:
             self.params.set("SIM_LINK_DOWN", 0.0)  # the outage is over
-        return self._filter(messages, "in")
+
+    def lose_in(self) -> bool:
+        """Whether the next received frame is lost (and counted)."""
+        if self._down_until is None and (self._loss <= 0.0 or self._rng.random() >= self._loss):
+            return False
+        self.dropped["in"] += 1
+        return True
 
     def pass_out(self, frames: list) -> list:
         """The frames to send that get through."""
-        return self._filter(frames, "out")
-
-    def _filter(self, items: list, way: str) -> list:
         if self._down_until is not None:
             kept = []
         elif self._loss > 0.0:
             draw, loss = self._rng.random, self._loss
-            kept = [item for item in items if draw() >= loss]
+            kept = [frame for frame in frames if draw() >= loss]
         else:
-            return items
-        self.dropped[way] += len(items) - len(kept)
+            return frames
+        self.dropped["out"] += len(frames) - len(kept)
         return kept

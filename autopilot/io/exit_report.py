@@ -17,7 +17,8 @@ def report(runner, nodes, exception: BaseException | None, wall_s: float) -> dic
     for node in nodes:
         v, session, endpoint = node.vehicle, node.session, node.endpoint
         counters = dict(session.counters)
-        counters.update({f"udp_{k}": n for k, n in endpoint.totals().items()})
+        # the link's decode_errors and parsers_evicted keep the udp_ names they had in the endpoint
+        counters.update({f"udp_{k}": n for k, n in (endpoint.totals() | node.link.counters).items()})
         counters["param_sets_refused"] = session.params.refused
         counters["param_save_errors"] = v.params.save_errors
         counters["mission_uploads_refused"] = session.missions.refused

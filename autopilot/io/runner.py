@@ -1,8 +1,12 @@
 """The vehicle loop: advance sim time, exchange MAVLink, pace against wall time.
 
 Wall time enters only here: with a finite speedup the loop waits (on the sockets) until wall
-time catches up with sim time / speedup; with speedup = inf it never waits. Incoming messages
-are applied between sim ticks, at the sim time they are read.
+time catches up with sim time / speedup; with speedup = inf it never waits. Each exchange reads
+the wall clock and hands it to every vehicle's sans-IO link (the signing timestamp follows it) and
+session (the link clock its failsafes and retries run on). Incoming messages are applied between
+sim ticks, at the sim time they are read: datagrams from the socket go through the link, which
+judges each message just before the session handles it, so that a SETUP_SIGNING takes effect for
+the very next frame.
 """
 from __future__ import annotations
 
@@ -15,14 +19,31 @@ MAX_LAG_WALL_S = 0.5  # if the sim falls further behind than this, pacing restar
 STATE_LOG_EVERY = 10  # ticks (0.1 s of sim time)
 
 
+def incoming(datagrams: list, link, answer):
+    """Each message of `datagrams` ((bytes, sender) pairs) that gets through `link`, judged when
+    drawn; `answer(sender)` once for a datagram of which the link found a message may be answered."""
+    for data, sender in datagrams:
+        answerable_seen = False
+        for msg, answerable in link.receive(data, sender):
+            answerable_seen |= answerable
+            yield msg
+        if answerable_seen:
+            answer(sender)
+
+
 @dataclass
 class Node:
     vehicle: object
     session: object
-    endpoint: object
+    endpoint: object  # UdpEndpoint: the socket and who it answers
+    link: object  # Link (autopilot/mavlink/link.py): decodes, judges and packs, between the two
     tlog: object = None  # TlogWriter, or None
     state_log: object = None  # open text file: the body state every STATE_LOG_EVERY ticks, or None
-    link_faults: object = None  # LinkFaults (SIM_LINK_*), or None
+
+    @property
+    def link_faults(self):
+        """The link's LinkFaults (SIM_LINK_*), or None."""
+        return self.link.faults
 
 
 class Runner:
@@ -40,23 +61,23 @@ class Runner:
         self._stop = True
 
     def _exchange(self) -> None:
+        unix_s = time.time()
         for node in self.nodes:
             now = node.vehicle.time_s
-            link = time.monotonic()
-            codec = node.session.codec
-            out = []
-            received = node.endpoint.receive()
-            faults = node.link_faults
-            if faults is not None and faults.active:
-                received = faults.admit(received, link)
-            for msg in received:
-                out.extend(node.session.receive(msg, now, link))
-            out.extend(node.session.poll(now, link))
-            frames = [m.pack(codec) for m in out]
-            if frames and faults is not None and faults.active:
-                frames = faults.pass_out(frames)
+            link_s = time.monotonic()
+            session, link, endpoint = node.session, node.link, node.endpoint
+            link.advance(unix_s, link_s)
+            received, out = [], []
+            datagrams = endpoint.receive()
+            if datagrams:  # most ticks have none
+                # each message is judged only after the one before it was handled
+                for msg in incoming(datagrams, link, endpoint.answer):
+                    received.append(msg)
+                    out.extend(session.receive(msg, now, link_s))
+            out.extend(session.poll(now, link_s))
+            frames = link.pack(out) if out else out
             if frames:
-                node.endpoint.send(frames)
+                endpoint.send(frames)
             if node.tlog is not None:
                 self._log(node, received, frames)
 

@@ -1,9 +1,11 @@
 """MAVLink 2 message signing of one vehicle's link, sans-IO.
 
 `admit(frame)` decides, from the raw bytes of one received frame, whether it may reach the
-session; `setup(msg, armed)` handles SETUP_SIGNING. Outgoing frames are signed by the session's
-pymavlink codec: this object owns that codec's signing state (key, link id, timestamp), so what
-the session packs is signed exactly when a key is set, as ArduPilot does.
+session (the link, autopilot/mavlink/link.py, asks it for every frame while signing is on);
+`setup(msg, armed)` handles SETUP_SIGNING. Outgoing frames are signed by the session's pymavlink
+codec: this object owns that codec's signing state (key, link id, timestamp), so what the link
+packs is signed exactly when a key is set, as ArduPilot does. Nothing here reads a clock: the
+wall-clock time comes in through `advance`, from the I/O edge by way of the link.
 
 The rules, from mavlink.io "Message Signing" and ArduPilot's GCS_Signing.cpp:
 - signature = first 6 bytes of SHA-256(key + frame up to and including link id and timestamp);
@@ -12,7 +14,7 @@ The rules, from mavlink.io "Message Signing" and ArduPilot's GCS_Signing.cpp:
 - per stream (system id, component id, link id) a timestamp must exceed the last one accepted;
   a new stream must not be more than a minute behind the local timestamp;
 - the local timestamp (10 µs units since 2015-01-01) never goes back: it is the larger of the
-  wall clock, every accepted timestamp and, after a restart, the saved one plus a minute.
+  wall clock handed in, every accepted timestamp and, after a restart, the saved one plus a minute.
 
 Unlike pymavlink's own verifier, a stream's timestamp is recorded only once the signature is
 good, so a forged frame with a huge timestamp cannot lock a real client out.

@@ -78,7 +78,13 @@ class FrameSource:
         """One datagram and what kind of damage it carries."""
         r = self.rng
         kind = r.randrange(12)
-        good = self.valid_frame()
+        if kind == 6:
+            return "garbage", r.randbytes(r.randint(1, 300))
+        if kind == 9:
+            return "unknown_id", self.unknown_id_frame()
+        if kind == 10:
+            return "many_in_one", b"".join(self.valid_frame() for _ in range(r.randint(2, 20)))
+        good = self.valid_frame()  # what the other kinds damage
         if kind <= 2:
             return "valid", good
         if kind == 3:
@@ -91,8 +97,6 @@ class FrameSource:
         if kind == 5:
             other = self.valid_frame()
             return "spliced", good[:r.randrange(len(good))] + other[r.randrange(len(other)):]
-        if kind == 6:
-            return "garbage", bytes(r.getrandbits(8) for _ in range(r.randint(1, 300)))
         if kind == 7:
             b = bytearray(good)
             b[-1] ^= 0xFF  # the CRC's high byte
@@ -103,16 +107,12 @@ class FrameSource:
                 return "mavlink1", bytes(msg.pack(self.v1))
             except Exception:  # noqa: BLE001 - a message id above 255 has no MAVLink 1 form
                 return "mavlink1", good
-        if kind == 9:
-            return "unknown_id", self.unknown_id_frame()
-        if kind == 10:
-            return "many_in_one", b"".join(self.valid_frame() for _ in range(r.randint(2, 20)))
-        return "oversize", good + bytes(r.getrandbits(8) for _ in range(r.randint(300, 2000)))
+        return "oversize", good + r.randbytes(r.randint(300, 2000))
 
     def unknown_id_frame(self) -> bytes:
         """A MAVLink 2 frame with a well-formed header and an id no dialect defines."""
         r = self.rng
-        payload = bytes(r.getrandbits(8) for _ in range(r.randint(0, 40)))
+        payload = r.randbytes(r.randint(0, 40))
         msgid = r.choice((59999, 0xFFFFFF, 42000, 180))
         header = struct.pack("<BBBBBBBHB", 0xFD, len(payload), 0, 0, r.randrange(256), 255, 190,
                              msgid & 0xFFFF, msgid >> 16)

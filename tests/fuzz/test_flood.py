@@ -1,6 +1,7 @@
-"""Floods at the socket: the endpoint reads a bounded number of datagrams per tick, counts what the
-kernel dropped, bounds the peers and parsers a flood of source ports creates, and the real process
-keeps flying a legitimate client's commands through a 10,000-datagram-per-second flood."""
+"""Floods at the socket, with real loopback sockets: the endpoint reads a bounded number of datagrams
+per tick, counts what the kernel dropped, bounds the peers (and the link its parsers) a flood of
+source ports creates, and the real process keeps flying a legitimate client's commands through a
+10,000-datagram-per-second flood."""
 from __future__ import annotations
 
 import json
@@ -11,7 +12,10 @@ import time
 import pytest
 
 from autopilot.io import udp
+from autopilot.io.runner import incoming
+from autopilot.mavlink import link as mavlink_link
 from autopilot.mavlink.dialect import new_codec
+from autopilot.mavlink.signing import LinkSigning
 
 from ..sitl.conftest import start_autopilot
 from ..sitl.pymav import Gcs
@@ -20,6 +24,13 @@ from .frames import FrameSource
 
 def _heartbeat() -> bytes:
     return bytes(new_codec(255, 190).heartbeat_encode(6, 8, 0, 0, 4).pack(new_codec(255, 190)))
+
+
+def _link(signing_key: bytes | None = None) -> mavlink_link.Link:
+    codec = new_codec(1)
+    signing = LinkSigning(codec)
+    signing.set_key(signing_key)
+    return mavlink_link.Link(codec, signing)
 
 
 def test_one_receive_reads_a_bounded_batch_and_kernel_drops_are_counted():
@@ -44,18 +55,19 @@ def test_one_receive_reads_a_bounded_batch_and_kernel_drops_are_counted():
 def test_a_flood_of_source_ports_cannot_grow_peers_or_parsers_without_bound():
     out = ("127.0.0.1", 9)
     endpoint = udp.UdpEndpoint(("127.0.0.1", 0), [out], 1)
+    link = _link()
     clients = [socket.socket(socket.AF_INET, socket.SOCK_DGRAM) for _ in range(150)]
     for c in clients:
         c.bind(("127.0.0.1", 0))
     try:
         for c in clients:
             c.sendto(_heartbeat(), endpoint.address)
-            endpoint.receive()
+            assert len(list(incoming(endpoint.receive(), link, endpoint.answer))) == 1
         assert len(endpoint.peers) == 1 + udp.MAX_PEERS and endpoint.peers[0] == out  # outputs stay
         assert clients[-1].getsockname() in endpoint.peers  # the latest sender is answered
         assert clients[0].getsockname() not in endpoint.peers
-        assert len(endpoint._parsers) == udp.MAX_PARSERS
         assert endpoint.counters["peers_evicted"] == 150 - udp.MAX_PEERS
+        assert link.counters["parsers_evicted"] == 150 - mavlink_link.MAX_PARSERS
     finally:
         for c in clients:
             c.close()
@@ -107,17 +119,19 @@ def test_the_vehicle_flies_a_clients_commands_through_a_10khz_flood(tmp_path):
     # Read or counted as dropped; a few may still have been queued when the process stopped.
     assert counters["udp_datagrams"] + counters["udp_kernel_dropped"] >= 0.95 * flood.sent
     assert counters["ignored_other_system"] + counters["bad_data"] > flood.sent // 2
+    # the socket's counters and the link's, under the udp_ names the report has always used
+    assert {"udp_send_errors", "udp_peers_evicted", "udp_decode_errors", "udp_parsers_evicted"} <= set(counters)
 
 
 def test_unsigned_radio_status_from_many_ports_cannot_push_the_signed_gcs_off_the_peers():
     """RADIO_STATUS passes signing unsigned (radios inject it), but its sender is not answered."""
     import hashlib
 
-    from autopilot.mavlink.signing import LinkSigning, signing_time
+    from autopilot.mavlink.signing import signing_time
     key = hashlib.sha256(b"soak").digest()
     endpoint = udp.UdpEndpoint(("127.0.0.1", 0), [], 1)
-    endpoint.signing = LinkSigning(new_codec(1))
-    endpoint.signing.set_key(key)
+    link = _link(key)
+    link.advance(time.time(), 0.0)
     gcs_codec = new_codec(255, 190)
     gcs_codec.signing.secret_key, gcs_codec.signing.sign_outgoing = key, True
     gcs_codec.signing.timestamp = signing_time(time.time())
@@ -128,10 +142,10 @@ def test_unsigned_radio_status_from_many_ports_cannot_push_the_signed_gcs_off_th
     noisy = [socket.socket(socket.AF_INET, socket.SOCK_DGRAM) for _ in range(2 * udp.MAX_PEERS)]
     try:
         gcs.sendto(bytes(gcs_codec.heartbeat_encode(6, 8, 0, 0, 4).pack(gcs_codec)), endpoint.address)
-        assert len(endpoint.receive()) == 1 and gcs.getsockname() in endpoint.peers
+        assert len(list(incoming(endpoint.receive(), link, endpoint.answer))) == 1 and gcs.getsockname() in endpoint.peers
         for s in noisy:
             s.sendto(radio, endpoint.address)
-        assert len(endpoint.receive()) == len(noisy)  # they reach the session ...
+        assert len(list(incoming(endpoint.receive(), link, endpoint.answer))) == len(noisy)  # they reach the session ...
         assert endpoint.peers == [gcs.getsockname()]  # ... but are not answered
     finally:
         for s in [gcs, *noisy]:

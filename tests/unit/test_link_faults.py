@@ -1,18 +1,21 @@
-"""Link faults at the I/O edge (SIM_LINK_DOWN, SIM_LINK_LOSS), and the GCS failsafe they trip,
-with a real vehicle and session and a wall clock that the test advances itself."""
+"""Link faults (SIM_LINK_DOWN, SIM_LINK_LOSS), a stage of the sans-IO link, and the GCS failsafe
+they trip, with a real vehicle, session and link and a link clock that the test advances itself."""
 from __future__ import annotations
 
 import pytest
 
 from autopilot.faults.link import LinkFaults
 from autopilot.mavlink.dialect import new_codec
+from autopilot.mavlink.link import Link
 from autopilot.mavlink.session import Session
+from autopilot.mavlink.signing import LinkSigning
 from autopilot.modes import Rtl
 from autopilot.params import ParamStore
 
-from ._util import client_codec, hovering_vehicle, mav, statustexts, wire
+from ._util import client_codec, hovering_vehicle, mav, statustexts
 
 FRAMES = [bytes([k % 256]) * 20 for k in range(4000)]
+GCS = ("127.0.0.1", 14550)
 
 
 def kept_pattern(seed: int, loss_pct: float) -> list:
@@ -26,6 +29,7 @@ def test_no_fault_no_filtering():
     link = LinkFaults(ParamStore(), 0)
     assert not link.active
     assert link.pass_out(FRAMES) is FRAMES
+    assert not any(link.lose_in() for _ in FRAMES)
 
 
 def test_loss_drops_that_share_each_way_and_counts_it():
@@ -34,7 +38,7 @@ def test_loss_drops_that_share_each_way_and_counts_it():
     params.set("SIM_LINK_LOSS", 25)
     assert link.active
     sent = link.pass_out(FRAMES)
-    got = link.admit(FRAMES, wall_s=0.0)
+    got = [f for f in FRAMES if not link.lose_in()]
     for kept, way in ((sent, "out"), (got, "in")):
         assert len(kept) == pytest.approx(0.75 * len(FRAMES), rel=0.05)
         assert link.dropped[way] == len(FRAMES) - len(kept)
@@ -51,10 +55,14 @@ def test_link_down_starts_after_the_answer_and_ends_by_itself():
     link = LinkFaults(params, 0)
     params.set("SIM_LINK_DOWN", 5)
     assert link.pass_out([b"echo"]) == [b"echo"]  # the PARAM_VALUE that answered the set still goes
-    assert link.admit([b"hb"], wall_s=100.0) == [] and link.down
+    assert not link.lose_in() and not link.down  # nor is anything lost before the outage starts
+    link.advance(100.0)
+    assert link.down and link.lose_in()
     assert link.pass_out([b"a", b"b"]) == []
-    assert link.admit([b"hb"], wall_s=104.9) == []
-    assert link.admit([b"hb"], wall_s=105.0) == [b"hb"]  # outage over
+    link.advance(104.9)
+    assert link.lose_in()
+    link.advance(105.0)  # outage over
+    assert not link.lose_in()
     assert params["SIM_LINK_DOWN"] == 0 and not link.active
     assert link.dropped == {"in": 2, "out": 2}
 
@@ -63,29 +71,51 @@ def test_setting_link_down_to_zero_restores_the_link_at_once():
     params = ParamStore()
     link = LinkFaults(params, 0)
     params.set("SIM_LINK_DOWN", 60)
-    link.admit([], wall_s=0.0)
+    link.advance(0.0)
     params.set("SIM_LINK_DOWN", 0)
-    assert link.admit([b"hb"], wall_s=1.0) == [b"hb"]
+    assert not link.down and not link.lose_in()
+
+
+def _lossy_link(seed: int) -> Link:
+    params = ParamStore()
+    codec = new_codec(1)
+    link = Link(codec, LinkSigning(codec), LinkFaults(params, seed))
+    params.set("SIM_LINK_LOSS", 50)
+    return link
+
+
+def test_the_link_loses_received_frames_by_its_seed():
+    gcs = client_codec()
+    datagram = b"".join(gcs.heartbeat_encode(6, 8, 0, 0, 4).pack(gcs) for _ in range(200))
+
+    def seqs(seed: int) -> list:
+        return [m.get_seq() for m, _ in _lossy_link(seed).receive(datagram, GCS)]
+
+    assert seqs(1) == seqs(1) != seqs(2)
+    assert 60 < len(seqs(1)) < 140
 
 
 def test_a_cut_link_trips_the_gcs_failsafe_and_its_return_clears_it():
     v = hovering_vehicle(10.0)
     session = Session(v, new_codec(v.system_id))
-    link = LinkFaults(v.params, 0)
+    link = Link(session.codec, session.signing, LinkFaults(v.params, 0))
     for name, value in (("FS_GCS_ENABLE", 1), ("FS_GCS_TIMEOUT", 2)):
         v.params.set(name, value)
-    heartbeat = wire(client_codec().heartbeat_encode(mav.MAV_TYPE_GCS, mav.MAV_AUTOPILOT_INVALID, 0, 0, 0))
+    gcs = client_codec()
+    heartbeat = gcs.heartbeat_encode(mav.MAV_TYPE_GCS, mav.MAV_AUTOPILOT_INVALID, 0, 0, 0).pack(gcs)
     heard = []
 
-    def exchange(wall_s: float) -> None:
+    def exchange(link_s: float) -> None:
         """One tick of the runner: a GCS heartbeat every half second, through the faulty link."""
-        incoming = [heartbeat] if round(wall_s * 10) % 5 == 0 else []
-        for msg in link.admit(incoming, wall_s):
-            session.receive(msg, v.time_s, wall_s)
-        heard.extend(link.pass_out(session.poll(v.time_s, wall_s)))
+        link.advance(0.0, link_s)
+        if round(link_s * 10) % 5 == 0:
+            for msg, _ in link.receive(heartbeat, GCS):
+                session.receive(msg, v.time_s, link_s)
+        for frame in link.pack(session.poll(v.time_s, link_s)):
+            heard.extend(gcs.parse_buffer(frame))
         v.run_until(v.time_s + 0.1)
 
-    ticks = iter(range(1000))  # wall time in tenths of a second
+    ticks = iter(range(1000))  # link time in tenths of a second
     for _ in range(20):  # 2 s of a healthy link
         exchange(next(ticks) / 10)
     v.params.set("SIM_LINK_DOWN", 4)
@@ -94,13 +124,13 @@ def test_a_cut_link_trips_the_gcs_failsafe_and_its_return_clears_it():
     while v.params["SIM_LINK_DOWN"]:
         wall = next(ticks) / 10
         exchange(wall)
-        if link.down:
+        if link.faults.down:
             assert heard == []  # nothing gets out while the link is down
             if v.failsafes.gcs and tripped_after is None:
                 tripped_after = wall - 1.5  # the last heartbeat through was at 1.5 s
     assert tripped_after == pytest.approx(2.0, abs=0.15)  # FS_GCS_TIMEOUT after it
     assert v.mode.number == Rtl.number
-    assert link.dropped["out"] > 0 and link.dropped["in"] == 8  # the heartbeats of 4 s
+    assert link.faults.dropped["out"] > 0 and link.faults.dropped["in"] == 8  # the heartbeats of 4 s
     for _ in range(10):
         exchange(next(ticks) / 10)
     assert "GCS Failsafe Cleared" in statustexts(heard)
