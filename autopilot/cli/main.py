@@ -167,7 +167,7 @@ def build_vehicle(args, scenario, k: int, outs, listen, epoch_us: int):
     attach_state(session.signing, state_root / f"instance-{n}" / "signing.json", scenario.signing_key,
                  args.wipe)
     try:
-        endpoint = UdpEndpoint(bind, vehicle_outs, n + 1)
+        endpoint = UdpEndpoint(bind, vehicle_outs)
     except OSError as exc:
         raise CliError(f"--listen: cannot bind udp:{bind[0]}:{bind[1]}: {exc.strerror}") from None
     tlog = None

@@ -3,7 +3,7 @@
 The parameters are the interface (PARAM_SET at run time, a scenario's [faults] table at start,
 its [script] "param" steps at a sim time); sim/ only sees numbers: motor thrust shares, the GPS's
 switch, satellites and offset in metres, the barometer's drift rate, the wind, the battery's
-resting voltage. SIM_LINK_* act on the MAVLink link, not on the sim (autopilot/link_faults.py).
+resting voltage. SIM_LINK_* act on the MAVLink link, not on the sim (faults/link.py).
 """
 from __future__ import annotations
 

@@ -23,12 +23,11 @@ MAX_PEERS = 32  # answered addresses besides the configured outputs
 
 
 class UdpEndpoint:
-    def __init__(self, bind: tuple, outs: list[tuple], system_id: int):
+    def __init__(self, bind: tuple, outs: list[tuple]):
         self.sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
         self.sock.setblocking(False)
         self.sock.setsockopt(socket.SOL_SOCKET, socket.SO_SNDBUF, 1 << 20)
         self.sock.bind(bind)
-        self.system_id = system_id  # the vehicle behind this socket
         self._outs = list(dict.fromkeys(outs))
         self._heard: OrderedDict = OrderedDict()  # senders the link let be answered, least recent first
         self.counters = {"datagrams": 0, "send_errors": 0, "peers_evicted": 0}

@@ -1,8 +1,8 @@
 """One vehicle's MAVLink session, sans-IO.
 
 `receive(msg, now_s)` consumes one decoded message and returns the messages to send in answer;
-`poll(now_s)` returns what is due (heartbeat, telemetry streams, status texts). The socket layer
-packs and sends them; this class never touches a socket or a wall clock.
+`poll(now_s)` returns what is due (heartbeat, telemetry streams, status texts). The link layer
+(link.py) packs them and the I/O edge sends them; this class never touches a socket or a wall clock.
 """
 from __future__ import annotations
 
@@ -24,7 +24,7 @@ class Session:
     def __init__(self, vehicle, codec):
         self.vehicle = vehicle
         self.codec = codec
-        self.signing = LinkSigning(codec)  # off until a key is set; the socket layer admits frames
+        self.signing = LinkSigning(codec)  # off until a key is set; the link layer admits frames
         self.system_id = codec.srcSystem
         self.streams = StreamScheduler(vehicle.params)
         vehicle.params.on_change(self.streams.param_changed)

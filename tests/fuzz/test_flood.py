@@ -34,7 +34,7 @@ def _link(signing_key: bytes | None = None) -> mavlink_link.Link:
 
 
 def test_one_receive_reads_a_bounded_batch_and_kernel_drops_are_counted():
-    endpoint = udp.UdpEndpoint(("127.0.0.1", 0), [], 1)
+    endpoint = udp.UdpEndpoint(("127.0.0.1", 0), [])
     endpoint.sock.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 8192)  # overflow on purpose
     sent = 3000
     with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as client:
@@ -54,7 +54,7 @@ def test_one_receive_reads_a_bounded_batch_and_kernel_drops_are_counted():
 
 def test_a_flood_of_source_ports_cannot_grow_peers_or_parsers_without_bound():
     out = ("127.0.0.1", 9)
-    endpoint = udp.UdpEndpoint(("127.0.0.1", 0), [out], 1)
+    endpoint = udp.UdpEndpoint(("127.0.0.1", 0), [out])
     link = _link()
     clients = [socket.socket(socket.AF_INET, socket.SOCK_DGRAM) for _ in range(150)]
     for c in clients:
@@ -129,7 +129,7 @@ def test_unsigned_radio_status_from_many_ports_cannot_push_the_signed_gcs_off_th
 
     from autopilot.mavlink.signing import signing_time
     key = hashlib.sha256(b"soak").digest()
-    endpoint = udp.UdpEndpoint(("127.0.0.1", 0), [], 1)
+    endpoint = udp.UdpEndpoint(("127.0.0.1", 0), [])
     link = _link(key)
     link.advance(time.time(), 0.0)
     gcs_codec = new_codec(255, 190)

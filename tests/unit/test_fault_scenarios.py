@@ -70,7 +70,7 @@ def test_script_param_mistakes_are_found_when_the_file_is_read(step, words):
 
 
 class FakeEndpoint:
-    def __init__(self, bind, outs, system_id):
+    def __init__(self, bind, outs):
         self.address = bind
 
 

@@ -174,8 +174,8 @@ def test_parse_home_errors_are_one_line(text):
 
 # ----- command line (no sockets: the endpoint is a stand-in) ----------------------------------------
 class FakeEndpoint:
-    def __init__(self, bind, outs, system_id):
-        self.bind, self.outs, self.system_id = bind, outs, system_id
+    def __init__(self, bind, outs):
+        self.bind, self.outs = bind, outs
         self.address = bind
 
 
