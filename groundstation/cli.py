@@ -124,7 +124,7 @@ def main(argv=None) -> int:
     if args.command == "evaluate":
         if args.flight:
             quiet_mavsdk_logs()
-        from .evaluate import EvaluateError, evaluate
+        from .evaluation.evaluate import EvaluateError, evaluate
         try:
             return evaluate(args)
         except EvaluateError as exc:
@@ -133,18 +133,18 @@ def main(argv=None) -> int:
         except KeyboardInterrupt:
             return 130
     quiet_mavsdk_logs()
-    from .mission_files import MissionFileError
-    from .vehicle_link import LinkError
+    from .flight.mission_files import MissionFileError
+    from .flight.vehicle_link import LinkError
     try:
         if args.command == "demo":
-            from . import demo
+            from .flight import demo
             return demo.run(args.url, args.speedup, args.side, args.alt, args.plot)
         if args.command == "explore":
-            from . import explore
+            from .flight import explore
             return explore.run(args.url, args.scenario, args.policy, args.speedup, args.plot, not args.no_truth)
         if args.command == "mission":
-            from . import mission_runner
-            return mission_runner.run(args.file, args.url, args.speedup, args.plot)
+            from .flight import mission
+            return mission.run(args.file, args.url, args.speedup, args.plot)
     except MissionFileError as exc:
         print(f"groundstation: error: {exc}", file=sys.stderr)
         return 2

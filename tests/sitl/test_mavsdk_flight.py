@@ -11,7 +11,7 @@ from mavsdk.asyncio.plugins.action import ActionAsync
 from mavsdk.asyncio.plugins.param import ParamAsync
 from mavsdk.asyncio.plugins.telemetry import FlightMode, LandedState, TelemetryAsync
 
-from groundstation.vehicle_link import first  # fails (LinkError) naming what did not happen
+from groundstation.flight.vehicle_link import first  # fails (LinkError) naming what did not happen
 
 pytestmark = pytest.mark.sitl
 

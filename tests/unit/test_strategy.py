@@ -13,8 +13,8 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from groundstation import cli
-from groundstation.strategy import (Belief, EpisodeConfig, Geometry, Planner, PlannerConfig, StoppingRule,
-                                    make_policy, run_episode)
+from groundstation.evaluation.episodes import EpisodeConfig, run_episode
+from groundstation.strategy import Belief, Geometry, Planner, PlannerConfig, StoppingRule, make_policy
 from groundstation.strategy.policies import POLICIES, lanes
 from sim.fire import Fire, FireWorld, true_temperature
 
@@ -212,7 +212,7 @@ def test_episode_is_deterministic(name):
 
 
 def test_episode_worlds_follow_the_recipe():
-    from groundstation.strategy.episode import episode_world
+    from groundstation.evaluation.episodes import episode_world
     base = FireWorld(kernel="G", noise_k=3.0)
     for k in range(50):
         ew = episode_world(base, 5, k)
@@ -294,8 +294,8 @@ def test_block_masses_match_mass_around_and_the_declared_cell_holds_the_most():
 def test_a_flown_episode_scenario_file_keeps_the_scenario_and_loads_back_as_the_episode_world():
     import tomllib
     from autopilot.cli.scenario import scenario_from_dict
-    from groundstation.flown_episodes import scenario_text
-    from groundstation.strategy.episode import EpisodeConfig, episode_world
+    from groundstation.evaluation.flown_episodes import scenario_text
+    from groundstation.evaluation.episodes import EpisodeConfig, episode_world
     base = tomllib.loads(DEFAULT_SCENARIO.read_text())
     base |= {"wind": {"speed_m_s": 4.0, "from_direction_deg": 250.0}, "airframe": {"mass_kg": 1.6},
              "script": {"steps": [[0.5, "arm"]]}}
@@ -312,7 +312,7 @@ def test_a_flown_episode_scenario_file_keeps_the_scenario_and_loads_back_as_the_
 
 def test_flight_readings_reach_the_belief_at_the_evaluated_density():
     """10 Hz readings in flight become one belief observation per 5 m or per second."""
-    from groundstation.explore import Survey
+    from groundstation.flight.explore import Survey
     from groundstation.strategy import make_policy
     g = Geometry(area_m=200.0, survey_alt_m=25.0)
     survey = Survey(g, Belief(g, subcells=3), make_policy("gig"), StoppingRule(0.99, 1, 6000.0, 10.0))

@@ -1,6 +1,6 @@
 """`groundstation evaluate --flight K`: the first K decision-level episodes flown end to end.
 
-Each episode's world (its fire, strength and ambient, from strategy/episode.py) is written as a
+Each episode's world (its fire, strength and ambient, from episodes.py) is written as a
 scenario file, a real `autopilot` process is started on it at the given speedup, and
 `groundstation explore` flies the policy over MAVLink exactly as `make run` does. The flown result
 sits beside the decision-level result of the same episode, so one can see whether the figures of
@@ -18,10 +18,10 @@ from pathlib import Path
 
 from sim.fire import WORLD_KEYS, FireWorld
 
-from .autopilot_process import AutopilotProcess
-from .explore import explore
-from .strategy.episode import EpisodeConfig, episode_world
-from .vehicle_link import LinkError
+from ..flight.autopilot_process import AutopilotProcess
+from ..flight.explore import explore
+from .episodes import EpisodeConfig, episode_world
+from ..flight.vehicle_link import LinkError
 
 
 def scenario_text(base: dict, seed: int, world: FireWorld) -> str:

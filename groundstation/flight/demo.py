@@ -6,7 +6,7 @@ import asyncio
 import time
 from pathlib import Path
 
-from .mission_runner import write_plot
+from .mission import write_plot
 from .vehicle_link import VehicleLink
 
 

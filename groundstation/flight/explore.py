@@ -25,8 +25,8 @@ from mavsdk.asyncio.plugins.mavlink_direct import MavlinkDirectAsync
 
 from sim.fire import FireWorld
 
-from .strategy import Belief, Geometry, StoppingRule, make_policy
-from .strategy.episode import judge
+from ..strategy import Belief, Geometry, StoppingRule, make_policy
+from ..evaluation.episodes import judge
 from .vehicle_link import LinkError, VehicleLink, first
 
 TEMPERATURE_NAME = "GND_TEMP"

@@ -1,5 +1,5 @@
 """`groundstation evaluate`: every policy on the same seeded decision-level episodes
-(groundstation/strategy/episode.py), a table of the metrics STRATEGY.md asks for, the per-episode
+(episodes.py), a table of the metrics docs/strategy.md describes, the per-episode
 results as JSON and a PNG of the path-length distributions."""
 from __future__ import annotations
 
@@ -13,8 +13,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .strategy.episode import EpisodeConfig, run_episode
-from .strategy.policies import POLICIES, make_policy
+from .episodes import EpisodeConfig, run_episode
+from ..strategy.policies import POLICIES, make_policy
 
 
 class EvaluateError(ValueError):
@@ -80,7 +80,7 @@ def warm_up() -> None:
     """One throwaway decision per process, so one-time costs are not booked as decision time."""
     global _warm
     if not _warm:
-        from .strategy import Belief, Geometry, Planner
+        from ..strategy import Belief, Geometry, Planner
         b = Belief(Geometry(), subcells=3)
         b.update(0.0, 0.0, 20.0, 30.0)
         b.update(5.0, 0.0, 20.5, 30.0)

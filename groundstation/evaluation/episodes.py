@@ -35,9 +35,9 @@ import numpy as np
 
 from sim.fire import Fire, FireWorld, TemperatureSensor
 
-from .belief import Belief, Geometry
-from .policies import Policy
-from .stopping import Declaration, StoppingRule
+from ..strategy.belief import Belief, Geometry
+from ..strategy.policies import Policy
+from ..strategy.stopping import Declaration, StoppingRule
 
 STARTS = ("corner", "centre")
 
