@@ -1,4 +1,5 @@
-"""`groundstation`: the decision-layer companion. Subcommands: demo, mission, evaluate."""
+"""`groundstation`: the decision-layer companion. Subcommands: explore and evaluate (the fire search,
+flown and judged), mission and demo."""
 from __future__ import annotations
 
 import argparse
@@ -121,42 +122,36 @@ def main(argv=None) -> int:
     except CliError as exc:
         print(f"groundstation: error: {exc}", file=sys.stderr)
         return 2
-    if args.command == "evaluate":
-        if args.flight:
-            quiet_mavsdk_logs()
-        from .evaluation.evaluate import EvaluateError, evaluate
-        try:
-            return evaluate(args)
-        except EvaluateError as exc:
-            print(f"groundstation: error: {exc}", file=sys.stderr)
-            return 2
-        except KeyboardInterrupt:
-            return 130
-    quiet_mavsdk_logs()
+    if args.command != "evaluate" or args.flight:
+        quiet_mavsdk_logs()
+    from .evaluation.evaluate import EvaluateError
+    from .flight.autopilot_process import AutopilotExited
     from .flight.mission_files import MissionFileError
     from .flight.vehicle_link import LinkError
     try:
-        if args.command == "demo":
-            from .flight import demo
-            return demo.run(args.url, args.speedup, args.side, args.alt, args.plot)
-        if args.command == "explore":
-            from .flight import explore
-            return explore.run(args.url, args.scenario, args.policy, args.speedup, args.plot, not args.no_truth)
-        if args.command == "mission":
-            from .flight import mission
-            return mission.run(args.file, args.url, args.speedup, args.plot)
-    except MissionFileError as exc:
+        return run_command(args)
+    except (EvaluateError, MissionFileError, ValueError) as exc:  # ScenarioError is a ValueError
         print(f"groundstation: error: {exc}", file=sys.stderr)
         return 2
-    except ValueError as exc:  # bad policy name or scenario (ScenarioError is a ValueError)
-        print(f"groundstation: error: {exc}", file=sys.stderr)
-        return 2
-    except LinkError as exc:
+    except (LinkError, AutopilotExited) as exc:
         print(f"groundstation: {exc}", file=sys.stderr)
         return 1
     except KeyboardInterrupt:
         return 130
-    return 2
+
+
+def run_command(args) -> int:
+    if args.command == "evaluate":
+        from .evaluation.evaluate import evaluate
+        return evaluate(args)
+    if args.command == "demo":
+        from .flight import demo
+        return demo.run(args.url, args.speedup, args.side, args.alt, args.plot)
+    if args.command == "explore":
+        from .flight import explore
+        return explore.run(args.url, args.scenario, args.policy, args.speedup, args.plot, not args.no_truth)
+    from .flight import mission
+    return mission.run(args.file, args.url, args.speedup, args.plot)
 
 
 if __name__ == "__main__":

@@ -1,22 +1,13 @@
-"""Decision-level episodes: the strategy against the sim's fire world without flying the vehicle.
+"""Decision-level episodes: the search controller (strategy/controller.py) against the sim's fire
+world, without flying the vehicle.
 
 The vehicle starts at the area's corner (0, 0) or its centre, flies straight lines between the
-policy's waypoints at a constant speed (5 m/s) at the survey altitude, and takes a reading from
+controller's targets at the survey speed (5 m/s) at the survey altitude, and takes a reading from
 sim.fire.TemperatureSensor every sample interval (1 s: one reading per 5 m) and on arriving at a
-waypoint. The real sensor publishes at >= 5 Hz, i.e. a reading per metre or less at 5 m/s; one per
-5 m is the conservative choice (fewer readings, and the belief's updates stay cheap). After every
-reading the belief is updated and the stopping rule checked; the policy is asked for a new waypoint
-on arrival and, if it asks for it, while flying (gig: every 4 readings, i.e. 20 m).
-
-Declaring: the stopping rule of stopping.py, here with a 3 x 3 mass threshold of 0.99 (the rule's
-own default is STRATEGY's 0.95) and confirmation by flying over the cell (confirm_m = 10 m; None turns
-it off): once the belief is confident, the vehicle flies to the most likely cell's centre and declares
-there if the belief is still confident. A calibrated belief declared at mass t is wrong about 1 - t of
-the time, in practice a little more, as the declaration is taken at the first reading that crosses
-the threshold. Measured with gig on validation episodes (seed 1, episodes 100-299, not the ones
-reported): 0.95 alone was wrong in 3-4 % (R), 0.95 with confirmation in 0.5 % (R and G), 0.99 with
-confirmation never, for about 3 m more mean path than 0.95 with confirmation.
-Policies that ignore the belief (zigzag) end when their route ends.
+target. The real sensor publishes at >= 5 Hz, i.e. a reading per metre or less at 5 m/s; one per
+5 m is the conservative choice (fewer readings, and the belief's updates stay cheap), and the flight
+averages its readings to the same density. Every reading goes to the controller, which is then
+asked where to fly: the episode is the controller's driver, as the flight is.
 
 Episodes are generated from (scenario world, seed, episode index): one fire uniform in the area at
 least one cell from its edge, strength uniform 20-80 K, ambient uniform 15-35 C; the scenario's other
@@ -35,33 +26,26 @@ import numpy as np
 
 from sim.fire import Fire, FireWorld, TemperatureSensor
 
-from ..strategy.belief import Belief, Geometry
+from ..strategy.belief import Geometry
+from ..strategy.controller import SearchConfig, SearchController
 from ..strategy.policies import Policy
-from ..strategy.stopping import Declaration, StoppingRule
+from ..strategy.stopping import Declaration
 
 STARTS = ("corner", "centre")
 
 
 @dataclass(frozen=True)
-class EpisodeConfig:
-    speed_m_s: float = 5.0
-    sample_s: float = 1.0
+class EpisodeConfig(SearchConfig):
+    """The search's settings, and how the episode's world and start are drawn."""
     start: str = "corner"
-    threshold: float = 0.99
-    budget_m: float = 6000.0
     fixed_fire: bool = False
     strength_k: tuple = (20.0, 80.0)
     ambient_c: tuple = (15.0, 35.0)
-    prior_strength_mean_k: float = 50.0
-    prior_strength_sd_k: float = 25.0
-    subcells: int = 3
-    confirm_m: float | None = 10.0
 
     def __post_init__(self):
+        super().__post_init__()
         if self.start not in STARTS:
             raise ValueError(f"start must be one of {', '.join(STARTS)}, got {self.start!r}")
-        if not (self.speed_m_s > 0 and self.sample_s > 0):
-            raise ValueError("speed and sample interval must be positive")
 
 
 @dataclass
@@ -124,101 +108,56 @@ def start_position(geometry: Geometry, start: str) -> tuple[float, float]:
     return (0.0, 0.0) if start == "corner" else (geometry.area_m / 2, geometry.area_m / 2)
 
 
+def policy_rng(seed: int, index: int) -> np.random.Generator:
+    """The random stream the policy of episode `index` draws from."""
+    return np.random.default_rng(_mix(seed, index, 2))
+
+
 def run_episode(world: FireWorld, seed: int, index: int, policy: Policy,
-                config: EpisodeConfig = EpisodeConfig(), trace: list | None = None) -> EpisodeResult:
-    """One episode; `trace`, if given, receives (n, e, reading) for every reading."""
+                config: EpisodeConfig = EpisodeConfig(), trace: list | None = None,
+                steps: list | None = None) -> EpisodeResult:
+    """One episode; `trace`, if given, receives (n, e, reading) for every reading, and `steps` the
+    controller's answer (Goto or Declaration) after every reading."""
     ep_world = episode_world(world, seed, index, config)
     geometry = Geometry.from_world(ep_world)
     sensor = TemperatureSensor(ep_world, seed=(seed * 1_000_003 + index) & 0xFFFFFFFF)
-    belief = Belief(geometry, config.prior_strength_mean_k, config.prior_strength_sd_k,
-                    subcells=config.subcells)
-    rule = StoppingRule(config.threshold, 1, config.budget_m, config.confirm_m)
     alt = geometry.survey_alt_m
     pos = start_position(geometry, config.start)
-    policy.reset(geometry, pos, np.random.default_rng(_mix(seed, index, 2)))
-
-    t = 0.0
-    path = 0.0
+    controller = SearchController(geometry, policy, config, pos, policy_rng(seed, index), time.perf_counter)
+    step_m = config.observation_spacing_m
+    t = path = 0.0
     readings = 0
-    step = config.speed_m_s * config.sample_s
-    max_readings = int(4 * config.budget_m / step) + 100  # guards against a policy that never moves
-    times: list[float] = []
-
-    def read():
-        nonlocal readings
+    arrived = False
+    while True:
         z = sensor.read(pos[0], pos[1], alt, t)
-        belief.update(pos[0], pos[1], z, alt)
-        policy.observe(pos[0], pos[1], z)
+        controller.observe(pos[0], pos[1], z, alt)
         readings += 1
         if trace is not None:
             trace.append((pos[0], pos[1], z))
-
-    def decide():
-        t0 = time.perf_counter()
-        wp = policy.next_waypoint(belief, pos)
-        times.append(time.perf_counter() - t0)
-        if wp is not None:
-            wp = (float(wp[0]), float(wp[1]))
-            a = geometry.area_m
-            if not (0 <= wp[0] <= a and 0 <= wp[1] <= a and math.isfinite(wp[0]) and math.isfinite(wp[1])):
-                raise RuntimeError(f"policy {policy.name} chose a waypoint outside the area: {wp}")
-        return wp
-
-    read()
-    need_decision, target, since = True, None, 0
-    declaration: Declaration | None = None
-    declared_by = ""
-    confirming = False
-    while True:
-        if policy.uses_stopping_rule:
-            declaration = rule.confident(belief)
-            if declaration is not None:
-                declared_by = "confident"
-                break
-        if path >= config.budget_m or readings >= max_readings:
-            declaration, declared_by = rule.force(belief, "budget"), "budget"
+        move = controller.step(pos, path, arrived)
+        if steps is not None:
+            steps.append(move)
+        if isinstance(move, Declaration):
             break
-        if policy.uses_stopping_rule and config.confirm_m is not None:
-            check = rule.to_confirm(belief)
-            if check is not None:  # confident but not yet flown over: go and look
-                target, confirming, need_decision = check, True, False
-            elif confirming:  # the readings on the way overturned it: back to the policy
-                confirming, need_decision = False, True
-        if need_decision:
-            target, since, need_decision = decide(), 0, False
-            if target is None:
-                declaration, declared_by = rule.force(belief, "end"), "end"
-                break
-        dn, de = target[0] - pos[0], target[1] - pos[1]
+        dn, de = move.target[0] - pos[0], move.target[1] - pos[1]
         d = math.hypot(dn, de)
-        if d <= step:
-            pos = target
+        arrived = d <= step_m
+        if arrived:
+            pos = move.target
             path += d
             t += d / config.speed_m_s if d > 0 else config.sample_s
-            need_decision = True
         else:
-            pos = (pos[0] + dn * step / d, pos[1] + de * step / d)
-            path += step
+            pos = (pos[0] + dn * step_m / d, pos[1] + de * step_m / d)
+            path += step_m
             t += config.sample_s
-        read()
-        since += 1
-        if not need_decision and policy.wants_replan(since):
-            need_decision = True
 
-    declared = declaration.position
-    own = policy.declaration(belief)
-    if own is not None:
-        declared = (float(own[0]), float(own[1]))
-    index_decl = geometry.cell_of(*declared)
-    declared = geometry.centre_of(index_decl)
-    error, success = judge(ep_world, *declared)
-    forced = declared_by == "budget" or (declared_by != "confident" and policy.uses_stopping_rule)
-    ms = [1000.0 * x for x in times]
+    error, success = judge(ep_world, *move.position)
+    ms = [1000.0 * x for x in controller.decision_s]
     return EpisodeResult(
         policy=policy.name, episode=index, seed=seed, kernel=ep_world.kernel, start=config.start,
         fires=[(f.n_m, f.e_m, f.strength_k) for f in ep_world.fires], ambient_c=ep_world.ambient_c,
-        path_m=path, declared=declared, declared_cell=index_decl, error_m=error,
-        success=bool(success), declared_by=declared_by, forced=bool(forced),
-        false_declaration=bool(declared_by == "confident" and not success),
-        mass=belief.mass_around(index_decl, 1), readings=readings, decisions=len(times),
+        path_m=path, declared=move.position, declared_cell=move.index, error_m=error,
+        success=bool(success), declared_by=move.reason, forced=move.forced,
+        false_declaration=bool(move.reason == "confident" and not success),
+        mass=move.mass, readings=readings, decisions=controller.decisions,
         ms_mean=float(np.mean(ms)) if ms else 0.0, ms_max=float(np.max(ms)) if ms else 0.0)

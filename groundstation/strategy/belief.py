@@ -1,5 +1,5 @@
 """The belief: a probability per cell that it holds the fire, with the unknown ambient b and fire
-strength A integrated out exactly (docs: STRATEGY.md, "Belief").
+strength A integrated out exactly (docs/strategy.md, "Belief").
 
 Reading model for the hypothesis "the fire is at point q":
     z = b + A * g_q(x) + eps,   eps ~ N(0, sigma^2),

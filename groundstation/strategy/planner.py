@@ -1,4 +1,4 @@
-"""Information gain per unit of travel (docs: STRATEGY.md, "Choosing the next move").
+"""Information gain per unit of travel (docs/strategy.md, "Choosing where to fly").
 
 Candidates: a coarse lattice over the area, points around the current position at a few radii and
 directions, and the most likely cell's centre; all clipped to the area. For each candidate x the
@@ -10,7 +10,7 @@ cells whose prediction at x stands out from the mixture's mean, see _draws), eac
 normal quantile. The systematic offset and the quantiles are shared by all candidates of a decision
 (common random numbers), so candidates are compared on alike hypothetical futures.
 
-The score is gain / (1 + distance / d0). STRATEGY writes 1 + distance, i.e. d0 = 1 m; d0 is the
+The score is gain / (1 + distance / d0); 1 + distance alone would be d0 = 1 m. d0 is the
 distance whose flight costs as much as the reading's information is worth (a candidate d0 away is
 worth half of the same information at the vehicle). Our sensor samples all the way (a reading per
 5 m in the episodes), so flying is never wasted and the choice is a trade-off between heading for

@@ -1,4 +1,4 @@
-"""When to declare the fire (docs: STRATEGY.md, "Stopping").
+"""When to declare the fire (docs/strategy.md, "When to declare").
 
 Declare as soon as the belief mass in the (2r+1) x (2r+1) block around the most likely cell (3 x 3
 by default) reaches the threshold (0.95 by default). The cell declared is the one whose block holds
@@ -8,10 +8,10 @@ the mass covers it better, and success is judged on exactly that block ("within 
 block mass is at least the most likely cell's. If the path budget runs out first, that cell is
 declared anyway and the declaration is marked forced.
 
-Confirmation (STRATEGY: "optionally fly over it to confirm"): with confirm_m set, a confident
-belief is declared only once a reading has been taken within confirm_m of the cell's centre;
-until then to_confirm() names the centre to fly to, and the readings on the way either keep the
-belief confident (declared on arrival) or overturn it (the policy takes over again).
+Confirmation: with confirm_m set, a confident belief is declared only once a reading has been
+taken within confirm_m of the cell's centre; until then to_confirm() names the centre to fly to,
+and the readings on the way either keep the belief confident (declared on arrival) or overturn it
+(the policy takes over again; strategy/controller.py).
 """
 from __future__ import annotations
 
@@ -25,7 +25,8 @@ class Declaration:
     position: tuple[float, float]  # (n, e) of the declared cell's centre, local metres
     index: tuple[int, int]         # (i_north, j_east) of the declared cell
     mass: float                    # belief mass in the block around it
-    forced: bool                   # True: the budget ran out before the belief was confident
+    forced: bool                   # True: declared without the belief being confident (the budget ran out,
+                                   # or a policy that relies on the belief had nothing more to do)
     reason: str                    # "confident" or "budget"
 
 

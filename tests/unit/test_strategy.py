@@ -308,25 +308,3 @@ def test_a_flown_episode_scenario_file_keeps_the_scenario_and_loads_back_as_the_
         assert loaded.home == original.home and loaded.home_yaw_deg == original.home_yaw_deg
         assert loaded.sim.wind == original.sim.wind and loaded.sim.airframe == original.sim.airframe
         assert loaded.script == []  # the companion flies it
-
-
-def test_flight_readings_reach_the_belief_at_the_evaluated_density():
-    """10 Hz readings in flight become one belief observation per 5 m or per second."""
-    from groundstation.flight.explore import Survey
-    from groundstation.strategy import make_policy
-    g = Geometry(area_m=200.0, survey_alt_m=25.0)
-    survey = Survey(g, Belief(g, subcells=3), make_policy("gig"), StoppingRule(0.99, 1, 6000.0, 10.0))
-    survey.policy.reset(g, (0.0, 0.0), np.random.default_rng(0))
-    t = 0
-    for k in range(101):  # 10 s north at 5 m/s, then 3 s hovering
-        t = 100 * k
-        survey.add_position(t, 0.5 * k, 10.0, -25.0)
-        survey.add_reading(t, 20.0)
-    moving = survey.observations
-    for k in range(1, 31):
-        survey.add_position(t + 100 * k, 50.0, 10.0, -25.0)
-        survey.add_reading(t + 100 * k, 20.0)
-    assert survey.readings == 131
-    assert 9 <= moving <= 10  # 50 m flown: one per 5 m
-    assert 2 <= survey.observations - moving <= 3  # hovering still gives the belief a look each second
-    assert survey.belief.n == survey.observations
