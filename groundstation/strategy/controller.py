@@ -57,6 +57,8 @@ class SearchConfig:
     def __post_init__(self):
         if not (self.speed_m_s > 0 and self.sample_s > 0):
             raise ValueError("speed and sample interval must be positive")
+        if not self.budget_m > 0:
+            raise ValueError("budget_m must be positive")
 
     @property
     def observation_spacing_m(self) -> float:
@@ -79,7 +81,7 @@ class SearchController:
         self.config = config
         self.belief = Belief(geometry, config.prior_strength_mean_k, config.prior_strength_sd_k,
                              subcells=config.subcells)
-        self.rule = StoppingRule(config.threshold, 1, config.budget_m, config.confirm_m)
+        self.rule = StoppingRule(config.threshold, 1, config.confirm_m)
         self.timer = timer
         self.max_observations = int(4 * config.budget_m / config.observation_spacing_m) + 100
         self.observations = 0

@@ -62,14 +62,6 @@ class PlannerConfig:
     block_elements: int = 12000           # candidates x samples x cells per vectorised block
 
 
-@dataclass
-class Decision:
-    waypoint: tuple[float, float]
-    gain: float
-    score: float
-    candidates: int
-
-
 class Planner:
     def __init__(self, geometry: Geometry, config: PlannerConfig = PlannerConfig(),
                  rng: np.random.Generator | None = None):
@@ -86,7 +78,6 @@ class Planner:
                                 ).reshape(-1, 2)
         m = config.samples
         self.quantiles = np.array([NormalDist().inv_cdf((j + 0.5) / m) for j in range(m)])
-        self.last: Decision | None = None
         self.target: np.ndarray | None = None
 
     # ----- candidates ------------------------------------------------------------------------------
@@ -171,7 +162,6 @@ class Planner:
         dist = np.hypot(pts[:, 0] - pos[0], pts[:, 1] - pos[1])
         if belief.n == 0:
             centre = self.geometry.area_m / 2
-            self.last = Decision((centre, centre), 0.0, 0.0, len(pts))
             return centre, centre
         gains = self.gains(belief, pts)
         score = self.score(gains, dist)
@@ -186,5 +176,4 @@ class Planner:
             if same.size and score[same[0]] * self.config.keep_target >= best:
                 k = int(same[0])
         self.target = pts[k].copy()
-        self.last = Decision((float(pts[k, 0]), float(pts[k, 1])), float(gains[k]), float(score[k]), len(pts))
-        return self.last.waypoint
+        return float(pts[k, 0]), float(pts[k, 1])
