@@ -63,7 +63,8 @@ def build_parser() -> argparse.ArgumentParser:
     ev.add_argument("--no-confirm", action="store_true", help="declare as soon as the belief is confident")
     ev.add_argument("--subcells", type=count, default=3, help="sub-positions per cell side in the belief (default 3)")
     ev.add_argument("--budget", type=positive, default=6000.0, help="path budget [m] before a forced declaration")
-    ev.add_argument("--speed", type=positive, default=5.0, help="flight speed [m/s]; one reading per second")
+    ev.add_argument("--speed", type=positive, default=5.0,
+                    help="survey speed [m/s], flown too with --flight; one observation per second")
     ev.add_argument("--fixed-fire", action="store_true", help="use the scenario's fires and ambient in every episode")
     ev.add_argument("--jobs", type=count, default=1, help="worker processes (default 1: decision times undisturbed)")
     ev.add_argument("--json", type=Path, default=None, help="write every episode's result to this JSON file")
