@@ -99,8 +99,7 @@ def rtf_headless(runs: int, compiled: bool = True) -> dict:
 # ----- process start-up ------------------------------------------------------------------------------
 def startup(runs: int) -> dict:
     from pymavlink import mavutil
-    sys.path.insert(0, str(ROOT / "tests"))
-    from sitl.conftest import free_udp_port
+    from groundstation.flight.autopilot_process import free_udp_port
     hb_times, armable_times = [], []
     # Byte-compile first, as a (non-editable) pip install does: a user's second start never
     # compiles sources, and this machine's PYTHONDONTWRITEBYTECODE=1 would otherwise make every run pay it.
@@ -134,18 +133,14 @@ def startup(runs: int) -> dict:
 # ----- the MAVSDK flight of the SITL tests -----------------------------------------------------------
 def mavsdk_flight(speedup: str) -> float | None:
     """Wall seconds for the flight at this speedup, or None if it failed."""
-    sys.path.insert(0, str(ROOT))
-    from tests.sitl.conftest import start_autopilot
-    from tests.sitl.test_mavsdk_flight import fly_takeoff_goto_rtl
-    ap = start_autopilot(ROOT / "bench" / "tmp", speedup)
+    from groundstation.flight.autopilot_process import start_autopilot
+    from groundstation.flight.reference_flight import fly_takeoff_goto_rtl, north_east_m
+    ap = start_autopilot(ROOT / "bench" / "tmp" / "state", speedup, cwd=ROOT)
     t0 = time.monotonic()
     try:
         seen = asyncio.run(fly_takeoff_goto_rtl(ap.mavsdk_url, timeout_scale=max(1.0, 10.0 / float(speedup))))
         wall = time.monotonic() - t0
-        home, final = seen["home"], seen["final"]
-        n = (final.latitude_deg - home.latitude_deg) * 111_320
-        e = (final.longitude_deg - home.longitude_deg) * 111_320 * math.cos(math.radians(home.latitude_deg))
-        return wall if math.hypot(n, e) < 2.0 else None
+        return wall if math.hypot(*north_east_m(seen["final"], seen["home"])) < 2.0 else None
     except (AssertionError, Exception) as exc:  # noqa: BLE001 - a failed flight is a data point
         progress(f"speedup {speedup}: flight failed ({exc})")
         return None
@@ -195,8 +190,7 @@ def swarm_trial(count: int, window_s: float, segments: int = 6) -> dict:
     """Run `autopilot --count N` at 1x; sim time of vehicle 1 (SYSTEM_TIME) against wall time over
     the window, and over each of its `segments` equal parts (for median, min and max)."""
     from pymavlink import mavutil
-    sys.path.insert(0, str(ROOT / "tests"))
-    from sitl.conftest import free_udp_port
+    from groundstation.flight.autopilot_process import free_udp_port
     port = free_udp_port()
     conn = mavutil.mavlink_connection(f"udpin:127.0.0.1:{port}", source_system=255)
     proc = subprocess.Popen([sys.executable, "-m", "autopilot", "--count", str(count), "--speedup", "1",

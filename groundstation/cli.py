@@ -1,4 +1,5 @@
-"""`groundstation`: the decision-layer companion. Subcommands: demo, mission, evaluate."""
+"""`groundstation`: the decision-layer companion. Subcommands: explore and evaluate (the fire search,
+flown and judged), mission and demo."""
 from __future__ import annotations
 
 import argparse
@@ -62,7 +63,8 @@ def build_parser() -> argparse.ArgumentParser:
     ev.add_argument("--no-confirm", action="store_true", help="declare as soon as the belief is confident")
     ev.add_argument("--subcells", type=count, default=3, help="sub-positions per cell side in the belief (default 3)")
     ev.add_argument("--budget", type=positive, default=6000.0, help="path budget [m] before a forced declaration")
-    ev.add_argument("--speed", type=positive, default=5.0, help="flight speed [m/s]; one reading per second")
+    ev.add_argument("--speed", type=positive, default=5.0,
+                    help="survey speed [m/s], flown too with --flight; one observation per second")
     ev.add_argument("--fixed-fire", action="store_true", help="use the scenario's fires and ambient in every episode")
     ev.add_argument("--jobs", type=count, default=1, help="worker processes (default 1: decision times undisturbed)")
     ev.add_argument("--json", type=Path, default=None, help="write every episode's result to this JSON file")
@@ -121,42 +123,36 @@ def main(argv=None) -> int:
     except CliError as exc:
         print(f"groundstation: error: {exc}", file=sys.stderr)
         return 2
-    if args.command == "evaluate":
-        if args.flight:
-            quiet_mavsdk_logs()
-        from .evaluate import EvaluateError, evaluate
-        try:
-            return evaluate(args)
-        except EvaluateError as exc:
-            print(f"groundstation: error: {exc}", file=sys.stderr)
-            return 2
-        except KeyboardInterrupt:
-            return 130
-    quiet_mavsdk_logs()
-    from .mission_files import MissionFileError
-    from .vehicle_link import LinkError
+    if args.command != "evaluate" or args.flight:
+        quiet_mavsdk_logs()
+    from .evaluation.evaluate import EvaluateError
+    from .flight.autopilot_process import AutopilotExited
+    from .flight.mission_files import MissionFileError
+    from .flight.vehicle_link import LinkError
     try:
-        if args.command == "demo":
-            from . import demo
-            return demo.run(args.url, args.speedup, args.side, args.alt, args.plot)
-        if args.command == "explore":
-            from . import explore
-            return explore.run(args.url, args.scenario, args.policy, args.speedup, args.plot, not args.no_truth)
-        if args.command == "mission":
-            from . import mission_runner
-            return mission_runner.run(args.file, args.url, args.speedup, args.plot)
-    except MissionFileError as exc:
+        return run_command(args)
+    except (EvaluateError, MissionFileError, ValueError) as exc:  # ScenarioError is a ValueError
         print(f"groundstation: error: {exc}", file=sys.stderr)
         return 2
-    except ValueError as exc:  # bad policy name or scenario (ScenarioError is a ValueError)
-        print(f"groundstation: error: {exc}", file=sys.stderr)
-        return 2
-    except LinkError as exc:
+    except (LinkError, AutopilotExited) as exc:
         print(f"groundstation: {exc}", file=sys.stderr)
         return 1
     except KeyboardInterrupt:
         return 130
-    return 2
+
+
+def run_command(args) -> int:
+    if args.command == "evaluate":
+        from .evaluation.evaluate import evaluate
+        return evaluate(args)
+    if args.command == "demo":
+        from .flight import demo
+        return demo.run(args.url, args.speedup, args.side, args.alt, args.plot)
+    if args.command == "explore":
+        from .flight import explore
+        return explore.run(args.url, args.scenario, args.policy, args.speedup, args.plot, not args.no_truth)
+    from .flight import mission
+    return mission.run(args.file, args.url, args.speedup, args.plot)
 
 
 if __name__ == "__main__":

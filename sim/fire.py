@@ -1,6 +1,6 @@
 """The fire world: fires, the temperature field they make, and the downward radiometric sensor.
 
-Reading model (docs: STRATEGY.md): z = b + sum_f A_f * g(r_f) + noise, r_f the horizontal distance
+Reading model (docs/strategy.md): z = b + sum_f A_f * g(r_f) + noise, r_f the horizontal distance
 from the sensor to fire f. Kernels:
   R (radiant point source, default): g = h^2 / (h^2 + r^2), h the sensor's height above ground —
     the inverse-square fall-off of radiant flux q = chi*Q / (4 pi R^2) with R^2 = h^2 + r^2;

@@ -1,5 +1,5 @@
 """The belief: a probability per cell that it holds the fire, with the unknown ambient b and fire
-strength A integrated out exactly (docs: STRATEGY.md, "Belief").
+strength A integrated out exactly (docs/strategy.md, "Belief").
 
 Reading model for the hypothesis "the fire is at point q":
     z = b + A * g_q(x) + eps,   eps ~ N(0, sigma^2),
@@ -194,10 +194,6 @@ class Belief:
                 self._cache = (log_ev, precision, h / precision, g_bar, p, logp, rep)
         return self._cache
 
-    def log_evidence(self) -> np.ndarray:
-        """log p(readings | cell) up to a cell-independent constant, flat array over cells."""
-        return self.log_p - self.log_p.max()
-
     @property
     def p(self) -> np.ndarray:
         """Probabilities as a flat array over cells (read-only view; do not modify)."""
@@ -297,11 +293,3 @@ class Belief:
         inv2v = 0.5 / var
         logw = base[..., None, :] - (z[..., None] - mean[..., None, :]) ** 2 * inv2v[..., None, :]
         return entropy_of_log_weights(logw)
-
-    def copy(self) -> "Belief":
-        other = Belief.__new__(Belief)
-        other.__dict__.update(self.__dict__)
-        other.s_g, other.s_gg, other.s_gz = self.s_g.copy(), self.s_gg.copy(), self.s_gz.copy()
-        other.closest_r2 = self.closest_r2.copy()
-        other._cache = None
-        return other

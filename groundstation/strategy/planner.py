@@ -1,4 +1,4 @@
-"""Information gain per unit of travel (docs: STRATEGY.md, "Choosing the next move").
+"""Information gain per unit of travel (docs/strategy.md, "Choosing where to fly").
 
 Candidates: a coarse lattice over the area, points around the current position at a few radii and
 directions, and the most likely cell's centre; all clipped to the area. For each candidate x the
@@ -10,7 +10,7 @@ cells whose prediction at x stands out from the mixture's mean, see _draws), eac
 normal quantile. The systematic offset and the quantiles are shared by all candidates of a decision
 (common random numbers), so candidates are compared on alike hypothetical futures.
 
-The score is gain / (1 + distance / d0). STRATEGY writes 1 + distance, i.e. d0 = 1 m; d0 is the
+The score is gain / (1 + distance / d0); 1 + distance alone would be d0 = 1 m. d0 is the
 distance whose flight costs as much as the reading's information is worth (a candidate d0 away is
 worth half of the same information at the vehicle). Our sensor samples all the way (a reading per
 5 m in the episodes), so flying is never wasted and the choice is a trade-off between heading for
@@ -62,14 +62,6 @@ class PlannerConfig:
     block_elements: int = 12000           # candidates x samples x cells per vectorised block
 
 
-@dataclass
-class Decision:
-    waypoint: tuple[float, float]
-    gain: float
-    score: float
-    candidates: int
-
-
 class Planner:
     def __init__(self, geometry: Geometry, config: PlannerConfig = PlannerConfig(),
                  rng: np.random.Generator | None = None):
@@ -86,7 +78,6 @@ class Planner:
                                 ).reshape(-1, 2)
         m = config.samples
         self.quantiles = np.array([NormalDist().inv_cdf((j + 0.5) / m) for j in range(m)])
-        self.last: Decision | None = None
         self.target: np.ndarray | None = None
 
     # ----- candidates ------------------------------------------------------------------------------
@@ -171,7 +162,6 @@ class Planner:
         dist = np.hypot(pts[:, 0] - pos[0], pts[:, 1] - pos[1])
         if belief.n == 0:
             centre = self.geometry.area_m / 2
-            self.last = Decision((centre, centre), 0.0, 0.0, len(pts))
             return centre, centre
         gains = self.gains(belief, pts)
         score = self.score(gains, dist)
@@ -186,5 +176,4 @@ class Planner:
             if same.size and score[same[0]] * self.config.keep_target >= best:
                 k = int(same[0])
         self.target = pts[k].copy()
-        self.last = Decision((float(pts[k, 0]), float(pts[k, 1])), float(gains[k]), float(score[k]), len(pts))
-        return self.last.waypoint
+        return float(pts[k, 0]), float(pts[k, 1])

@@ -1,5 +1,5 @@
 """Policies: where to fly next. One small interface, the belief-driven planners and the baselines
-STRATEGY.md asks for, each implemented to do its job as well as its idea allows.
+of docs/strategy.md, each implemented to do its job as well as its idea allows.
 
     policy.reset(geometry, start, rng)         before an episode
     policy.observe(n, e, z)                    every reading (most policies ignore it)

@@ -1,17 +1,17 @@
-"""When to declare the fire (docs: STRATEGY.md, "Stopping").
+"""When to declare the fire (docs/strategy.md, "When to declare").
 
 Declare as soon as the belief mass in the (2r+1) x (2r+1) block around the most likely cell (3 x 3
 by default) reaches the threshold (0.95 by default). The cell declared is the one whose block holds
 the most mass: usually the most likely cell itself, but when the mass straddles a cell border (a
 fire near the edge between two cells, with a third cell beyond) the block centred on the middle of
 the mass covers it better, and success is judged on exactly that block ("within one cell"). Its
-block mass is at least the most likely cell's. If the path budget runs out first, that cell is
-declared anyway and the declaration is marked forced.
+block mass is at least the most likely cell's. When the search has to end without a confident
+belief (its path budget spent), force() declares that cell anyway, marked forced.
 
-Confirmation (STRATEGY: "optionally fly over it to confirm"): with confirm_m set, a confident
-belief is declared only once a reading has been taken within confirm_m of the cell's centre;
-until then to_confirm() names the centre to fly to, and the readings on the way either keep the
-belief confident (declared on arrival) or overturn it (the policy takes over again).
+Confirmation: with confirm_m set, a confident belief is declared only once a reading has been
+taken within confirm_m of the cell's centre; until then to_confirm() names the centre to fly to,
+and the readings on the way either keep the belief confident (declared on arrival) or overturn it
+(the policy takes over again; strategy/controller.py).
 """
 from __future__ import annotations
 
@@ -25,7 +25,8 @@ class Declaration:
     position: tuple[float, float]  # (n, e) of the declared cell's centre, local metres
     index: tuple[int, int]         # (i_north, j_east) of the declared cell
     mass: float                    # belief mass in the block around it
-    forced: bool                   # True: the budget ran out before the belief was confident
+    forced: bool                   # True: declared without the belief being confident (the budget ran out,
+                                   # or a policy that relies on the belief had nothing more to do)
     reason: str                    # "confident" or "budget"
 
 
@@ -33,7 +34,6 @@ class Declaration:
 class StoppingRule:
     threshold: float = 0.95
     radius_cells: int = 1
-    budget_m: float = 6000.0
     confirm_m: float | None = None
 
     def __post_init__(self):
@@ -41,8 +41,6 @@ class StoppingRule:
             raise ValueError(f"threshold must be within (0, 1], got {self.threshold}")
         if self.radius_cells < 0:
             raise ValueError("radius_cells must be zero or positive")
-        if not self.budget_m > 0:
-            raise ValueError("budget_m must be positive")
         if self.confirm_m is not None and not self.confirm_m >= 0:
             raise ValueError("confirm_m must be zero or positive")
 
@@ -74,13 +72,6 @@ class StoppingRule:
         if found is None or belief.closest_reading_m(found[1]) <= self.confirm_m:
             return None
         return found[0]
-
-    def check(self, belief: Belief, path_m: float) -> Declaration | None:
-        """Confident declaration, else a forced one once path_m reaches the budget, else None."""
-        found = self.confident(belief)
-        if found is not None or path_m < self.budget_m:
-            return found
-        return self.force(belief, "budget")
 
     def force(self, belief: Belief, reason: str = "budget") -> Declaration:
         index, mass = belief.best_block(self.radius_cells)

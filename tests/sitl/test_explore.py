@@ -1,19 +1,34 @@
 """`groundstation explore` against the real autopilot on a small world: the fire it declares is
-the scenario's, within one cell, and the vehicle ends on the ground at home, disarmed."""
+the scenario's, within one cell, and the vehicle ends on the ground at home, disarmed. The flown
+episodes of `evaluate --flight` keep the search's settings, and a companion whose own autopilot
+process exits says so at once."""
 from __future__ import annotations
 
+import asyncio
 import json
+import math
 import re
 import subprocess
 import sys
 
 import pytest
 
+from groundstation.flight.autopilot_process import AutopilotExited, start_autopilot
+from groundstation.flight.vehicle_link import VehicleLink
+
 from .conftest import REPO, free_udp_port
 from .pymav import Gcs
 
 pytestmark = pytest.mark.sitl
 SMALL_WORLD = REPO / "tests" / "sitl" / "data" / "small_world.toml"
+
+
+@pytest.fixture
+def refused_scenario(tmp_path):
+    """The small world with a [faults] table the autopilot refuses (the companion reads only the world)."""
+    path = tmp_path / "refused.toml"
+    path.write_text(SMALL_WORLD.read_text() + "\n[faults]\nSIM_NOT_A_FAULT = 1\n")
+    return path
 
 
 def test_explore_finds_the_fire_and_lands(autopilot_factory, tmp_path):
@@ -64,3 +79,69 @@ def test_evaluate_flight_flies_an_episode_and_lands_it_at_home(tmp_path):
     assert abs(n - fire_n) <= 15.0 and abs(e - fire_e) <= 15.0, (flight["declared"], flight["fire"])
     assert flight["landed_from_home_m"] < 5.0
     assert "flown: success 1.00" in result.stdout
+
+
+def test_evaluate_flight_flies_with_the_budget_and_speed_it_is_given(tmp_path):
+    out = tmp_path / "flight.json"
+    result = subprocess.run([sys.executable, "-m", "groundstation", "evaluate", "--scenario", str(SMALL_WORLD),
+                             "--episodes", "2", "--policies", "gig", "--flight", "2", "--budget", "120",
+                             "--speed", "10", "--no-confirm", "--threshold", "0.9", "--json", str(out)],
+                            cwd=REPO, capture_output=True, text=True, timeout=240)
+    assert result.returncode == 0, result.stdout[-2000:] + result.stderr[-2000:]
+    flights = json.loads(out.read_text())["flights"]["episodes"]
+    assert all(f["flown"] for f in flights), flights
+    # The search stops within one observation (10 m at 10 m/s) of the 120 m budget (6,000 m by default)...
+    assert all(f["path_m"] <= 120.0 + 10.0 + 1.0 for f in flights), flights
+    # ...and flies faster than the default 5 m/s would allow, hovering and turning included.
+    assert sum(f["path_m"] for f in flights) / sum(f["survey_vehicle_s"] for f in flights) > 6.0, flights
+
+
+def test_a_scenario_its_autopilot_refuses_ends_explore_at_once_with_one_line(refused_scenario, tmp_path):
+    result = subprocess.run([sys.executable, "-m", "groundstation", "explore", "--scenario", str(refused_scenario),
+                             "--plot", str(tmp_path / "x.png")], cwd=REPO, capture_output=True, text=True, timeout=60)
+    assert result.returncode == 1
+    lines = result.stderr.strip().splitlines()
+    assert len(lines) == 1, result.stderr
+    # The process's own exit, not the connection timeout ("no autopilot answered") that came 15 s later.
+    assert lines[0].startswith("groundstation: autopilot exited with status 2") and "SIM_NOT_A_FAULT" in lines[0]
+
+
+def test_evaluate_flight_stops_at_the_first_episode_its_autopilot_refuses(refused_scenario):
+    result = subprocess.run([sys.executable, "-m", "groundstation", "evaluate", "--scenario", str(refused_scenario),
+                             "--episodes", "1", "--policies", "gig", "--flight", "1"],
+                            cwd=REPO, capture_output=True, text=True, timeout=60)
+    assert result.returncode == 1
+    assert "Traceback" not in result.stderr and "no autopilot answered" not in result.stderr
+    last = result.stderr.strip().splitlines()[-1]
+    assert last.startswith("groundstation: autopilot exited with status 2") and "SIM_NOT_A_FAULT" in last
+
+
+async def test_guard_cancels_the_flight_when_its_autopilot_exits(refused_scenario, tmp_path):
+    ap = start_autopilot(tmp_path / "state", extra=("--scenario", str(refused_scenario)), cwd=REPO,
+                         capture_stderr=True)
+    cleaned_up = []
+
+    async def flight_waiting_for_a_vehicle():
+        try:
+            await asyncio.Event().wait()  # nothing will ever answer
+        finally:
+            cleaned_up.append(True)
+    try:
+        with pytest.raises(AutopilotExited, match=r"status 2 \(autopilot: error: .*SIM_NOT_A_FAULT"):
+            await ap.guard(flight_waiting_for_a_vehicle())
+    finally:
+        assert ap.stop() == 2
+    assert cleaned_up == [True]
+
+
+async def test_guard_passes_the_flight_result_while_its_autopilot_runs(autopilot):
+    async def home_of_the_vehicle():
+        link = await VehicleLink.connect(autopilot.mavsdk_url)
+        try:
+            await link.wait_armable()
+            return link.home
+        finally:
+            link.close()
+    home = await autopilot.guard(home_of_the_vehicle())
+    assert math.isclose(home.latitude_deg, -35.363261, abs_tol=1e-6)
+    assert autopilot.process.poll() is None

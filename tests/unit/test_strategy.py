@@ -13,8 +13,9 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from groundstation import cli
-from groundstation.strategy import (Belief, EpisodeConfig, Geometry, Planner, PlannerConfig, StoppingRule,
-                                    make_policy, run_episode)
+from groundstation.evaluation.episodes import EpisodeConfig, run_episode
+from groundstation.strategy import Belief, Geometry, Planner, PlannerConfig, StoppingRule, make_policy
+from groundstation.strategy.controller import SearchConfig
 from groundstation.strategy.policies import POLICIES, lanes
 from sim.fire import Fire, FireWorld, true_temperature
 
@@ -102,8 +103,7 @@ def test_entropy_after_a_hypothetical_reading_matches_the_update_and_leaves_the_
     x, z = (200.0, 150.0), 31.5
     predicted = float(b.entropy_after(x[0], x[1], np.array([z]))[0])
     assert np.array_equal(b.probabilities(), before)
-    updated = b.copy()
-    updated.update(x[0], x[1], z, 30.0)
+    updated = belief_from(w, readings + [(x[0], x[1], z)])
     assert predicted == pytest.approx(updated.entropy(), abs=1e-9)
     mean, var = b.predictive(*x)
     assert mean.shape == var.shape == (1600,) and (var > 0).all()
@@ -147,20 +147,20 @@ def test_planner_gain_is_higher_where_the_belief_is_uncertain():
 
 
 # ----- stopping ----------------------------------------------------------------------------------
-def test_stopping_declares_only_at_the_threshold_and_forces_at_the_budget():
+def test_stopping_declares_only_at_the_threshold_and_can_be_forced():
     w = world("R", fire=(125.0, 235.0))
-    rule = StoppingRule(threshold=0.95, budget_m=1000.0)
+    rule = StoppingRule(threshold=0.95)
     few = belief_from(w, grid_readings(w, 200.0)[:2])
     index = few.most_likely()[1]
     assert few.mass_around(index) < 0.95
-    assert rule.check(few, 999.0) is None
-    forced = rule.check(few, 1000.0)
-    assert forced is not None and forced.forced and forced.reason == "budget"
+    assert rule.confident(few) is None
+    forced = rule.force(few, "budget")
+    assert forced.forced and forced.reason == "budget"
     assert forced.index == few.best_block()[0]
     many = belief_from(w, grid_readings(w))
-    decl = rule.check(many, 10.0)
+    decl = rule.confident(many)
     assert decl is not None and not decl.forced and decl.index == (12, 23) and decl.mass >= 0.95
-    strict = StoppingRule(threshold=1.0).check(many, 10.0)
+    strict = StoppingRule(threshold=1.0).confident(many)
     assert (strict is not None) == (many.mass_around((12, 23)) >= 1.0)
 
 
@@ -169,19 +169,22 @@ def test_stopping_with_confirmation_waits_for_a_reading_over_the_cell():
     readings = [r for r in grid_readings(w) if math.hypot(r[0] - 125.0, r[1] - 235.0) > 30.0]
     b = belief_from(w, readings)
     rule = StoppingRule(threshold=0.95, confirm_m=10.0)
-    unconfirmed = StoppingRule(threshold=0.95).check(b, 0.0)
+    unconfirmed = StoppingRule(threshold=0.95).confident(b)
     assert unconfirmed is not None and max(abs(unconfirmed.index[0] - 12), abs(unconfirmed.index[1] - 23)) <= 1
-    assert rule.check(b, 0.0) is None
+    assert rule.confident(b) is None
     n, e = rule.to_confirm(b)
     assert (n, e) == unconfirmed.position
     b.update(n, e, true_temperature(w, n, e, 30.0, 0.0), 30.0)
-    assert rule.check(b, 0.0) is not None and rule.to_confirm(b) is None
+    assert rule.confident(b) is not None and rule.to_confirm(b) is None
 
 
-def test_stopping_rule_rejects_bad_settings():
-    for bad in (dict(threshold=0.0), dict(threshold=1.5), dict(budget_m=0.0), dict(radius_cells=-1)):
+def test_stopping_rule_and_search_settings_reject_bad_values():
+    for bad in (dict(threshold=0.0), dict(threshold=1.5), dict(radius_cells=-1), dict(confirm_m=-1.0)):
         with pytest.raises(ValueError):
             StoppingRule(**bad)
+    for bad in (dict(budget_m=0.0), dict(speed_m_s=0.0), dict(sample_s=-1.0)):
+        with pytest.raises(ValueError):
+            SearchConfig(**bad)
 
 
 # ----- policies and episodes -----------------------------------------------------------------------
@@ -212,7 +215,7 @@ def test_episode_is_deterministic(name):
 
 
 def test_episode_worlds_follow_the_recipe():
-    from groundstation.strategy.episode import episode_world
+    from groundstation.evaluation.episodes import episode_world
     base = FireWorld(kernel="G", noise_k=3.0)
     for k in range(50):
         ew = episode_world(base, 5, k)
@@ -225,7 +228,7 @@ def test_episode_worlds_follow_the_recipe():
 
 
 def test_gig_succeeds_on_seeded_default_world_episodes():
-    from autopilot.cli.scenario import load_scenario
+    from sim.scenario import load_scenario
     scenario = load_scenario(DEFAULT_SCENARIO)
     results = [run_episode(scenario.world, scenario.seed, k, make_policy("gig")) for k in range(5)]
     for r in results:
@@ -294,8 +297,8 @@ def test_block_masses_match_mass_around_and_the_declared_cell_holds_the_most():
 def test_a_flown_episode_scenario_file_keeps_the_scenario_and_loads_back_as_the_episode_world():
     import tomllib
     from autopilot.cli.scenario import scenario_from_dict
-    from groundstation.flown_episodes import scenario_text
-    from groundstation.strategy.episode import EpisodeConfig, episode_world
+    from groundstation.evaluation.flown_episodes import scenario_text
+    from groundstation.evaluation.episodes import EpisodeConfig, episode_world
     base = tomllib.loads(DEFAULT_SCENARIO.read_text())
     base |= {"wind": {"speed_m_s": 4.0, "from_direction_deg": 250.0}, "airframe": {"mass_kg": 1.6},
              "script": {"steps": [[0.5, "arm"]]}}
@@ -308,25 +311,3 @@ def test_a_flown_episode_scenario_file_keeps_the_scenario_and_loads_back_as_the_
         assert loaded.home == original.home and loaded.home_yaw_deg == original.home_yaw_deg
         assert loaded.sim.wind == original.sim.wind and loaded.sim.airframe == original.sim.airframe
         assert loaded.script == []  # the companion flies it
-
-
-def test_flight_readings_reach_the_belief_at_the_evaluated_density():
-    """10 Hz readings in flight become one belief observation per 5 m or per second."""
-    from groundstation.explore import Survey
-    from groundstation.strategy import make_policy
-    g = Geometry(area_m=200.0, survey_alt_m=25.0)
-    survey = Survey(g, Belief(g, subcells=3), make_policy("gig"), StoppingRule(0.99, 1, 6000.0, 10.0))
-    survey.policy.reset(g, (0.0, 0.0), np.random.default_rng(0))
-    t = 0
-    for k in range(101):  # 10 s north at 5 m/s, then 3 s hovering
-        t = 100 * k
-        survey.add_position(t, 0.5 * k, 10.0, -25.0)
-        survey.add_reading(t, 20.0)
-    moving = survey.observations
-    for k in range(1, 31):
-        survey.add_position(t + 100 * k, 50.0, 10.0, -25.0)
-        survey.add_reading(t + 100 * k, 20.0)
-    assert survey.readings == 131
-    assert 9 <= moving <= 10  # 50 m flown: one per 5 m
-    assert 2 <= survey.observations - moving <= 3  # hovering still gives the belief a look each second
-    assert survey.belief.n == survey.observations

@@ -1,5 +1,5 @@
 """`groundstation evaluate`: every policy on the same seeded decision-level episodes
-(groundstation/strategy/episode.py), a table of the metrics STRATEGY.md asks for, the per-episode
+(episodes.py), a table of the metrics docs/strategy.md describes, the per-episode
 results as JSON and a PNG of the path-length distributions."""
 from __future__ import annotations
 
@@ -13,8 +13,10 @@ from pathlib import Path
 
 import numpy as np
 
-from .strategy.episode import EpisodeConfig, run_episode
-from .strategy.policies import POLICIES, make_policy
+from ..plots import png
+from ..progress import Progress
+from ..strategy.policies import POLICIES, make_policy
+from .episodes import EpisodeConfig, run_episode
 
 
 class EvaluateError(ValueError):
@@ -44,33 +46,24 @@ def override_world(world, kernel: str | None, noise: float | None):
     return world
 
 
-class Progress:
-    """A bar on a terminal, a line per 10 % otherwise; both on stderr."""
+class EpisodeProgress:
+    """Episodes done, the policy running and the time to go."""
 
-    def __init__(self, total: int, stream=sys.stderr):
-        self.total, self.done, self.stream = max(1, total), 0, stream
-        self.tty = hasattr(stream, "isatty") and stream.isatty()
+    def __init__(self, total: int):
+        self.progress = Progress(total)
+        self.done = 0
         self.t0 = time.monotonic()
-        self.last_decile = -1
 
-    def step(self, label: str) -> None:
+    def step(self, policy: str) -> None:
         self.done += 1
-        frac = self.done / self.total
+        total = self.progress.total
         elapsed = time.monotonic() - self.t0
-        eta = elapsed / frac - elapsed if frac > 0 else 0.0
-        if self.tty:
-            bar = "#" * int(30 * frac) + "-" * (30 - int(30 * frac))
-            self.stream.write(f"\r[{bar}] {self.done}/{self.total} {label:<12} {elapsed:6.0f}s eta {eta:5.0f}s")
-            if self.done == self.total:
-                self.stream.write("\n")
-            self.stream.flush()
-        else:
-            decile = int(10 * frac)
-            if decile != self.last_decile or self.done == self.total:
-                self.last_decile = decile
-                self.stream.write(f"evaluate: {self.done}/{self.total} episodes ({label}), "
-                                  f"{elapsed:.0f} s elapsed, ~{eta:.0f} s to go\n")
-                self.stream.flush()
+        eta = elapsed * (total - self.done) / self.done
+        self.progress.show(self.done, f"evaluate: {self.done}/{total} episodes ({policy}), {elapsed:.0f} s elapsed, "
+                                      f"~{eta:.0f} s to go", milestone=10 * self.done // total)
+
+    def close(self) -> None:
+        self.progress.close()
 
 
 _warm = False
@@ -80,7 +73,7 @@ def warm_up() -> None:
     """One throwaway decision per process, so one-time costs are not booked as decision time."""
     global _warm
     if not _warm:
-        from .strategy import Belief, Geometry, Planner
+        from ..strategy import Belief, Geometry, Planner
         b = Belief(Geometry(), subcells=3)
         b.update(0.0, 0.0, 20.0, 30.0)
         b.update(5.0, 0.0, 20.5, 30.0)
@@ -95,7 +88,7 @@ def _one(job):
 
 
 def run(world, policies: list[str], episodes: int, seed: int, config: EpisodeConfig, jobs: int = 1,
-        progress: Progress | None = None) -> dict[str, list[dict]]:
+        progress: EpisodeProgress | None = None) -> dict[str, list[dict]]:
     """Per policy, the results of episodes 0..episodes-1 (the same worlds for every policy)."""
     results: dict[str, list[dict]] = {name: [] for name in policies}
     work = [(world, seed, k, name, config) for name in policies for k in range(episodes)]
@@ -147,23 +140,16 @@ def table(summary: dict[str, dict]) -> str:
 
 
 def plot(results: dict[str, list[dict]], path: Path, title: str) -> None:
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
     names = list(results)
     data = [[r["path_m"] for r in results[n]] for n in names]
-    fig, ax = plt.subplots(figsize=(max(6.0, 1.3 * len(names) + 2), 4.5))
-    ax.boxplot(data, showmeans=True, whis=(5, 95))
-    ax.set_xticks(range(1, len(names) + 1))
-    ax.set_xticklabels([f"{n}\n{100 * np.mean([r['success'] for r in results[n]]):.1f}% ok" for n in names])
-    ax.set_ylabel("path length to declaration [m]")
-    ax.set_yscale("log")
-    ax.set_title(title + "\nbox: quartiles, whiskers: 5-95 %, triangle: mean", fontsize=10)
-    ax.grid(axis="y", alpha=0.3)
-    fig.tight_layout()
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    with png(path, (max(6.0, 1.3 * len(names) + 2), 4.5)) as (fig, ax):
+        ax.boxplot(data, showmeans=True, whis=(5, 95))
+        ax.set_xticks(range(1, len(names) + 1))
+        ax.set_xticklabels([f"{n}\n{100 * np.mean([r['success'] for r in results[n]]):.1f}% ok" for n in names])
+        ax.set_ylabel("path length to declaration [m]")
+        ax.set_yscale("log")
+        ax.set_title(title + "\nbox: quartiles, whiskers: 5-95 %, triangle: mean", fontsize=10)
+        ax.grid(axis="y", alpha=0.3)
 
 
 def evaluate(args) -> int:
@@ -186,9 +172,10 @@ def evaluate(args) -> int:
                            fixed_fire=args.fixed_fire, speed_m_s=args.speed, subcells=args.subcells,
                            confirm_m=None if args.no_confirm else args.confirm)
     jobs = args.jobs or 1
-    progress = Progress(len(policies) * args.episodes)
+    progress = EpisodeProgress(len(policies) * args.episodes)
     t0 = time.monotonic()
     results = run(world, policies, args.episodes, seed, config, jobs, progress)
+    progress.close()
     summary = {name: summarize(rows) for name, rows in results.items()}
     title = (f"{args.scenario.name}: kernel {world.kernel}, noise {world.noise_k:g} K, {args.start} start, "
              f"{args.episodes} episodes, seed {seed}")

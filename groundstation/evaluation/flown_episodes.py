@@ -1,16 +1,17 @@
 """`groundstation evaluate --flight K`: the first K decision-level episodes flown end to end.
 
-Each episode's world (its fire, strength and ambient, from strategy/episode.py) is written as a
+Each episode's world (its fire, strength and ambient, from episodes.py) is written as a
 scenario file, a real `autopilot` process is started on it at the given speedup, and
-`groundstation explore` flies the policy over MAVLink exactly as `make run` does. The flown result
-sits beside the decision-level result of the same episode, so one can see whether the figures of
-the cheap simulation hold when a vehicle with real dynamics, a real link and a 10 Hz sensor flies
-it. The flight's sensor noise comes from the autopilot's own seeded stream, so the two runs see the
-same fire but not the same noise samples.
+`groundstation explore` flies the policy over MAVLink exactly as `make run` does, its search
+controller configured as the decision-level episodes' (`--threshold`, `--confirm`, `--no-confirm`,
+`--budget`, `--subcells`, and `--speed` as the survey speed). The flown result sits beside the
+decision-level result of the same episode, so one can see whether the figures of the cheap
+simulation hold when a vehicle with real dynamics, a real link and a 10 Hz sensor flies it. The
+flight's sensor noise comes from the autopilot's own seeded stream, so the two runs see the same
+fire but not the same noise samples.
 """
 from __future__ import annotations
 
-import asyncio
 import json
 import math
 import tempfile
@@ -18,14 +19,14 @@ from pathlib import Path
 
 from sim.fire import WORLD_KEYS, FireWorld
 
-from .autopilot_process import AutopilotProcess
-from .explore import explore
-from .strategy.episode import EpisodeConfig, episode_world
-from .vehicle_link import LinkError
+from ..flight.autopilot_process import run_flight
+from ..flight.explore import explore
+from ..flight.vehicle_link import LinkError
+from .episodes import EpisodeConfig, episode_world
 
 
 def scenario_text(base: dict, seed: int, world: FireWorld) -> str:
-    """The scenario file (autopilot/scenario.py's format) of one episode: the original scenario's
+    """The scenario file (sim/scenario.py's format) of one episode: the original scenario's
     tables (home, airframe, wind, noise, faults, ...) with the episode's seed, world and fires. A
     [script] is left out: the companion flies the vehicle."""
     tables = {k: v for k, v in base.items() if k not in ("seed", "world", "fire", "script")}
@@ -51,17 +52,19 @@ def toml_text(tables: dict) -> str:
 
 def fly_episode(base: dict, world: FireWorld, seed: int, index: int, policy: str, config: EpisodeConfig,
                 speedup: float, plot: Path | None) -> dict:
-    """Episode `index` of `world` flown on the scenario `base` (its TOML tables)."""
+    """Episode `index` of `world` flown on the scenario `base` (its TOML tables), by the search
+    controller with the episodes' own settings (threshold, confirmation, budget, sub-cells, speed)."""
     world = episode_world(world, seed, index, config)
     row = {"episode": index, "policy": policy, "fire": [(f.n_m, f.e_m, f.strength_k) for f in world.fires]}
     with tempfile.TemporaryDirectory(prefix="firefly-flight-") as tmp:
         path = Path(tmp) / f"episode_{index}.toml"
         path.write_text(scenario_text(base, seed + index, world))
-        with AutopilotProcess(speedup, ("--scenario", str(path))) as ap:
-            try:
-                result = asyncio.run(explore(ap.url, world, policy, plot, truth=True, say=lambda text: None))
-            except LinkError as exc:
-                return row | {"flown": False, "why": str(exc)}
+        try:
+            result = run_flight(lambda url: explore(url, world, policy, plot, truth=True, config=config,
+                                                    say=lambda text: None),
+                                None, speedup, path, say=lambda text: None)
+        except LinkError as exc:
+            return row | {"flown": False, "why": str(exc)}
     error, within = result["error_m"], result["within_one_cell"]
     return row | {"flown": True, "declared": (result["declared_n_m"], result["declared_e_m"]), "path_m": result["path_m"], "error_m": error, "success": within,
                   "forced": result["forced"], "landed_from_home_m": result["landed_from_home_m"],

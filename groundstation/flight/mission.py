@@ -16,6 +16,9 @@ from pathlib import Path
 
 from mavsdk.asyncio.plugins.mission_raw import MissionItem, MissionRawAsync
 
+from ..plots import draw_track, label_map, png
+from ..progress import Progress
+from .autopilot_process import run_flight
 from .mission_files import MissionPlan, load_mission
 from .vehicle_link import LinkError, VehicleLink, first
 
@@ -45,48 +48,12 @@ def to_raw_items(plan: MissionPlan, home) -> list:
 
 def planned_path(plan: MissionPlan, link: VehicleLink) -> list:
     """Horizontal points of the plan's positional items, in metres from home, starting at home."""
-    return [(0.0, 0.0)] + [link.north_east_m(it) for it in _positions(plan.items)]
-
-
-class _LatLon:
-    def __init__(self, lat, lon):
-        self.latitude_deg, self.longitude_deg = lat, lon
-
-
-def _positions(items):
-    return [_LatLon(it.lat_deg, it.lon_deg) for it in items if it.has_position]
+    return [(0.0, 0.0)] + [link.north_east_of(it.lat_deg, it.lon_deg) for it in plan.items if it.has_position]
 
 
 def path_length(points: list) -> float:
+    """Horizontal length of a track of (n, e, ...) points."""
     return sum(math.dist(a[:2], b[:2]) for a, b in zip(points, points[1:]))
-
-
-class Progress:
-    """One-line progress bar on a terminal; item changes as plain lines otherwise."""
-
-    def __init__(self, total: int, stream=sys.stdout):
-        self.total = total
-        self.stream = stream
-        self.tty = stream.isatty()
-        self._last_item = -1
-        self._last_draw = 0.0
-
-    def update(self, item: int, to_next_m: float, battery_pct: float, vehicle_s: float) -> None:
-        now = time.monotonic()
-        if self.tty and now - self._last_draw > 0.1:
-            done = int(20 * min(item, self.total) / self.total)
-            self.stream.write(f"\r[{'#' * done}{'-' * (20 - done)}] item {item}/{self.total}  "
-                              f"next {to_next_m:7.1f} m  battery {battery_pct:5.1f} %  t {vehicle_s:7.1f} s ")
-            self.stream.flush()
-            self._last_draw = now
-        elif not self.tty and item != self._last_item:
-            print(f"item {item}/{self.total}  next {to_next_m:.1f} m  battery {battery_pct:.1f} %  "
-                  f"vehicle time {vehicle_s:.1f} s", file=self.stream, flush=True)
-        self._last_item = item
-
-    def close(self) -> None:
-        if self.tty:
-            self.stream.write("\n")
 
 
 async def fly_mission(url: str, plan: MissionPlan, plot: Path | None) -> dict:
@@ -99,11 +66,11 @@ async def fly_mission(url: str, plan: MissionPlan, plot: Path | None) -> dict:
         raw = to_raw_items(plan, link.home)
         await mission.upload_mission(raw)
         print(f"uploaded {len(plan.items)} items")
-        targets = {seq: link.north_east_m(_LatLon(it.lat_deg, it.lon_deg))
+        targets = {seq: link.north_east_of(it.lat_deg, it.lon_deg)
                    for seq, it in enumerate(plan.items, start=1) if it.has_position}
         planned = planned_path(plan, link)
         budget_s = path_length(planned) / 2.0 + VEHICLE_TIME_MARGIN_S  # vehicle seconds
-        progress = Progress(len(plan.items))
+        progress = Progress(len(plan.items), sys.stdout)
         t_start = None
 
         async def watch_time():
@@ -124,8 +91,10 @@ async def fly_mission(url: str, plan: MissionPlan, plot: Path | None) -> dict:
                 here = link.north_east_m(p)
                 rec.track.append(here + (p.relative_altitude_m,))
                 nxt = next((targets[s] for s in sorted(targets) if s >= max(rec.current_item, 1)), None)
-                progress.update(rec.current_item, math.dist(here, nxt) if nxt else 0.0, rec.battery_pct,
-                                rec.vehicle_time_s)
+                item = rec.current_item
+                progress.show(item, f"item {item}/{len(plan.items)}  next {math.dist(here, nxt) if nxt else 0.0:.1f} m  "
+                                    f"battery {rec.battery_pct:.1f} %  vehicle time {rec.vehicle_time_s:.1f} s",
+                              milestone=item)
 
         async def watch_progress():
             async for mp in mission.subscribe_mission_progress():
@@ -148,7 +117,8 @@ async def fly_mission(url: str, plan: MissionPlan, plot: Path | None) -> dict:
                 await first(link.telemetry.subscribe_position(), lambda p: True, 10.0, "telemetry")
         await mission_over()
         if not ends_landed:
-            print("\nmission complete; returning to launch")
+            progress.close()
+            print("mission complete; returning to launch")
             await link.land_and_disarm(budget_s, rtl=True)
         progress.close()
         final = await link.position()
@@ -169,33 +139,18 @@ async def fly_mission(url: str, plan: MissionPlan, plot: Path | None) -> dict:
 
 
 def write_plot(planned: list, flown: list, path: Path, title: str = "Mission: planned and flown") -> None:
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    fig, ax = plt.subplots(figsize=(6, 6))
-    ax.plot([p[1] for p in planned], [p[0] for p in planned], "k--o", lw=0.9, ms=4, label="planned")
-    ax.plot([p[1] for p in flown], [p[0] for p in flown], lw=1.5, label="flown")
-    ax.plot(0, 0, "g^", ms=10, label="home")
-    ax.set_xlabel("east [m]")
-    ax.set_ylabel("north [m]")
-    ax.set_aspect("equal")
-    ax.legend(loc="best")
-    ax.set_title(title)
-    fig.tight_layout()
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    with png(path, (6, 6)) as (fig, ax):
+        draw_track(ax, planned, "k--o", lw=0.9, ms=4, label="planned")
+        draw_track(ax, flown, lw=1.5, label="flown")
+        ax.plot(0, 0, "g^", ms=10, label="home")
+        label_map(ax, title)
+        ax.set_aspect("equal")
+        ax.legend(loc="best")
 
 
 def run(path: Path, url: str | None, speedup: float, plot: Path | None) -> int:
     plan = load_mission(path)
-    if url:
-        summary = asyncio.run(fly_mission(url, plan, plot))
-    else:
-        from .autopilot_process import AutopilotProcess
-        with AutopilotProcess(speedup) as ap:
-            print(f"started autopilot (speedup {speedup:g}), MAVSDK connecting on {ap.url}")
-            summary = asyncio.run(fly_mission(ap.url, plan, plot))
+    summary = run_flight(lambda at: fly_mission(at, plan, plot), url, speedup)
     print("summary: " + ", ".join(f"{k} {v:.1f}" if isinstance(v, float) else f"{k} {v}"
                                   for k, v in summary.items()))
     return 0

@@ -1,12 +1,12 @@
-"""`groundstation demo`: take off, fly a square, land — the flight `make run` shows until the
-fire-localization mission exists. Prints each leg in vehicle terms and writes a PNG of the track."""
+"""`groundstation demo`: take off, fly a square, land — a first look at the vehicle flying. Prints
+each leg in vehicle terms and writes a PNG of the track."""
 from __future__ import annotations
 
-import asyncio
 import time
 from pathlib import Path
 
-from .mission_runner import write_plot
+from .autopilot_process import run_flight
+from .mission import write_plot
 from .vehicle_link import VehicleLink
 
 
@@ -41,9 +41,4 @@ async def fly_square(url: str, side_m: float, alt_m: float, plot: Path | None, t
 
 
 def run(url: str | None, speedup: float, side_m: float, alt_m: float, plot: Path | None) -> int:
-    from .autopilot_process import AutopilotProcess
-    if url:
-        return asyncio.run(fly_square(url, side_m, alt_m, plot, 1.0))
-    with AutopilotProcess(speedup) as ap:
-        print(f"started autopilot (speedup {speedup:g}), MAVSDK connecting on {ap.url}")
-        return asyncio.run(fly_square(ap.url, side_m, alt_m, plot, 1.0))
+    return run_flight(lambda at: fly_square(at, side_m, alt_m, plot, 1.0), url, speedup)

@@ -12,7 +12,7 @@ from mavsdk.asyncio import ComponentType, Configuration, Mavsdk
 from mavsdk.asyncio.plugins.action import ActionAsync
 from mavsdk.asyncio.plugins.telemetry import TelemetryAsync
 
-M_PER_DEG_LAT = 111_320.0
+from sim.geo import GeoPoint, global_from_ned, ned_from_global
 
 
 class LinkError(RuntimeError):
@@ -30,6 +30,11 @@ async def first(stream, condition, timeout: float, what: str):
         raise LinkError(f"timed out after {timeout:g} s waiting for {what}") from None
 
 
+def home_point(home) -> GeoPoint:
+    """MAVSDK's home position as the sim's GeoPoint."""
+    return GeoPoint(home.latitude_deg, home.longitude_deg, home.absolute_altitude_m)
+
+
 class VehicleLink:
     def __init__(self, mavsdk: Mavsdk, system):
         self.mavsdk = mavsdk
@@ -41,8 +46,12 @@ class VehicleLink:
     @classmethod
     async def connect(cls, url: str, timeout: float = 15.0) -> "VehicleLink":
         mavsdk = Mavsdk(Configuration.create_with_component_type(ComponentType.GROUND_STATION))
-        await mavsdk.add_any_connection(url)
-        system = await mavsdk.first_autopilot(timeout_s=timeout)
+        try:
+            await mavsdk.add_any_connection(url)
+            system = await mavsdk.first_autopilot(timeout_s=timeout)
+        except BaseException:  # cancelled (the autopilot process exited) or failed: no link left open
+            mavsdk.destroy()
+            raise
         if system is None:
             mavsdk.destroy()
             raise LinkError(f"no autopilot answered on {url} within {timeout:g} s")
@@ -57,16 +66,21 @@ class VehicleLink:
                     timeout, "the vehicle to become armable")
         self.home = await self.telemetry.home()
 
+    @property
+    def origin(self) -> GeoPoint:
+        """Home, the origin of the local north/east metres (the projection the sim itself uses)."""
+        return home_point(self.home)
+
     def north_east_m(self, pos) -> tuple:
-        home = self.home
-        n = (pos.latitude_deg - home.latitude_deg) * M_PER_DEG_LAT
-        e = (pos.longitude_deg - home.longitude_deg) * M_PER_DEG_LAT * math.cos(math.radians(home.latitude_deg))
-        return n, e
+        """(n, e) metres from home of a MAVSDK position."""
+        return self.north_east_of(pos.latitude_deg, pos.longitude_deg)
+
+    def north_east_of(self, lat_deg: float, lon_deg: float) -> tuple:
+        return ned_from_global(self.origin, lat_deg, lon_deg, self.origin.alt_m)[:2]
 
     def lat_lon_of(self, n: float, e: float) -> tuple:
-        home = self.home
-        return (home.latitude_deg + n / M_PER_DEG_LAT,
-                home.longitude_deg + e / (M_PER_DEG_LAT * math.cos(math.radians(home.latitude_deg))))
+        point = global_from_ned(self.origin, n, e, 0.0)
+        return point.lat_deg, point.lon_deg
 
     async def position(self):
         return await first(self.telemetry.subscribe_position(), lambda p: True, 5.0, "a position")

@@ -1,0 +1,163 @@
+"""Decision-level episodes: the search controller (strategy/controller.py) against the sim's fire
+world, without flying the vehicle.
+
+The vehicle starts at the area's corner (0, 0) or its centre, flies straight lines between the
+controller's targets at the survey speed (5 m/s) at the survey altitude, and takes a reading from
+sim.fire.TemperatureSensor every sample interval (1 s: one reading per 5 m) and on arriving at a
+target. The real sensor publishes at >= 5 Hz, i.e. a reading per metre or less at 5 m/s; one per
+5 m is the conservative choice (fewer readings, and the belief's updates stay cheap), and the flight
+averages its readings to the same density. Every reading goes to the controller, which is then
+asked where to fly: the episode is the controller's driver, as the flight is.
+
+Episodes are generated from (scenario world, seed, episode index): one fire uniform in the area at
+least one cell from its edge, strength uniform 20-80 K, ambient uniform 15-35 C; the scenario's other
+world settings (kernel, noise, plume sigma, outliers, wind tilt) are kept. fixed_fire=True keeps the
+scenario's own fires and ambient. Everything is deterministic given the seed, except the measured
+decision times.
+"""
+from __future__ import annotations
+
+import dataclasses
+import math
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from sim.fire import Fire, FireWorld, TemperatureSensor
+
+from ..strategy.belief import Geometry
+from ..strategy.controller import SearchConfig, SearchController
+from ..strategy.policies import Policy
+from ..strategy.stopping import Declaration
+
+STARTS = ("corner", "centre")
+
+
+@dataclass(frozen=True)
+class EpisodeConfig(SearchConfig):
+    """The search's settings, and how the episode's world and start are drawn."""
+    start: str = "corner"
+    fixed_fire: bool = False
+    strength_k: tuple = (20.0, 80.0)
+    ambient_c: tuple = (15.0, 35.0)
+
+    def __post_init__(self):
+        super().__post_init__()
+        if self.start not in STARTS:
+            raise ValueError(f"start must be one of {', '.join(STARTS)}, got {self.start!r}")
+
+
+@dataclass
+class EpisodeResult:
+    policy: str
+    episode: int
+    seed: int
+    kernel: str
+    start: str
+    fires: list            # [(n, e, strength_k)]
+    ambient_c: float
+    path_m: float
+    declared: tuple        # (n, e) local metres
+    declared_cell: tuple   # (i_north, j_east)
+    error_m: float         # declared cell centre to the nearest fire
+    success: bool          # declared cell within one cell (Chebyshev) of a fire's cell
+    declared_by: str       # "confident", "budget" or "end" (the policy had nothing more to do)
+    forced: bool           # declared without the belief being confident
+    false_declaration: bool  # a confident declaration that is wrong
+    mass: float            # belief mass in the 3x3 block around the declared cell
+    readings: int
+    decisions: int
+    ms_mean: float
+    ms_max: float
+
+    def to_dict(self) -> dict:
+        return dataclasses.asdict(self)
+
+
+def _mix(seed: int, index: int, stream: int) -> list[int]:
+    return [seed & 0xFFFFFFFF, index & 0xFFFFFFFF, stream]
+
+
+def episode_world(world: FireWorld, seed: int, index: int, config: EpisodeConfig = EpisodeConfig()) -> FireWorld:
+    """The world of episode `index`: a random fire, strength and ambient unless config.fixed_fire."""
+    if config.fixed_fire:
+        return world
+    rng = np.random.default_rng(_mix(seed, index, 1))
+    lo, hi = world.cell_m, world.area_m - world.cell_m
+    if hi <= lo:
+        lo = hi = world.area_m / 2
+    n, e = rng.uniform(lo, hi, size=2)
+    strength = rng.uniform(*config.strength_k)
+    ambient = rng.uniform(*config.ambient_c)
+    return dataclasses.replace(world, fires=(Fire(float(n), float(e), float(strength)),), ambient_c=float(ambient))
+
+
+def judge(world: FireWorld, n: float, e: float) -> tuple[float, bool]:
+    """Distance from a declared point to the nearest fire, and success: the declared cell within
+    one cell (Chebyshev) of a fire's cell."""
+    geometry = Geometry.from_world(world)
+    declared = geometry.cell_of(n, e)
+    errors = [math.hypot(n - f.n_m, e - f.e_m) for f in world.fires]
+    within = any(max(abs(declared[0] - i), abs(declared[1] - j)) <= 1
+                 for i, j in (geometry.cell_of(f.n_m, f.e_m) for f in world.fires))
+    return (min(errors) if errors else math.nan), within
+
+
+def start_position(geometry: Geometry, start: str) -> tuple[float, float]:
+    return (0.0, 0.0) if start == "corner" else (geometry.area_m / 2, geometry.area_m / 2)
+
+
+def policy_rng(seed: int, index: int) -> np.random.Generator:
+    """The random stream the policy of episode `index` draws from."""
+    return np.random.default_rng(_mix(seed, index, 2))
+
+
+def run_episode(world: FireWorld, seed: int, index: int, policy: Policy,
+                config: EpisodeConfig = EpisodeConfig(), trace: list | None = None,
+                steps: list | None = None) -> EpisodeResult:
+    """One episode; `trace`, if given, receives (n, e, reading) for every reading, and `steps` the
+    controller's answer (Goto or Declaration) after every reading."""
+    ep_world = episode_world(world, seed, index, config)
+    geometry = Geometry.from_world(ep_world)
+    sensor = TemperatureSensor(ep_world, seed=(seed * 1_000_003 + index) & 0xFFFFFFFF)
+    alt = geometry.survey_alt_m
+    pos = start_position(geometry, config.start)
+    controller = SearchController(geometry, policy, config, pos, policy_rng(seed, index), time.perf_counter)
+    step_m = config.observation_spacing_m
+    t = path = 0.0
+    readings = 0
+    arrived = False
+    while True:
+        z = sensor.read(pos[0], pos[1], alt, t)
+        controller.observe(pos[0], pos[1], z, alt)
+        readings += 1
+        if trace is not None:
+            trace.append((pos[0], pos[1], z))
+        move = controller.step(pos, path, arrived)
+        if steps is not None:
+            steps.append(move)
+        if isinstance(move, Declaration):
+            break
+        dn, de = move.target[0] - pos[0], move.target[1] - pos[1]
+        d = math.hypot(dn, de)
+        arrived = d <= step_m
+        if arrived:
+            pos = move.target
+            path += d
+            t += d / config.speed_m_s if d > 0 else config.sample_s
+        else:
+            pos = (pos[0] + dn * step_m / d, pos[1] + de * step_m / d)
+            path += step_m
+            t += config.sample_s
+
+    error, success = judge(ep_world, *move.position)
+    ms = [1000.0 * x for x in controller.decision_s]
+    return EpisodeResult(
+        policy=policy.name, episode=index, seed=seed, kernel=ep_world.kernel, start=config.start,
+        fires=[(f.n_m, f.e_m, f.strength_k) for f in ep_world.fires], ambient_c=ep_world.ambient_c,
+        path_m=path, declared=move.position, declared_cell=move.index, error_m=error,
+        success=bool(success), declared_by=move.reason, forced=move.forced,
+        false_declaration=bool(move.reason == "confident" and not success),
+        mass=move.mass, readings=readings, decisions=controller.decisions,
+        ms_mean=float(np.mean(ms)) if ms else 0.0, ms_max=float(np.max(ms)) if ms else 0.0)

@@ -1,0 +1,135 @@
+"""Starting and stopping a real `autopilot` process on a free UDP port: for the commands that bring
+their own vehicle, the SITL tests' fixtures and the bench alike.
+
+The process listens on an ephemeral port and sends to `port`, where the client listens (udpin),
+exactly as a user's MAVSDK or pymavlink script listens on 14540/14550. A flight run against a
+process it started goes through `guard()`, so that a process that exits (a scenario table it
+refuses, a crash) ends the flight at once with one line instead of a connection timeout.
+"""
+from __future__ import annotations
+
+import asyncio
+import os
+import socket
+import subprocess
+import sys
+import tempfile
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Awaitable, Callable, TypeVar
+
+T = TypeVar("T")
+EXIT_POLL_S = 0.05  # how often guard() looks at the process while the flight runs
+
+
+def free_udp_port() -> int:
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+class AutopilotExited(RuntimeError):
+    """The autopilot process ended while a flight still needed it."""
+
+
+@dataclass
+class AutopilotProcess:
+    process: subprocess.Popen
+    port: int  # where the client listens (the autopilot's --out)
+    state_dir: Path
+    speedup: str
+    stderr_log: object = None  # a file holding the process's stderr, when captured
+    owned_dirs: list = field(default_factory=list)  # temporary directories removed by stop()
+    exit_reported: bool = False  # guard() has said how it ended (with its last line)
+
+    @property
+    def mavsdk_url(self) -> str:
+        return f"udpin://127.0.0.1:{self.port}"
+
+    @property
+    def pymavlink_url(self) -> str:
+        return f"udpin:127.0.0.1:{self.port}"
+
+    def exit_line(self) -> str:
+        """One line saying how the process ended, with the last line it wrote to stderr if captured."""
+        said = [line for line in self._stderr_text().splitlines() if line.strip()]
+        return f"autopilot exited with status {self.process.returncode}" + (f" ({said[-1].strip()})" if said else "")
+
+    async def guard(self, flight: Awaitable[T]) -> T:
+        """The result of `flight`, or AutopilotExited as soon as the process exits before it ends
+        (the flight is then cancelled, so its own clean-up runs)."""
+        task = asyncio.ensure_future(flight)
+        try:
+            while not task.done():
+                if self.process.poll() is not None:
+                    self.exit_reported = True
+                    raise AutopilotExited(self.exit_line())
+                await asyncio.wait({task}, timeout=EXIT_POLL_S)
+            return task.result()
+        finally:
+            if not task.done():
+                task.cancel()
+                await asyncio.gather(task, return_exceptions=True)
+
+    def stop(self) -> int:
+        if self.process.poll() is None:
+            self.process.terminate()
+            try:
+                self.process.wait(timeout=10)
+            except subprocess.TimeoutExpired:
+                self.process.kill()
+                self.process.wait()
+        if self.stderr_log is not None:
+            if not self.exit_reported:
+                sys.stderr.write(self._stderr_text())  # nothing the process said is lost
+            self.stderr_log.close()
+            self.stderr_log = None
+        for directory in self.owned_dirs:
+            directory.cleanup()
+        self.owned_dirs.clear()
+        return self.process.returncode
+
+    def _stderr_text(self) -> str:
+        if self.stderr_log is None:
+            return ""
+        self.stderr_log.seek(0)
+        return self.stderr_log.read().decode(errors="replace")
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.stop()
+
+
+def start_autopilot(state_dir: Path | None = None, speedup="10", extra: tuple = (), port: int | None = None,
+                    wipe: bool = True, cwd: Path | None = None, capture_stderr: bool = False) -> AutopilotProcess:
+    """Start `python -m autopilot` sending to a free port (or `port`). Without `state_dir` its
+    parameters and mission live in a temporary directory that stop() removes. With capture_stderr
+    what it writes to stderr is kept for exit_line() and written out by stop()."""
+    owned = []
+    if state_dir is None:
+        owned.append(tempfile.TemporaryDirectory(prefix="firefly-"))
+        state_dir = Path(owned[0].name)
+    port = port or free_udp_port()
+    cmd = [sys.executable, "-m", "autopilot", "--listen", "udp:127.0.0.1:0",
+           "--out", f"udp:127.0.0.1:{port}", "--speedup", str(speedup), "--state-dir", str(state_dir),
+           "--quiet", *extra]
+    if wipe:
+        cmd.append("--wipe")
+    log = tempfile.TemporaryFile() if capture_stderr else None
+    process = subprocess.Popen(cmd, cwd=cwd, env={**os.environ, "PYTHONUNBUFFERED": "1"}, stderr=log)
+    return AutopilotProcess(process, port, Path(state_dir), str(speedup), log, owned)
+
+
+def run_flight(flight: Callable[[str], Awaitable[T]], url: str | None, speedup: float,
+               scenario: Path | None = None, say=print) -> T:
+    """`flight(url)` against the vehicle at `url`, or, without one, against an autopilot process
+    started for it (at `speedup`, on `scenario`) and stopped after it."""
+    if url:
+        return asyncio.run(flight(url))
+    extra = ("--scenario", str(scenario)) if scenario else ()
+    with start_autopilot(speedup=speedup, extra=extra, capture_stderr=True) as ap:
+        say(f"started autopilot (speedup {speedup:g}{', scenario ' + str(scenario) if scenario else ''}), "
+            f"MAVSDK connecting on {ap.mavsdk_url}")
+        return asyncio.run(ap.guard(flight(ap.mavsdk_url)))

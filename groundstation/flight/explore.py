@@ -1,0 +1,195 @@
+"""`groundstation explore`: the fire-localization companion, flying the real vehicle over MAVLink.
+
+It connects with MAVSDK, waits for armable, takes off to the survey altitude, and flies the search
+controller's targets (strategy/controller.py) in GUIDED (DO_REPOSITION through MAVSDK's goto) at the
+survey speed. The readings reach the controller through survey.py, which pairs each GND_TEMP
+reading (NAMED_VALUE_FLOAT) with the vehicle's position at its own timestamp and averages them to the
+evaluated density. When the controller declares the fire it prints the estimate, returns to launch,
+lands, and writes a PNG of the flown track over the final belief.
+
+Everything it knows of the vehicle arrives as MAVLink. On a lost link or a refused command it says
+so, leaves the vehicle in RTL (or hold) if it can, and exits non-zero.
+"""
+from __future__ import annotations
+
+import asyncio
+import json
+import math
+import time
+from pathlib import Path
+
+import numpy as np
+from mavsdk.asyncio.plugins.mavlink_direct import MavlinkDirectAsync
+
+from sim.fire import FireWorld
+
+from ..evaluation.episodes import judge
+from ..strategy import Geometry, make_policy
+from ..strategy.controller import SearchConfig, SearchController
+from ..strategy.stopping import Declaration
+from ..plots import draw_track, label_map, png
+from .autopilot_process import run_flight
+from .survey import Survey
+from .vehicle_link import LinkError, VehicleLink, first
+
+TEMPERATURE_NAME = "GND_TEMP"
+LINK_SILENCE_S = 5.0  # wall seconds without a position: the link is lost
+POLICY_SEED = 7  # the flight's policy draws from its own fixed stream: the same choices run after run
+
+
+class CommandRefused(RuntimeError):
+    pass
+
+
+async def explore(url: str, world: FireWorld, policy_name: str, plot: Path | None, truth: bool,
+                  config: SearchConfig = SearchConfig(), say=print) -> dict:
+    """Fly one search; `say` receives the progress lines (print by default)."""
+    geometry = Geometry.from_world(world)
+    policy = make_policy(policy_name)
+    survey = Survey(geometry, config)
+    moved = asyncio.Event()  # set by every position report
+    link = await VehicleLink.connect(url)
+    tasks = []
+    try:
+        await link.wait_armable()
+        say(f"vehicle armable; surveying {geometry.area_m:g} m x {geometry.area_m:g} m "
+            f"({geometry.cells_per_side}^2 cells) at {geometry.survey_alt_m:g} m with policy {policy_name}")
+        direct = MavlinkDirectAsync(link.system)
+        await link.telemetry.set_rate_position_velocity_ned(10.0)
+
+        async def watch(name, handle):
+            async for msg in direct.subscribe_message(name):
+                handle(json.loads(msg.fields_json))
+
+        def on_position(f):
+            survey.add_position(int(f["time_boot_ms"]), f["x"], f["y"], f["z"])
+            moved.set()
+
+        def on_value(f):
+            if str(f.get("name", "")).rstrip("\0") == TEMPERATURE_NAME:
+                survey.add_reading(int(f["time_boot_ms"]), float(f["value"]))
+
+        tasks = [asyncio.ensure_future(watch("LOCAL_POSITION_NED", on_position)),
+                 asyncio.ensure_future(watch("NAMED_VALUE_FLOAT", on_value))]
+        await command(link.action.arm(), "arm")
+        await command(link.action.set_takeoff_altitude(geometry.survey_alt_m), "set takeoff altitude")
+        await command(link.action.takeoff(), "takeoff")
+        await first(link.telemetry.subscribe_position(),
+                    lambda p: p.relative_altitude_m > geometry.survey_alt_m - 0.5, 60, "survey altitude")
+        await command(link.action.set_current_speed(config.speed_m_s), "set speed")
+        wall0 = time.monotonic()
+        start_t_ms = survey.vehicle_t_ms
+        controller = SearchController(geometry, policy, config, survey.here(), np.random.default_rng(POLICY_SEED))
+        survey.start(controller)
+        declared = await fly_survey(link, survey, moved)
+        est_n, est_e = declared.position
+        est = link.lat_lon_of(est_n, est_e)
+        result = {
+            "declared_n_m": est_n, "declared_e_m": est_e, "declared_lat": est[0], "declared_lon": est[1],
+            "mass_3x3": declared.mass, "forced": declared.forced, "declared_by": declared.reason,
+            "spread_m": spread_m(controller.belief.probabilities(), geometry.cell_size_m),
+            "survey_vehicle_s": (survey.vehicle_t_ms - start_t_ms) / 1000.0,
+            "survey_wall_s": time.monotonic() - wall0,
+            "path_m": survey.path_m, "readings": survey.readings, "observations": controller.observations,
+        }
+        say(f"fire declared at N {est_n:.1f} m E {est_e:.1f} m (lat {est[0]:.7f}, lon {est[1]:.7f}), "
+            f"3x3 mass {declared.mass:.3f}, spread {result['spread_m']:.1f} m, after {result['path_m']:.0f} m "
+            f"and {result['survey_vehicle_s']:.0f} s of vehicle time")
+        if truth and world.fires:
+            error, within = judge(world, est_n, est_e)
+            best = min(world.fires, key=lambda f: math.hypot(est_n - f.n_m, est_e - f.e_m))
+            result.update(true_n_m=best.n_m, true_e_m=best.e_m, error_m=error, within_one_cell=within)
+            say(f"true fire at N {best.n_m:.1f} m E {best.e_m:.1f} m: error {error:.1f} m "
+                f"({'within' if within else 'NOT within'} one {geometry.cell_size_m:g} m cell)")
+        say("returning to launch")
+        await link.land_and_disarm(600, rtl=True)
+        final = await link.position()
+        result["landed_from_home_m"] = math.hypot(*link.north_east_m(final))
+        say(f"landed and disarmed {result['landed_from_home_m']:.1f} m from home")
+    except (LinkError, CommandRefused) as exc:
+        await make_safe(link)
+        raise LinkError(str(exc)) from None
+    finally:
+        for t in tasks:
+            t.cancel()
+        link.close()
+    if plot is not None:
+        write_plot(survey, world if truth else None, result, plot)
+        result["plot"] = str(plot)
+        say(f"picture: {plot}")
+    return result
+
+
+def spread_m(p: np.ndarray, cell_m: float) -> float:
+    """The belief's spread: root of the summed variances of its north and east marginals."""
+    centres = (np.arange(p.shape[0]) + 0.5) * cell_m
+    mean_n = float((p.sum(axis=1) * centres).sum())
+    mean_e = float((p.sum(axis=0) * centres).sum())
+    return math.sqrt(float((p.sum(axis=1) * (centres - mean_n) ** 2).sum()
+                           + (p.sum(axis=0) * (centres - mean_e) ** 2).sum()))
+
+
+async def command(awaitable, what: str):
+    try:
+        return await asyncio.wait_for(awaitable, 15.0)
+    except asyncio.TimeoutError:
+        raise LinkError(f"no answer to {what} (link lost?)") from None
+    except Exception as exc:  # noqa: BLE001 - MAVSDK's ActionError and friends
+        raise CommandRefused(f"vehicle refused {what}: {exc}") from None
+
+
+async def make_safe(link: VehicleLink) -> None:
+    """Leave the vehicle in RTL, or at least holding, when the companion gives up."""
+    for action in (link.action.return_to_launch, link.action.hold):
+        try:
+            await asyncio.wait_for(action(), 5.0)
+            print("vehicle left in " + ("RTL" if action == link.action.return_to_launch else "hold"))
+            return
+        except Exception:  # noqa: BLE001
+            continue
+
+
+async def fly_survey(link: VehicleLink, survey: Survey, moved: asyncio.Event) -> Declaration:
+    """Fly the controller's targets until it declares; its decisions come at new observations and
+    arrivals (survey.next_move), and every position report is a chance to look."""
+    alt = link.home.absolute_altitude_m + survey.geometry.survey_alt_m
+    sent = None
+    while True:
+        moved.clear()
+        move = survey.next_move()
+        if isinstance(move, Declaration):
+            return move
+        if move is not None and (sent is None or math.dist(move.target, sent) > 0.5):
+            sent = move.target
+            lat, lon = link.lat_lon_of(*sent)
+            await command(link.action.goto_location(lat, lon, alt, float("nan")), "goto")
+        try:
+            await asyncio.wait_for(moved.wait(), LINK_SILENCE_S)
+        except asyncio.TimeoutError:
+            raise LinkError(f"vehicle link lost: no position for {LINK_SILENCE_S:g} s") from None
+
+
+def write_plot(survey: Survey, world: FireWorld | None, result: dict, path: Path) -> None:
+    g = survey.geometry
+    p = survey.controller.belief.probabilities()
+    with png(path, (6.4, 5.6)) as (fig, ax):
+        img = ax.imshow(np.log10(np.maximum(p, 1e-12)), origin="lower", extent=(0, g.area_m, 0, g.area_m),
+                        cmap="inferno", vmin=-8, vmax=0)
+        fig.colorbar(img, ax=ax, label="log10 P(fire in cell)")
+        if survey.track:
+            draw_track(ax, survey.track, color="cyan", lw=1.2, label="flown (readings)")
+        ax.plot(result["declared_e_m"], result["declared_n_m"], "wx", ms=12, mew=2.5, label="declared")
+        if world is not None:
+            for k, f in enumerate(world.fires):
+                ax.plot(f.e_m, f.n_m, "o", mfc="none", mec="lime", ms=14, mew=2, label="true fire" if k == 0 else None)
+        label_map(ax, f"Fire search: {result['path_m']:.0f} m flown, {result['readings']} readings")
+        ax.legend(loc="upper left", fontsize=8)
+
+
+def run(url: str | None, scenario: Path | None, policy: str, speedup: float, plot: Path | None,
+        truth: bool) -> int:
+    from sim.scenario import Scenario, load_scenario
+    sc = load_scenario(scenario) if scenario else Scenario()
+    make_policy(policy)  # a bad name fails here, before anything starts
+    result = run_flight(lambda at: explore(at, sc.world, policy, plot, truth), url, speedup, scenario)
+    return 0 if result.get("landed_from_home_m", math.inf) < 5.0 else 1
