@@ -8,8 +8,10 @@ builtin replacement of libm calls (gcc would fuse sin and cos into sincos).
 """
 from setuptools import Extension, setup
 
+# The arithmetic (twins of the Python modules) and the glue _cascade.c includes; one translation unit.
 HEADERS = ["sim/pyfloat.h", "sim/physics.h", "autopilot/control/pid.h", "autopilot/control/attitude.h",
-           "autopilot/control/position.h", "autopilot/control/allocation.h", "autopilot/control/cascade.h"]
+           "autopilot/control/position.h", "autopilot/control/allocation.h", "autopilot/control/cascade.h",
+           "autopilot/control/by_name.h", "autopilot/control/pyvalues.h"]
 
 setup(ext_modules=[Extension(
     "autopilot.control._cascade",

@@ -200,6 +200,7 @@ def test_run_until_in_chunks_flies_the_same_as_single_steps():
 def test_without_the_extension_vehicles_fly_the_reference_after_one_warning(monkeypatch, capsys):
     monkeypatch.setattr(compiled, "_cascade", None)
     monkeypatch.setattr(compiled, "_why_missing", "No module named 'autopilot.control._cascade'")
+    monkeypatch.setattr(compiled, "_warned", False)
     vehicles = [Vehicle(VehicleConfig()) for _ in range(3)]
     assert all(type(v.cascade) is Cascade for v in vehicles)
     warning = capsys.readouterr().err.splitlines()
@@ -211,6 +212,63 @@ def test_without_the_extension_vehicles_fly_the_reference_after_one_warning(monk
     v.takeoff(5.0)
     v.run_until(8.0)
     assert v.body.d_m == pytest.approx(-5.0, abs=0.3)
+
+
+def compiled_twin() -> compiled.CompiledCascade:
+    cascade = Vehicle(VehicleConfig()).cascade
+    assert isinstance(cascade, compiled.CompiledCascade)
+    return cascade
+
+
+@needs_extension
+def test_every_constant_and_gain_is_handed_over_by_a_name_the_loop_knows():
+    from autopilot.control import _cascade
+    from sim.physics import PhysicsState
+    twin = compiled_twin()
+
+    def new_loop(constants):
+        return _cascade.Loop(constants, 1, 1, BodyState, PhysicsState)
+
+    def without(numbers, part, name):
+        numbers[part] = {k: v for k, v in numbers[part].items() if k != name}
+        return numbers
+
+    def renamed(numbers, part, name, new_name):
+        numbers[part][new_name] = numbers[part].pop(name)
+        return numbers
+
+    with pytest.raises(KeyError, match=r"missing 'physics\.lag'"):
+        new_loop(without(twin.constants(), "physics", "lag"))
+    with pytest.raises(KeyError, match=r"unknown 'allocator\.fmax'"):
+        new_loop(renamed(twin.constants(), "allocator", "f_max", "fmax"))
+    with pytest.raises(KeyError, match=r"missing part 'cascade'"):
+        new_loop({part: v for part, v in twin.constants().items() if part != "cascade"})
+    with pytest.raises(KeyError, match=r"unknown part 'rate_roll'"):  # the gains' parts are not constants
+        new_loop({**twin.constants(), "rate_roll": twin.gains()["rate_roll"]})
+    with pytest.raises(TypeError):
+        new_loop({**twin.constants(), "physics": list(twin.constants()["physics"].values())})  # by position
+    with pytest.raises(TypeError):
+        new_loop({**twin.constants(), "position": {**twin.constants()["position"], "mass": "1.5"}})
+    with pytest.raises(KeyError, match=r"missing 'vel_d\.kd'"):
+        twin.loop.configure(without(twin.gains(), "vel_d", "kd"))
+    with pytest.raises(KeyError, match=r"unknown 'attitude\.angle_p'"):
+        twin.loop.configure({**twin.gains(), "attitude": {**twin.gains()["attitude"], "angle_p": 4.5}})
+
+
+@needs_extension
+def test_a_refused_configure_leaves_the_gains_as_they_were():
+    a, b = twins()
+    for v in (a, b):
+        v.run_until(0.5)
+        v.set_mode(Guided.number)
+        v.arm()
+        v.takeoff(6.0)
+    gains = a.cascade.gains()
+    gains["rate_roll"]["kp"] = 9.0  # read before the misspelled number is found
+    gains["vel_e"]["k_i"] = gains["vel_e"].pop("ki")
+    with pytest.raises(KeyError, match="vel_e.k_i"):
+        a.cascade.loop.configure(gains)
+    lockstep(a, b, 3.0)  # still flying the reference's gains, bit for bit
 
 
 @needs_extension
@@ -225,11 +283,20 @@ def test_misusing_the_loop_object_raises_instead_of_crashing():
     with pytest.raises(RuntimeError):
         _cascade.run_many([loop.__new__(loop)], 0, 1)
     with pytest.raises(TypeError):
-        loop((), 1, 1, dict, dict)  # state() would fill these as tuples
+        loop(compiled_twin().constants(), 1, 1, dict, dict)  # state() would fill these as tuples
 
-    class Shrinking(float):
+    class Clearing:
+        """A number whose conversion empties the containers it was read from (not a float
+        subclass: C reads those without calling __float__)."""
         def __float__(self):
-            numbers.clear()  # the list changes size while being read
+            for container in emptied:
+                container.clear()
             return 1.0
-    numbers = [Shrinking(1.0)] * 31
-    assert isinstance(loop(numbers, 1, 1, BodyState, PhysicsState), loop)  # read from a copy: no crash
+    constants = compiled_twin().constants()
+    constants["physics"]["m"] = Clearing()
+    emptied = [constants["physics"], constants]
+    with pytest.raises(KeyError):  # the numbers after it are gone: refused, no crash
+        loop(constants, 1, 1, BodyState, PhysicsState)
+    wind = [Clearing()] * 3
+    emptied = [wind]
+    assert compiled_twin().loop.set_conditions(wind, [1.0] * 4) is None  # read from a copy: no crash
