@@ -7,10 +7,12 @@ by a snapshot of it, so everything outside the cascade reads the same plain stat
 Gains and constants are read from the Python controllers and handed over by name (by_name.h),
 so parameters have one source; the sim's wind and motor health are handed over again whenever
 the sim says they changed.
-If the extension was not built, vehicles fly the Python reference (after one warning line).
+If the extension was not built, vehicles fly the Python reference (after one warning line) —
+except in CI (CI=true), where setup.py refuses to install without it and the tests stop at once.
 """
 from __future__ import annotations
 
+import os
 import sys
 
 from sim.physics import PhysicsState, fast_step_constants
@@ -29,6 +31,17 @@ _warned = False
 
 def available() -> bool:
     return _cascade is not None
+
+
+def why_missing() -> str:
+    """Why the extension could not be imported ("" when it was)."""
+    return _why_missing
+
+
+def required() -> bool:
+    """Whether the extension must be there: in CI, where a failed build would otherwise only turn
+    the compiled twin's checks into skips (setup.py reads the same variable)."""
+    return os.environ.get("CI", "").lower() == "true"
 
 
 def make_cascade(sim, params, rates, compiled: bool = True) -> Cascade:

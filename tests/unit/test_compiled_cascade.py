@@ -6,7 +6,11 @@ changing wind, a drifting barometer) — compared at every physics step, exactly
 from __future__ import annotations
 
 import dataclasses
+import os
 import random
+import subprocess
+import sys
+from pathlib import Path
 
 import pytest
 
@@ -21,6 +25,9 @@ from sim.rigid_body import BodyState
 from sim.vehicle import SimConfig, SimVehicle
 from sim.wind import SteadyWind
 
+if compiled.required() and not compiled.available():  # in CI the whole run stops here, once, with the cause
+    pytest.fail(f"CI=true but the compiled cascade is not built ({compiled.why_missing()}); "
+                "see the compile errors of `pip install` (setup.py)", pytrace=False)
 needs_extension = pytest.mark.skipif(not compiled.available(), reason="compiled cascade not built")
 
 
@@ -300,3 +307,19 @@ def test_misusing_the_loop_object_raises_instead_of_crashing():
     wind = [Clearing()] * 3
     emptied = [wind]
     assert compiled_twin().loop.set_conditions(wind, [1.0] * 4) is None  # read from a copy: no crash
+
+
+def test_in_ci_a_missing_extension_stops_the_test_run_once_naming_the_cause():
+    this = Path(__file__)
+    # The extension made unimportable in a child pytest; with CI=true it must not just skip.
+    child = ("import sys, pytest; sys.modules['autopilot.control._cascade'] = None; "
+             f"sys.exit(pytest.main(['-q', '-p', 'no:cacheprovider', {str(this)!r}, "
+             f"'--deselect', {str(this) + '::' + sys._getframe().f_code.co_name!r}]))")
+    run = subprocess.run([sys.executable, "-c", child], cwd=this.parents[2], capture_output=True, text=True,
+                         env={**os.environ, "CI": "true"}, timeout=120)
+    out = run.stdout + run.stderr
+    assert run.returncode != 0, out
+    assert "CI=true but the compiled cascade is not built" in out, out
+    assert "None in sys.modules" in out  # the import error itself, not just that it failed
+    assert "1 error" in out and "Interrupted" in out, out  # one error, and nothing ran after it
+    assert "passed" not in out and "skipped" not in out, out
