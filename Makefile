@@ -5,7 +5,7 @@ VENV ?= .venv
 PY := $(VENV)/bin/python
 STAMP := $(VENV)/.installed
 
-.PHONY: install run test unit sitl bench fuzz soak clean
+.PHONY: install run test unit sitl install-check bench fuzz soak clean
 
 install: $(STAMP)
 
@@ -27,6 +27,10 @@ unit: install
 
 sitl: install
 	$(PY) -m pytest -q tests/sitl
+
+# Part of `make test`: `pip install .` (not editable) of the checkout, flown from outside it.
+install-check: install
+	$(PY) -m pytest -q tests/install
 
 clean:
 	rm -rf $(VENV) build *.egg-info .pytest_cache autopilot/control/_cascade*.so

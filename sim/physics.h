@@ -16,8 +16,10 @@ typedef struct { /* sim.physics.PhysicsState */
     int on_ground;
 } Physics;
 
-typedef struct { /* sim.physics.fast_step_constants, in that order, then the motors' health */
+typedef struct {
+    /* sim.physics.fast_step_constants, read by these names (autopilot/control/by_name.h) */
     double m, ixx, iyy, izz, b, arm, c, k, kr, lag, w_max, g, half, dt;
+    /* the sim's conditions, handed over by set_conditions() whenever they change */
     double wind[3];
     double speed_scale[4]; /* sim.rotors.step_motors: 1 = healthy, 0 = stopped */
 } PhysicsConstants;

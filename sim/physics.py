@@ -35,16 +35,17 @@ def step(state: PhysicsState, omega_cmd: tuple, airframe: Airframe, wind_ned: tu
     return PhysicsState(body, omega, on_ground)
 
 
-def fast_step_constants(airframe: Airframe, dt: float, wind_ned: tuple = (0.0, 0.0, 0.0)) -> tuple:
-    """The numbers the hot path binds: (m, ixx, iyy, izz, b, arm, c, k, kr, lag, w_max, g, half,
-    dt, wind n, e, d). One list for make_fast_step and for the compiled twin (physics.h)."""
+def fast_step_constants(airframe: Airframe, dt: float) -> dict:
+    """The numbers the hot path binds, by the names make_fast_step gives them. The compiled twin
+    reads the same dict by the same names (physics.h's PhysicsConstants, autopilot/control/by_name.h),
+    so a number added or renamed on one side only is a KeyError, not a silent mix-up."""
     from .airframe import GRAVITY_M_S2
     from .rotors import motor_lag_factor
-    return (airframe.mass_kg, airframe.ixx_kg_m2, airframe.iyy_kg_m2, airframe.izz_kg_m2,
-            airframe.thrust_coeff_b, airframe.arm_length_m, airframe.torque_ratio_c,
-            airframe.linear_drag_n_per_m_s, airframe.angular_drag_nm_per_rad_s,
-            motor_lag_factor(airframe, dt), airframe.omega_max_rad_s, GRAVITY_M_S2, 0.5 * dt, dt,
-            *wind_ned)
+    return {"m": airframe.mass_kg, "ixx": airframe.ixx_kg_m2, "iyy": airframe.iyy_kg_m2,
+            "izz": airframe.izz_kg_m2, "b": airframe.thrust_coeff_b, "arm": airframe.arm_length_m,
+            "c": airframe.torque_ratio_c, "k": airframe.linear_drag_n_per_m_s,
+            "kr": airframe.angular_drag_nm_per_rad_s, "lag": motor_lag_factor(airframe, dt),
+            "w_max": airframe.omega_max_rad_s, "g": GRAVITY_M_S2, "half": 0.5 * dt, "dt": dt}
 
 
 def make_fast_step(airframe: Airframe, dt: float):
@@ -55,7 +56,10 @@ def make_fast_step(airframe: Airframe, dt: float):
     This is the hot path: at 400 Hz it runs 400 times per simulated second for every vehicle.
     Its C twin is physics.h (used by the compiled cascade).
     """
-    m, ixx, iyy, izz, b, arm, c, k, kr, lag, w_max, g, half, dt = fast_step_constants(airframe, dt)[:14]
+    bound = fast_step_constants(airframe, dt)
+    m, ixx, iyy, izz = bound["m"], bound["ixx"], bound["iyy"], bound["izz"]
+    b, arm, c, k, kr = bound["b"], bound["arm"], bound["c"], bound["k"], bound["kr"]
+    lag, w_max, g, half, dt = bound["lag"], bound["w_max"], bound["g"], bound["half"], bound["dt"]
     sqrt, new_body, new_state = __import__("math").sqrt, BodyState._make, PhysicsState
 
     def fast_step(state: PhysicsState, omega_cmd: tuple, wind_ned: tuple,

@@ -5,7 +5,9 @@
 #define PY_SSIZE_T_CLEAN
 #include <Python.h>
 
+#include "by_name.h"
 #include "cascade.h"
+#include "pyvalues.h"
 
 typedef struct {
     PyObject_HEAD
@@ -24,62 +26,7 @@ static int initialised(LoopObject *self)
     return 1;
 }
 
-
-/* The order of the numbers handed over by compiled.py: constants once, gains on every change. */
-static void constant_slots(Cascade *c, double *s[])
-{
-    PhysicsConstants *k = &c->physics_k;
-    double *order[] = {&k->m, &k->ixx, &k->iyy, &k->izz, &k->b, &k->arm, &k->c, &k->k, &k->kr, &k->lag,
-                       &k->w_max, &k->g, &k->half, &k->dt, &k->wind[0], &k->wind[1], &k->wind[2],
-                       &c->attitude.roll_torque_max, &c->attitude.pitch_torque_max, &c->attitude.yaw_torque_max,
-                       &c->position.mass, &c->position.weight, &c->position.thrust_max,
-                       &c->allocator.l, &c->allocator.c, &c->allocator.b, &c->allocator.f_max, &c->allocator.f_min,
-                       &c->omega_idle, &c->dt_pos, &c->dt_att};
-    memcpy(s, order, sizeof order);
-}
-#define N_CONSTANTS 31
-
-static void gain_slots(Cascade *c, double *s[])
-{
-    AttitudeController *a = &c->attitude;
-    PositionController *p = &c->position;
-    Pid *pids[6] = {&a->rate[0], &a->rate[1], &a->rate[2], &p->vel_n, &p->vel_e, &p->vel_d};
-    double *head[] = {&a->angle_p[0], &a->angle_p[1], &a->angle_p[2], &a->rp_rate_max, &a->yaw_rate_max,
-                      &p->pos_xy_p, &p->pos_z_p, &p->accel_xy_max, &p->lean_max, &p->speed_up, &p->speed_dn,
-                      &p->accel_z_max};
-    int n = 0;
-    for (size_t i = 0; i < sizeof head / sizeof *head; i++)
-        s[n++] = head[i];
-    for (int i = 0; i < 6; i++) {
-        s[n++] = &pids[i]->kp, s[n++] = &pids[i]->ki, s[n++] = &pids[i]->kd;
-        s[n++] = &pids[i]->imax, s[n++] = &pids[i]->out_limit, s[n++] = &pids[i]->d_filter_hz;
-    }
-}
-#define N_GAINS (12 + 6 * 6)
-
-static int read_doubles(PyObject *seq, double *out[], Py_ssize_t n, const char *what)
-{
-    /* A tuple copy: a list could change size under us while __float__ of its items runs. */
-    PyObject *fast = PySequence_Tuple(seq);
-    if (!fast)
-        return -1;
-    if (PyTuple_GET_SIZE(fast) != n) {
-        PyErr_Format(PyExc_ValueError, "%s: expected %zd numbers, got %zd", what, n, PyTuple_GET_SIZE(fast));
-        Py_DECREF(fast);
-        return -1;
-    }
-    for (Py_ssize_t i = 0; i < n; i++) {
-        double x = PyFloat_AsDouble(PyTuple_GET_ITEM(fast, i));
-        if (x == -1.0 && PyErr_Occurred()) {
-            Py_DECREF(fast);
-            return -1;
-        }
-        *out[i] = x;
-    }
-    Py_DECREF(fast);
-    return 0;
-}
-
+/* Loop(constants, ratio_pos, ratio_att, body_type, state_type); constants by name (by_name.h). */
 static int Loop_init(LoopObject *self, PyObject *args, PyObject *kwds)
 {
     PyObject *constants, *body_type, *state_type;
@@ -100,12 +47,10 @@ static int Loop_init(LoopObject *self, PyObject *args, PyObject *kwds)
     /* Built aside and copied in only when complete: a failed re-init leaves the loop as it was. */
     Cascade c;
     memset(&c, 0, sizeof c);
-    double *slots[N_CONSTANTS];
-    constant_slots(&c, slots);
-    if (read_doubles(constants, slots, N_CONSTANTS, "constants") < 0)
+    if (read_named(constants, CONSTANTS, COUNT(CONSTANTS), &c, "constants") < 0)
         return -1;
-    for (int i = 0; i < 4; i++)
-        c.physics_k.speed_scale[i] = 1.0; /* healthy motors until set_conditions() says otherwise */
+    for (int i = 0; i < 4; i++) /* still air and healthy motors until set_conditions() says otherwise */
+        c.physics_k.speed_scale[i] = 1.0;
     c.ratio_pos = ratio_pos, c.ratio_att = ratio_att;
     self->c = c;
     Py_INCREF(body_type);
@@ -126,10 +71,10 @@ static PyObject *Loop_configure(LoopObject *self, PyObject *gains)
 {
     if (!initialised(self))
         return NULL;
-    double *slots[N_GAINS];
-    gain_slots(&self->c, slots);
-    if (read_doubles(gains, slots, N_GAINS, "gains") < 0)
+    Cascade c = self->c; /* read aside: a refused configure leaves the gains as they were */
+    if (read_named(gains, GAINS, COUNT(GAINS), &c, "gains") < 0)
         return NULL;
+    self->c = c;
     Py_RETURN_NONE;
 }
 
@@ -179,23 +124,6 @@ static PyObject *Loop_load(LoopObject *self, PyObject *state)
     ph.on_ground = on_ground;
     self->c.physics = ph;
     Py_RETURN_NONE;
-}
-
-/* A tuple of `type` (a namedtuple class, or tuple) holding n floats. */
-static PyObject *float_tuple(PyTypeObject *type, const double *x[], Py_ssize_t n)
-{
-    PyObject *t = type == &PyTuple_Type ? PyTuple_New(n) : type->tp_alloc(type, n);
-    if (!t)
-        return NULL;
-    for (Py_ssize_t i = 0; i < n; i++) {
-        PyObject *f = PyFloat_FromDouble(*x[i]);
-        if (!f) {
-            Py_DECREF(t);
-            return NULL;
-        }
-        PyTuple_SET_ITEM(t, i, f);
-    }
-    return t;
 }
 
 /* state() -> PhysicsState: a snapshot for everything outside the cascade. */
@@ -343,7 +271,7 @@ static PyObject *Loop_get_omega_cmd(LoopObject *self, void *closure)
 }
 
 static PyMethodDef Loop_methods[] = {
-    {"configure", (PyCFunction)Loop_configure, METH_O, "configure(gains): controller gains, in compiled.py's order"},
+    {"configure", (PyCFunction)Loop_configure, METH_O, "configure(gains): controller gains by name (by_name.h)"},
     {"load", (PyCFunction)Loop_load, METH_O, "load(PhysicsState)"},
     {"set_conditions", (PyCFunction)Loop_set_conditions, METH_VARARGS, "set_conditions(wind_ned, speed_scale)"},
     {"state", (PyCFunction)Loop_state, METH_NOARGS, "state() -> PhysicsState"},

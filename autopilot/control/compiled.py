@@ -4,12 +4,15 @@ Python enters once per chunk (normally the four physics steps between two flight
 instead of several times per physics step. The physics and controller state live in a C struct
 (_cascade.c over cascade.h and sim/physics.h); after every run the sim's PhysicsState is replaced
 by a snapshot of it, so everything outside the cascade reads the same plain state as before.
-Gains and constants are read from the Python controllers, so parameters have one source; the
-sim's wind and motor health are handed over again whenever the sim says they changed.
-If the extension was not built, vehicles fly the Python reference (after one warning line).
+Gains and constants are read from the Python controllers and handed over by name (by_name.h),
+so parameters have one source; the sim's wind and motor health are handed over again whenever
+the sim says they changed.
+If the extension was not built, vehicles fly the Python reference (after one warning line) —
+except in CI (CI=true), where setup.py refuses to install without it and the tests stop at once.
 """
 from __future__ import annotations
 
+import os
 import sys
 
 from sim.physics import PhysicsState, fast_step_constants
@@ -23,45 +26,76 @@ try:
 except ImportError as exc:  # a failed build: fly the reference, slower but the same trajectory
     _cascade = None
     _why_missing = str(exc)
+_warned = False
 
 
 def available() -> bool:
     return _cascade is not None
 
 
+def why_missing() -> str:
+    """Why the extension could not be imported ("" when it was)."""
+    return _why_missing
+
+
+def required() -> bool:
+    """Whether the extension must be there: in CI, where a failed build would otherwise only turn
+    the compiled twin's checks into skips (setup.py reads the same variable)."""
+    return os.environ.get("CI", "").lower() == "true"
+
+
 def make_cascade(sim, params, rates, compiled: bool = True) -> Cascade:
-    global _why_missing
+    global _warned
     if compiled and _cascade is not None:
         return CompiledCascade(sim, params, rates)
-    if compiled and _why_missing:
+    if compiled and not _warned:
         print(f"firefly: compiled cascade not built ({_why_missing}); flying the Python reference",
               file=sys.stderr)
-        _why_missing = ""
+        _warned = True
     return Cascade(sim, params, rates)
+
+
+PID_GAINS = ("kp", "ki", "kd", "imax", "out_limit", "d_filter_hz")
+
+
+def numbers(obj, names: tuple) -> dict:
+    """{name: obj.name}: the attribute names of the Python controllers are the keys _cascade.c
+    reads (by_name.h), as they are the field names of its structs."""
+    return {name: getattr(obj, name) for name in names}
 
 
 class CompiledCascade(Cascade):
     def _start(self) -> None:
         sim = self.sim
-        a, p, al = self.attitude_ctl, self.position_ctl, self.allocator
-        constants = (*fast_step_constants(sim.airframe, sim.dt, sim.wind_ned),
-                     a.roll_torque_max, a.pitch_torque_max, a.yaw_torque_max, p.mass, p.weight,
-                     p.thrust_max, al.l, al.c, al.b, al.f_max, al.f_min, self.omega_idle,
-                     self.dt_pos, self.dt_att)
-        self.loop = _cascade.Loop(constants, self.ratio_pos, self.ratio_att, BodyState, PhysicsState)
-        self.loop.configure(self._gains())
+        self.loop = _cascade.Loop(self.constants(), self.ratio_pos, self.ratio_att, BodyState, PhysicsState)
+        self.loop.configure(self.gains())
+        self.loop.set_conditions(sim.wind_ned, sim.motor_speed_scale)
+        self._conditions = sim.conditions_version  # the sim's conditions last handed to the loop
         self.loop.load(sim.state)
         self._loaded = sim.state
-        self._conditions = None  # the sim's conditions_version last handed to the loop
         self.loop.reset()  # holds the heading the vehicle starts with, as the reference does
 
-    def _gains(self) -> tuple:
-        """Every parameter-derived number of the Python controllers, in _cascade.c's order."""
+    def constants(self) -> dict:
+        """What the loop takes once, by name: the physics step's constants and the airframe's
+        limits as the controllers hold them."""
+        return {"physics": fast_step_constants(self.sim.airframe, self.sim.dt),
+                "attitude": numbers(self.attitude_ctl, ("roll_torque_max", "pitch_torque_max", "yaw_torque_max")),
+                "position": numbers(self.position_ctl, ("mass", "weight", "thrust_max")),
+                "allocator": numbers(self.allocator, ("l", "c", "b", "f_max", "f_min")),
+                "cascade": numbers(self, ("omega_idle", "dt_pos", "dt_att"))}
+
+    def gains(self) -> dict:
+        """Every parameter-derived number of the Python controllers, by name."""
         a, p = self.attitude_ctl, self.position_ctl
-        pids = (*a.rate_pids, p.vel_pid_n, p.vel_pid_e, p.vel_pid_d)
-        return (*a.angle_p, a.rp_rate_max, a.yaw_rate_max, p.pos_xy_p, p.pos_z_p, p.accel_xy_max,
-                p.lean_max, p.speed_up, p.speed_dn, p.accel_z_max,
-                *(x for pid in pids for x in (pid.kp, pid.ki, pid.kd, pid.imax, pid.out_limit, pid.d_filter_hz)))
+        roll, pitch, yaw = a.angle_p
+        rate_roll, rate_pitch, rate_yaw = a.rate_pids
+        return {"attitude": {"angle_p_roll": roll, "angle_p_pitch": pitch, "angle_p_yaw": yaw,
+                             **numbers(a, ("rp_rate_max", "yaw_rate_max"))},
+                "position": numbers(p, ("pos_xy_p", "pos_z_p", "accel_xy_max", "lean_max", "speed_up",
+                                        "speed_dn", "accel_z_max")),
+                "rate_roll": numbers(rate_roll, PID_GAINS), "rate_pitch": numbers(rate_pitch, PID_GAINS),
+                "rate_yaw": numbers(rate_yaw, PID_GAINS), "vel_n": numbers(p.vel_pid_n, PID_GAINS),
+                "vel_e": numbers(p.vel_pid_e, PID_GAINS), "vel_d": numbers(p.vel_pid_d, PID_GAINS)}
 
     def _sync(self) -> None:
         """If something outside the cascade replaced the sim's state, step on from that one."""
@@ -71,7 +105,7 @@ class CompiledCascade(Cascade):
 
     def configure(self, params) -> None:
         super().configure(params)
-        self.loop.configure(self._gains())
+        self.loop.configure(self.gains())
 
     def command(self, sp, armed: bool, landed: bool, speed_xy: float) -> None:
         self.loop.command(sp, armed, landed, speed_xy)

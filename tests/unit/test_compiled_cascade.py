@@ -6,7 +6,11 @@ changing wind, a drifting barometer) — compared at every physics step, exactly
 from __future__ import annotations
 
 import dataclasses
+import os
 import random
+import subprocess
+import sys
+from pathlib import Path
 
 import pytest
 
@@ -21,6 +25,9 @@ from sim.rigid_body import BodyState
 from sim.vehicle import SimConfig, SimVehicle
 from sim.wind import SteadyWind
 
+if compiled.required() and not compiled.available():  # in CI the whole run stops here, once, with the cause
+    pytest.fail(f"CI=true but the compiled cascade is not built ({compiled.why_missing()}); "
+                "see the compile errors of `pip install` (setup.py)", pytrace=False)
 needs_extension = pytest.mark.skipif(not compiled.available(), reason="compiled cascade not built")
 
 
@@ -200,6 +207,7 @@ def test_run_until_in_chunks_flies_the_same_as_single_steps():
 def test_without_the_extension_vehicles_fly_the_reference_after_one_warning(monkeypatch, capsys):
     monkeypatch.setattr(compiled, "_cascade", None)
     monkeypatch.setattr(compiled, "_why_missing", "No module named 'autopilot.control._cascade'")
+    monkeypatch.setattr(compiled, "_warned", False)
     vehicles = [Vehicle(VehicleConfig()) for _ in range(3)]
     assert all(type(v.cascade) is Cascade for v in vehicles)
     warning = capsys.readouterr().err.splitlines()
@@ -211,6 +219,63 @@ def test_without_the_extension_vehicles_fly_the_reference_after_one_warning(monk
     v.takeoff(5.0)
     v.run_until(8.0)
     assert v.body.d_m == pytest.approx(-5.0, abs=0.3)
+
+
+def compiled_twin() -> compiled.CompiledCascade:
+    cascade = Vehicle(VehicleConfig()).cascade
+    assert isinstance(cascade, compiled.CompiledCascade)
+    return cascade
+
+
+@needs_extension
+def test_every_constant_and_gain_is_handed_over_by_a_name_the_loop_knows():
+    from autopilot.control import _cascade
+    from sim.physics import PhysicsState
+    twin = compiled_twin()
+
+    def new_loop(constants):
+        return _cascade.Loop(constants, 1, 1, BodyState, PhysicsState)
+
+    def without(numbers, part, name):
+        numbers[part] = {k: v for k, v in numbers[part].items() if k != name}
+        return numbers
+
+    def renamed(numbers, part, name, new_name):
+        numbers[part][new_name] = numbers[part].pop(name)
+        return numbers
+
+    with pytest.raises(KeyError, match=r"missing 'physics\.lag'"):
+        new_loop(without(twin.constants(), "physics", "lag"))
+    with pytest.raises(KeyError, match=r"unknown 'allocator\.fmax'"):
+        new_loop(renamed(twin.constants(), "allocator", "f_max", "fmax"))
+    with pytest.raises(KeyError, match=r"missing part 'cascade'"):
+        new_loop({part: v for part, v in twin.constants().items() if part != "cascade"})
+    with pytest.raises(KeyError, match=r"unknown part 'rate_roll'"):  # the gains' parts are not constants
+        new_loop({**twin.constants(), "rate_roll": twin.gains()["rate_roll"]})
+    with pytest.raises(TypeError):
+        new_loop({**twin.constants(), "physics": list(twin.constants()["physics"].values())})  # by position
+    with pytest.raises(TypeError):
+        new_loop({**twin.constants(), "position": {**twin.constants()["position"], "mass": "1.5"}})
+    with pytest.raises(KeyError, match=r"missing 'vel_d\.kd'"):
+        twin.loop.configure(without(twin.gains(), "vel_d", "kd"))
+    with pytest.raises(KeyError, match=r"unknown 'attitude\.angle_p'"):
+        twin.loop.configure({**twin.gains(), "attitude": {**twin.gains()["attitude"], "angle_p": 4.5}})
+
+
+@needs_extension
+def test_a_refused_configure_leaves_the_gains_as_they_were():
+    a, b = twins()
+    for v in (a, b):
+        v.run_until(0.5)
+        v.set_mode(Guided.number)
+        v.arm()
+        v.takeoff(6.0)
+    gains = a.cascade.gains()
+    gains["rate_roll"]["kp"] = 9.0  # read before the misspelled number is found
+    gains["vel_e"]["k_i"] = gains["vel_e"].pop("ki")
+    with pytest.raises(KeyError, match="vel_e.k_i"):
+        a.cascade.loop.configure(gains)
+    lockstep(a, b, 3.0)  # still flying the reference's gains, bit for bit
 
 
 @needs_extension
@@ -225,11 +290,36 @@ def test_misusing_the_loop_object_raises_instead_of_crashing():
     with pytest.raises(RuntimeError):
         _cascade.run_many([loop.__new__(loop)], 0, 1)
     with pytest.raises(TypeError):
-        loop((), 1, 1, dict, dict)  # state() would fill these as tuples
+        loop(compiled_twin().constants(), 1, 1, dict, dict)  # state() would fill these as tuples
 
-    class Shrinking(float):
+    class Clearing:
+        """A number whose conversion empties the containers it was read from (not a float
+        subclass: C reads those without calling __float__)."""
         def __float__(self):
-            numbers.clear()  # the list changes size while being read
+            for container in emptied:
+                container.clear()
             return 1.0
-    numbers = [Shrinking(1.0)] * 31
-    assert isinstance(loop(numbers, 1, 1, BodyState, PhysicsState), loop)  # read from a copy: no crash
+    constants = compiled_twin().constants()
+    constants["physics"]["m"] = Clearing()
+    emptied = [constants["physics"], constants]
+    with pytest.raises(KeyError):  # the numbers after it are gone: refused, no crash
+        loop(constants, 1, 1, BodyState, PhysicsState)
+    wind = [Clearing()] * 3
+    emptied = [wind]
+    assert compiled_twin().loop.set_conditions(wind, [1.0] * 4) is None  # read from a copy: no crash
+
+
+def test_in_ci_a_missing_extension_stops_the_test_run_once_naming_the_cause():
+    this = Path(__file__)
+    # The extension made unimportable in a child pytest; with CI=true it must not just skip.
+    child = ("import sys, pytest; sys.modules['autopilot.control._cascade'] = None; "
+             f"sys.exit(pytest.main(['-q', '-p', 'no:cacheprovider', {str(this)!r}, "
+             f"'--deselect', {str(this) + '::' + sys._getframe().f_code.co_name!r}]))")
+    run = subprocess.run([sys.executable, "-c", child], cwd=this.parents[2], capture_output=True, text=True,
+                         env={**os.environ, "CI": "true"}, timeout=120)
+    out = run.stdout + run.stderr
+    assert run.returncode != 0, out
+    assert "CI=true but the compiled cascade is not built" in out, out
+    assert "None in sys.modules" in out  # the import error itself, not just that it failed
+    assert "1 error" in out and "Interrupted" in out, out  # one error, and nothing ran after it
+    assert "passed" not in out and "skipped" not in out, out
