@@ -38,7 +38,7 @@ clean:
 bench: install
 	$(PY) bench/run.py
 
-# A million hostile datagrams through the real UDP endpoint and session (CI runs 20,000).
+# A million hostile datagrams through the sans-IO link layer and session (CI runs 20,000).
 fuzz: install
 	$(PY) -m tests.fuzz.receive_fuzz --frames 1000000 --json out/fuzz.json
 
