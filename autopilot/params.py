@@ -4,7 +4,7 @@ Values follow ArduCopter's units (cm, cm/s, centidegrees) so that ground station
 expect; the controller converts at construction. Integers are sent by value in the float field,
 as ArduPilot does.
 
-SIM_* parameters inject faults into the simulated world (autopilot/faults.py), with ArduPilot
+SIM_* parameters inject faults into the simulated world (autopilot/faults/world.py), with ArduPilot
 SITL's names where it has one. Unlike ArduPilot's they are never saved: a run's faults come from
 its scenario and from what is set during the run, so a restart does not bring back a failed motor.
 """

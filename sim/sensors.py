@@ -3,7 +3,7 @@
 Each sensor owns its own numpy Generator (seeded from the vehicle seed and the sensor's name) so
 adding a sensor never changes another's noise. Noise draws happen at each sensor's own rate.
 
-Faults are plain attributes set from outside (autopilot/faults.py): the GPS can be switched off,
+Faults are plain attributes set from outside (autopilot/faults/world.py): the GPS can be switched off,
 glitched by a fixed offset or left with few satellites; the barometer can drift.
 """
 from __future__ import annotations
