@@ -17,13 +17,12 @@ import sys
 import time
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT))
+from autopilot.control import compiled as compiled_cascade
+from autopilot.rates import LoopRates
+from autopilot.vehicle import Vehicle, VehicleConfig
+from report import summary, write_markdown  # bench/report.py, beside this script
 
-from autopilot.control import compiled as compiled_cascade  # noqa: E402
-from autopilot.rates import LoopRates  # noqa: E402
-from autopilot.vehicle import Vehicle, VehicleConfig  # noqa: E402
-from report import summary, write_markdown  # noqa: E402
+ROOT = Path(__file__).resolve().parents[1]
 
 
 def progress(text: str) -> None:
