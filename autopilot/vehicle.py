@@ -186,7 +186,7 @@ class Vehicle:
             return Result.FAILED
         if self.home_ned is None:
             self._set_home_here()
-        self.arming.arm(self.time_s)
+        self.arming.arm()
         self.land_detector.set_landed()
         self.auto_disarm.restart(self.time_s)
         self.cascade.reset()

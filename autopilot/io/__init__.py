@@ -1,3 +1,4 @@
 """The I/O edge: the UDP socket, the paced loop, the .tlog, atomic files, signing-key files, the exit report.
 
-The only place that reads the wall clock or touches a socket or a file."""
+Where sockets are touched and the wall clock is read while the vehicles run: the runner hands wall
+time to the link and the sessions, which never read a clock themselves."""

@@ -21,13 +21,12 @@ STATE_LOG_EVERY = 10  # ticks (0.1 s of sim time)
 
 def incoming(datagrams: list, link, answer):
     """Each message of `datagrams` ((bytes, sender) pairs) that gets through `link`, judged when
-    drawn; `answer(sender)` once for a datagram of which the link found a message may be answered."""
+    drawn; `answer(sender)` once for a datagram of which the link found a message may be answered
+    (also when a link fault then lost it)."""
     for data, sender in datagrams:
-        answerable_seen = False
-        for msg, answerable in link.receive(data, sender):
-            answerable_seen |= answerable
+        for msg, _ in link.receive(data, sender):
             yield msg
-        if answerable_seen:
+        if link.sender_answerable:
             answer(sender)
 
 

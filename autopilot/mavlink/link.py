@@ -45,6 +45,7 @@ class Link:
         self._system_id = codec.srcSystem
         self._parsers: OrderedDict = OrderedDict()  # sender -> its parser, least recently heard first
         self.counters = {"decode_errors": 0, "parsers_evicted": 0}
+        self.sender_answerable = False  # whether the last datagram's sender may be answered
 
     def advance(self, unix_s: float, link_s: float) -> None:
         """The time now, handed in by the I/O edge: wall clock (Unix s) and link clock (s)."""
@@ -59,6 +60,7 @@ class Link:
     def receive(self, data: bytes, sender) -> Iterator[tuple]:
         """(message, whether its sender may be answered) for each message of one datagram that
         gets through; each is judged when drawn (see the module docstring)."""
+        self.sender_answerable = False
         messages = self._decode(data, sender)
         if not messages:
             return
@@ -74,6 +76,9 @@ class Link:
                 answerable = signing.last_verified  # False for an unsigned RADIO_STATUS
             else:
                 continue
+            # Who may be answered is judged before the fault stage: a frame the link then loses
+            # still makes its sender a peer (the socket layer always judged it so).
+            self.sender_answerable |= answerable
             if lossy and faults.lose_in():
                 continue
             yield msg, answerable

@@ -33,7 +33,7 @@ class Auto(Mode):
     requires_position = True
 
     def enter(self, ctx) -> str | None:
-        mission = ctx.mission
+        mission = ctx.mission_progress
         items = mission.items()
         if not items:
             return "no mission"
@@ -50,7 +50,7 @@ class Auto(Mode):
         return None
 
     def exit(self, ctx) -> None:
-        ctx.mission.pause()
+        ctx.mission_progress.pause()
 
     # ----- item sequencing --------------------------------------------------------------------
     def _start_item(self, ctx, index: int) -> None:
@@ -60,7 +60,7 @@ class Auto(Mode):
                 self._finish(ctx)
                 return
             item = self._items[index]
-            ctx.mission.set_index(index)
+            ctx.mission_progress.set_index(index)
             if item.command in NAV_COMMANDS:
                 self._index = index
                 self._begin_nav(ctx, item)
@@ -72,7 +72,7 @@ class Auto(Mode):
         """Mission over: hold where we are (a landed vehicle has already disarmed)."""
         self._index = None
         self._hold_ne, self._hold_d = (ctx.body.n_m, ctx.body.e_m), ctx.body.d_m
-        if ctx.mission.complete():
+        if ctx.mission_progress.complete():
             ctx.notify("Mission complete")
 
     def _do_item(self, ctx, index: int, item) -> int:
@@ -90,7 +90,7 @@ class Auto(Mode):
             ctx.set_home(None if item.p1 == 1 else self._target_ned(ctx, item))
         else:
             ctx.notify(f"Skipping unsupported mission command {item.command}", Severity.WARNING)
-        ctx.mission.item_reached(index)
+        ctx.mission_progress.item_reached(index)
         return index + 1
 
     def _target_ned(self, ctx, item) -> tuple:
@@ -122,14 +122,14 @@ class Auto(Mode):
 
     def _complete(self, ctx) -> None:
         index = self._index
-        ctx.mission.item_reached(index)
+        ctx.mission_progress.item_reached(index)
         self._start_item(ctx, index + 1)
 
     # ----- loop ----------------------------------------------------------------------------------
     def update(self, ctx, sp: Setpoint, dt: float) -> None:
         sp.clear()
         sp.speed_xy = ctx.nav_speed_m_s
-        mission = ctx.mission
+        mission = ctx.mission_progress
         if mission.version != self._version:  # a new mission was uploaded: hold until restarted
             self._items, self._version, self._index = mission.items(), mission.version, None
             mission.stop()

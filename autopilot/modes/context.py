@@ -18,17 +18,18 @@ class ModeContext:
         armed, landed, time_s (sim seconds), home_ned (None until home is set)
         nav_speed_m_s the horizontal speed AUTO and GUIDED fly (WPNAV_SPEED, DO_CHANGE_SPEED)
         has_position() whether the horizontal position is known (3D GPS fix)
-        mission       mission progress (mission/progress.py): items, current index, state
         auto_armed    AUTO may start its mission from the ground
         origin_alt_m  altitude of the local frame's origin above sea level
         ned_of(lat, lon, alt_amsl) -> (n, e, d) in the local frame
     Actions:
         notify(text, severity)   a STATUSTEXT
-        disarm(reason)           refused (False result) while flying
+        disarm(reason)           a Result: FAILED while flying
+        mission_progress         mission/progress.py: the items and current index to read; AUTO
+                                 alone moves it on (stop, resume, set_index, item_reached, complete)
         set_speed(m_s)           as DO_CHANGE_SPEED
         set_home(ned or None)    as DO_SET_HOME (None = here)
     """
-    __slots__ = ("_v", "_estimate", "_arming", "_land", "_sim", "params", "mission", "notify", "disarm",
+    __slots__ = ("_v", "_estimate", "_arming", "_land", "_sim", "params", "mission_progress", "notify", "disarm",
                  "set_speed", "set_home", "ned_of")
 
     def __init__(self, vehicle):
@@ -38,7 +39,7 @@ class ModeContext:
         self._land = vehicle.land_detector
         self._sim = vehicle.sim
         self.params = vehicle.params
-        self.mission = vehicle.mission_progress
+        self.mission_progress = vehicle.mission_progress
         self.notify = vehicle.notify
         self.disarm = vehicle.disarm
         self.set_speed = vehicle.set_speed

@@ -1,4 +1,4 @@
-"""ArduCopter's flight-mode numbers (HEARTBEAT custom_mode, DO_SET_MODE, FLTMODEn): the one table.
+"""ArduCopter's flight-mode numbers (HEARTBEAT custom_mode, DO_SET_MODE, SET_MODE): the one table.
 
 Only the modes Firefly flies are listed; any other number is refused as an unknown mode."""
 from enum import IntEnum

@@ -1,5 +1,5 @@
 """Arming: ArduCopter's pre-arm checks as a table, the rules that refuse an ARM, and the state
-that arming starts (armed, when, and ArduCopter's auto_armed flag).
+that arming starts (armed, and ArduCopter's auto_armed flag).
 
 The checks read the vehicle through its public facade (estimate, params, home, failsafes); each
 returns the words ArduCopter puts after "PreArm: ", or None when it passes.
@@ -64,17 +64,15 @@ def arm_refusal(v, force: bool) -> str | None:
 
 
 class Arming:
-    """Whether the motors are armed, since when, and ArduCopter's auto_armed: AUTO may start its
+    """Whether the motors are armed, and ArduCopter's auto_armed: AUTO may start its
     mission from the ground (set by MISSION_START while armed and by a takeoff; cleared on disarm)."""
 
     def __init__(self):
         self.armed = False
-        self.armed_time_s = 0.0
         self.auto_armed = False
 
-    def arm(self, now_s: float) -> None:
+    def arm(self) -> None:
         self.armed = True
-        self.armed_time_s = now_s
 
     def disarm(self) -> None:
         self.armed = False

@@ -161,6 +161,9 @@ def evaluate(args) -> int:
     policies = parse_policies(args.policies)
     try:
         scenario = load_scenario(args.scenario)
+        if args.flight is not None:
+            from ..flight.autopilot_process import check_scenario
+            check_scenario(args.scenario)  # the vehicle's tables too, before the episodes run
     except ScenarioError as exc:
         raise EvaluateError(str(exc)) from None
     try:
@@ -184,7 +187,7 @@ def evaluate(args) -> int:
     confirm = "off" if config.confirm_m is None else f"within {config.confirm_m:g} m"
     print(f"({time.monotonic() - t0:.0f} s, {jobs} job{'s' if jobs > 1 else ''}; declare at 3x3 mass >= "
           f"{config.threshold:g}, confirmation {confirm}, budget {config.budget_m:g} m; success = declared cell "
-          f"within one cell of a fire; false = confident but wrong; forced = budget ran out)")
+          f"within one cell of a fire; false = confident but wrong; forced = declared without a confident belief)")
     flights = fly(args, world, seed, config, policies[0], results[policies[0]]) if args.flight else None
     if args.json:
         args.json.parent.mkdir(parents=True, exist_ok=True)
@@ -205,7 +208,7 @@ def fly(args, world, seed: int, config: EpisodeConfig, policy: str, decided: lis
     """The first K episodes flown through the real autopilot with the first policy listed."""
     import tomllib
     from . import flown_episodes
-    base = tomllib.loads(args.scenario.read_text())  # already validated by load_scenario
+    base = tomllib.loads(args.scenario.read_text())  # checked by load_scenario and the autopilot
     print(f"flying episodes 0..{args.flight - 1} with {policy} through the autopilot at speedup "
           f"{args.flight_speedup:g}", flush=True)
     flown = []

@@ -19,7 +19,7 @@ from pathlib import Path
 
 from sim.fire import WORLD_KEYS, FireWorld
 
-from ..flight.autopilot_process import run_flight
+from ..flight.autopilot_process import AutopilotExited, run_flight
 from ..flight.explore import explore
 from ..flight.vehicle_link import LinkError
 from .episodes import EpisodeConfig, episode_world
@@ -63,7 +63,7 @@ def fly_episode(base: dict, world: FireWorld, seed: int, index: int, policy: str
             result = run_flight(lambda url: explore(url, world, policy, plot, truth=True, config=config,
                                                     say=lambda text: None),
                                 None, speedup, path, say=lambda text: None)
-        except LinkError as exc:
+        except (LinkError, AutopilotExited) as exc:
             return row | {"flown": False, "why": str(exc)}
     error, within = result["error_m"], result["within_one_cell"]
     return row | {"flown": True, "declared": (result["declared_n_m"], result["declared_e_m"]), "path_m": result["path_m"], "error_m": error, "success": within,

@@ -122,6 +122,22 @@ def start_autopilot(state_dir: Path | None = None, speedup="10", extra: tuple = 
     return AutopilotProcess(process, port, Path(state_dir), str(speedup), log, owned)
 
 
+def check_scenario(path: Path) -> None:
+    """Ask the autopilot whether it flies scenario `path`, before any work depends on it: the
+    companion reads only the world of a scenario (sim/scenario.py); the vehicle's own tables
+    ([faults], [script], [signing]) are the autopilot's to judge. Raises ScenarioError with the
+    autopilot's one line when it refuses them."""
+    from sim.scenario import ScenarioError
+    with tempfile.TemporaryDirectory(prefix="firefly-check-") as state:
+        result = subprocess.run([sys.executable, "-m", "autopilot", "--scenario", str(path), "--duration", "0",
+                                 "--quiet", "--listen", "udp:127.0.0.1:0", "--out", f"udp:127.0.0.1:{free_udp_port()}",
+                                 "--state-dir", state, "--wipe"], capture_output=True, text=True, timeout=60)
+    if result.returncode != 0:
+        said = [line for line in result.stderr.splitlines() if line.strip()]
+        raise ScenarioError(said[-1].removeprefix("autopilot: error: ") if said else
+                            f"{path}: the autopilot refused it (status {result.returncode})")
+
+
 def run_flight(flight: Callable[[str], Awaitable[T]], url: str | None, speedup: float,
                scenario: Path | None = None, say=print) -> T:
     """`flight(url)` against the vehicle at `url`, or, without one, against an autopilot process

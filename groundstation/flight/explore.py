@@ -28,7 +28,7 @@ from ..strategy import Geometry, make_policy
 from ..strategy.controller import SearchConfig, SearchController
 from ..strategy.stopping import Declaration
 from ..plots import draw_track, label_map, png
-from .autopilot_process import run_flight
+from .autopilot_process import check_scenario, run_flight
 from .survey import Survey
 from .vehicle_link import LinkError, VehicleLink, first
 
@@ -190,6 +190,8 @@ def run(url: str | None, scenario: Path | None, policy: str, speedup: float, plo
         truth: bool) -> int:
     from sim.scenario import Scenario, load_scenario
     sc = load_scenario(scenario) if scenario else Scenario()
+    if scenario and not url:
+        check_scenario(scenario)  # the vehicle's tables too, before a vehicle starts on them
     make_policy(policy)  # a bad name fails here, before anything starts
     result = run_flight(lambda at: explore(at, sc.world, policy, plot, truth), url, speedup, scenario)
     return 0 if result.get("landed_from_home_m", math.inf) < 5.0 else 1

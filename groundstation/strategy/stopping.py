@@ -27,7 +27,7 @@ class Declaration:
     mass: float                    # belief mass in the block around it
     forced: bool                   # True: declared without the belief being confident (the budget ran out,
                                    # or a policy that relies on the belief had nothing more to do)
-    reason: str                    # "confident" or "budget"
+    reason: str                    # "confident", "budget" or "end" (the policy had nothing more to do)
 
 
 @dataclass(frozen=True)

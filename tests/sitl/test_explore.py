@@ -100,21 +100,20 @@ def test_evaluate_flight_flies_with_the_budget_and_speed_it_is_given(tmp_path):
 def test_a_scenario_its_autopilot_refuses_ends_explore_at_once_with_one_line(refused_scenario, tmp_path):
     result = subprocess.run([sys.executable, "-m", "groundstation", "explore", "--scenario", str(refused_scenario),
                              "--plot", str(tmp_path / "x.png")], cwd=REPO, capture_output=True, text=True, timeout=60)
-    assert result.returncode == 1
+    assert result.returncode == 2
     lines = result.stderr.strip().splitlines()
     assert len(lines) == 1, result.stderr
-    # The process's own exit, not the connection timeout ("no autopilot answered") that came 15 s later.
-    assert lines[0].startswith("groundstation: autopilot exited with status 2") and "SIM_NOT_A_FAULT" in lines[0]
+    # The autopilot's own words, asked before any vehicle starts; not a connection timeout.
+    assert lines[0].startswith(f"groundstation: error: {refused_scenario}: [faults].SIM_NOT_A_FAULT")
 
 
-def test_evaluate_flight_stops_at_the_first_episode_its_autopilot_refuses(refused_scenario):
+def test_evaluate_flight_refuses_a_scenario_its_autopilot_refuses_before_any_episode(refused_scenario):
     result = subprocess.run([sys.executable, "-m", "groundstation", "evaluate", "--scenario", str(refused_scenario),
                              "--episodes", "1", "--policies", "gig", "--flight", "1"],
                             cwd=REPO, capture_output=True, text=True, timeout=60)
-    assert result.returncode == 1
-    assert "Traceback" not in result.stderr and "no autopilot answered" not in result.stderr
-    last = result.stderr.strip().splitlines()[-1]
-    assert last.startswith("groundstation: autopilot exited with status 2") and "SIM_NOT_A_FAULT" in last
+    assert result.returncode == 2 and result.stdout == ""
+    assert result.stderr.strip().splitlines() == [result.stderr.strip()]
+    assert result.stderr.startswith("groundstation: error: ") and "SIM_NOT_A_FAULT" in result.stderr
 
 
 async def test_guard_cancels_the_flight_when_its_autopilot_exits(refused_scenario, tmp_path):

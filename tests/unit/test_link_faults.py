@@ -95,6 +95,18 @@ def test_the_link_loses_received_frames_by_its_seed():
     assert 60 < len(seqs(1)) < 140
 
 
+def test_a_sender_whose_frames_are_all_lost_is_still_answered():
+    from autopilot.io.runner import incoming
+    link = _lossy_link(1)
+    link.faults.params.set("SIM_LINK_LOSS", 100)
+    gcs = client_codec()
+    answered = []
+    datagram = gcs.heartbeat_encode(6, 8, 0, 0, 4).pack(gcs)
+    assert list(incoming([(datagram, GCS)], link, answered.append)) == []
+    assert answered == [GCS]
+    assert list(incoming([(b"\xfd\x00garbage", GCS)], link, answered.append)) == [] and answered == [GCS]
+
+
 def test_a_cut_link_trips_the_gcs_failsafe_and_its_return_clears_it():
     v = hovering_vehicle(10.0)
     session = Session(v, new_codec(v.system_id))

@@ -50,7 +50,7 @@ def test_the_context_reads_through_to_the_vehicle():
     v.arm()
     v.run_until(v.time_s + 0.1)
     assert ctx.armed and ctx.time_s == v.time_s and ctx.body == v.body
-    assert ctx.mission is v.mission_progress and ctx.params is v.params
+    assert ctx.mission_progress is v.mission_progress and ctx.params is v.params
     with pytest.raises(AttributeError):
         ctx.armed = False  # read only
     with pytest.raises(AttributeError):
