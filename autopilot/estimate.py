@@ -18,9 +18,8 @@ TEMPERATURE_RATE_HZ = 10
 
 
 class StateEstimate:
-    def __init__(self, sim):
+    def __init__(self, sim, physics_hz: int):
         self.sim = sim
-        physics_hz = round(1.0 / sim.dt)
         self.gps_every = max(1, physics_hz // GPS_RATE_HZ)  # physics steps between GPS samples
         self.temperature_every = max(1, physics_hz // TEMPERATURE_RATE_HZ)
         self.gps = sim.gps.read(sim.state.body)

@@ -70,7 +70,7 @@ class Vehicle:
         for name, value in {**world_values(config.sim), **config.faults}.items():
             self.params.set(name, value)
         self.faults = Faults(self.sim, self.params, self.origin)
-        self.estimate = StateEstimate(self.sim)
+        self.estimate = StateEstimate(self.sim, config.rates.physics_hz)
         airframe = config.sim.airframe
         self.thrust_max_n = 4.0 * airframe.max_rotor_thrust_n
         self.omega_max_rad_s = airframe.omega_max_rad_s

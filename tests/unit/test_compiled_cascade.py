@@ -40,6 +40,15 @@ def twins(**config) -> tuple[Vehicle, Vehicle]:
     return a, b
 
 
+def taking_off(a: Vehicle, b: Vehicle, alt_m: float) -> None:
+    """Both twins, half a second in: GUIDED, armed, told to take off to alt_m."""
+    for v in (a, b):
+        v.run_until(0.5)
+        v.set_mode(Guided.number)
+        v.arm()
+        v.takeoff(alt_m)
+
+
 def assert_same(a: Vehicle, b: Vehicle) -> None:
     assert a.sim.steps == b.sim.steps
     assert a.sim.state == b.sim.state  # every float, exactly
@@ -163,11 +172,8 @@ def test_manual_flight_is_bit_identical_compiled_and_in_python():
 @needs_extension
 def test_a_state_set_from_outside_is_where_the_compiled_cascade_goes_on_from():
     a, b = twins()
+    taking_off(a, b, 5.0)
     for v in (a, b):
-        v.run_until(0.5)
-        v.set_mode(Guided.number)
-        v.arm()
-        v.takeoff(5.0)
         v.run_until(3.0)
         v.sim.state = v.sim.state._replace(body=v.body._replace(n_m=7.0, vn_m_s=1.5))
     lockstep(a, b, 2.0)
@@ -265,11 +271,7 @@ def test_every_constant_and_gain_is_handed_over_by_a_name_the_loop_knows():
 @needs_extension
 def test_a_refused_configure_leaves_the_gains_as_they_were():
     a, b = twins()
-    for v in (a, b):
-        v.run_until(0.5)
-        v.set_mode(Guided.number)
-        v.arm()
-        v.takeoff(6.0)
+    taking_off(a, b, 6.0)
     gains = a.cascade.gains()
     gains["rate_roll"]["kp"] = 9.0  # read before the misspelled number is found
     gains["vel_e"]["k_i"] = gains["vel_e"].pop("ki")
