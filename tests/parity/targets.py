@@ -1,0 +1,78 @@
+"""The two vehicles a probe can drive: Firefly (in CI) and the reference ArduCopter SITL (when
+recording, on a machine that built it with the reference scripts). Each boot is a fresh vehicle
+with wiped parameters, at the same home (ArduPilot SITL's default field, also Firefly's), and
+ready to arm: Firefly at once, ArduCopter once its EKF and GPS are ready (its pre-arm bit).
+"""
+from __future__ import annotations
+
+import os
+import shutil
+import subprocess
+from pathlib import Path
+
+from groundstation.flight.autopilot_process import free_udp_port, start_autopilot
+
+from .client import Client, mav
+
+HOME = "-35.363261,149.165230,584,0"
+PREARM = mav.MAV_SYS_STATUS_PREARM_CHECK
+
+
+def wait_armable(client: Client, sim_s: float = 120.0) -> float:
+    """Vehicle seconds until SYS_STATUS reports the pre-arm checks passing."""
+    def ready():
+        s = client.last.get("SYS_STATUS")
+        return s is not None and bool(s.onboard_control_sensors_health & PREARM) \
+            and client.last.get("GPS_RAW_INT") is not None and client.last["GPS_RAW_INT"].fix_type >= 3
+    return client.wait(ready, sim_s, what="pre-arm checks passing")
+
+
+class FireflyTarget:
+    name = "firefly"
+
+    def __init__(self, speedup: str = "20"):
+        self.speedup = speedup
+        self.process = None
+
+    def boot(self) -> Client:
+        self.close()
+        self.process = start_autopilot(speedup=self.speedup, extra=(f"--home={HOME}",), capture_stderr=True)
+        client = Client(self.process.pymavlink_url)
+        client.boot_s = wait_armable(client)
+        return client
+
+    def close(self) -> None:
+        if self.process is not None:
+            self.process.stop()
+            self.process = None
+
+
+class ArduCopterTarget:
+    """The reference: run-arducopter-sitl from the reference scripts, in OUT_DIR (the build's)."""
+    name = "arducopter"
+
+    def __init__(self, out_dir: Path, instance: int = 0, speedup: int = 10,
+                 runner: Path = Path(os.environ.get("ARDUCOPTER_RUNNER", "../shared/reference/run-arducopter-sitl"))):
+        self.out_dir, self.instance, self.speedup, self.runner = Path(out_dir), instance, speedup, runner
+        self.process = None
+
+    def boot(self) -> Client:
+        self.close()
+        shutil.rmtree(self.out_dir / f"run-{self.instance}", ignore_errors=True)
+        port = free_udp_port()
+        self.process = subprocess.Popen(
+            [str(self.runner), str(self.out_dir), str(self.instance), str(port), str(self.speedup),
+             "--home", HOME], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
+        client = Client(f"udpin:127.0.0.1:{port}")
+        client.boot_s = wait_armable(client)
+        return client
+
+    def close(self) -> None:
+        if self.process is not None:
+            self.process.terminate()
+            try:
+                self.process.wait(timeout=10)
+            except subprocess.TimeoutExpired:
+                self.process.kill()
+                self.process.wait()
+            self.process = None
