@@ -1,4 +1,10 @@
-"""Parameters: one table with ArduCopter's names, units and ranges, and a store that persists them.
+"""Parameters: the table of those that act, the full set served, and a store that persists them.
+
+PARAM_TABLE holds the parameters Firefly models (each acts on the vehicle), with ArduCopter's
+names, units and ranges. The vehicle serves more: every parameter the reference ArduCopter serves
+(autopilot/reference_params.py), in the reference's order and with its MAVLink types, then
+Firefly's own. One that Firefly does not model is stored, persisted and reported, and does nothing.
+Where the two tables disagree is written down in autopilot/params_differences.py.
 
 Values follow ArduCopter's units (cm, cm/s, centidegrees) so that ground stations show what they
 expect; the controller converts at construction. Integers are sent by value in the float field,
@@ -11,10 +17,22 @@ its scenario and from what is set during the run, so a restart does not bring ba
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 from .io.persist import read_json, write_json_atomic
+from .params_differences import RENAMED
+from .reference_params import reference_params
+
+# MAV_PARAM_TYPE numbers ArduPilot uses (INT8, INT16, INT32, REAL32), and what each integer type holds.
+MAV_PARAM_TYPE_INT32, MAV_PARAM_TYPE_REAL32 = 6, 9
+INT_TYPE_BOUNDS = {2: (-2.0**7, 2.0**7 - 1), 4: (-2.0**15, 2.0**15 - 1), 6: (-2.0**31, 2.0**31 - 1)}
+FLOAT32_MAX = 3.4028234663852886e38  # a PARAM_VALUE carries a float32
+
+
+def is_saved(name: str) -> bool:
+    """Whether a value persists across restarts: everything but the simulation's faults (SIM_*)."""
+    return not name.startswith("SIM_")
 
 
 @dataclass(frozen=True)
@@ -25,11 +43,11 @@ class ParamSpec:
     high: float
     is_int: bool = False
     doc: str = ""
+    mav_type: int | None = None  # MAV_PARAM_TYPE served; filled in for SERVED (see _served_spec)
 
     @property
     def saved(self) -> bool:
-        """Whether the value persists across restarts (everything but the simulation's faults)."""
-        return not self.name.startswith("SIM_")
+        return is_saved(self.name)
 
 
 def _f(name, default, low, high, doc=""):
@@ -112,6 +130,7 @@ PARAM_TABLE: tuple[ParamSpec, ...] = (
     _i("SIM_ENGINE_FAIL", 0, 0, 3, "motor SIM_ENGINE_MUL applies to, 0 = motor 1 (front)"),
     _f("SIM_ENGINE_MUL", 1, 0, 1, "thrust multiplier of motor SIM_ENGINE_FAIL, 0 = failed"),
     _i("SIM_GPS_DISABLE", 0, 0, 1, "1 = the GPS has no fix"),
+    _i("SIM_GPS1_ENABLE", 1, 0, 1, "0 = the GPS has no fix (ArduPilot 4.7's inverse of SIM_GPS_DISABLE)"),
     _f("SIM_GPS_GLITCH_X", 0, -1, 1, "GPS latitude offset [deg]"),
     _f("SIM_GPS_GLITCH_Y", 0, -1, 1, "GPS longitude offset [deg]"),
     _f("SIM_GPS_GLITCH_Z", 0, -1000, 1000, "GPS altitude offset [m]"),
@@ -126,7 +145,43 @@ PARAM_TABLE: tuple[ParamSpec, ...] = (
     _f("SIM_LINK_LOSS", 0, 0, 100, "share of MAVLink frames lost each way [%]"),
 )
 
-SPEC_BY_NAME = {spec.name: spec for spec in PARAM_TABLE}
+SPEC_BY_NAME = {spec.name: spec for spec in PARAM_TABLE}  # the modelled parameters: what acts
+
+
+def _stored_spec(ref) -> ParamSpec:
+    """A reference parameter Firefly does not model: its documented range (widened to hold the
+    reference's own default, which the documentation does not always respect), within its type's."""
+    low, high = INT_TYPE_BOUNDS.get(ref.mav_type, (-FLOAT32_MAX, FLOAT32_MAX))
+    if ref.low is not None:
+        low = max(low, min(ref.low, ref.default))
+        high = min(high, max(ref.high, ref.default))
+    return ParamSpec(ref.name, ref.default, low, high, ref.mav_type in INT_TYPE_BOUNDS, mav_type=ref.mav_type)
+
+
+def _served_table() -> tuple[ParamSpec, ...]:
+    """The reference's parameters in its order (a modelled one keeps Firefly's default and range,
+    under the reference's name and type), then the modelled ones the reference does not have."""
+    served = []
+    for ref in reference_params():
+        modelled = SPEC_BY_NAME.get(RENAMED.get(ref.name, ref.name))
+        if modelled is None:
+            served.append(_stored_spec(ref))
+        else:
+            served.append(replace(modelled, name=ref.name, mav_type=ref.mav_type,
+                                  is_int=modelled.is_int or ref.mav_type in INT_TYPE_BOUNDS))
+    names = {spec.name for spec in served}
+    served.extend(replace(spec, mav_type=MAV_PARAM_TYPE_INT32 if spec.is_int else MAV_PARAM_TYPE_REAL32)
+                  for spec in PARAM_TABLE if spec.name not in names)
+    return tuple(served)
+
+
+SERVED: tuple[ParamSpec, ...] = _served_table()  # every parameter served, in PARAM_VALUE index order
+SERVED_BY_NAME = {spec.name: spec for spec in SERVED}
+SERVED_NAMES = [spec.name for spec in SERVED]
+INDEX_BY_NAME = {name: i for i, name in enumerate(SERVED_NAMES)}
+# Where each value is kept: a renamed parameter's two names share the modelled one's value.
+STORED_AS = {spec.name: RENAMED.get(spec.name, spec.name) for spec in SERVED}
+DEFAULTS = {STORED_AS[spec.name]: spec.default for spec in SERVED}
 
 
 class ParamError(ValueError):
@@ -135,7 +190,7 @@ class ParamError(ValueError):
 
 def checked_value(name: str, value) -> float:
     """The value `name` would take (integers rounded), or ParamError naming what is wrong."""
-    spec = SPEC_BY_NAME.get(name)
+    spec = SERVED_BY_NAME.get(name)
     if spec is None:
         raise ParamError(f"unknown parameter {name}")
     try:
@@ -150,11 +205,13 @@ def checked_value(name: str, value) -> float:
 
 
 class ParamStore:
-    """Current values by name, with range checks and atomic persistence to a JSON file."""
+    """Current values of every served parameter by name, with range checks and atomic persistence
+    of those that differ from their default to a JSON file. Listeners hear a renamed parameter's
+    change under the modelled name (the one the vehicle's code reads)."""
 
     def __init__(self, path: Path | None = None, wipe: bool = False):
         self.path = path
-        self._values = {spec.name: spec.default for spec in PARAM_TABLE}
+        self._values = dict(DEFAULTS)
         self._listeners = []
         self.save_errors = 0
         self.last_save_error = ""
@@ -164,27 +221,39 @@ class ParamStore:
     def _load(self, path: Path) -> None:
         saved = read_json(path)  # an unreadable file is ignored; defaults stand until the next save
         for name, value in saved.items() if isinstance(saved, dict) else ():
-            if name in SPEC_BY_NAME and not SPEC_BY_NAME[name].saved:
+            if not is_saved(name):
                 continue
             try:
-                self._values[name] = checked_value(name, value)
-            except ParamError:
+                self._values[STORED_AS[name]] = checked_value(name, value)
+            except (ParamError, KeyError):
                 continue
 
     def names(self) -> list[str]:
-        return [spec.name for spec in PARAM_TABLE]
+        """Every served name, in PARAM_VALUE index order."""
+        return list(SERVED_NAMES)
 
     def __len__(self) -> int:
-        return len(PARAM_TABLE)
+        return len(SERVED)
+
+    def __contains__(self, name: str) -> bool:
+        return name in SERVED_BY_NAME
 
     def __getitem__(self, name: str) -> float:
-        return self._values[name]
+        return self._values[STORED_AS[name]]
 
     def get(self, name: str, default=None):
-        return self._values.get(name, default)
+        return self._values[STORED_AS[name]] if name in STORED_AS else default
 
     def index_of(self, name: str) -> int:
-        return self.names().index(name)
+        return INDEX_BY_NAME[name]
+
+    def mav_type(self, name: str) -> int:
+        """The MAV_PARAM_TYPE `name` is served with (the reference's, for the reference's names)."""
+        return SERVED_BY_NAME[name].mav_type
+
+    def acts(self, name: str) -> bool:
+        """Whether setting `name` changes the vehicle (a modelled parameter) or is only stored."""
+        return STORED_AS.get(name) in SPEC_BY_NAME
 
     def on_change(self, callback) -> None:
         self._listeners.append(callback)
@@ -192,10 +261,11 @@ class ParamStore:
     def set(self, name: str, value) -> float:
         """Set and persist; raises ParamError (naming the problem) and changes nothing on bad input."""
         value = checked_value(name, value)
+        name = STORED_AS[name]
         if value == self._values[name]:
             return value  # nothing changes: a GCS re-sending its whole list must not re-trigger faults
         self._values[name] = value
-        if SPEC_BY_NAME[name].saved:
+        if is_saved(name):
             self._save()
         for callback in self._listeners:
             callback(name, value)
@@ -211,7 +281,7 @@ class ParamStore:
             return
         try:
             write_json_atomic(self.path, {n: v for n, v in self._values.items()
-                                          if v != SPEC_BY_NAME[n].default and SPEC_BY_NAME[n].saved})
+                                          if v != DEFAULTS[n] and is_saved(n)})
         except OSError as exc:
             self.save_errors += 1
             self.last_save_error = f"{self.path}: {exc.strerror or exc}"

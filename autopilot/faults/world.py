@@ -44,7 +44,7 @@ class Faults:
 
     def _gps(self) -> None:
         p, gps = self.params, self.sim.gps
-        gps.enabled = not p["SIM_GPS_DISABLE"]
+        gps.enabled = bool(p["SIM_GPS1_ENABLE"]) and not p["SIM_GPS_DISABLE"]  # 4.7's name and 4.5's, both act
         gps.satellites = int(p["SIM_GPS_NUMSATS"])
         o = self.origin
         n, e, d = ned_from_global(o, o.lat_deg + p["SIM_GPS_GLITCH_X"], o.lon_deg + p["SIM_GPS_GLITCH_Y"],
@@ -69,7 +69,7 @@ class Faults:
 
 APPLY = {
     "SIM_ENGINE_FAIL": Faults._motors, "SIM_ENGINE_MUL": Faults._motors,
-    "SIM_GPS_DISABLE": Faults._gps, "SIM_GPS_NUMSATS": Faults._gps, "SIM_GPS_GLITCH_X": Faults._gps,
+    "SIM_GPS_DISABLE": Faults._gps, "SIM_GPS1_ENABLE": Faults._gps, "SIM_GPS_NUMSATS": Faults._gps, "SIM_GPS_GLITCH_X": Faults._gps,
     "SIM_GPS_GLITCH_Y": Faults._gps, "SIM_GPS_GLITCH_Z": Faults._gps,
     "SIM_BARO_DRIFT": Faults._baro,
     "SIM_WIND_SPD": Faults._wind, "SIM_WIND_DIR": Faults._wind, "SIM_WIND_TURB": Faults._wind,

@@ -1,9 +1,17 @@
-"""Parameter microservice: list, read by name or index, set with an echoed PARAM_VALUE."""
+"""Parameter microservice: list, read by name or index, set with an echoed PARAM_VALUE.
+
+The list (some 1,400 PARAM_VALUEs) is streamed over link time at LIST_RATE_PER_S, as ArduPilot
+streams it bandwidth-limited: sent in one burst it can overflow a client's socket buffer, and the
+client then has to ask again for each parameter it lost. A new PARAM_REQUEST_LIST starts the
+stream again from index 0; reads and sets are answered at once.
+"""
 from __future__ import annotations
 
-from ..params import SPEC_BY_NAME, ParamError
+from ..params import ParamError
 from ..results import Severity
-from .dialect import mavlink as mav
+
+LIST_RATE_PER_S = 1500.0  # PARAM_VALUEs a second while a list is streamed: the reference SITL's pace (~0.9 s)
+LIST_BURST = 40  # at most this many in one poll, however long since the last (about one datagram's worth)
 
 
 def _name(raw) -> str:
@@ -18,28 +26,49 @@ class ParamService:
         self.codec = codec
         self._names = params.names()
         self.refused = 0  # PARAM_SETs refused: unknown name, not finite, out of the table's range
+        self._next_index: int | None = None  # the list stream's next index, None when not streaming
+        self._allowance = 0.0  # PARAM_VALUEs the stream may send now
+        self._last_s = 0.0
 
-    def value_message(self, name: str):
-        spec = SPEC_BY_NAME[name]
-        ptype = mav.MAV_PARAM_TYPE_INT32 if spec.is_int else mav.MAV_PARAM_TYPE_REAL32
-        return self.codec.param_value_encode(name.encode(), float(self.params[name]), ptype,
-                                             len(self._names), self._names.index(name))
+    @property
+    def streaming(self) -> bool:
+        return self._next_index is not None
 
-    def request_list(self, msg) -> list:
-        return [self.value_message(name) for name in self._names]
+    def value_message(self, name: str, index: int | None = None):
+        index = self.params.index_of(name) if index is None else index
+        return self.codec.param_value_encode(name.encode(), float(self.params[name]), self.params.mav_type(name),
+                                             len(self._names), index)
+
+    def request_list(self, msg, link_s: float) -> list:
+        """Start (or restart) streaming the whole list; the first burst goes at once."""
+        self._next_index, self._allowance, self._last_s = 0, float(LIST_BURST), link_s
+        return self.poll(link_s)
+
+    def poll(self, link_s: float) -> list:
+        """The PARAM_VALUEs of the list stream due by link time `link_s`."""
+        if self._next_index is None:
+            return []
+        elapsed = max(0.0, link_s - self._last_s)
+        self._last_s = link_s
+        self._allowance = min(float(LIST_BURST), self._allowance + elapsed * LIST_RATE_PER_S)
+        start = self._next_index
+        end = min(len(self._names), start + int(self._allowance))
+        self._allowance -= end - start
+        self._next_index = end if end < len(self._names) else None
+        return [self.value_message(self._names[i], i) for i in range(start, end)]
 
     def request_read(self, msg) -> list:
         if msg.param_index >= 0:
             if msg.param_index >= len(self._names):
                 return []
-            return [self.value_message(self._names[msg.param_index])]
+            return [self.value_message(self._names[msg.param_index], msg.param_index)]
         name = _name(msg.param_id)
-        return [self.value_message(name)] if name in SPEC_BY_NAME else []
+        return [self.value_message(name)] if name in self.params else []
 
     def set(self, msg, notify) -> list:
         """Apply PARAM_SET. A refused value is answered with the unchanged value and a reason."""
         name = _name(msg.param_id)
-        if name not in SPEC_BY_NAME:
+        if name not in self.params:
             self.refused += 1
             notify(f"Param set failed: unknown parameter {name}", Severity.WARNING)
             return []

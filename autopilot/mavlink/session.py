@@ -42,7 +42,7 @@ class Session:
             "COMMAND_LONG": lambda m, now: self._on_command(Command.from_long(m), now),
             "COMMAND_INT": lambda m, now: self._on_command(Command.from_int(m), now),
             "SET_MODE": self._on_set_mode,
-            "PARAM_REQUEST_LIST": lambda m, now: self._out.extend(self.params.request_list(m)),
+            "PARAM_REQUEST_LIST": lambda m, now: self._out.extend(self.params.request_list(m, self.link_s)),
             "PARAM_REQUEST_READ": lambda m, now: self._out.extend(self.params.request_read(m)),
             "PARAM_SET": lambda m, now: self._out.extend(self.params.set(m, self.vehicle.notify)),
             "REQUEST_DATA_STREAM": self._on_request_data_stream,
@@ -160,6 +160,7 @@ class Session:
     def poll(self, now_s: float, link_s: float | None = None) -> list:
         self.link_s = now_s if link_s is None else link_s
         self._out.extend(self.missions.poll(self.link_s))
+        self._out.extend(self.params.poll(self.link_s))
         last = self.gcs_last_heartbeat_s
         if last is not None and self.link_s - last > self.vehicle.params["FS_GCS_TIMEOUT"]:
             self.vehicle.failsafes.gcs_lost(self.vehicle)

@@ -1,4 +1,5 @@
-"""ParamStore: defaults, range checks, integer rounding, persistence and wipe."""
+"""ParamStore: defaults, range checks, integer rounding, persistence and wipe; the served set
+(the reference's parameters, then Firefly's own) and its recorded differences."""
 from __future__ import annotations
 
 import json
@@ -6,7 +7,12 @@ import math
 
 import pytest
 
-from autopilot.params import PARAM_TABLE, SPEC_BY_NAME, ParamError, ParamStore
+from autopilot.mavlink.dialect import mavlink as mav
+from autopilot.params import PARAM_TABLE, SERVED, SPEC_BY_NAME, ParamError, ParamStore
+from autopilot.params_differences import DEFAULT_DIFFERENCES, FIREFLY_ONLY, RENAMED, SEMANTIC_DIFFERENCES
+from autopilot.reference_params import recording, reference_params
+
+REFERENCE = {ref.name: ref for ref in reference_params()}
 
 
 def test_table_defaults_are_within_their_own_ranges_and_names_fit_mavlink():
@@ -19,14 +25,85 @@ def test_table_defaults_are_within_their_own_ranges_and_names_fit_mavlink():
             assert spec.default == int(spec.default), spec.name
 
 
-def test_store_starts_at_defaults_and_indexes_in_table_order():
+def test_store_starts_at_defaults_and_indexes_in_served_order():
     store = ParamStore()
-    assert len(store) == len(PARAM_TABLE)
-    assert store.names() == [spec.name for spec in PARAM_TABLE]
-    for i, spec in enumerate(PARAM_TABLE):
+    assert len(store) == len(SERVED) == len(set(store.names()))
+    assert store.names() == [spec.name for spec in SERVED]
+    for i, spec in enumerate(SERVED):
         assert store[spec.name] == spec.default
         assert store.index_of(spec.name) == i
     assert store.get("NOT_A_PARAM", 42) == 42
+
+
+def test_the_reference_recording_is_whole():
+    header = recording()
+    assert header["commit"] == "90700977c553d2dfd95a305acf1c3e098e4d9477"
+    assert len(reference_params()) == header["param_count"] >= 1300
+    for name in ("ARMING_CHECK", "FS_THR_ENABLE", "FLTMODE1", "BATT_MONITOR", "SERIAL1_PROTOCOL"):
+        assert name in REFERENCE
+
+
+def test_every_reference_parameter_is_served_first_in_its_order_with_its_type():
+    store = ParamStore()
+    names = store.names()
+    assert names[:len(REFERENCE)] == [ref.name for ref in reference_params()]
+    for ref in reference_params():
+        assert store.mav_type(ref.name) == ref.mav_type, ref.name
+    # then the modelled parameters the reference does not have, each with its reason
+    assert set(names[len(REFERENCE):]) == set(FIREFLY_ONLY) == {s.name for s in PARAM_TABLE} - set(REFERENCE)
+    for name in FIREFLY_ONLY:
+        expected = mav.MAV_PARAM_TYPE_INT32 if SPEC_BY_NAME[name].is_int else mav.MAV_PARAM_TYPE_REAL32
+        assert store.mav_type(name) == expected
+
+
+def test_defaults_are_the_references_but_where_a_difference_is_written_down():
+    store = ParamStore()
+    differing = {name for name, ref in REFERENCE.items()
+                 if not math.isclose(store[name], ref.default, rel_tol=1e-6, abs_tol=1e-9)}
+    assert differing == set(DEFAULT_DIFFERENCES)  # each difference listed, and each listed one real
+    assert all(DEFAULT_DIFFERENCES.values()) and all(SEMANTIC_DIFFERENCES.values())
+    assert set(SEMANTIC_DIFFERENCES) <= set(REFERENCE) & set(SPEC_BY_NAME)
+
+
+def test_a_renamed_parameter_shares_the_modelled_ones_value_and_effect(tmp_path):
+    assert set(RENAMED) <= set(REFERENCE) and set(RENAMED.values()) <= set(SPEC_BY_NAME)
+    store = ParamStore(tmp_path / "params.json")
+    heard = []
+    store.on_change(lambda name, value: heard.append((name, value)))
+    assert store.set("MAV1_EXTRA1", 20) == 20.0
+    assert store["SR0_EXTRA1"] == store["MAV1_EXTRA1"] == 20.0
+    assert heard == [("SR0_EXTRA1", 20.0)]  # the vehicle's code reads the modelled name
+    with pytest.raises(ParamError, match="MAV1_EXTRA1"):
+        store.set("MAV1_EXTRA1", 51)  # the modelled range
+    assert ParamStore(tmp_path / "params.json")["MAV1_EXTRA1"] == 20.0
+
+
+def test_a_parameter_firefly_does_not_model_is_stored_checked_and_persisted(tmp_path):
+    path = tmp_path / "params.json"
+    store = ParamStore(path)
+    assert not store.acts("FLTMODE1") and store.acts("RTL_ALT") and store.acts("MAV_SYSID")
+    assert store["FLTMODE1"] == REFERENCE["FLTMODE1"].default
+    assert store.set("FLTMODE1", 4.4) == 4.0  # INT8: rounded
+    with pytest.raises(ParamError, match="FLTMODE1: 300 out of range -128..127"):
+        store.set("FLTMODE1", 300)  # beyond what an INT8 holds
+    ranged = REFERENCE["PILOT_THR_FILT"]  # documented @Range 0..10
+    with pytest.raises(ParamError, match="out of range"):
+        store.set("PILOT_THR_FILT", ranged.high + 1)
+    store.set("PILOT_THR_FILT", ranged.high)
+    assert json.loads(path.read_text()) == {"FLTMODE1": 4.0, "PILOT_THR_FILT": ranged.high}
+    again = ParamStore(path)
+    assert again["FLTMODE1"] == 4.0 and again["PILOT_THR_FILT"] == ranged.high
+
+
+def test_a_documented_range_that_excludes_the_references_default_is_widened_to_hold_it():
+    for spec in SERVED:
+        assert spec.low <= spec.default <= spec.high, spec.name
+
+
+def test_reference_sim_parameters_are_not_saved_either(tmp_path):
+    path = tmp_path / "params.json"
+    ParamStore(path).set("SIM_SONAR_GLITCH", 0.5)
+    assert ParamStore(path)["SIM_SONAR_GLITCH"] == REFERENCE["SIM_SONAR_GLITCH"].default
 
 
 def test_set_returns_and_stores_the_value_and_notifies():

@@ -7,7 +7,8 @@ import struct
 import pytest
 
 from autopilot.modes import Brake, Guided, Land, Loiter
-from autopilot.params import PARAM_TABLE
+from autopilot.mavlink.params_service import LIST_BURST, LIST_RATE_PER_S
+from autopilot.params import SERVED
 from autopilot.safety.arming import FORCE_DISARM_MAGIC
 
 from ._session_link import SYSTEM_ID, Link, gcs, link  # noqa: F401 - link is a fixture
@@ -169,18 +170,65 @@ def _name(msg) -> str:
     return (pid.decode() if isinstance(pid, bytes) else pid).rstrip("\0")
 
 
+def _list_over_time(link, start: float, step: float = 0.01, limit: float = 10.0) -> tuple[list, list]:
+    """(first answer, everything) of a PARAM_REQUEST_LIST at `start`, polled every `step` s."""
+    first = of_type(link.send(wire(gcs().param_request_list_encode(SYSTEM_ID, 1)), start), "PARAM_VALUE")
+    values, now = list(first), start
+    while link.session.params.streaming and now < start + limit:
+        now += step
+        values.extend(of_type(link.poll(now), "PARAM_VALUE"))
+    return first, values
+
+
 def test_param_request_list_yields_every_parameter_once_with_consistent_indices(link):
-    out = link.send(wire(gcs().param_request_list_encode(SYSTEM_ID, 1)))
-    values = of_type(out, "PARAM_VALUE")
-    assert len(values) == len(out) == len(PARAM_TABLE)
-    assert {m.param_count for m in values} == {len(PARAM_TABLE)}
-    assert sorted(m.param_index for m in values) == list(range(len(PARAM_TABLE)))
-    assert {_name(m) for m in values} == {spec.name for spec in PARAM_TABLE}
+    first, values = _list_over_time(link, link.vehicle.time_s)
+    served = {spec.name: spec for spec in SERVED}
+    assert len(values) == len(SERVED) >= 1300
+    assert {m.param_count for m in values} == {len(SERVED)}
+    assert [m.param_index for m in values] == list(range(len(SERVED)))
+    assert [_name(m) for m in values] == [spec.name for spec in SERVED]
     for m in values:
-        spec = next(s for s in PARAM_TABLE if s.name == _name(m))
+        spec = served[_name(m)]
         assert m.param_value == pytest.approx(spec.default, rel=1e-6)
-        expected_type = mav.MAV_PARAM_TYPE_INT32 if spec.is_int else mav.MAV_PARAM_TYPE_REAL32
-        assert m.param_type == expected_type
+        assert m.param_type == spec.mav_type == link.vehicle.params.mav_type(spec.name)
+    fs_thr = next(m for m in values if _name(m) == "FS_THR_ENABLE")
+    assert fs_thr.param_type == mav.MAV_PARAM_TYPE_INT8  # the reference's type, not a generic INT32
+
+
+def test_param_list_is_paced_over_link_time_not_sent_in_one_burst(link):
+    first, values = _list_over_time(link, 100.0, step=0.1)
+    assert 0 < len(first) <= LIST_BURST
+    assert len(values) == len(SERVED)
+    polls_needed = (len(SERVED) - LIST_BURST) / (LIST_RATE_PER_S * 0.1)
+    assert link.session.params.poll(1000.0) == []  # done: nothing more to send
+    assert polls_needed > 1  # the list does take several polls at this rate
+
+
+def test_a_new_param_request_list_restarts_the_stream(link):
+    link.send(wire(gcs().param_request_list_encode(SYSTEM_ID, 1)), 5.0)
+    link.poll(5.1)
+    again = of_type(link.send(wire(gcs().param_request_list_encode(SYSTEM_ID, 1)), 5.2), "PARAM_VALUE")
+    assert again[0].param_index == 0
+
+
+def test_a_parameter_firefly_does_not_model_is_set_and_echoed_never_unknown(link):
+    for name, value in (("ARMING_CHECK", 0), ("FS_THR_ENABLE", 0), ("FLTMODE1", 4), ("BATT_MONITOR", 3),
+                        ("SERIAL1_PROTOCOL", 1)):
+        out = link.send(wire(gcs().param_set_encode(SYSTEM_ID, 1, name.encode(), value,
+                                                    link.vehicle.params.mav_type(name))))
+        assert [(_name(m), m.param_value) for m in out] == [(name, value)]
+        assert out[0].param_index == link.vehicle.params.index_of(name)
+    assert link.session.params.refused == 0
+
+
+def test_an_out_of_range_value_of_a_stored_parameter_is_refused_with_a_reason(link):
+    link.poll()
+    out = link.send(wire(gcs().param_set_encode(SYSTEM_ID, 1, b"PILOT_THR_FILT", 11.0,
+                                                mav.MAV_PARAM_TYPE_REAL32)))
+    assert out[0].param_value == 0.0
+    texts = statustexts(link.poll())
+    # the same words as a modelled parameter's refusal, cut to STATUSTEXT's 50 characters
+    assert any(t.startswith("Param set failed: PILOT_THR_FILT: 11 out of range") for t in texts), texts
 
 
 def test_param_set_echoes_the_new_value(link):
@@ -229,9 +277,9 @@ def test_param_request_read_by_name_and_by_index(link):
     assert index == link.vehicle.params.index_of("RTL_ALT")
     out = link.send(wire(gcs().param_request_read_encode(SYSTEM_ID, 1, b"", index)))
     assert len(out) == 1 and _name(out[0]) == "RTL_ALT"
-    assert out[0].param_count == len(PARAM_TABLE)
+    assert out[0].param_count == len(SERVED)
     # Out-of-range index and unknown name: nothing to answer.
-    assert link.send(wire(gcs().param_request_read_encode(SYSTEM_ID, 1, b"", len(PARAM_TABLE)))) == []
+    assert link.send(wire(gcs().param_request_read_encode(SYSTEM_ID, 1, b"", len(SERVED)))) == []
     assert link.send(wire(gcs().param_request_read_encode(SYSTEM_ID, 1, b"NOPE", -1))) == []
 
 

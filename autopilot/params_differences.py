@@ -1,0 +1,79 @@
+"""Where Firefly's parameters knowingly differ from the reference ArduCopter's (one place; the
+parity suite reads it).
+
+RENAMED: the reference's name -> Firefly's modelled parameter of the same meaning. Firefly kept
+ArduPilot 4.5's names (which scripts written for that release still set); the reference, 4.7, renamed
+them. Both names are served and share one value.
+
+DEFAULT_DIFFERENCES: a parameter the reference serves whose Firefly default is not the
+reference's, and why. The reference's defaults are those of SITL's `--model quad` with copter.parm.
+
+FIREFLY_ONLY: modelled parameters the reference does not serve, and why they exist.
+
+SEMANTIC_DIFFERENCES: served under the reference's name, but meaning something else in Firefly.
+"""
+from __future__ import annotations
+
+RENAMED: dict[str, str] = {
+    "MAV_SYSID": "SYSID_THISMAV",
+    "MAV1_RAW_SENS": "SR0_RAW_SENS",
+    "MAV1_EXT_STAT": "SR0_EXT_STAT",
+    "MAV1_POSITION": "SR0_POSITION",
+    "MAV1_EXTRA1": "SR0_EXTRA1",
+    "MAV1_EXTRA2": "SR0_EXTRA2",
+    "MAV1_EXTRA3": "SR0_EXTRA3",
+    "BATT_FS_LOW_ACT": "FS_BATT_ENABLE",
+    "SIM_GPS1_NUMSATS": "SIM_GPS_NUMSATS",
+    "SIM_GPS1_GLTCH_X": "SIM_GPS_GLITCH_X",
+    "SIM_GPS1_GLTCH_Y": "SIM_GPS_GLITCH_Y",
+    "SIM_GPS1_GLTCH_Z": "SIM_GPS_GLITCH_Z",
+}
+
+_AIRFRAME = "tuned for Firefly's airframe (sim/airframe.py: 1.5 kg, 10-inch props), not SITL's quad model"
+_STREAMS = ("Firefly streams telemetry unasked, as ArduPilot SITL 4.5 did with SR0_*; the reference "
+            "streams nothing until a ground station asks")
+
+DEFAULT_DIFFERENCES: dict[str, str] = {
+    "PSC_VELXY_D": _AIRFRAME,
+    "PSC_VELZ_I": _AIRFRAME,
+    "ATC_RAT_YAW_P": "this airframe's yaw reaction torque is small (c = d/b = 2.4 cm): the reference's "
+                     "0.3 gives a yaw-rate loop slower than the angle loop",
+    "ATC_RAT_YAW_I": "scaled with ATC_RAT_YAW_P",
+    "MOT_THST_HOVER": "copter.parm's 0.39 is SITL's quad; Firefly's airframe hovers near 0.35",
+    "FS_THR_ENABLE": "no RC receiver is simulated (pilot input comes over MAVLink), so there is no "
+                     "throttle signal to lose; copter.parm enables it for SITL's simulated RC",
+    "BATT_CAPACITY": "Firefly's airframe carries a 5000 mAh 4S pack",
+    "SIM_BATT_VOLTAGE": "a full 4S pack (16.8 V); the reference simulates 3S (12.6 V)",
+    "FENCE_RADIUS": "ArduPilot's own default; copter.parm lowers it to 150 m for its autotests",
+    "SIM_WIND_DIR": "set from the scenario's [wind] at start; moot while SIM_WIND_SPD is 0",
+    "SIM_ENGINE_MUL": "1 = healthy motor in Firefly (see SEMANTIC_DIFFERENCES: SIM_ENGINE_FAIL)",
+    "MAV1_RAW_SENS": _STREAMS,
+    "MAV1_EXT_STAT": _STREAMS,
+    "MAV1_POSITION": _STREAMS,
+    "MAV1_EXTRA1": _STREAMS,
+    "MAV1_EXTRA2": _STREAMS,
+    "MAV1_EXTRA3": _STREAMS,
+}
+
+FIREFLY_ONLY: dict[str, str] = {
+    "SYSID_THISMAV": "ArduPilot 4.5's name of MAV_SYSID",
+    "SR0_RAW_SENS": "ArduPilot 4.5's name of MAV1_RAW_SENS",
+    "SR0_EXT_STAT": "ArduPilot 4.5's name of MAV1_EXT_STAT",
+    "SR0_POSITION": "ArduPilot 4.5's name of MAV1_POSITION",
+    "SR0_EXTRA1": "ArduPilot 4.5's name of MAV1_EXTRA1",
+    "SR0_EXTRA2": "ArduPilot 4.5's name of MAV1_EXTRA2",
+    "SR0_EXTRA3": "ArduPilot 4.5's name of MAV1_EXTRA3",
+    "FS_BATT_ENABLE": "ArduPilot's older name of BATT_FS_LOW_ACT",
+    "SIM_GPS_NUMSATS": "ArduPilot 4.5's name of SIM_GPS1_NUMSATS",
+    "SIM_GPS_GLITCH_X": "ArduPilot 4.5's name of SIM_GPS1_GLTCH_X",
+    "SIM_GPS_GLITCH_Y": "ArduPilot 4.5's name of SIM_GPS1_GLTCH_Y",
+    "SIM_GPS_GLITCH_Z": "ArduPilot 4.5's name of SIM_GPS1_GLTCH_Z",
+    "SIM_GPS_DISABLE": "ArduPilot 4.5's inverse of SIM_GPS1_ENABLE (both act)",
+    "SIM_LINK_DOWN": "Firefly's own link fault: the ground-station link cut for some wall seconds",
+    "SIM_LINK_LOSS": "Firefly's own link fault: a share of MAVLink frames lost each way",
+}
+
+SEMANTIC_DIFFERENCES: dict[str, str] = {
+    "SIM_ENGINE_FAIL": "Firefly (as SITL 4.5): the number of the one motor SIM_ENGINE_MUL applies to, "
+                       "0 = motor 1; the reference: a bitmask of motors, bit 0 = motor 1",
+}
