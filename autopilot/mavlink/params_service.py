@@ -6,6 +6,12 @@ from ..results import Severity
 from .dialect import mavlink as mav
 
 
+def mav_type(params, name: str) -> int:
+    """The MAV_PARAM_TYPE `name` is sent as: the one place the parameter, FTP and any other service
+    take a parameter's type from (the table knows integers, sent as INT32, and floats)."""
+    return mav.MAV_PARAM_TYPE_INT32 if SPEC_BY_NAME[name].is_int else mav.MAV_PARAM_TYPE_REAL32
+
+
 def _name(raw) -> str:
     if isinstance(raw, bytes):
         raw = raw.decode("ascii", "replace")
@@ -20,9 +26,8 @@ class ParamService:
         self.refused = 0  # PARAM_SETs refused: unknown name, not finite, out of the table's range
 
     def value_message(self, name: str):
-        spec = SPEC_BY_NAME[name]
-        ptype = mav.MAV_PARAM_TYPE_INT32 if spec.is_int else mav.MAV_PARAM_TYPE_REAL32
-        return self.codec.param_value_encode(name.encode(), float(self.params[name]), ptype,
+        return self.codec.param_value_encode(name.encode(), float(self.params[name]),
+                                             mav_type(self.params, name),
                                              len(self._names), self._names.index(name))
 
     def request_list(self, msg) -> list:
