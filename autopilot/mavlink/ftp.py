@@ -1,29 +1,250 @@
-"""MAVLink FTP: not offered. Every request gets a NAK "file not found" at once, so QGroundControl
-and MAVProxy fall back to the parameter and mission protocols without waiting for a timeout."""
+"""MAVLink FTP (FILE_TRANSFER_PROTOCOL), sans-IO, answering as ArduCopter's GCS_FTP does.
+
+One FTP state per vehicle, as in ArduPilot (one open file over all clients): a request names a
+session number; while a file is open, a request for another session is refused (InvalidSession)
+unless the open one has been silent for SESSION_TIMEOUT_S, after which it is closed. Replies go to
+the requesting system/component with seq = request seq + 1; a request that repeats the last
+answered seq gets the last reply again (a lost reply, not a new operation).
+
+Served: `@PARAM/param.pck` (param_files.py) read by ReadFile and BurstReadFile, written by
+CreateFile/OpenFileWO + WriteFile (applied at TerminateSession or ResetSessions). The rest answers
+what the reference answers for a vehicle with no files: ListDirectory ends at once (EndOfFile for
+the root, FileNotFound otherwise), remove/rename/mkdir find nothing, TruncateFile and unknown
+opcodes fail (with ArduPilot's "Unsupported FTP" debug text).
+
+Time: the session timeout runs on the link clock (wall seconds) handed in, as every link timeout
+in Firefly does; ArduPilot's SITL counts it in sim milliseconds.
+"""
 from __future__ import annotations
 
 import struct
+from dataclasses import dataclass, replace
 
-OP_NAK = 129
-ERR_FAIL = 1
-ERR_FILE_NOT_FOUND = 10
-OP_RESET_SESSIONS = 2
-OP_TERMINATE_SESSION = 1
-OP_ACK = 128
+from ..results import Severity
+from . import param_files
+from .param_files import FsError
+
+# opcodes
+NONE, TERMINATE_SESSION, RESET_SESSIONS, LIST_DIRECTORY, OPEN_FILE_RO, READ_FILE = 0, 1, 2, 3, 4, 5
+CREATE_FILE, WRITE_FILE, REMOVE_FILE, CREATE_DIRECTORY, REMOVE_DIRECTORY = 6, 7, 8, 9, 10
+OPEN_FILE_WO, TRUNCATE_FILE, RENAME, CALC_FILE_CRC32, BURST_READ_FILE = 11, 12, 13, 14, 15
+ACK, NAK = 128, 129
+# NAK codes
+FAIL, FAIL_ERRNO, INVALID_DATA_SIZE, INVALID_SESSION, END_OF_FILE = 1, 2, 3, 4, 6
+FILE_NOT_FOUND = 10
+
+HEADER = struct.Struct("<HBBBBBxI")  # seq, session, opcode, size, req_opcode, burst_complete, offset
+PAYLOAD_SIZE = 251
+DATA_SIZE = PAYLOAD_SIZE - HEADER.size  # 239
+SESSION_TIMEOUT_S = 3.0
+MAX_BURST = 500  # replies to one BurstReadFile (ArduPilot's: enough for a full parameter file)
+NO_SESSION = -1
 
 
-def reply(msg, codec):
-    payload = bytes(msg.payload)
-    if len(payload) < 12:
+@dataclass(frozen=True)
+class Packet:
+    seq: int
+    session: int
+    opcode: int
+    size: int = 0
+    req_opcode: int = 0
+    burst_complete: int = 0
+    offset: int = 0
+    data: bytes = b""
+
+    @classmethod
+    def parse(cls, payload: bytes) -> Packet:
+        payload = bytes(payload[:PAYLOAD_SIZE]).ljust(PAYLOAD_SIZE, b"\0")
+        return cls(*HEADER.unpack_from(payload, 0), data=payload[HEADER.size:])
+
+    def encode(self) -> list:
+        header = HEADER.pack(self.seq & 0xFFFF, self.session, self.opcode, self.size,
+                             self.req_opcode, self.burst_complete, self.offset & 0xFFFFFFFF)
+        return list((header + self.data[:DATA_SIZE]).ljust(PAYLOAD_SIZE, b"\0"))
+
+
+def _nak(reply: Packet, code: int, errno: int | None = None) -> Packet:
+    if code == FAIL_ERRNO and errno == param_files.ENOENT:
+        code, errno = FILE_NOT_FOUND, None
+    data = bytes([code]) if errno is None else bytes([code, errno & 0xFF])
+    return replace(reply, opcode=NAK, size=len(data), data=data)
+
+
+def _path(request: Packet) -> str | None:
+    """The path a request names, or None when its size does not fit the name (ArduPilot's check:
+    size is the name's length, or one more when the data ends in a zero)."""
+    data = request.data
+    length = data.find(b"\0")
+    length = len(data) if length < 0 else length
+    if request.size == 0 or not (request.size == length
+                                 or (request.size - length == 1 and data[-1] == 0)):
         return None
-    seq, session, opcode = struct.unpack_from("<HBB", payload, 0)
-    if opcode in (OP_ACK, OP_NAK):
-        return None  # a reply from someone else; never answer a reply
-    if opcode in (OP_RESET_SESSIONS, OP_TERMINATE_SESSION):
-        out_op, size, data = OP_ACK, 0, b""
-    else:
-        out_op, size, data = OP_NAK, 1, bytes([ERR_FILE_NOT_FOUND])
-    header = struct.pack("<HBBBBBBI", (seq + 1) & 0xFFFF, session, out_op, size, opcode, 0, 0, 0)
-    body = (header + data).ljust(251, b"\0")
-    return codec.file_transfer_protocol_encode(0, msg.get_srcSystem(), msg.get_srcComponent(),
-                                               list(body))
+    return data[:min(length, DATA_SIZE - 1)].decode("latin-1")
+
+
+class FtpServer:
+    def __init__(self, params, notify):
+        """`params`: the vehicle's ParamStore; `notify(text, severity)`: status texts."""
+        self.params = params
+        self.notify = notify
+        self.file = None  # ParamFile (read) or ParamUpload (write)
+        self.session = NO_SESSION
+        self.last_send_s = float("-inf")
+        self._last: tuple | None = None  # (sender, last reply) for a repeated request
+
+    def handle(self, payload, sender: tuple, now_s: float) -> list[Packet]:
+        """Replies to one request from `sender` = (system, component), in order."""
+        request = Packet.parse(payload)
+        if request.opcode in (ACK, NAK):
+            return []  # someone else's reply: never answered
+        if self._last is not None:
+            last_sender, last = self._last
+            if (last_sender == sender and last.session == request.session
+                    and request.seq + 1 == last.seq):
+                return self._sent([last], sender, now_s)
+        reply = Packet((request.seq + 1) & 0xFFFF, request.session, NONE, req_opcode=request.opcode)
+        if request.size > DATA_SIZE:
+            replies = [_nak(reply, INVALID_DATA_SIZE)]
+        elif request.session != self.session and request.opcode in (TERMINATE_SESSION, RESET_SESSIONS):
+            replies = [replace(reply, opcode=ACK)]  # another session's end: nothing of ours to close
+        elif (self.file is not None and request.session != self.session
+              and now_s - self.last_send_s < SESSION_TIMEOUT_S):
+            replies = [_nak(reply, INVALID_SESSION)]
+        else:
+            if self.file is not None and request.session != self.session:
+                self._close()  # the open session went silent: a new client takes over
+            replies = self._dispatch(request, reply, now_s)
+        return self._sent(replies, sender, now_s)
+
+    def _sent(self, replies: list[Packet], sender: tuple, now_s: float) -> list[Packet]:
+        if replies:
+            self.last_send_s = now_s
+            self._last = (sender, replies[-1])
+            if replies[-1].req_opcode == TERMINATE_SESSION:
+                self.last_send_s = float("-inf")
+        return replies
+
+    def _close(self) -> None:
+        file, self.file, self.session = self.file, None, NO_SESSION
+        if isinstance(file, param_files.ParamUpload):
+            file.close()
+
+    # ----- opcodes ----------------------------------------------------------------------------
+    def _dispatch(self, request: Packet, reply: Packet, now_s: float) -> list[Packet]:
+        op = request.opcode
+        if op == NONE:
+            return [replace(reply, opcode=ACK)]
+        if op in (TERMINATE_SESSION, RESET_SESSIONS):
+            self._close()
+            return [replace(reply, opcode=ACK)]
+        if op == OPEN_FILE_RO:
+            return [self._open_read(request, reply, now_s)]
+        if op in (READ_FILE, BURST_READ_FILE, WRITE_FILE):
+            if self.file is None:
+                return [_nak(reply, FILE_NOT_FOUND)]
+            writing = isinstance(self.file, param_files.ParamUpload)
+            if writing != (op == WRITE_FILE):
+                return [_nak(reply, FAIL)]
+            if op == READ_FILE:
+                return [self._read(request, reply)]
+            if op == BURST_READ_FILE:
+                return self._burst(request, reply)
+            return [self._write(request, reply)]
+        if op in (CREATE_FILE, OPEN_FILE_WO):
+            return [self._open_write(request, reply)]
+        if op in (LIST_DIRECTORY, REMOVE_FILE, CREATE_DIRECTORY, REMOVE_DIRECTORY, CALC_FILE_CRC32):
+            return [self._by_path(request, reply)]
+        if op == RENAME:
+            return [self._rename(request, reply)]
+        self.notify(f"Unsupported FTP: {op}", Severity.DEBUG)
+        return [_nak(reply, FAIL)]
+
+    def _open_read(self, request: Packet, reply: Packet, now_s: float) -> Packet:
+        if self.file is not None and now_s - self.last_send_s > SESSION_TIMEOUT_S:
+            self._close()  # its client never saw our open reply and gave up
+        refused = self._open(request, reply, lambda path: param_files.open_read(self.params, path))
+        return refused or replace(reply, opcode=ACK, size=4,
+                                  data=struct.pack("<I", self.file.size_estimate))
+
+    def _open_write(self, request: Packet, reply: Packet) -> Packet:
+        refused = self._open(request, reply,
+                             lambda path: param_files.open_write(self.params, path, self.notify))
+        return refused or replace(reply, opcode=ACK)
+
+    def _open(self, request: Packet, reply: Packet, open_path) -> Packet | None:
+        """Open the file the request names for its session; the NAK when that fails."""
+        if self.file is not None:
+            return _nak(reply, FAIL)  # one open file at a time
+        path = _path(request)
+        if path is None:
+            return _nak(reply, INVALID_DATA_SIZE)
+        try:
+            self.file = open_path(path)
+        except FsError as exc:
+            return _nak(reply, FAIL_ERRNO, exc.errno)
+        self.session = request.session
+        return None
+
+    def _read(self, request: Packet, reply: Packet) -> Packet:
+        try:
+            data = self.file.read(request.offset, min(DATA_SIZE, request.size))
+        except FsError as exc:
+            return _nak(reply, FAIL_ERRNO, exc.errno)
+        if not data:
+            return _nak(reply, END_OF_FILE)
+        return replace(reply, opcode=ACK, offset=request.offset, size=len(data), data=data)
+
+    def _burst(self, request: Packet, reply: Packet) -> list[Packet]:
+        """Blocks from the requested offset to the end of the file (at most MAX_BURST), then the
+        EndOfFile NAK; the last block is flagged burst_complete. The NAK keeps the last block's
+        flag and the offset after it, as ArduPilot's reuse of one reply buffer gives."""
+        block = request.size or DATA_SIZE
+        out = []
+        for i in range(MAX_BURST):
+            try:
+                data = self.file.read(request.offset + i * block, block)
+            except FsError as exc:
+                out.append(_nak(reply, FAIL_ERRNO, exc.errno))
+                break
+            if not data:
+                out.append(_nak(reply, END_OF_FILE))
+                break
+            short = len(data) < block
+            reply = replace(reply, opcode=ACK, offset=request.offset + i * block, size=len(data),
+                            data=data, burst_complete=int(short or i == MAX_BURST - 1))
+            out.append(reply)
+            reply = replace(reply, seq=(reply.seq + 1) & 0xFFFF,
+                            offset=reply.offset + (len(data) if short else 0))
+        return out
+
+    def _write(self, request: Packet, reply: Packet) -> Packet:
+        try:
+            self.file.write(request.offset, request.data[:request.size])
+        except FsError as exc:
+            return _nak(reply, FAIL_ERRNO, exc.errno)
+        return replace(reply, opcode=ACK, offset=request.offset)
+
+    def _by_path(self, request: Packet, reply: Packet) -> Packet:
+        path = _path(request)
+        if path is None:
+            return _nak(reply, INVALID_DATA_SIZE)
+        if request.opcode == CALC_FILE_CRC32:
+            try:
+                crc = param_files.crc32(self.params, path)
+            except FsError as exc:
+                return _nak(reply, FAIL_ERRNO, exc.errno)
+            return replace(reply, opcode=ACK, size=4, data=struct.pack("<I", crc))
+        if request.opcode == LIST_DIRECTORY:
+            reply = replace(reply, offset=request.offset)
+            if path.rstrip("/") == "":  # the root exists but lists nothing (@PARAM cannot be listed)
+                return _nak(reply, END_OF_FILE)
+        return _nak(reply, FILE_NOT_FOUND)
+
+    def _rename(self, request: Packet, reply: Packet) -> Packet:
+        first_end = request.data.find(b"\0", 0, DATA_SIZE - 2)
+        second = request.data[first_end + 1:] if first_end >= 0 else b""
+        second_end = second.find(b"\0")
+        length = first_end + (len(second) if second_end < 0 else second_end)
+        well_formed = first_end >= 0 and request.size != 0 and (
+            length + 1 == request.size or (request.size - length == 2 and request.data[-1] == 0))
+        return _nak(reply, FILE_NOT_FOUND if well_formed else INVALID_DATA_SIZE)

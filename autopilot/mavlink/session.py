@@ -7,9 +7,9 @@
 from __future__ import annotations
 
 from ..results import Result
-from . import ftp
 from .commands import Command, CommandService
 from .dialect import mavlink as mav
+from .ftp import FtpServer
 from .guided_setpoints import handle_global_int, handle_local_ned
 from .mission_service import MissionService
 from .params_service import ParamService
@@ -31,6 +31,7 @@ class Session:
         self.params = ParamService(vehicle.params, codec)
         self.commands = CommandService()
         self.missions = MissionService(vehicle.mission, vehicle, codec)
+        self.ftp = FtpServer(vehicle.params, vehicle.notify)
         self.link_s = 0.0  # link clock (wall time from the I/O layer) for transfer retries
         self._out: list = []
         self.counters = {"received": 0, "ignored_other_system": 0, "bad_data": 0, "refused": 0,
@@ -126,7 +127,10 @@ class Session:
         self.streams.set_group_rate(msg.req_stream_id, msg.req_message_rate, bool(msg.start_stop))
 
     def _on_ftp(self, msg, now_s):
-        self.queue(ftp.reply(msg, self.codec))
+        # Like ArduPilot, any target_component is served (no component behind us to route to).
+        sender = (msg.get_srcSystem(), msg.get_srcComponent())
+        for reply in self.ftp.handle(msg.payload, sender, self.link_s):
+            self._out.append(self.codec.file_transfer_protocol_encode(0, *sender, reply.encode()))
 
     def _on_manual_control(self, msg, now_s):
         x, y, z, r = msg.x, msg.y, msg.z, msg.r

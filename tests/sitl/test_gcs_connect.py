@@ -30,13 +30,18 @@ def test_qgc_connection_sequence_completes(gcs):
         assert version.capabilities & getattr(mav, f"MAV_PROTOCOL_CAPABILITY_{cap}"), cap
     major, minor = version.flight_sw_version >> 24, (version.flight_sw_version >> 16) & 0xFF
     assert (major, minor) >= (4, 0)
-    # 2. Parameters over FTP (@PARAM/param.pck): a NAK at once, so QGC falls back.
-    payload = struct.pack("<HBBBBBBI", 7, 0, 4, 15, 0, 0, 0, 0) + b"@PARAM/param.pck"  # OpenFileRO
-    gcs.mav.file_transfer_protocol_send(0, 1, 1, list(payload.ljust(251, b"\0")))
-    reply = gcs.recv("FILE_TRANSFER_PROTOCOL", STEP_TIMEOUT_S)
-    assert reply is not None
-    seq, _, opcode, size, req_opcode = struct.unpack_from("<HBBBB", bytes(reply.payload))
-    assert (seq, opcode, req_opcode) == (8, 129, 4) and bytes(reply.payload)[12] == 10  # NAK, file not found
+    # 2. Parameters over FTP: @PARAM/param.pck opens (QGC then downloads it; the download itself is
+    # tests/sitl/test_ftp_params.py), and the session ends when asked.
+    assert version.capabilities & mav.MAV_PROTOCOL_CAPABILITY_FTP
+    name = b"@PARAM/param.pck"
+    for seq, opcode, data in ((7, 4, name), (9, 1, b"")):  # OpenFileRO, TerminateSession
+        payload = struct.pack("<HBBBBBBI", seq, 0, opcode, len(data), 0, 0, 0, 0) + data
+        gcs.mav.file_transfer_protocol_send(0, 1, 1, list(payload.ljust(251, b"\0")))
+        reply = gcs.recv("FILE_TRANSFER_PROTOCOL", STEP_TIMEOUT_S)
+        assert reply is not None
+        r_seq, _, r_opcode, size, req_opcode = struct.unpack_from("<HBBBB", bytes(reply.payload))
+        assert (r_seq, r_opcode, req_opcode) == (seq + 1, 128, opcode)  # ACK
+        assert size == (4 if opcode == 4 else 0)  # the open's ACK carries the file size
     # 3. Full parameter list, then a second time with the same count (QGC#4020).
     counts = []
     for _ in range(2):

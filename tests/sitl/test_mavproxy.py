@@ -22,6 +22,8 @@ from pathlib import Path
 
 import pytest
 
+from autopilot.params import SERVED
+
 from .conftest import free_udp_port
 from .pymav import Gcs
 
@@ -203,18 +205,13 @@ def test_mavproxy_guided_takeoff_and_land(two_port_autopilot, observer, mavproxy
     ap, _ = two_port_autopilot
     mavproxy = mavproxy_factory(ap.port)
 
-    # MAVProxy connects and downloads every parameter (its FTP request is NAKed, so it falls back
-    # to PARAM_REQUEST_LIST). The observer gets the same PARAM_VALUEs: the count must agree.
-    received = mavproxy.wait_output(r"Received (\d+) parameters", timeout=30)
+    # MAVProxy connects and downloads every parameter in one file over MAVLink FTP
+    # (@PARAM/param.pck, as from ArduCopter); the observer sees the FTP replies addressed to it.
+    received = mavproxy.wait_output(r"Received (\d+) parameters \(ftp\)", timeout=30)
     n_params = int(received.group(1))
-    assert n_params > 0
-
-    def param_indices():
-        got = {m.param_index for m in observer.of_type("PARAM_VALUE")}
-        return got if len(got) >= n_params else None
-    indices = observer.until(param_indices, 10, f"{n_params} distinct PARAM_VALUEs")
-    assert indices == set(range(n_params))
-    assert {m.param_count for m in observer.of_type("PARAM_VALUE")} == {n_params}
+    assert n_params == len(SERVED)
+    ftp_replies = observer.of_type("FILE_TRANSFER_PROTOCOL")
+    assert ftp_replies and all(m.target_system == 255 for m in ftp_replies)  # MAVProxy's system id
     saved = mavproxy.wait_output(r"Saved (\d+) parameters to (\S+)", timeout=10)
     assert int(saved.group(1)) == n_params
     parm_file = Path(saved.group(2))

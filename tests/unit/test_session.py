@@ -2,7 +2,6 @@
 from __future__ import annotations
 
 import math
-import struct
 
 import pytest
 
@@ -287,38 +286,3 @@ def test_param_name_of_full_16_characters(link):
     name = "PSC_VELXY_IMAX"  # 14 chars; the longest names still round-trip through char[16]
     out = link.send(wire(gcs().param_request_read_encode(SYSTEM_ID, 1, name.encode(), -1)))
     assert _name(out[0]) == name
-
-
-# ----- FTP --------------------------------------------------------------------------------------
-def _ftp_request(seq: int, opcode: int, session: int = 0) -> list:
-    header = struct.pack("<HBBBBBBI", seq, session, opcode, 0, 0, 0, 0, 0)
-    return list(header.ljust(251, b"\0"))
-
-
-def _ftp_fields(msg):
-    payload = bytes(msg.payload)
-    seq, session, opcode, size, req_opcode = struct.unpack_from("<HBBBB", payload, 0)
-    return seq, session, opcode, size, req_opcode, payload[12:12 + size]
-
-
-def test_ftp_request_gets_file_not_found_nak_with_next_seq(link):
-    open_file_ro = 4
-    out = link.send(wire(gcs().file_transfer_protocol_encode(0, SYSTEM_ID, 1,
-                                                             _ftp_request(41, open_file_ro, 3))))
-    assert len(out) == 1 and out[0].get_type() == "FILE_TRANSFER_PROTOCOL"
-    reply = out[0]
-    assert (reply.target_system, reply.target_component) == (GCS_SYSTEM, GCS_COMPONENT)
-    seq, session, opcode, size, req_opcode, data = _ftp_fields(reply)
-    assert seq == 42
-    assert session == 3
-    assert opcode == 129  # NAK
-    assert req_opcode == open_file_ro
-    assert size == 1 and data == bytes([10])  # FILE_NOT_FOUND
-
-
-def test_ftp_seq_wraps_and_replies_are_never_answered(link):
-    out = link.send(wire(gcs().file_transfer_protocol_encode(0, SYSTEM_ID, 1, _ftp_request(0xFFFF, 3))))
-    assert _ftp_fields(out[0])[0] == 0
-    for reply_opcode in (128, 129):  # ACK, NAK from someone else
-        assert link.send(wire(gcs().file_transfer_protocol_encode(
-            0, SYSTEM_ID, 1, _ftp_request(5, reply_opcode)))) == []

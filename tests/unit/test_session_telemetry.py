@@ -22,9 +22,8 @@ def test_request_message_autopilot_version_has_mission_int_capability(link):
     assert caps & mav.MAV_PROTOCOL_CAPABILITY_MISSION_INT
     assert caps & mav.MAV_PROTOCOL_CAPABILITY_MAVLINK2
     assert caps & mav.MAV_PROTOCOL_CAPABILITY_COMMAND_INT
-    # FTP is answered with NAKs only, so it must not be advertised; integer parameters travel by
-    # value in the float field (C cast), not bytewise.
-    assert not caps & mav.MAV_PROTOCOL_CAPABILITY_FTP
+    # Integer parameters travel by value in the float field (C cast), not bytewise.
+    assert caps & mav.MAV_PROTOCOL_CAPABILITY_FTP  # @PARAM/param.pck is served
     assert caps & mav.MAV_PROTOCOL_CAPABILITY_PARAM_ENCODE_C_CAST
     assert not caps & mav.MAV_PROTOCOL_CAPABILITY_PARAM_ENCODE_BYTEWISE
     assert versions[0].uid == link.vehicle.system_id

@@ -1,0 +1,236 @@
+"""MAVLink FTP through the vehicle's session, sans-IO: the answers the reference ArduCopter gives
+(recorded in tests/parity/recorded/ftp_reference.json), in sim time."""
+from __future__ import annotations
+
+import struct
+import zlib
+
+import pytest
+from pymavlink.mavftp import MAVFTP
+
+from autopilot.mavlink import ftp
+from autopilot.params import SPEC_BY_NAME
+
+from ._session_link import SYSTEM_ID, Link, gcs, link  # noqa: F401 - link is a fixture
+from ._util import wire
+
+PARAMS = b"@PARAM/param.pck"
+
+
+class Client:
+    """A ground station's FTP side: numbered requests, replies decoded."""
+
+    def __init__(self, link, codec=None):
+        self.link = link
+        self.codec = codec or gcs()
+        self.seq = 0
+        self.now = 0.0
+
+    def request(self, opcode, session=1, data=b"", size=None, offset=0, seq=None, target=SYSTEM_ID):
+        seq = self.seq if seq is None else seq
+        self.seq = (seq + 1) & 0xFFFF
+        size = len(data) if size is None else size
+        payload = ftp.Packet(seq, session, opcode, size, offset=offset, data=data).encode()
+        out = self.link.send(wire(self.codec.file_transfer_protocol_encode(0, target, 1, payload), self.codec),
+                             self.now)
+        replies = [m for m in out if m.get_type() == "FILE_TRANSFER_PROTOCOL"]
+        for m in replies:
+            assert (m.target_system, m.target_component) == (self.codec.srcSystem, self.codec.srcComponent)
+        return [ftp.Packet.parse(bytes(m.payload)) for m in replies]
+
+    def one(self, *a, **kw) -> ftp.Packet:
+        replies = self.request(*a, **kw)
+        assert len(replies) == 1, replies
+        return replies[0]
+
+
+def nak(reply: ftp.Packet) -> bytes:
+    assert reply.opcode == ftp.NAK, reply
+    return reply.data[:reply.size]
+
+
+@pytest.fixture
+def client(link):
+    return Client(link)
+
+
+def _assemble(replies) -> bytes:
+    data = bytearray()
+    for r in replies:
+        if r.opcode == ftp.ACK:
+            assert r.offset == len(data)
+            data += r.data[:r.size]
+    return bytes(data)
+
+
+def _decoded(data: bytes) -> dict:
+    parsed = MAVFTP.ftp_param_decode(data)
+    assert parsed is not None
+    return {name.decode(): value for name, value, _ in parsed.params}
+
+
+def _f32(x):
+    return struct.unpack("<f", struct.pack("<f", x))[0]
+
+
+# ----- download ---------------------------------------------------------------------------------
+def test_burst_download_of_every_parameter(client, link):
+    params = link.vehicle.params
+    assert client.one(ftp.RESET_SESSIONS, session=0).opcode == ftp.ACK
+    opened = client.one(ftp.OPEN_FILE_RO, data=PARAMS)
+    assert (opened.opcode, opened.seq, opened.req_opcode, opened.size) == (ftp.ACK, 2, ftp.OPEN_FILE_RO, 4)
+    assert struct.unpack("<I", opened.data[:4])[0] == 12 * len(params)  # ArduPilot's estimate
+    replies = client.request(ftp.BURST_READ_FILE, size=0)
+    acks, end = replies[:-1], replies[-1]
+    assert [r.seq for r in replies] == list(range(3, 3 + len(replies)))  # one seq per reply
+    assert all(r.size == 239 and not r.burst_complete for r in acks[:-1])
+    assert acks[-1].burst_complete == 1 and acks[-1].size < 239
+    data = _assemble(acks)
+    assert nak(end) == bytes([ftp.END_OF_FILE]) and end.offset == len(data) and end.burst_complete == 1
+    values = _decoded(data)
+    assert list(values) == params.names()
+    assert all(values[n] == _f32(params[n]) for n in params.names())
+    assert client.one(ftp.TERMINATE_SESSION).opcode == ftp.ACK
+
+
+def test_sequential_reads_give_the_burst_bytes_and_end_in_eof(client):
+    client.one(ftp.OPEN_FILE_RO, data=PARAMS)
+    burst = _assemble(client.request(ftp.BURST_READ_FILE, size=80))
+    data = bytearray()
+    while True:
+        r = client.one(ftp.READ_FILE, size=80, offset=len(data))
+        if r.opcode == ftp.NAK:
+            assert nak(r) == bytes([ftp.END_OF_FILE]) and r.offset == 0
+            break
+        assert r.offset == len(data) and r.req_opcode == ftp.READ_FILE
+        data += r.data[:r.size]
+    assert bytes(data) == burst
+    # every read of one open file must be of one size (the padding depends on it): errno EINVAL
+    assert nak(client.one(ftp.READ_FILE, size=239, offset=0)) == bytes([ftp.FAIL_ERRNO, 22])
+    assert nak(client.one(ftp.BURST_READ_FILE, size=80, offset=len(data) + 5000)) == bytes([ftp.END_OF_FILE])
+
+
+def test_the_file_is_a_snapshot_taken_at_open(client, link):
+    client.one(ftp.OPEN_FILE_RO, data=PARAMS)
+    link.vehicle.params.set("WPNAV_SPEED", 1500)
+    assert _decoded(_assemble(client.request(ftp.BURST_READ_FILE)))["WPNAV_SPEED"] == 1000
+
+
+def test_with_defaults_and_a_slice(client, link):
+    link.vehicle.params.set("RTL_ALT", 3000)
+    client.one(ftp.OPEN_FILE_RO, data=PARAMS + b"?withdefaults=1")
+    parsed = MAVFTP.ftp_param_decode(_assemble(client.request(ftp.BURST_READ_FILE)))
+    defaults = {n.decode(): v for n, v, _ in parsed.defaults}
+    assert defaults["RTL_ALT"] == SPEC_BY_NAME["RTL_ALT"].default
+    client.one(ftp.TERMINATE_SESSION)
+    client.one(ftp.OPEN_FILE_RO, data=PARAMS + b"?start=3&count=2")
+    data = _assemble(client.request(ftp.BURST_READ_FILE))
+    total = len(link.vehicle.params)
+    assert struct.unpack_from("<HHH", data) == (0x671B, 2, total)
+    assert list(_decoded(data)) == link.vehicle.params.names()[3:5]
+
+
+def test_a_lost_reply_is_sent_again_for_a_repeated_request(client):
+    client.one(ftp.OPEN_FILE_RO, data=PARAMS)
+    first = client.one(ftp.READ_FILE, size=239, offset=0)
+    again = client.one(ftp.READ_FILE, size=239, offset=0, seq=client.seq - 1)
+    assert again == first
+
+
+# ----- refusals -----------------------------------------------------------------------------------
+@pytest.mark.parametrize("request_kw, expected", [
+    (dict(opcode=ftp.OPEN_FILE_RO, data=b"@PARAM/nope.pck"), bytes([ftp.FILE_NOT_FOUND])),
+    (dict(opcode=ftp.OPEN_FILE_RO, data=b"/no/such/file"), bytes([ftp.FILE_NOT_FOUND])),
+    (dict(opcode=ftp.OPEN_FILE_RO, data=PARAMS, size=0), bytes([ftp.INVALID_DATA_SIZE])),
+    (dict(opcode=ftp.OPEN_FILE_RO, data=PARAMS, size=5), bytes([ftp.INVALID_DATA_SIZE])),
+    (dict(opcode=ftp.OPEN_FILE_RO, data=PARAMS + b"?start=70000"), bytes([ftp.FAIL_ERRNO, 22])),
+    (dict(opcode=ftp.OPEN_FILE_RO, data=PARAMS + b"?withdefaults=2"), bytes([ftp.FAIL_ERRNO, 22])),
+    (dict(opcode=ftp.READ_FILE, size=239), bytes([ftp.FILE_NOT_FOUND])),
+    (dict(opcode=ftp.BURST_READ_FILE, size=239), bytes([ftp.FILE_NOT_FOUND])),
+    (dict(opcode=ftp.WRITE_FILE, data=b"abc"), bytes([ftp.FILE_NOT_FOUND])),
+    (dict(opcode=ftp.READ_FILE, size=240), bytes([ftp.INVALID_DATA_SIZE])),
+    (dict(opcode=ftp.LIST_DIRECTORY, data=b"/"), bytes([ftp.END_OF_FILE])),
+    (dict(opcode=ftp.LIST_DIRECTORY, data=b""), bytes([ftp.INVALID_DATA_SIZE])),
+    (dict(opcode=ftp.LIST_DIRECTORY, data=b"@PARAM"), bytes([ftp.FILE_NOT_FOUND])),
+    (dict(opcode=ftp.CALC_FILE_CRC32, data=b"@PARAM/x"), bytes([ftp.FILE_NOT_FOUND])),
+    (dict(opcode=ftp.REMOVE_FILE, data=PARAMS), bytes([ftp.FILE_NOT_FOUND])),
+    (dict(opcode=ftp.CREATE_DIRECTORY, data=b"@PARAM/d"), bytes([ftp.FILE_NOT_FOUND])),
+    (dict(opcode=ftp.RENAME, data=PARAMS + b"\0@PARAM/x.pck"), bytes([ftp.FILE_NOT_FOUND])),
+    (dict(opcode=ftp.OPEN_FILE_WO, data=b"/tmp_ftp_probe.txt"), bytes([ftp.FILE_NOT_FOUND])),
+])
+def test_naks_as_the_reference_gives_them(client, request_kw, expected):
+    reply = client.one(**request_kw)
+    assert nak(reply) == expected
+    assert reply.seq == 1 and reply.session == 1 and reply.req_opcode == request_kw["opcode"]
+
+
+@pytest.mark.parametrize("opcode", [ftp.TRUNCATE_FILE, 99])
+def test_unsupported_opcodes_fail_with_a_debug_text(client, link, opcode):
+    assert nak(client.one(opcode, data=PARAMS)) == bytes([ftp.FAIL])
+    assert link.vehicle.drain_events()[-1] == (7, f"Unsupported FTP: {opcode}")
+
+
+def test_one_open_file_across_sessions_until_the_holder_goes_silent(link):
+    holder, other = Client(link), Client(link)
+    assert holder.one(ftp.OPEN_FILE_RO, session=1, data=PARAMS).opcode == ftp.ACK
+    assert nak(holder.one(ftp.OPEN_FILE_RO, session=1, data=PARAMS)) == bytes([ftp.FAIL])
+    assert nak(other.one(ftp.OPEN_FILE_RO, session=2, data=PARAMS)) == bytes([ftp.INVALID_SESSION])
+    assert nak(other.one(ftp.READ_FILE, session=2, size=239)) == bytes([ftp.INVALID_SESSION])
+    # ending another session closes nothing
+    assert other.one(ftp.TERMINATE_SESSION, session=2).opcode == ftp.ACK
+    assert holder.one(ftp.READ_FILE, session=1, size=239).opcode == ftp.ACK
+    other.now = holder.now + ftp.SESSION_TIMEOUT_S + 0.1
+    assert other.one(ftp.OPEN_FILE_RO, session=2, data=PARAMS).opcode == ftp.ACK
+    assert nak(holder.one(ftp.READ_FILE, session=1, size=239)) == bytes([ftp.INVALID_SESSION])
+
+
+def test_ftp_addressed_to_another_system_is_ignored_and_replies_are_never_answered(client):
+    assert client.request(ftp.OPEN_FILE_RO, data=PARAMS, target=SYSTEM_ID + 1) == []
+    for reply_opcode in (ftp.ACK, ftp.NAK):
+        assert client.request(reply_opcode) == []
+    assert client.one(ftp.NONE, target=0).opcode == ftp.ACK  # broadcast is ours
+    assert client.one(ftp.RESET_SESSIONS, seq=0xFFFF).seq == 0  # seq wraps
+
+
+def test_crc_of_the_parameter_file_is_over_64_byte_reads(client):
+    reply = client.one(ftp.CALC_FILE_CRC32, data=PARAMS)
+    assert reply.opcode == ftp.ACK and reply.size == 4
+    client.one(ftp.OPEN_FILE_RO, data=PARAMS)
+    data = bytearray()
+    while (r := client.one(ftp.READ_FILE, size=64, offset=len(data))).opcode == ftp.ACK:
+        data += r.data[:r.size]
+    assert struct.unpack("<I", reply.data[:4])[0] == zlib.crc32(bytes(data), 0xFFFFFFFF) ^ 0xFFFFFFFF
+
+
+# ----- upload -----------------------------------------------------------------------------------
+def _upload_file(values: dict) -> bytes:
+    body = b""
+    for name, (ptype, value) in values.items():
+        fmt = {3: "<i", 4: "<f"}[ptype]
+        body += bytes([ptype, (len(name) - 1) << 4]) + name.encode() + struct.pack(fmt, value)
+    return struct.pack("<HHH", 0x671B, len(values), 6 + len(body)) + body
+
+
+@pytest.mark.parametrize("open_opcode", [ftp.CREATE_FILE, ftp.OPEN_FILE_WO])
+def test_upload_sets_the_parameters_when_the_session_ends(client, link, open_opcode):
+    params = link.vehicle.params
+    f = _upload_file({"WPNAV_SPEED": (4, 1234.0), "RTL_ALT": (3, 2345), "NOT_A_PARAM": (4, 1.0),
+                      "LAND_SPEED": (4, 5.0)})  # 5 cm/s is below LAND_SPEED's range: refused
+    assert client.one(open_opcode, data=PARAMS).opcode == ftp.ACK
+    first = client.one(ftp.WRITE_FILE, offset=0, data=f[:20])
+    assert (first.opcode, first.offset, first.size) == (ftp.ACK, 0, 0)
+    assert client.one(ftp.WRITE_FILE, offset=20, data=f[20:]).offset == 20
+    assert nak(client.one(ftp.READ_FILE, size=239)) == bytes([ftp.FAIL])
+    assert params["WPNAV_SPEED"] == 1000  # nothing set before the file is complete
+    assert client.one(ftp.TERMINATE_SESSION).opcode == ftp.ACK
+    assert (params["WPNAV_SPEED"], params["RTL_ALT"], params["LAND_SPEED"]) == (1234, 2345, 50)
+    assert any("LAND_SPEED" in text for _, text in link.vehicle.drain_events())
+
+
+def test_a_bad_upload_changes_nothing_and_a_huge_offset_is_refused(client, link):
+    f = _upload_file({"WPNAV_SPEED": (4, 1234.0)})
+    client.one(ftp.OPEN_FILE_WO, data=PARAMS)
+    assert nak(client.one(ftp.WRITE_FILE, offset=2 ** 31, data=b"x")) == bytes([ftp.FAIL_ERRNO, 12])
+    client.one(ftp.WRITE_FILE, offset=0, data=b"\x00\x11" + f[2:])
+    assert client.one(ftp.TERMINATE_SESSION).opcode == ftp.ACK
+    assert link.vehicle.params["WPNAV_SPEED"] == 1000
