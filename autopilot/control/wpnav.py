@@ -32,7 +32,7 @@ WPNAV_SPEED_MIN_M_S = 0.2
 class NavLimits:
     """The navigator's limits from the parameters (ArduCopter's names, SI units here)."""
     __slots__ = ("speed_xy", "speed_up", "speed_down", "accel_xy", "accel_z", "jerk", "radius",
-                 "corner_accel", "pos_p")
+                 "corner_accel", "pos_p", "clock_tc")
 
     def __init__(self, params, speed_xy: float | None = None):
         wp_speed = params["WPNAV_SPEED"] / 100.0 if speed_xy is None else speed_xy
@@ -48,21 +48,12 @@ class NavLimits:
         corner = params["WPNAV_ACCEL_C"] / 100.0
         self.corner_accel = corner if corner > 0.0 else 2.0 * self.accel_xy
         self.pos_p = params["PSC_POSXY_P"]
+        # The navigator's clock changes its rate over the time a change of acceleration takes.
+        self.clock_tc = max(self.accel_xy / self.jerk, 0.01)
 
     def leg(self, origin: tuple, destination: tuple) -> SCurve:
         return SCurve(origin, destination, self.speed_xy, self.speed_up, self.speed_down,
                       self.accel_xy, self.accel_z, self.jerk)
-
-
-def _add(acc: list, leg: SCurve, t: float, base: tuple) -> None:
-    """acc (9 floats: position, velocity, acceleration) += the leg's motion at t, its position
-    measured from `base` (the leg's origin or, for the leg being left, its destination)."""
-    s, v, a = leg.along(t)
-    u = leg.unit
-    for k in range(3):
-        acc[k] += base[k] + u[k] * s
-        acc[3 + k] += u[k] * v
-        acc[6 + k] += u[k] * a
 
 
 class WaypointNav:
@@ -121,16 +112,16 @@ class WaypointNav:
 
     def _scaled_dt(self, dt: float, pos: tuple, vel: tuple) -> float:
         """dt on the navigator's clock: slowed while the vehicle is behind its target."""
-        tv = self.vel
-        speed = math.sqrt(tv[0] * tv[0] + tv[1] * tv[1] + tv[2] * tv[2])
+        tvn, tve, tvd = self.vel
+        speed = math.sqrt(tvn * tvn + tve * tve + tvd * tvd)
         wanted = 1.0
         if speed > 1e-6:
-            err = sum((self.pos[k] - pos[k]) * tv[k] for k in range(3)) / speed
-            along = sum(vel[k] * tv[k] for k in range(3)) / speed
-            wanted = min(1.0, max(0.0, 0.05 + (along - self.limits.pos_p * err) / speed))
-        # The scale changes with the time a change of acceleration takes at the jerk limit.
-        tc = max(self.limits.accel_xy / self.limits.jerk, dt)
-        self._time_scale += (wanted - self._time_scale) * dt / tc
+            tp = self.pos
+            ahead = ((tp[0] - pos[0]) * tvn + (tp[1] - pos[1]) * tve + (tp[2] - pos[2]) * tvd) / speed
+            along = (vel[0] * tvn + vel[1] * tve + vel[2] * tvd) / speed
+            wanted = min(1.0, max(0.0, 0.05 + (along - self.limits.pos_p * ahead) / speed))
+        if wanted != self._time_scale:
+            self._time_scale += (wanted - self._time_scale) * dt / self.limits.clock_tc
         return dt * self._time_scale
 
     def update(self, dt: float, pos: tuple, vel: tuple) -> bool:
@@ -138,14 +129,21 @@ class WaypointNav:
         step = self._scaled_dt(dt, pos, vel)
         this = self._this
         self._t_this = t = min(self._t_this + step, this.duration)
-        acc = [0.0] * 9
-        _add(acc, this, t, this.origin)
-        if self._prev is not None:  # the leg being left: its motion short of its end
-            prev = self._prev
-            self._t_prev = min(self._t_prev + step, prev.duration)
-            _add(acc, prev, self._t_prev, (-prev.unit[0] * prev.length, -prev.unit[1] * prev.length,
-                                           -prev.unit[2] * prev.length))
-            if self._t_prev >= prev.duration:
+        s, v, a = this.along(t)
+        (un, ue, ud), o = this.unit, this.origin
+        pn, pe, pd = o[0] + un * s, o[1] + ue * s, o[2] + ud * s
+        vn, ve, vd = un * v, ue * v, ud * v
+        an, ae, ad = un * a, ue * a, ud * a
+        prev = self._prev
+        if prev is not None:  # the leg being left: its motion short of its end
+            self._t_prev = tp = min(self._t_prev + step, prev.duration)
+            s, v, a = prev.along(tp)
+            s -= prev.length
+            un, ue, ud = prev.unit
+            pn, pe, pd = pn + un * s, pe + ue * s, pd + ud * s
+            vn, ve, vd = vn + un * v, ve + ue * v, vd + ud * v
+            an, ae, ad = an + un * a, ae + ue * a, ad + ud * a
+            if tp >= prev.duration:
                 self._prev = None
         finished = t >= this.duration
         nxt = self._next
@@ -157,11 +155,13 @@ class WaypointNav:
             else:
                 self._t_next = min(self._t_next + step, nxt.duration)
             if self._t_next > 0.0:
-                _add(acc, nxt, self._t_next, (0.0, 0.0, 0.0))
+                s, v, a = nxt.along(self._t_next)
+                un, ue, ud = nxt.unit
+                pn, pe, pd = pn + un * s, pe + ue * s, pd + ud * s
+                vn, ve, vd = vn + un * v, ve + ue * v, vd + ud * v
+                an, ae, ad = an + un * a, ae + ue * a, ad + ud * a
                 finished = self._t_next >= remaining
-        self.pos = (acc[0], acc[1], acc[2])
-        self.vel = (acc[3], acc[4], acc[5])
-        self.accel = (acc[6], acc[7], acc[8])
+        self.pos, self.vel, self.accel = (pn, pe, pd), (vn, ve, vd), (an, ae, ad)
         if not self.reached and finished:
             if nxt is not None:
                 self.reached = True
@@ -178,13 +178,13 @@ class WaypointNav:
         half = remaining / 2.0
         s1, v1, a1 = this.along(this.duration - half)
         s2, v2, a2 = nxt.along(half)
-        u1, u2 = this.unit, nxt.unit
+        (n1, e1, d1), (n2, e2, d2) = this.unit, nxt.unit
         off1 = s1 - this.length
-        pos = [u1[k] * off1 + u2[k] * s2 for k in range(3)]
-        vel = [u1[k] * v1 + u2[k] * v2 for k in range(3)]
-        acc = [u1[k] * a1 + u2[k] * a2 for k in range(3)]
+        pn, pe, pd = n1 * off1 + n2 * s2, e1 * off1 + e2 * s2, d1 * off1 + d2 * s2
+        if pn * pn + pe * pe + pd * pd >= lim.radius * lim.radius:
+            return False
+        vn, ve, vd = n1 * v1 + n2 * v2, e1 * v1 + e2 * v2, d1 * v1 + d2 * v2
         speed_min = min(this.speed_max, nxt.speed_max)
-        return (math.sqrt(sum(p * p for p in pos)) < lim.radius
-                and math.sqrt(sum(v * v for v in vel)) < speed_min
-                and math.hypot(acc[0], acc[1]) < lim.corner_accel
-                and abs(acc[2]) < lim.accel_z)
+        an, ae, ad = n1 * a1 + n2 * a2, e1 * a1 + e2 * a2, d1 * a1 + d2 * a2
+        return (vn * vn + ve * ve + vd * vd < speed_min * speed_min
+                and an * an + ae * ae < lim.corner_accel * lim.corner_accel and abs(ad) < lim.accel_z)
