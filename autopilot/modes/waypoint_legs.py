@@ -51,9 +51,10 @@ class WaypointLegs:
         """Another kind of item took over: the next leg starts afresh."""
         self.nav = None
 
-    def begin(self, ctx, target: tuple, next_target: tuple | None) -> None:
-        """Start the leg to `target` (local NED), flying through it to `next_target` if given."""
-        limits = NavLimits(ctx.params, ctx.nav_speed_m_s)
+    def begin(self, ctx, target: tuple, next_target: tuple | None, speed_m_s: float | None = None) -> None:
+        """Start the leg to `target` (local NED), flying through it to `next_target` if given,
+        at `speed_m_s` (default: the navigation speed, WPNAV_SPEED or DO_CHANGE_SPEED's)."""
+        limits = NavLimits(ctx.params, ctx.nav_speed_m_s if speed_m_s is None else speed_m_s)
         if self.nav is None:
             b = ctx.body
             self.nav = WaypointNav(limits, (b.n_m, b.e_m, b.d_m), (b.vn_m_s, b.ve_m_s, b.vd_m_s))

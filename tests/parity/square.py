@@ -106,50 +106,65 @@ class Link(Gcs):
                                            x, y, z, 0)
 
 
+def wait_home(link: Link, deadline: float):
+    """The vehicle's HOME_POSITION, asked for until it has one (a position fix)."""
+    while time.monotonic() < deadline:
+        link.mav.command_long_send(link.sys, link.comp, mav.MAV_CMD_REQUEST_MESSAGE, 0,
+                                   mav.MAVLINK_MSG_ID_HOME_POSITION, 0, 0, 0, 0, 0, 0)
+        hp = link.recv(("HOME_POSITION",), 3)
+        if hp is not None:
+            return hp
+    raise RuntimeError("no HOME_POSITION")
+
+
+def arm_in_guided(link: Link, deadline: float) -> None:
+    """GUIDED and armed, retried: the reference arms only once its EKF is happy."""
+    while time.monotonic() < deadline:
+        if link.command(mav.MAV_CMD_DO_SET_MODE, 1, GUIDED) == 0 and \
+                link.command(mav.MAV_CMD_COMPONENT_ARM_DISARM, 1) == 0:
+            return
+        link.recv(("HEARTBEAT",), 2)
+    raise RuntimeError("could not arm")
+
+
+def record_positions(link: Link, home: tuple, samples: list) -> None:
+    """Append (time_s, north, east, relative alt) of every GLOBAL_POSITION_INT to `samples`,
+    at 20 Hz of the vehicle's time."""
+    def on_message(m) -> None:
+        if m.get_type() == "GLOBAL_POSITION_INT":
+            n, e = latlon_to_ne(home, m.lat * 1e-7, m.lon * 1e-7)
+            samples.append((m.time_boot_ms / 1000.0, n, e, m.relative_alt / 1000.0))
+    link.on_message = on_message
+    link.command(mav.MAV_CMD_SET_MESSAGE_INTERVAL, mav.MAVLINK_MSG_ID_GLOBAL_POSITION_INT, 50000)
+
+
 def fly(url: str, speed_cms: float = 500.0, side_m: float = 40.0, turn_deg: float = 90.0,
         timeout: float = 600.0) -> dict:
     """Fly the course; returns the raw record: home, corner points, samples and item times."""
     link = Link(url)
+    link.set_param("WPNAV_SPEED", speed_cms)
+    deadline = time.monotonic() + timeout
+    hp = wait_home(link, deadline)
+    home_ll = (hp.latitude * 1e-7, hp.longitude * 1e-7)
     samples: list[tuple[float, float, float, float]] = []  # (t_s, n, e, relative alt)
     reached: dict[int, float] = {}
-    home: list = []
+    record_positions(link, home_ll, samples)
+    positions = link.on_message
 
     def on_message(m) -> None:
-        kind = m.get_type()
-        if kind == "GLOBAL_POSITION_INT" and home:
-            n, e = latlon_to_ne(home[0], m.lat * 1e-7, m.lon * 1e-7)
-            samples.append((m.time_boot_ms / 1000.0, n, e, m.relative_alt / 1000.0))
-        elif kind == "MISSION_ITEM_REACHED" and m.seq not in reached and samples:
+        positions(m)
+        if m.get_type() == "MISSION_ITEM_REACHED" and m.seq not in reached and samples:
             reached[m.seq] = samples[-1][0]
 
     link.on_message = on_message
-    link.command(mav.MAV_CMD_SET_MESSAGE_INTERVAL, mav.MAVLINK_MSG_ID_GLOBAL_POSITION_INT, 50000)
-    link.set_param("WPNAV_SPEED", speed_cms)
-    # Home: wait for a position fix the vehicle reports as its home.
-    deadline = time.monotonic() + timeout
-    hp = None
-    while hp is None and time.monotonic() < deadline:
-        link.mav.command_long_send(link.sys, link.comp, mav.MAV_CMD_REQUEST_MESSAGE, 0,
-                                   mav.MAVLINK_MSG_ID_HOME_POSITION, 0, 0, 0, 0, 0, 0)
-        hp = link.recv(("HOME_POSITION",), 3)
-    if hp is None:
-        raise RuntimeError("no HOME_POSITION")
     pts = corners(side_m, turn_deg)
     items = [(16, 0, 0, 0, 0, 0, hp.latitude, hp.longitude, 0.0),
              (22, FRAME_RELATIVE_ALT, 0, 0, 0, 0, 0, 0, ALT_M)]
-    home_ll = (hp.latitude * 1e-7, hp.longitude * 1e-7)
     for n, e in pts:
         lat, lon = ne_to_latlon(home_ll, n, e)
         items.append((16, FRAME_RELATIVE_ALT, 0, 0, 0, 0, lat, lon, ALT_M))
     link.upload(items)
-    while time.monotonic() < deadline:  # the reference arms only once its EKF is happy
-        if link.command(mav.MAV_CMD_DO_SET_MODE, 1, GUIDED) == 0 and \
-                link.command(mav.MAV_CMD_COMPONENT_ARM_DISARM, 1) == 0:
-            break
-        link.recv(("HEARTBEAT",), 2)
-    else:
-        raise RuntimeError("could not arm")
-    home.append(home_ll)
+    arm_in_guided(link, deadline)
     if link.command(mav.MAV_CMD_DO_SET_MODE, 1, AUTO) != 0:
         raise RuntimeError("AUTO refused")
     if link.command(mav.MAV_CMD_MISSION_START, 0, 0) != 0:

@@ -1,6 +1,6 @@
-"""Waypoint missions flown like ArduCopter's S-curve navigation: the real autopilot process flies
-the recorded courses over pymavlink and its track is compared with the reference's figures
-(tests/parity/recorded/wpnav_square.json, measured on ArduCopter SITL by the same code)."""
+"""Waypoint legs flown like ArduCopter's S-curve navigation: the real autopilot process flies the
+recorded courses (AUTO missions, RTL's return) over pymavlink and its track is compared with the
+reference's figures (tests/parity/recorded/, measured on ArduCopter SITL by the same code)."""
 from __future__ import annotations
 
 import json
@@ -8,6 +8,7 @@ from pathlib import Path
 
 import pytest
 
+from tests.parity.rtl_return import fly as fly_rtl
 from tests.parity.square import fly, reduce
 
 RECORDED = json.loads((Path(__file__).parents[1] / "parity" / "recorded" / "wpnav_square.json").read_text())
@@ -29,3 +30,13 @@ def test_waypoint_course_tracks_within_a_metre_of_arducopter(autopilot, case):
         assert abs(ours["cross_track_max_m"] - theirs["cross_track_max_m"]) <= TOLERANCE_M, (ours, theirs)
         assert abs(ours["time_s"] - theirs["time_s"]) <= LEG_TIME_TOLERANCE_S, (ours, theirs)
     assert abs(flown["path_m"] - reference["path_m"]) <= 0.03 * reference["planned_m"]
+
+
+def test_rtl_climbs_then_returns_on_a_leg_like_arducopter(autopilot):
+    recorded = json.loads((Path(__file__).parents[1] / "parity" / "recorded" / "rtl_return.json").read_text())
+    reference = recorded["reference_figures"]
+    flown = fly_rtl(autopilot.pymavlink_url)
+    for name in ("climb_time_s", "time_to_2m_of_home_s", "time_to_0.3m_s"):
+        assert abs(flown[name] - reference[name]) <= LEG_TIME_TOLERANCE_S, (name, flown, reference)
+    for name in ("moved_home_when_climbed_m", "overshoot_past_home_m", "max_sideways_m", "max_alt_m"):
+        assert abs(flown[name] - reference[name]) <= TOLERANCE_M, (name, flown, reference)
