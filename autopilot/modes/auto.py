@@ -186,6 +186,7 @@ class Auto(Mode):
             self._complete(ctx)
 
     def _hold(self, ctx, sp: Setpoint) -> None:
+        self._legs.end()  # a leg after the hold starts from where the vehicle then is
         if ctx.landed:
             self._hold_ne, self._hold_d = (ctx.body.n_m, ctx.body.e_m), ctx.body.d_m
         sp.pos_ne, sp.pos_d = self._hold_ne, self._hold_d
