@@ -74,15 +74,6 @@ class WaypointNav:
         self.pos, self.vel, self.accel = start, velocity, (0.0, 0.0, 0.0)
         self.reached = False
 
-    @property
-    def destination(self) -> tuple:
-        return self._this.destination
-
-    @property
-    def fast(self) -> bool:
-        """Whether the current leg flies through its destination into the next leg."""
-        return self._next is not None
-
     def set_destination(self, destination: tuple, next_destination: tuple | None = None) -> None:
         """Fly to `destination` from the current one; through it towards `next_destination` if
         given (a corner), else stopping there. A leg already started as the previous leg's next

@@ -1,8 +1,6 @@
 """LAND and RTL: descend where you are, or come home first; disarm once landed."""
 from __future__ import annotations
 
-import math
-
 from .base import Mode, Setpoint, hold_here
 from .numbers import ModeNumber
 from .waypoint_legs import WaypointLegs
@@ -73,7 +71,6 @@ class Rtl(Mode):
 
     def update(self, ctx, sp: Setpoint, dt: float) -> None:
         sp.clear()
-        b = ctx.body
         home_ne = ctx.home_ned[:2]
         sp.speed_xy = (ctx.params["RTL_SPEED"] / 100.0) or ctx.nav_speed_m_s
         if self._stage in ("CLIMB", "RETURN"):
