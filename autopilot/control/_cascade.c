@@ -155,7 +155,7 @@ static PyObject *Loop_state(LoopObject *self, PyObject *unused)
 }
 
 /* Setpoint attribute names, interned once. */
-static PyObject *s_lean, *s_pos_ne, *s_vel_ne, *s_throttle, *s_pos_d, *s_vel_d, *s_speed_dn, *s_yaw, *s_yaw_rate;
+static PyObject *s_lean, *s_pos_ne, *s_vel_ne, *s_accel_ne, *s_throttle, *s_pos_d, *s_vel_d, *s_speed_dn, *s_yaw, *s_yaw_rate;
 
 /* Read sp.<name> (None -> NaN) into n doubles. */
 static int read_setpoint(PyObject *sp, PyObject *name, double *out, int n)
@@ -194,7 +194,8 @@ static PyObject *Loop_command(LoopObject *self, PyObject *const *args, Py_ssize_
     cmd.speed_xy = PyFloat_AsDouble(args[3]);
     if (cmd.armed < 0 || cmd.landed < 0 || (cmd.speed_xy == -1.0 && PyErr_Occurred()) ||
         read_setpoint(sp, s_lean, cmd.lean, 2) < 0 || read_setpoint(sp, s_pos_ne, cmd.pos_ne, 2) < 0 ||
-        read_setpoint(sp, s_vel_ne, cmd.vel_ne, 2) < 0 || read_setpoint(sp, s_throttle, &cmd.throttle, 1) < 0 ||
+        read_setpoint(sp, s_vel_ne, cmd.vel_ne, 2) < 0 || read_setpoint(sp, s_accel_ne, cmd.accel_ne, 2) < 0 ||
+        read_setpoint(sp, s_throttle, &cmd.throttle, 1) < 0 ||
         read_setpoint(sp, s_pos_d, &cmd.pos_d, 1) < 0 || read_setpoint(sp, s_vel_d, &cmd.vel_d, 1) < 0 ||
         read_setpoint(sp, s_speed_dn, &cmd.speed_dn, 1) < 0 || read_setpoint(sp, s_yaw, &cmd.yaw, 1) < 0 ||
         read_setpoint(sp, s_yaw_rate, &cmd.yaw_rate, 1) < 0)
@@ -345,8 +346,8 @@ static struct PyModuleDef module = {PyModuleDef_HEAD_INIT, "_cascade", "Firefly'
 
 PyMODINIT_FUNC PyInit__cascade(void)
 {
-    PyObject **names[] = {&s_lean, &s_pos_ne, &s_vel_ne, &s_throttle, &s_pos_d, &s_vel_d, &s_speed_dn, &s_yaw, &s_yaw_rate};
-    const char *text[] = {"lean", "pos_ne", "vel_ne", "throttle", "pos_d", "vel_d", "speed_dn", "yaw", "yaw_rate"};
+    PyObject **names[] = {&s_lean, &s_pos_ne, &s_vel_ne, &s_accel_ne, &s_throttle, &s_pos_d, &s_vel_d, &s_speed_dn, &s_yaw, &s_yaw_rate};
+    const char *text[] = {"lean", "pos_ne", "vel_ne", "accel_ne", "throttle", "pos_d", "vel_d", "speed_dn", "yaw", "yaw_rate"};
     for (size_t i = 0; i < sizeof names / sizeof *names; i++)
         if (!(*names[i] = PyUnicode_InternFromString(text[i])))
             return NULL;

@@ -11,7 +11,7 @@
 
 typedef struct { /* the Setpoint handed over by command(); NaN = None */
     int armed, landed;
-    double lean[2], pos_ne[2], vel_ne[2], speed_xy, throttle, pos_d, vel_d, speed_dn, yaw, yaw_rate;
+    double lean[2], pos_ne[2], vel_ne[2], accel_ne[2], speed_xy, throttle, pos_d, vel_d, speed_dn, yaw, yaw_rate;
 } Command;
 
 typedef struct {
@@ -78,7 +78,7 @@ static void position_step(Cascade *c, const double att[3])
         c->lean_t[0] = sp->lean[0], c->lean_t[1] = sp->lean[1];
     } else {
         double pos[2] = {b->n, b->e}, vel[2] = {b->vn, b->ve};
-        position_horizontal(pc, sp->pos_ne, sp->vel_ne, sp->speed_xy, pos, vel, att[2], dt, c->lean_t);
+        position_horizontal(pc, sp->pos_ne, sp->vel_ne, sp->accel_ne, sp->speed_xy, pos, vel, att[2], dt, c->lean_t);
     }
     if (!isnan(sp->throttle))
         c->thrust_t = thrust_from_stick(pc, sp->throttle);

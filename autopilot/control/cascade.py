@@ -100,7 +100,7 @@ class Cascade:
             self.lean_t = sp.lean
         else:
             self.lean_t = pc.horizontal(sp.pos_ne, sp.vel_ne, self._speed_xy, (b.n_m, b.e_m),
-                                        (b.vn_m_s, b.ve_m_s), yaw, dt)
+                                        (b.vn_m_s, b.ve_m_s), yaw, dt, sp.accel_ne)
         if sp.throttle is not None:
             self.thrust_t = pc.thrust_from_stick(sp.throttle)
         else:

@@ -45,10 +45,11 @@ static void lean_from_accel(const PositionController *pc, double an, double ae, 
     lean[1] = pitch;
 }
 
-/* (roll, pitch) targets; pos_t NaN = velocity control on vel_ff. */
+/* (roll, pitch) targets; pos_t NaN = velocity control on vel_ff; accel_ff NaN = none (slewed
+ * velocity target), else a shaped trajectory's acceleration, fed forward. */
 static void position_horizontal(PositionController *pc, const double pos_t[2], const double vel_ff[2],
-                                double speed_max, const double pos[2], const double vel[2], double yaw,
-                                double dt, double lean[2])
+                                const double accel_ff[2], double speed_max, const double pos[2],
+                                const double vel[2], double yaw, double dt, double lean[2])
 {
     double vn_d = vel_ff[0], ve_d = vel_ff[1];
     if (!isnan(pos_t[0])) {
@@ -63,6 +64,13 @@ static void position_horizontal(PositionController *pc, const double pos_t[2], c
     double speed = sqrt(vn_d * vn_d + ve_d * ve_d);
     if (speed > speed_max && speed_max > 0.0)
         vn_d = vn_d * speed_max / speed, ve_d = ve_d * speed_max / speed;
+    if (!isnan(accel_ff[0])) {
+        pc->vel_target_ne[0] = vn_d, pc->vel_target_ne[1] = ve_d;
+        double an = accel_ff[0] + pid_update(&pc->vel_n, vn_d, vel[0], dt);
+        double ae = accel_ff[1] + pid_update(&pc->vel_e, ve_d, vel[1], dt);
+        lean_from_accel(pc, an, ae, yaw, lean);
+        return;
+    }
     double dn = vn_d - pc->vel_target_ne[0], de = ve_d - pc->vel_target_ne[1];
     double change = sqrt(dn * dn + de * de);
     double step = pc->accel_xy_max * dt;

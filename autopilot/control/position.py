@@ -65,8 +65,10 @@ class PositionController:
         return current + max(-step, min(step, desired - current))
 
     def horizontal(self, pos_t, vel_ff: tuple, speed_max: float, pos: tuple, vel: tuple,
-                   yaw: float, dt: float) -> tuple:
-        """Returns (roll, pitch) targets. pos_t None = velocity control on vel_ff."""
+                   yaw: float, dt: float, accel_ff=None) -> tuple:
+        """Returns (roll, pitch) targets. pos_t None = velocity control on vel_ff. accel_ff, when
+        given, is the acceleration of a trajectory already shaped within the limits (waypoint
+        navigation): its velocity is followed without slewing, its acceleration fed forward."""
         vn_d, ve_d = vel_ff
         if pos_t is not None:
             en, ee = pos_t[0] - pos[0], pos_t[1] - pos[1]
@@ -78,6 +80,11 @@ class PositionController:
         speed = math.sqrt(vn_d * vn_d + ve_d * ve_d)
         if speed > speed_max > 0.0:
             vn_d, ve_d = vn_d * speed_max / speed, ve_d * speed_max / speed
+        if accel_ff is not None:
+            self.vel_target_ne[0], self.vel_target_ne[1] = vn_d, ve_d
+            an = accel_ff[0] + self.vel_pid_n.update(vn_d, vel[0], dt)
+            ae = accel_ff[1] + self.vel_pid_e.update(ve_d, vel[1], dt)
+            return self.lean_from_accel(an, ae, yaw)
         # Slew the velocity target as a vector so a diagonal move keeps its heading.
         dn, de = vn_d - self.vel_target_ne[0], ve_d - self.vel_target_ne[1]
         change = math.sqrt(dn * dn + de * de)

@@ -14,6 +14,7 @@ from ..results import Severity
 from .base import Mode, Setpoint
 from .land import Rtl, descend_and_disarm
 from .numbers import ModeNumber
+from .waypoint_legs import NAV_BY_LEGS, WaypointLegs, flies_through, next_nav_index
 
 CMD_WAYPOINT, CMD_LOITER_UNLIM, CMD_LOITER_TIME, CMD_RTL, CMD_LAND, CMD_TAKEOFF = 16, 17, 19, 20, 21, 22
 CMD_DO_JUMP, CMD_DO_CHANGE_SPEED, CMD_DO_SET_HOME = 177, 178, 179
@@ -45,6 +46,7 @@ class Auto(Mode):
         self._jumps_done: dict[int, int] = {}
         self._rtl = None
         self._index = None
+        self._legs = WaypointLegs()
         self._hold_ne, self._hold_d = (ctx.body.n_m, ctx.body.e_m), ctx.body.d_m
         mission.stop()  # flown once AUTO may start it (update)
         return None
@@ -116,6 +118,17 @@ class Auto(Mode):
             self._rtl = Rtl()
             self._rtl.enter(ctx)
         self._land_d = ctx.body.d_m
+        self._begin_leg(ctx, item)
+
+    def _begin_leg(self, ctx, item) -> None:
+        """Waypoints and loiters are flown by the waypoint navigator; other items end its legs."""
+        if item.command not in NAV_BY_LEGS:
+            self._legs.end()
+            return
+        following = next_nav_index(self._items, self._index, self._jumps_done)
+        next_item = None if following is None else self._items[following]
+        through = flies_through(item, next_item)
+        self._legs.begin(ctx, self._target, self._target_ned(ctx, next_item) if through else None)
 
     def restart_at(self, ctx, index: int) -> None:
         self._start_item(ctx, index)
@@ -148,15 +161,13 @@ class Auto(Mode):
         if item.command == CMD_LAND:
             self._land(ctx, sp, item)
             return
-        n, e, d = self._target
-        sp.pos_ne, sp.pos_d = (n, e), d
-        b = ctx.body
         if item.command == CMD_TAKEOFF:
-            if b.d_m <= d + 0.5:
+            n, e, d = self._target
+            sp.pos_ne, sp.pos_d = (n, e), d
+            if ctx.body.d_m <= d + 0.5:
                 self._complete(ctx)
             return
-        radius = item.p2 if item.command == CMD_WAYPOINT and item.p2 > 0 else ctx.params["WPNAV_RADIUS"] / 100.0
-        if self._arrived_at is None and math.hypot(b.n_m - n, b.e_m - e) <= radius and abs(b.d_m - d) < 1.0:
+        if self._legs.update(ctx, sp, dt) and self._arrived_at is None:  # waypoints and loiters
             self._arrived_at = ctx.time_s
         if self._arrived_at is None:
             return
@@ -175,6 +186,7 @@ class Auto(Mode):
             self._complete(ctx)
 
     def _hold(self, ctx, sp: Setpoint) -> None:
+        self._legs.end()  # a leg after the hold starts from where the vehicle then is
         if ctx.landed:
             self._hold_ne, self._hold_d = (ctx.body.n_m, ctx.body.e_m), ctx.body.d_m
         sp.pos_ne, sp.pos_d = self._hold_ne, self._hold_d

@@ -15,10 +15,11 @@ class Setpoint:
     """What the controllers should achieve this tick. None = that loop is not controlled.
 
     Horizontal: pos_ne (hold/track a point) with vel_ne as feed-forward, or vel_ne alone, or
-    lean (roll, pitch) for manual modes. Vertical: pos_d with vel_d feed-forward, or vel_d alone,
+    lean (roll, pitch) for manual modes; accel_ne, when set, is the acceleration of a trajectory
+    already shaped within the limits (waypoint navigation): followed as it is, not slewed. Vertical: pos_d with vel_d feed-forward, or vel_d alone,
     or throttle (0..1) for manual modes. Yaw: yaw (heading) plus yaw_rate feed-forward.
     """
-    __slots__ = ("pos_ne", "vel_ne", "lean", "pos_d", "vel_d", "throttle", "yaw", "yaw_rate",
+    __slots__ = ("pos_ne", "vel_ne", "accel_ne", "lean", "pos_d", "vel_d", "throttle", "yaw", "yaw_rate",
                  "speed_xy", "speed_up", "speed_dn")
 
     def __init__(self):
@@ -27,6 +28,7 @@ class Setpoint:
     def clear(self) -> None:
         self.pos_ne = None
         self.vel_ne = (0.0, 0.0)
+        self.accel_ne = None
         self.lean = None
         self.pos_d = None
         self.vel_d = 0.0

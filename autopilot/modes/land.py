@@ -1,10 +1,9 @@
 """LAND and RTL: descend where you are, or come home first; disarm once landed."""
 from __future__ import annotations
 
-import math
-
 from .base import Mode, Setpoint, hold_here
 from .numbers import ModeNumber
+from .waypoint_legs import WaypointLegs
 
 
 def descent_rate_m_s(ctx) -> float:
@@ -52,7 +51,9 @@ class Land(Mode):
 
 
 class Rtl(Mode):
-    """Climb to RTL_ALT (or stay higher), fly home, loiter RTL_LOIT_TIME, land and disarm."""
+    """Climb to RTL_ALT (or stay higher), fly home, loiter RTL_LOIT_TIME, land and disarm.
+    The climb and the return are waypoint legs, as ArduCopter flies them with its wp_nav: the
+    climb blends into the return leg, which stops over home."""
     number = ModeNumber.RTL
     requires_position = True
 
@@ -65,23 +66,15 @@ class Rtl(Mode):
         self._hold_ne, _ = hold_here(ctx)
         self._stage = "LAND" if ctx.landed else "CLIMB"
         self._loiter_until = None
+        self._legs = None
         return None
 
     def update(self, ctx, sp: Setpoint, dt: float) -> None:
         sp.clear()
-        b = ctx.body
         home_ne = ctx.home_ned[:2]
         sp.speed_xy = (ctx.params["RTL_SPEED"] / 100.0) or ctx.nav_speed_m_s
-        if self._stage == "CLIMB":
-            sp.pos_ne, sp.pos_d = self._hold_ne, self._return_d
-            if b.d_m <= self._return_d + 0.5:
-                self._stage = "RETURN"
-        if self._stage == "RETURN":
-            sp.pos_ne, sp.pos_d = home_ne, self._return_d
-            if math.hypot(b.n_m - home_ne[0], b.e_m - home_ne[1]) < 2.0 and \
-                    math.hypot(b.vn_m_s, b.ve_m_s) < 0.5:
-                self._stage = "LOITER"
-                self._loiter_until = ctx.time_s + ctx.params["RTL_LOIT_TIME"] / 1000.0
+        if self._stage in ("CLIMB", "RETURN"):
+            self._fly_home(ctx, sp, dt, home_ne, sp.speed_xy)
         if self._stage == "LOITER":
             sp.pos_ne, sp.pos_d = home_ne, self._return_d
             if ctx.time_s >= self._loiter_until:
@@ -89,6 +82,21 @@ class Rtl(Mode):
         if self._stage == "LAND":
             sp.pos_ne = home_ne if not ctx.landed else None
             descend_and_disarm(ctx, sp)
+
+    def _fly_home(self, ctx, sp: Setpoint, dt: float, home_ne: tuple, speed: float) -> None:
+        return_target = (home_ne[0], home_ne[1], self._return_d)
+        if self._legs is None:
+            self._legs = WaypointLegs()
+            climb_target = (self._hold_ne[0], self._hold_ne[1], self._return_d)
+            self._legs.begin(ctx, climb_target, return_target, speed)
+        if not self._legs.update(ctx, sp, dt):
+            return
+        if self._stage == "CLIMB":
+            self._stage = "RETURN"
+            self._legs.begin(ctx, return_target, None, speed)
+        else:
+            self._stage = "LOITER"
+            self._loiter_until = ctx.time_s + ctx.params["RTL_LOIT_TIME"] / 1000.0
 
     def landed_state_hint(self, ctx) -> str | None:
         return "LANDING" if self._stage == "LAND" and not ctx.landed else None

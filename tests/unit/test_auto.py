@@ -1,6 +1,8 @@
 """AUTO mode and MISSION_START as ArduCopter handles them."""
 from __future__ import annotations
 
+import math
+
 from autopilot.mission import MissionItem
 from autopilot.mission.progress import MissionState
 from autopilot.results import Result
@@ -39,7 +41,9 @@ def test_auto_on_the_ground_waits_for_mission_start():
     assert v.landed and v.mission_progress.state is MissionState.NOT_STARTED
     assert v.mission_start() == Result.ACCEPTED
     assert fly_until(v, lambda x: altitude(x) > 9.5, 20.0)
-    assert fly_until(v, lambda x: abs(x.body.n_m - 20) < 2.0, 20.0)
+    # The leg's S-curve ends at rest on the waypoint: reached once it is over, within the radius.
+    assert fly_until(v, lambda x: len(x.mission_progress.reached) >= 2, 20.0)
+    assert abs(v.body.n_m - 20) < 2.0
     assert v.mission_progress.reached[:2] == [1, 2]
 
 
@@ -93,3 +97,23 @@ def test_set_current_jumps_in_flight():
     assert v.set_mission_current(2)
     assert fly_until(v, lambda x: abs(x.body.e_m - 30) < 2 and abs(x.body.n_m) < 2, 40.0)
     assert not v.set_mission_current(7)
+
+
+def corner_speeds(hold_s: float) -> list[float]:
+    """Horizontal speeds flown within 3 m of the corner of takeoff, (20, 0) with hold_s, (20, 20)."""
+    v = hovering_vehicle()
+    v.mission.replace(0, [takeoff(), wp_at(v, 20, 0, p1=hold_s), wp_at(v, 20, 20)])
+    v.set_mode(3)
+    speeds = []
+
+    def near_corner_track(x):
+        if math.hypot(x.body.n_m - 20, x.body.e_m) < 3.0:
+            speeds.append(math.hypot(x.body.vn_m_s, x.body.ve_m_s))
+        return len(x.mission_progress.reached) >= 3
+    assert fly_until(v, near_corner_track, 60.0)
+    return speeds
+
+
+def test_a_waypoint_is_flown_through_into_the_next_leg_unless_it_has_a_hold_time():
+    assert min(corner_speeds(0.0)) > 2.0   # blended: no stop at the corner
+    assert min(corner_speeds(2.0)) < 0.3   # a hold time: it stops there first

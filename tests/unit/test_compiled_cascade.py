@@ -16,7 +16,8 @@ import pytest
 
 from autopilot.control import compiled
 from autopilot.control.cascade import Cascade
-from autopilot.modes import Guided, Land, Stabilize
+from autopilot.mission import MissionItem
+from autopilot.modes import Auto, Guided, Land, Stabilize
 from autopilot.params import SPEC_BY_NAME
 from autopilot.rates import LoopRates
 from autopilot.vehicle import Vehicle, VehicleConfig
@@ -151,6 +152,24 @@ def test_guided_flight_is_bit_identical_compiled_and_in_python():
     both(a, b, lambda v: v.set_mode(Land.number))
     lockstep(a, b, 40.0)
     assert not a.armed and a.body.d_m == 0.0  # it flew the whole way down and disarmed
+
+
+@needs_extension
+def test_waypoint_mission_with_feed_forward_is_bit_identical_compiled_and_in_python():
+    """AUTO's waypoint legs hand the cascade an acceleration feed-forward (Setpoint.accel_ne)."""
+    a, b = twins(sim=SimConfig(wind=SteadyWind(3.0, 100.0)))
+    lockstep(a, b, 0.5)
+    for v in (a, b):
+        items = [MissionItem(22, 3, z=8.0)]
+        for n, e in ((25.0, 0.0), (25.0, 25.0), (0.0, 25.0)):
+            g = v.ned_to_global(n, e, 0.0)
+            items.append(MissionItem(16, 3, 0, 0, 0, 0, round(g.lat_deg * 1e7), round(g.lon_deg * 1e7), 8.0))
+        v.mission.replace(0, items)
+    for action in (lambda v: v.set_mode(Guided.number), lambda v: v.arm(), lambda v: v.set_mode(Auto.number),
+                   lambda v: v.mission_start()):
+        both(a, b, action)
+    lockstep(a, b, 30.0)
+    assert a.mission_progress.reached[:3] == [1, 2, 3]  # it flew the legs and a blended corner
 
 
 @needs_extension

@@ -1,0 +1,135 @@
+"""One straight leg flown with a jerk-limited ("S-curve") speed profile.
+
+The profile along the leg has seven phases: jerk up, constant acceleration, jerk down (reaching
+the cruise speed), cruise, and the mirror image of the first three to stop at the destination.
+Acceleration is continuous, jerk is bounded by the jerk limit, acceleration by the acceleration
+limit and speed by the speed limit; a leg too short to reach the cruise speed peaks lower.
+ArduCopter shapes its jerk ramps with a raised cosine (a snap limit); the constant-jerk phases
+used here keep every phase a cubic polynomial, which is all a tick has to evaluate.
+
+Everything is computed once when the leg is made: each phase is stored as its start time and its
+starting distance, speed, acceleration and (constant) jerk. `at(t)` evaluates one cubic.
+"""
+from __future__ import annotations
+
+import math
+
+
+def kinematic_limit(unit: tuple, horizontal: float, up: float, down: float) -> float:
+    """The largest magnitude along the unit vector `unit` (north, east, down) whose horizontal
+    part stays within `horizontal` and whose vertical part within `up` (climbing) or `down`."""
+    h = math.sqrt(unit[0] * unit[0] + unit[1] * unit[1])
+    v = unit[2]
+    limit = math.inf
+    if h > 1e-9:
+        limit = horizontal / h
+    if v < -1e-9:
+        limit = min(limit, up / -v)
+    elif v > 1e-9:
+        limit = min(limit, down / v)
+    return limit if math.isfinite(limit) else horizontal
+
+
+def _ramp(speed: float, accel: float, jerk: float) -> tuple[float, float, float]:
+    """(peak acceleration, jerk time, constant-acceleration time) of the phases taking the speed
+    from 0 to `speed` within the acceleration and jerk limits."""
+    peak = min(accel, math.sqrt(speed * jerk))
+    t_jerk = peak / jerk
+    return peak, t_jerk, max(0.0, speed / peak - t_jerk)
+
+
+def _ramp_distance(speed: float, accel: float, jerk: float) -> float:
+    """Distance covered while speeding up from 0 to `speed` (half the time at half the speed, as
+    the speed rises symmetrically about its midpoint)."""
+    if speed <= 0.0:
+        return 0.0
+    _, t_jerk, t_const = _ramp(speed, accel, jerk)
+    return speed * (2.0 * t_jerk + t_const) / 2.0
+
+
+def peak_speed(length: float, speed: float, accel: float, jerk: float) -> float:
+    """The highest speed a leg of `length` can reach and still stop at its end."""
+    if 2.0 * _ramp_distance(speed, accel, jerk) <= length:
+        return speed
+    # Too short: the ramps up and down meet. Peak acceleration sqrt(v*j) if below the limit ...
+    v = (length / 2.0 * math.sqrt(jerk)) ** (2.0 / 3.0)
+    if math.sqrt(v * jerk) <= accel:
+        return v
+    # ... else v * (a/j + v/a) = length.
+    b = accel / jerk
+    return accel / 2.0 * (-b + math.sqrt(b * b + 4.0 * length / accel))
+
+
+class SCurve:
+    """A leg from `origin` to `destination` (local NED metres): position, velocity and
+    acceleration along it at any time since its start. A zero-length leg is finished at once."""
+
+    __slots__ = ("origin", "destination", "unit", "length", "speed_max", "accel_max", "jerk",
+                 "peak", "_starts", "_phases", "duration", "accel_end", "decel_start")
+
+    def __init__(self, origin: tuple, destination: tuple, speed_xy: float, speed_up: float,
+                 speed_down: float, accel_xy: float, accel_z: float, jerk: float):
+        self.origin = origin
+        self.destination = destination
+        dn, de, dd = (destination[0] - origin[0], destination[1] - origin[1], destination[2] - origin[2])
+        self.length = math.sqrt(dn * dn + de * de + dd * dd)
+        self._starts: list[float] = [0.0]
+        self._phases: list[tuple] = [(0.0, 0.0, 0.0, 0.0)]
+        self.duration = self.accel_end = self.decel_start = 0.0
+        self.peak = 0.0
+        if self.length < 1e-6 or min(speed_xy, accel_xy, jerk) <= 0.0:
+            self.unit = (0.0, 0.0, 0.0)
+            self.speed_max = self.accel_max = self.jerk = 0.0
+            return
+        self.unit = (dn / self.length, de / self.length, dd / self.length)
+        self.speed_max = kinematic_limit(self.unit, speed_xy, speed_up, speed_down)
+        self.accel_max = kinematic_limit(self.unit, accel_xy, accel_z, accel_z)
+        self.jerk = jerk
+        self._build()
+
+    def _build(self) -> None:
+        a_lim, j = self.accel_max, self.jerk
+        v = self.peak = peak_speed(self.length, self.speed_max, a_lim, j)
+        _, t_j, t_a = _ramp(v, a_lim, j)
+        cruise = max(0.0, (self.length - 2.0 * _ramp_distance(v, a_lim, j)) / v)
+        # (duration, jerk) of the seven phases; cruise is the fourth.
+        plan = ((t_j, j), (t_a, 0.0), (t_j, -j), (cruise, 0.0), (t_j, -j), (t_a, 0.0), (t_j, j))
+        starts, phases = [], []
+        t = s = sv = sa = 0.0
+        for duration, jerk in plan:
+            if duration <= 0.0:
+                continue
+            starts.append(t)
+            phases.append((s, sv, sa, jerk))
+            s += duration * (sv + duration * (sa / 2.0 + duration * jerk / 6.0))
+            sv += duration * (sa + duration * jerk / 2.0)
+            sa += duration * jerk
+            t += duration
+        self._starts, self._phases = starts, phases
+        self.duration = t
+        self.accel_end = 2.0 * t_j + t_a
+        self.decel_start = t - self.accel_end
+
+    def along(self, t: float) -> tuple[float, float, float]:
+        """(distance, speed, acceleration) along the leg at time t since its start; before the
+        start it is at the origin, after the end at the destination, at rest."""
+        if t >= self.duration:
+            return self.length, 0.0, 0.0
+        if t <= 0.0:
+            return 0.0, 0.0, 0.0
+        starts = self._starts
+        i = len(starts) - 1
+        while starts[i] > t:
+            i -= 1
+        s, v, a, j = self._phases[i]
+        dt = t - starts[i]
+        return (s + dt * (v + dt * (a / 2.0 + dt * j / 6.0)),
+                v + dt * (a + dt * j / 2.0),
+                a + dt * j)
+
+    def target(self, t: float) -> tuple[tuple, tuple, tuple]:
+        """(position, velocity, acceleration) NED vectors at time t since the leg's start."""
+        s, v, a = self.along(t)
+        u, o = self.unit, self.origin
+        return ((o[0] + u[0] * s, o[1] + u[1] * s, o[2] + u[2] * s),
+                (u[0] * v, u[1] * v, u[2] * v), (u[0] * a, u[1] * a, u[2] * a))

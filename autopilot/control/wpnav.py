@@ -1,0 +1,181 @@
+"""Waypoint navigation as ArduCopter flies it: straight S-curve legs (scurve.py) between
+waypoints, blended into the next leg before the corner when the next waypoint is known.
+
+Each tick the navigator advances its own clock along the legs and hands out a position,
+velocity and acceleration target for the position controller to follow with feed-forward.
+
+Corners ("fast" waypoints): while decelerating towards a waypoint whose successor is known, the
+next leg's acceleration is started early, and from then on the target is the sum of the two
+legs' motions. The start is chosen so the two overlap symmetrically about the waypoint: with
+`r` seconds of this leg left, the turn's mid point is this leg r/2 before its end plus the next
+leg r/2 after its start. The next leg starts once that mid point is within the waypoint radius,
+slower than the cruise speed and within the corner acceleration, so the corner is cut on the
+inside. The waypoint counts as reached at the mid point of the turn. Without a successor (or
+with a hold time) the leg stops at the waypoint, which is reached once the leg is over and the
+vehicle is within the radius.
+
+The clock runs slower when the vehicle falls behind its target (as ArduCopter's track time
+scaling does), so a lagging vehicle is not left chasing a target running away from it.
+"""
+from __future__ import annotations
+
+import math
+
+from sim.airframe import GRAVITY_M_S2
+
+from .scurve import SCurve
+
+WPNAV_RADIUS_MIN_M = 0.05
+WPNAV_SPEED_MIN_M_S = 0.2
+
+
+class NavLimits:
+    """The navigator's limits from the parameters (ArduCopter's names, SI units here)."""
+    __slots__ = ("speed_xy", "speed_up", "speed_down", "accel_xy", "accel_z", "jerk", "radius",
+                 "corner_accel", "pos_p", "clock_tc")
+
+    def __init__(self, params, speed_xy: float | None = None):
+        wp_speed = params["WPNAV_SPEED"] / 100.0 if speed_xy is None else speed_xy
+        self.speed_xy = max(wp_speed, WPNAV_SPEED_MIN_M_S)
+        self.speed_up = params["WPNAV_SPEED_UP"] / 100.0
+        self.speed_down = params["WPNAV_SPEED_DN"] / 100.0
+        self.accel_xy = params["WPNAV_ACCEL"] / 100.0
+        self.accel_z = params["WPNAV_ACCEL_Z"] / 100.0
+        # Jerk also within what the roll rate limit can lean the vehicle at (0 = no limit).
+        rate_max = math.radians(params["ATC_RATE_R_MAX"])
+        self.jerk = min(params["WPNAV_JERK"], rate_max * GRAVITY_M_S2) if rate_max > 0.0 else params["WPNAV_JERK"]
+        self.radius = max(params["WPNAV_RADIUS"] / 100.0, WPNAV_RADIUS_MIN_M)
+        corner = params["WPNAV_ACCEL_C"] / 100.0
+        self.corner_accel = corner if corner > 0.0 else 2.0 * self.accel_xy
+        self.pos_p = params["PSC_POSXY_P"]
+        # The navigator's clock changes its rate over the time a change of acceleration takes.
+        self.clock_tc = max(self.accel_xy / self.jerk, 0.01)
+
+    def leg(self, origin: tuple, destination: tuple) -> SCurve:
+        return SCurve(origin, destination, self.speed_xy, self.speed_up, self.speed_down,
+                      self.accel_xy, self.accel_z, self.jerk)
+
+
+class WaypointNav:
+    """Legs: `_prev` (the leg being left, still contributing its end after a blended corner),
+    `_this` (towards the current destination) and `_next` (towards the next one, when known).
+    Outputs after `update`: pos, vel, accel (NED tuples) and reached."""
+
+    def __init__(self, limits: NavLimits, start: tuple, velocity: tuple = (0.0, 0.0, 0.0)):
+        """Starts at `start` moving at `velocity`: the first leg begins where that stops."""
+        self.limits = limits
+        self._this = limits.leg(start, start)
+        self._t_this = 0.0
+        self._prev: SCurve | None = None
+        self._t_prev = 0.0
+        self._next: SCurve | None = None
+        self._t_next = 0.0
+        self._time_scale = 1.0
+        self.pos, self.vel, self.accel = start, velocity, (0.0, 0.0, 0.0)
+        self.reached = False
+
+    def set_destination(self, destination: tuple, next_destination: tuple | None = None) -> None:
+        """Fly to `destination` from the current one; through it towards `next_destination` if
+        given (a corner), else stopping there. A leg already started as the previous leg's next
+        one is kept as it is, so the corner goes on without a jump."""
+        old = self._this
+        if self._next is not None and self._next.destination == destination and self._t_next > 0.0:
+            self._prev, self._t_prev = old, self._t_this
+            self._this, self._t_this = self._next, self._t_next
+        else:
+            # From the old destination once it was reached, else from where the target can stop.
+            origin = old.destination if self.reached else self._stopping_point()
+            self._prev = None
+            self._this, self._t_this = self.limits.leg(origin, destination), 0.0
+        self._next, self._t_next = None, 0.0
+        if next_destination is not None and next_destination != destination:
+            self._next = self.limits.leg(destination, next_destination)
+        self.reached = False
+
+    def _stopping_point(self) -> tuple:
+        """Where the target comes to rest from its current motion at the acceleration limit."""
+        p, v = self.pos, self.vel
+        speed = math.sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2])
+        if speed < 1e-6:
+            return p
+        k = speed / (2.0 * self.limits.accel_xy)
+        return (p[0] + v[0] * k, p[1] + v[1] * k, p[2] + v[2] * k)
+
+    def _scaled_dt(self, dt: float, pos: tuple, vel: tuple) -> float:
+        """dt on the navigator's clock: slowed while the vehicle is behind its target."""
+        tvn, tve, tvd = self.vel
+        speed = math.sqrt(tvn * tvn + tve * tve + tvd * tvd)
+        wanted = 1.0
+        if speed > 1e-6:
+            tp = self.pos
+            ahead = ((tp[0] - pos[0]) * tvn + (tp[1] - pos[1]) * tve + (tp[2] - pos[2]) * tvd) / speed
+            along = (vel[0] * tvn + vel[1] * tve + vel[2] * tvd) / speed
+            wanted = min(1.0, max(0.0, 0.05 + (along - self.limits.pos_p * ahead) / speed))
+        if wanted != self._time_scale:
+            self._time_scale += (wanted - self._time_scale) * dt / self.limits.clock_tc
+        return dt * self._time_scale
+
+    def update(self, dt: float, pos: tuple, vel: tuple) -> bool:
+        """Advance by dt seconds given the vehicle's position and velocity; returns reached."""
+        step = self._scaled_dt(dt, pos, vel)
+        this = self._this
+        self._t_this = t = min(self._t_this + step, this.duration)
+        s, v, a = this.along(t)
+        (un, ue, ud), o = this.unit, this.origin
+        pn, pe, pd = o[0] + un * s, o[1] + ue * s, o[2] + ud * s
+        vn, ve, vd = un * v, ue * v, ud * v
+        an, ae, ad = un * a, ue * a, ud * a
+        prev = self._prev
+        if prev is not None:  # the leg being left: its motion short of its end
+            self._t_prev = tp = min(self._t_prev + step, prev.duration)
+            s, v, a = prev.along(tp)
+            s -= prev.length
+            un, ue, ud = prev.unit
+            pn, pe, pd = pn + un * s, pe + ue * s, pd + ud * s
+            vn, ve, vd = vn + un * v, ve + ue * v, vd + ud * v
+            an, ae, ad = an + un * a, ae + ue * a, ad + ud * a
+            if tp >= prev.duration:
+                self._prev = None
+        finished = t >= this.duration
+        nxt = self._next
+        if nxt is not None:
+            remaining = this.duration - t
+            if self._t_next == 0.0:
+                if t >= this.decel_start and remaining <= nxt.accel_end and self._corner_ok(remaining):
+                    self._t_next = step
+            else:
+                self._t_next = min(self._t_next + step, nxt.duration)
+            if self._t_next > 0.0:
+                s, v, a = nxt.along(self._t_next)
+                un, ue, ud = nxt.unit
+                pn, pe, pd = pn + un * s, pe + ue * s, pd + ud * s
+                vn, ve, vd = vn + un * v, ve + ue * v, vd + ud * v
+                an, ae, ad = an + un * a, ae + ue * a, ad + ud * a
+                finished = self._t_next >= remaining
+        self.pos, self.vel, self.accel = (pn, pe, pd), (vn, ve, vd), (an, ae, ad)
+        if not self.reached and finished:
+            if nxt is not None:
+                self.reached = True
+            else:
+                d = this.destination
+                dn, de, dd = pos[0] - d[0], pos[1] - d[1], pos[2] - d[2]
+                self.reached = dn * dn + de * de + dd * dd <= self.limits.radius ** 2
+        return self.reached
+
+    def _corner_ok(self, remaining: float) -> bool:
+        """Whether the turn, started now, keeps its mid point within the waypoint radius, below
+        the cruise speed and within the corner (and vertical) acceleration."""
+        this, nxt, lim = self._this, self._next, self.limits
+        half = remaining / 2.0
+        s1, v1, a1 = this.along(this.duration - half)
+        s2, v2, a2 = nxt.along(half)
+        (n1, e1, d1), (n2, e2, d2) = this.unit, nxt.unit
+        off1 = s1 - this.length
+        pn, pe, pd = n1 * off1 + n2 * s2, e1 * off1 + e2 * s2, d1 * off1 + d2 * s2
+        if pn * pn + pe * pe + pd * pd >= lim.radius * lim.radius:
+            return False
+        vn, ve, vd = n1 * v1 + n2 * v2, e1 * v1 + e2 * v2, d1 * v1 + d2 * v2
+        speed_min = min(this.speed_max, nxt.speed_max)
+        an, ae, ad = n1 * a1 + n2 * a2, e1 * a1 + e2 * a2, d1 * a1 + d2 * a2
+        return (vn * vn + ve * ve + vd * vd < speed_min * speed_min
+                and an * an + ae * ae < lim.corner_accel * lim.corner_accel and abs(ad) < lim.accel_z)

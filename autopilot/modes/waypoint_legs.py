@@ -1,0 +1,74 @@
+"""AUTO's waypoint legs: the mission items flown by the waypoint navigator (control/wpnav.py),
+as ArduCopter's AUTO flies them with its wp_nav.
+
+A waypoint without a hold time flies through its point into the next leg when the next
+navigation item is a waypoint or a loiter (ArduCopter's "fast" waypoint); otherwise, and for the
+loiters themselves, the leg stops at the point. The navigator is kept from one leg to the next,
+so a corner in progress goes on; any other navigation item (takeoff, land, RTL) ends it, and the
+next waypoint starts afresh from where the vehicle can stop.
+"""
+from __future__ import annotations
+
+from ..control.wpnav import NavLimits, WaypointNav
+from .base import Setpoint
+
+CMD_WAYPOINT, CMD_LOITER_UNLIM, CMD_LOITER_TIME = 16, 17, 19
+CMD_DO_JUMP = 177
+NAV_BY_LEGS = {CMD_WAYPOINT, CMD_LOITER_UNLIM, CMD_LOITER_TIME}
+ALL_NAV = NAV_BY_LEGS | {20, 21, 22}  # + RTL, LAND, TAKEOFF
+
+
+def next_nav_index(items, index: int, jumps_done: dict) -> int | None:
+    """The navigation item that will follow item `index`, following DO_JUMPs as AUTO will take
+    them (`jumps_done`: jumps taken so far by index); None if the mission ends first."""
+    i = index + 1
+    for _ in range(len(items) + 1):  # a loop of DO_JUMPs ends the look-ahead, not the vehicle
+        if i >= len(items):
+            return None
+        item = items[i]
+        if item.command in ALL_NAV:
+            return i
+        if item.command == CMD_DO_JUMP:
+            target, repeat = int(item.p1) - 1, int(item.p2)
+            if 0 <= target < len(items) and (repeat < 0 or jumps_done.get(i, 0) < repeat):
+                i = target
+                continue
+        i += 1
+    return None
+
+
+def flies_through(item, next_item) -> bool:
+    """Whether `item`'s point is flown through (no stop) on the way to `next_item`."""
+    return (item.command == CMD_WAYPOINT and not item.p1 > 0 and next_item is not None
+            and next_item.command in NAV_BY_LEGS and not (next_item.x == 0 and next_item.y == 0))
+
+
+class WaypointLegs:
+    def __init__(self):
+        self.nav: WaypointNav | None = None
+
+    def end(self) -> None:
+        """Another kind of item took over: the next leg starts afresh."""
+        self.nav = None
+
+    def begin(self, ctx, target: tuple, next_target: tuple | None, speed_m_s: float | None = None) -> None:
+        """Start the leg to `target` (local NED), flying through it to `next_target` if given,
+        at `speed_m_s` (default: the navigation speed, WPNAV_SPEED or DO_CHANGE_SPEED's)."""
+        limits = NavLimits(ctx.params, ctx.nav_speed_m_s if speed_m_s is None else speed_m_s)
+        if self.nav is None:
+            b = ctx.body
+            self.nav = WaypointNav(limits, (b.n_m, b.e_m, b.d_m), (b.vn_m_s, b.ve_m_s, b.vd_m_s))
+        else:
+            self.nav.limits = limits
+        self.nav.set_destination(target, next_target)
+
+    def update(self, ctx, sp: Setpoint, dt: float) -> bool:
+        """Fill the setpoint with the navigator's target; returns whether the leg's point is
+        reached."""
+        b = ctx.body
+        nav = self.nav
+        reached = nav.update(dt, (b.n_m, b.e_m, b.d_m), (b.vn_m_s, b.ve_m_s, b.vd_m_s))
+        p, v, a = nav.pos, nav.vel, nav.accel
+        sp.pos_ne, sp.vel_ne, sp.accel_ne = (p[0], p[1]), (v[0], v[1]), (a[0], a[1])
+        sp.pos_d, sp.vel_d = p[2], v[2]
+        return reached
