@@ -5,7 +5,7 @@ VENV ?= .venv
 PY := $(VENV)/bin/python
 STAMP := $(VENV)/.installed
 
-.PHONY: install run test unit sitl install-check bench fuzz soak clean
+.PHONY: install run test unit sitl install-check bench fuzz soak clean parity record-parity
 
 install: $(STAMP)
 
@@ -31,6 +31,15 @@ sitl: install
 # Part of `make test`: `pip install .` (not editable) of the checkout, flown from outside it.
 install-check: install
 	$(PY) -m pytest -q tests/install
+
+# Firefly against the recorded ArduCopter, per area; writes PARITY.md (also checked in `make test`).
+parity: install
+	$(PY) -m tests.parity.report --out PARITY.md
+
+# Re-record the reference: needs ArduCopter SITL built by build-arducopter-sitl into REF_DIR.
+REF_DIR ?= ../ref
+record-parity: install
+	$(PY) -m tests.parity.record $(REF_DIR)
 
 clean:
 	rm -rf $(VENV) build *.egg-info .pytest_cache autopilot/control/_cascade*.so

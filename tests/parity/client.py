@@ -23,7 +23,7 @@ class ProbeTimeout(RuntimeError):
 
 
 class Client:
-    def __init__(self, url: str):
+    def __init__(self, url: str, streams_hz: int | None = 10):
         self.conn = mavutil.mavlink_connection(url, source_system=255, source_component=190,
                                                autoreconnect=True)
         self.now_ms = 0           # vehicle time
@@ -38,6 +38,9 @@ class Client:
         self.acks: list[object] = []
         self._last_hb_sent = 0.0
         self.wait(lambda: self.mode is not None, 60, what="first HEARTBEAT")
+        if streams_hz:  # ArduCopter streams nothing on a link until asked, as MAVProxy asks
+            self.request_streams(streams_hz)
+            self.wait(lambda: "ATTITUDE" in self.last, 60, what="requested streams")
 
     # ----- receiving -----------------------------------------------------------------------------
     def pump(self, block_s: float = 0.02) -> None:

@@ -12,10 +12,11 @@ from pathlib import Path
 
 from groundstation.flight.autopilot_process import free_udp_port, start_autopilot
 
-from .client import Client, mav
+from .client import Client, ProbeTimeout, mav
 
 HOME = "-35.363261,149.165230,584,0"
 PREARM = mav.MAV_SYS_STATUS_PREARM_CHECK
+GUIDED = 4
 
 
 def wait_armable(client: Client, sim_s: float = 120.0) -> float:
@@ -24,7 +25,27 @@ def wait_armable(client: Client, sim_s: float = 120.0) -> float:
         s = client.last.get("SYS_STATUS")
         return s is not None and bool(s.onboard_control_sensors_health & PREARM) \
             and client.last.get("GPS_RAW_INT") is not None and client.last["GPS_RAW_INT"].fix_type >= 3
-    return client.wait(ready, sim_s, what="pre-arm checks passing")
+    took = client.wait(ready, sim_s, what="pre-arm checks passing")
+    # The bit can pass a moment before ArduCopter's EKF accepts an arm: arm once (and disarm) to
+    # know. Both vehicles go through the same steps, so both start having armed once.
+    start, boot_mode = client.now_ms, client.mode
+    client.set_mode(GUIDED)  # a mode that needs a position estimate, the last thing to be ready
+    while client.command(mav.MAV_CMD_COMPONENT_ARM_DISARM, 1) != mav.MAV_RESULT_ACCEPTED:
+        if client.now_ms - start > sim_s * 1000:
+            raise ProbeTimeout(f"not armable within {sim_s:g} s of vehicle time")
+        client.idle(1.0)
+    client.command(mav.MAV_CMD_COMPONENT_ARM_DISARM, 0)
+    client.wait(lambda: not client.armed, 10, what="disarm after the first arm")
+    client.set_mode(boot_mode)
+    client.wait(lambda: client.mode == boot_mode, 5, what="the mode it booted in")
+    client.texts.clear()
+    return took + (client.now_ms - start) / 1000.0
+
+
+def ready(client: Client, streams_hz: int | None) -> Client:
+    if streams_hz:
+        client.boot_s = wait_armable(client)
+    return client
 
 
 class FireflyTarget:
@@ -34,12 +55,11 @@ class FireflyTarget:
         self.speedup = speedup
         self.process = None
 
-    def boot(self) -> Client:
+    def boot(self, streams_hz: int | None = 10) -> Client:
+        """A fresh vehicle; with streams_hz, streams requested and ready to arm."""
         self.close()
         self.process = start_autopilot(speedup=self.speedup, extra=(f"--home={HOME}",), capture_stderr=True)
-        client = Client(self.process.pymavlink_url)
-        client.boot_s = wait_armable(client)
-        return client
+        return ready(Client(self.process.pymavlink_url, streams_hz), streams_hz)
 
     def close(self) -> None:
         if self.process is not None:
@@ -56,16 +76,14 @@ class ArduCopterTarget:
         self.out_dir, self.instance, self.speedup, self.runner = Path(out_dir), instance, speedup, runner
         self.process = None
 
-    def boot(self) -> Client:
+    def boot(self, streams_hz: int | None = 10) -> Client:
         self.close()
         shutil.rmtree(self.out_dir / f"run-{self.instance}", ignore_errors=True)
         port = free_udp_port()
         self.process = subprocess.Popen(
             [str(self.runner), str(self.out_dir), str(self.instance), str(port), str(self.speedup),
              "--home", HOME], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
-        client = Client(f"udpin:127.0.0.1:{port}")
-        client.boot_s = wait_armable(client)
-        return client
+        return ready(Client(f"udpin:127.0.0.1:{port}", streams_hz), streams_hz)
 
     def close(self) -> None:
         if self.process is not None:

@@ -17,12 +17,14 @@ def mode_name(number) -> str:
 
 def on_ground_disarmed(client: Client) -> None:
     """Disarmed on the ground; a flying vehicle lands first."""
-    if client.armed and client.rel_alt_m() > 0.5:
-        client.set_mode(LAND)
-        client.wait(lambda: not client.armed, 120, what="landing and disarming")
-    if client.armed:
+    if not client.armed:
+        return
+    if client.rel_alt_m() < 0.5:
         client.command(mav.MAV_CMD_COMPONENT_ARM_DISARM, 0)
-        client.wait(lambda: not client.armed, 10, what="disarm")
+        if client.try_wait(lambda: not client.armed, 2):
+            return
+    client.set_mode(LAND)  # flying, or not yet known to be landed
+    client.wait(lambda: not client.armed, 120, what="landing and disarming")
 
 
 def reach_disarmed_in(client: Client, mode: int) -> None:

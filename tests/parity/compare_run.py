@@ -1,0 +1,75 @@
+"""Run an area's probes against Firefly and compare them with the recording, fact by fact; sort
+every mismatch into a known, explained difference (differences.toml) or an unexplained one."""
+from __future__ import annotations
+
+import fnmatch
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from .facts import Check, compare
+from .probes import AREAS
+from .recording import load
+from .targets import FireflyTarget
+
+DIFFERENCES = Path(__file__).parent / "differences.toml"
+
+
+def known_differences() -> list[dict]:
+    """[[difference]] entries: `checks` (glob patterns over area/probe/fact) and `why`."""
+    doc = tomllib.loads(DIFFERENCES.read_text())
+    entries = doc.get("difference", [])
+    for i, entry in enumerate(entries):
+        if not entry.get("checks") or not entry.get("why"):
+            raise ValueError(f"{DIFFERENCES.name}: difference {i + 1} needs `checks` and `why`")
+    return entries
+
+
+@dataclass
+class AreaResult:
+    area: str
+    checks: list[Check] = field(default_factory=list)
+    explained: dict[str, str] = field(default_factory=dict)   # check id -> why
+    stale: list[str] = field(default_factory=list)            # listed patterns that matched no failure
+
+    @property
+    def matching(self) -> int:
+        return sum(c.ok for c in self.checks)
+
+    @property
+    def unexplained(self) -> list[Check]:
+        return [c for c in self.checks if not c.ok and self.check_id(c) not in self.explained]
+
+    def check_id(self, check: Check) -> str:
+        return f"{self.area}/{check.name}"
+
+
+def judge(area: str, checks: list[Check], differences: list[dict]) -> AreaResult:
+    result = AreaResult(area, checks)
+    for entry in differences:
+        patterns = [p for p in entry["checks"] if p.split("/", 1)[0] in (area, "*")]
+        if not patterns:
+            continue
+        used = False
+        for check in checks:
+            cid = result.check_id(check)
+            if not check.ok and any(fnmatch.fnmatchcase(cid, p) for p in patterns):
+                result.explained[cid] = entry["why"]
+                used = True
+        if not used:
+            result.stale.extend(patterns)
+    return result
+
+
+def run_area(area: str, target=None) -> AreaResult:
+    recorded = load(area)["probes"]
+    traces = AREAS[area].run(target or FireflyTarget())
+    checks = []
+    for probe, facts in recorded.items():
+        trace = traces.get(probe)
+        if trace is None:
+            checks.extend(Check(area, f"{probe}/{name}", want, "<probe not run>", False)
+                          for name, want in facts.items())
+        else:
+            checks.extend(compare(area, probe, facts, trace))
+    return judge(area, checks, known_differences())
