@@ -3,6 +3,8 @@ ArduCopter's SITL (issue 12, "Missions").
 
     python -m tests.parity.record_mission udpin:127.0.0.1:14902 out.json [scenario ...]
 
+tests/parity/recorded/mission_*.json are its traces of ArduCopter SITL, one file per scenario.
+
 Each scenario is a list of steps; a step is what the ground station did ("step", with the
 COMMAND_ACK result where there is one) followed by what the vehicle said until the step's
 condition held: STATUSTEXTs, MISSION_ITEM_REACHED, and MISSION_CURRENT / HEARTBEAT only when
@@ -204,7 +206,13 @@ def land(r: Recorder) -> None:
     r.drain(3)
 
 
+def wait_current(r: Recorder, seq: int) -> None:
+    r.pump(lambda: r.current is not None and r.current["seq"] == seq, 120, f"current {seq}")
+    r.step(f"current {seq}")
+
+
 def wait_complete(r: Recorder) -> None:
+    r.current = None  # a MISSION_CURRENT sent after the last step's ACK
     r.pump(lambda: r.current is not None and r.current["mission_state"] == mav.MISSION_STATE_COMPLETE,
            120, "complete")
     r.step("complete")
@@ -300,11 +308,11 @@ def scenario_set_current(r: Recorder) -> None:
     r.set_current(4)
     r.drain(2)
     r.set_mode(AUTO)
-    r.drain(5)
+    wait_current(r, 5)
     r.set_current(2)
-    r.drain(5)
+    wait_current(r, 4)
     r.set_current(0)
-    r.drain(5)
+    wait_current(r, 2)
     r.set_current(9)
     r.drain(2)
     land(r)
