@@ -27,11 +27,12 @@ class Auto(Mode):
 
     def enter(self, ctx) -> str | None:
         mission = ctx.mission_progress
+        # ArduCopter gives one reason for both refusals ("Mode change to AUTO failed: init failed").
         if not mission.items():
-            return "no mission"
+            return "init failed"
         if ctx.armed and ctx.landed and not mission.starts_with_takeoff(self._restart(ctx)):
             ctx.notify("Auto: Missing Takeoff Cmd", Severity.CRITICAL)
-            return "missing takeoff command"
+            return "init failed"
         self._ctx = ctx
         self._rtl = None
         self._index = None

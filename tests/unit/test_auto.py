@@ -25,7 +25,7 @@ def test_mission_start_on_the_ground_needs_a_takeoff_first():
     v.set_mode(4)
     assert v.arm() == Result.ACCEPTED
     assert v.mission_start() == Result.FAILED
-    assert any("Missing Takeoff Cmd" in text for _, text in v.events)
+    assert [t for _, t in v.events][-2:] == ["Auto: Missing Takeoff Cmd", "Mode change to AUTO failed: init failed"]
     assert v.mode.number == 4
 
 
