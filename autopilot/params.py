@@ -146,6 +146,8 @@ PARAM_TABLE: tuple[ParamSpec, ...] = (
     _f("SIM_BATT_VOLTAGE", 16.8, 0, 100, "battery resting voltage [V]; setting it re-initialises the charge"),
     _f("SIM_LINK_DOWN", 0, 0, 3600, "ground-station link cut for this many wall seconds, then 0"),
     _f("SIM_LINK_LOSS", 0, 0, 100, "share of MAVLink frames lost each way [%]"),
+    # Mission (AP_Mission)
+    _i("MIS_RESTART", 0, 0, 1, "AUTO after leaving it: 0 resumes the mission, 1 restarts it"),
 )
 
 SPEC_BY_NAME = {spec.name: spec for spec in PARAM_TABLE}  # the modelled parameters: what acts

@@ -62,7 +62,7 @@ class Vehicle:
         self.system_id = config.system_id
         self.params = params or ParamStore()
         self.mission = mission or MissionStore()
-        self.mission_progress = MissionProgress(self.mission)
+        self.mission_progress = MissionProgress(self.mission, self.notify)
         self.script = None  # a scenario's scripted commands (autopilot.cli.script.Script), if any
         n0, e0 = config.offset_ne_m
         self.origin = config.home
@@ -200,6 +200,7 @@ class Vehicle:
             self.notify("Disarm: not landed", Severity.CRITICAL)
             return Result.FAILED
         self.arming.disarm()
+        self.mission_progress.reset()  # as ArduCopter: a mission flown again starts over
         self.notify("Disarming motors")
         return Result.ACCEPTED
 
@@ -272,21 +273,23 @@ class Vehicle:
 
     # ----- commands: the mission ---------------------------------------------------------------
     def set_mission_current(self, seq: int) -> bool:
-        """MISSION_SET_CURRENT: in AUTO the mission continues from that item at once."""
-        progress = self.mission_progress
-        if not progress.set_current(seq):
-            return False
-        if self.mode.number == ModeNumber.AUTO and progress.running:
-            self.mode.restart_at(self.ctx, progress.index)
-        return True
+        """MISSION_SET_CURRENT: a running mission flies that item at once; otherwise it is where
+        the mission resumes. False (nothing changes) for a seq the list does not have."""
+        return self.mission_progress.set_current(seq)
 
     def mission_start(self) -> Result:
         """MISSION_START: switch to AUTO and let the mission begin even from the ground."""
         result = self.set_mode(ModeNumber.AUTO)
         if result == Result.ACCEPTED:
             self.arming.auto_armed = self.armed
-            self.mission_progress.prepare_start()
+            if not self.mission_progress.running:
+                self.mission_progress.start_or_resume(self.params["MIS_RESTART"] == 1)
         return result
+
+    @property
+    def in_mission_mode(self) -> bool:
+        """MISSION_CURRENT's mission_mode: the current mode flies the mission."""
+        return self.mode.number == ModeNumber.AUTO
 
     # ----- the loop ----------------------------------------------------------------------------
     def step(self) -> None:

@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 from ..mission import FENCE, MISSION, RALLY, MissionItem
 from ..results import Severity
 from .dialect import mavlink as mav
+from .telemetry import mission_current
 
 RETRY_S = 0.4
 MAX_RETRIES = 10
@@ -147,6 +148,8 @@ class MissionService:
         self._completed = (peer, up.kind, up.count - 1)
         items = up.items[1:] if up.kind == MISSION else up.items  # seq 0 is home: not stored
         self.store.replace(up.kind, items)
+        if up.kind == MISSION:
+            self.vehicle.notify("Flight plan received")
         return [self._ack(peer, mav.MAV_MISSION_ACCEPTED, up.kind)]
 
     def poll(self, link_s: float) -> list:
@@ -195,6 +198,8 @@ class MissionService:
         return [self._ack(peer, mav.MAV_MISSION_ACCEPTED, msg.mission_type)]
 
     def on_set_current(self, msg) -> list:
+        """Accepted: MISSION_CURRENT echoing the seq asked for (ground stations take it as the
+        answer, seq 0 included); refused: nothing, as ArduPilot."""
         if self.vehicle.set_mission_current(msg.seq):
-            return [self.codec.mission_current_encode(msg.seq, len(self.listed(MISSION)))]
+            return [mission_current(self.vehicle, self.codec, msg.seq)]
         return []

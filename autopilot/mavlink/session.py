@@ -168,8 +168,10 @@ class Session:
         last = self.gcs_last_heartbeat_s
         if last is not None and self.link_s - last > self.vehicle.params["FS_GCS_TIMEOUT"]:
             self.vehicle.failsafes.gcs_lost(self.vehicle)
-        for seq in self.vehicle.mission_progress.drain_reached():
-            self._out.append(self.codec.mission_item_reached_encode(seq))
+        reached = self.vehicle.mission_progress.drain_reached()
+        if reached:  # ArduPilot keeps one pending MISSION_ITEM_REACHED: items reached together
+            # (a waypoint and the "do" item verified in the same step) report the last one only
+            self._out.append(self.codec.mission_item_reached_encode(reached[-1]))
         for msg_id in self.streams.due(now_s):  # heartbeat first, then the rest
             self.queue(self.build(msg_id))
         for severity, text in self.vehicle.drain_events():

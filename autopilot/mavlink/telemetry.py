@@ -153,14 +153,17 @@ def system_time(v, codec):
 
 
 MISSION_STATE = {MissionState.NOT_STARTED: mav.MISSION_STATE_NOT_STARTED, MissionState.ACTIVE: mav.MISSION_STATE_ACTIVE,
-                 MissionState.PAUSED: mav.MISSION_STATE_PAUSED, MissionState.COMPLETE: mav.MISSION_STATE_COMPLETE}
+                 MissionState.COMPLETE: mav.MISSION_STATE_COMPLETE}
 
 
-def mission_current(v, codec):
+def mission_current(v, codec, seq: int | None = None):
+    """MISSION_CURRENT as ArduCopter fills it: the current navigation item (or `seq`, to echo a
+    MISSION_SET_CURRENT), the item count without home, and whether AUTO is flying the mission."""
     progress = v.mission_progress
     total = len(progress.items())
     state = MISSION_STATE[progress.state] if total else mav.MISSION_STATE_NO_MISSION
-    return codec.mission_current_encode(progress.current_seq(), total + 1 if total else 0, state, 0)
+    return codec.mission_current_encode(progress.current_seq() if seq is None else seq, total, state,
+                                        1 if v.in_mission_mode else 0)
 
 
 def autopilot_version(v, codec):

@@ -1,32 +1,25 @@
 """AUTO: flies the stored mission item by item, as ArduCopter does.
 
-Navigation items (takeoff, waypoint, loiters, land, return to launch) run until done; "do" items
-(change speed, jump, set home) act at once. An item this emulator does not fly is announced and
-skipped. On the ground the mission starts only once it is allowed to (MISSION_START, or the
-vehicle is already flying), and only if it begins with a takeoff.
+Which item is current is mission/progress.py's business (AP_Mission's rules); AUTO is its runner:
+it starts the items the progress hands it and says when each is done. Navigation items (takeoff,
+waypoint, loiters, land, return to launch) fly until done; "do" items (change speed, set home)
+act at once. On the ground nothing is flown until AUTO may take off (MISSION_START, or the
+vehicle is already flying); an armed, landed vehicle enters AUTO only if a takeoff comes first.
 """
 from __future__ import annotations
 
 import math
 
-from ..mission.progress import MissionState
+from ..mission.commands import (CMD_DO_CHANGE_SPEED, CMD_DO_SET_HOME, CMD_LAND, CMD_LOITER_TIME,
+                                CMD_LOITER_UNLIM, CMD_RTL, CMD_TAKEOFF, CMD_WAYPOINT, is_nav)
 from ..results import Severity
 from .base import Mode, Setpoint
 from .land import Rtl, descend_and_disarm
 from .numbers import ModeNumber
 from .waypoint_legs import NAV_BY_LEGS, WaypointLegs, flies_through, next_nav_index
 
-CMD_WAYPOINT, CMD_LOITER_UNLIM, CMD_LOITER_TIME, CMD_RTL, CMD_LAND, CMD_TAKEOFF = 16, 17, 19, 20, 21, 22
-CMD_DO_JUMP, CMD_DO_CHANGE_SPEED, CMD_DO_SET_HOME = 177, 178, 179
 NAV_COMMANDS = {CMD_WAYPOINT, CMD_LOITER_UNLIM, CMD_LOITER_TIME, CMD_RTL, CMD_LAND, CMD_TAKEOFF}
 GLOBAL_AMSL_FRAMES = {0, 5}  # MAV_FRAME_GLOBAL, MAV_FRAME_GLOBAL_INT: altitude above sea level
-
-
-def first_nav_is_takeoff(items) -> bool:
-    for item in items:
-        if item.command in NAV_COMMANDS:
-            return item.command == CMD_TAKEOFF
-    return False
 
 
 class Auto(Mode):
@@ -35,65 +28,62 @@ class Auto(Mode):
 
     def enter(self, ctx) -> str | None:
         mission = ctx.mission_progress
-        items = mission.items()
-        if not items:
-            return "no mission"
-        if ctx.armed and ctx.landed and not first_nav_is_takeoff(items[mission.index:]):
+        # ArduCopter gives one reason for both refusals ("Mode change to AUTO failed: init failed").
+        if not mission.items():
+            return "init failed"
+        if ctx.armed and ctx.landed and not mission.starts_with_takeoff(self._restart(ctx)):
             ctx.notify("Auto: Missing Takeoff Cmd", Severity.CRITICAL)
-            return "missing takeoff command"
-        self._items = items
-        self._version = mission.version
-        self._jumps_done: dict[int, int] = {}
+            return "init failed"
+        self._ctx = ctx
         self._rtl = None
         self._index = None
+        self._nav_done = False
         self._legs = WaypointLegs()
         self._hold_ne, self._hold_d = (ctx.body.n_m, ctx.body.e_m), ctx.body.d_m
-        mission.stop()  # flown once AUTO may start it (update)
+        self._waiting_to_start = True  # the mission starts (or resumes) at the first tick
+        mission.bind(self)
         return None
 
     def exit(self, ctx) -> None:
-        ctx.mission_progress.pause()
+        if ctx.mission_progress.running:
+            ctx.mission_progress.stop()
 
-    # ----- item sequencing --------------------------------------------------------------------
-    def _start_item(self, ctx, index: int) -> None:
-        """Make `index` current; run "do" items at once until a navigation item is current."""
-        for _ in range(len(self._items) + 1):  # a loop of only DO_JUMPs must not hang the vehicle
-            if index >= len(self._items):
-                self._finish(ctx)
-                return
-            item = self._items[index]
-            ctx.mission_progress.set_index(index)
-            if item.command in NAV_COMMANDS:
-                self._index = index
-                self._begin_nav(ctx, item)
-                return
-            index = self._do_item(ctx, index, item)
-        self._finish(ctx)
+    @staticmethod
+    def _restart(ctx) -> bool:
+        return ctx.params["MIS_RESTART"] == 1
 
-    def _finish(self, ctx) -> None:
-        """Mission over: hold where we are (a landed vehicle has already disarmed)."""
-        self._index = None
-        self._hold_ne, self._hold_d = (ctx.body.n_m, ctx.body.e_m), ctx.body.d_m
-        if ctx.mission_progress.complete():
-            ctx.notify("Mission complete")
-
-    def _do_item(self, ctx, index: int, item) -> int:
-        """Run a "do" item; returns the next index."""
+    # ----- the runner mission/progress.py calls -------------------------------------------------
+    def start_command(self, index: int, item) -> bool:
+        """Start an item; False for a navigation item this vehicle cannot fly (it is passed over)."""
+        ctx = self._ctx
+        if item.command in NAV_COMMANDS:
+            self._index, self._item, self._nav_done = index, item, False
+            self._begin_nav(ctx, item)
+            return True
+        if is_nav(item.command):  # a navigation item this emulator does not fly
+            ctx.notify(f"Skipping invalid cmd #{item.command}", Severity.WARNING)
+            return False
         if item.command == CMD_DO_CHANGE_SPEED:
             if math.isfinite(item.p2) and item.p2 > 0:
                 ctx.set_speed(item.p2)
-        elif item.command == CMD_DO_JUMP:
-            target, repeat = int(item.p1) - 1, int(item.p2)  # seq -> index (seq 0 is home)
-            done = self._jumps_done.get(index, 0)
-            if 0 <= target < len(self._items) and (repeat < 0 or done < repeat):
-                self._jumps_done[index] = done + 1
-                return target
         elif item.command == CMD_DO_SET_HOME:
             ctx.set_home(None if item.p1 == 1 else self._target_ned(ctx, item))
-        else:
-            ctx.notify(f"Skipping unsupported mission command {item.command}", Severity.WARNING)
-        ctx.mission_progress.item_reached(index)
-        return index + 1
+        return True
+
+    def verify_command(self, index: int, item) -> bool:
+        if item.command in NAV_COMMANDS:
+            return index == self._index and self._nav_done
+        if item.command not in (CMD_DO_CHANGE_SPEED, CMD_DO_SET_HOME):
+            self._ctx.notify(f"Skipping invalid cmd #{item.command}", Severity.WARNING)
+        return True
+
+    def mission_complete(self) -> None:
+        """As ArduCopter's exit_mission: hold where we are, or disarm if on the ground."""
+        ctx = self._ctx
+        self._index = None
+        self._hold_ne, self._hold_d = (ctx.body.n_m, ctx.body.e_m), ctx.body.d_m
+        if ctx.landed and ctx.armed:
+            ctx.disarm("mission complete")
 
     def _target_ned(self, ctx, item) -> tuple:
         """Item position in local NED; lat/lon 0 = here, altitude 0 for takeoff/land = keep."""
@@ -115,7 +105,7 @@ class Auto(Mode):
             b = ctx.body
             self._target = (b.n_m, b.e_m, min(self._target[2], b.d_m))
         if item.command == CMD_RTL:
-            self._rtl = Rtl()
+            self._rtl = Rtl(disarm_on_land=False)  # the mission's end disarms (mission_complete)
             self._rtl.enter(ctx)
         self._land_d = ctx.body.d_m
         self._begin_leg(ctx, item)
@@ -125,38 +115,32 @@ class Auto(Mode):
         if item.command not in NAV_BY_LEGS:
             self._legs.end()
             return
-        following = next_nav_index(self._items, self._index, self._jumps_done)
-        next_item = None if following is None else self._items[following]
+        mission = ctx.mission_progress
+        items = mission.items()
+        following = next_nav_index(items, self._index, mission.jumps_followed())
+        next_item = None if following is None else items[following]
         through = flies_through(item, next_item)
         self._legs.begin(ctx, self._target, self._target_ned(ctx, next_item) if through else None)
-
-    def restart_at(self, ctx, index: int) -> None:
-        self._start_item(ctx, index)
-
-    def _complete(self, ctx) -> None:
-        index = self._index
-        ctx.mission_progress.item_reached(index)
-        self._start_item(ctx, index + 1)
 
     # ----- loop ----------------------------------------------------------------------------------
     def update(self, ctx, sp: Setpoint, dt: float) -> None:
         sp.clear()
         sp.speed_xy = ctx.nav_speed_m_s
         mission = ctx.mission_progress
-        if mission.version != self._version:  # a new mission was uploaded: hold until restarted
-            self._items, self._version, self._index = mission.items(), mission.version, None
-            mission.stop()
-        if mission.state is MissionState.NOT_STARTED and (ctx.auto_armed or not ctx.landed):
-            mission.resume()
-            self._start_item(ctx, mission.index)
-        if self._index is None:
+        if self._waiting_to_start:
+            mission.start_or_resume(self._restart(ctx))
+            self._waiting_to_start = False
+            self._seen = (mission.store.version, mission.items())
+        else:
+            self._check_for_new_list(ctx, mission)
+            mission.update()
+        if self._index is None or not ctx.armed or (ctx.landed and not ctx.auto_armed):
             self._hold(ctx, sp)
             return
-        item = self._items[self._index]
+        item = self._item
         if item.command == CMD_RTL:
             self._rtl.update(ctx, sp, dt)
-            if not ctx.armed:
-                self._complete(ctx)
+            self._nav_done = self._rtl.touched_down(ctx)
             return
         if item.command == CMD_LAND:
             self._land(ctx, sp, item)
@@ -164,8 +148,7 @@ class Auto(Mode):
         if item.command == CMD_TAKEOFF:
             n, e, d = self._target
             sp.pos_ne, sp.pos_d = (n, e), d
-            if ctx.body.d_m <= d + 0.5:
-                self._complete(ctx)
+            self._nav_done = ctx.body.d_m <= d + 0.5
             return
         if self._legs.update(ctx, sp, dt) and self._arrived_at is None:  # waypoints and loiters
             self._arrived_at = ctx.time_s
@@ -173,7 +156,24 @@ class Auto(Mode):
             return
         hold = item.p1 if item.command in (CMD_WAYPOINT, CMD_LOITER_TIME) and math.isfinite(item.p1) else 0.0
         if item.command != CMD_LOITER_UNLIM and ctx.time_s - self._arrived_at >= max(hold, 0.0):
-            self._complete(ctx)
+            if not self._nav_done and item.command == CMD_WAYPOINT:
+                ctx.notify(f"Reached command #{self._index + 1}")
+            self._nav_done = True
+
+    def _check_for_new_list(self, ctx, mission) -> None:
+        """A list uploaded while the mission runs: a waypoint being flown starts again, as
+        ArduCopter's mission change detector does."""
+        version = mission.store.version
+        if version == self._seen[0]:
+            return
+        items = mission.items()
+        changed = items != self._seen[1]
+        self._seen = (version, items)
+        if changed and mission.running and self._index is not None and self._item.command == CMD_WAYPOINT:
+            if mission.restart_current_nav():
+                ctx.notify("Auto mission changed, restarted command", Severity.CRITICAL)
+            else:
+                ctx.notify("Auto mission changed but failed to restart command", Severity.CRITICAL)
 
     def _land(self, ctx, sp: Setpoint, item) -> None:
         n, e, _ = self._target
@@ -182,8 +182,9 @@ class Auto(Mode):
             sp.pos_ne, sp.pos_d = (n, e), self._land_d  # fly over the landing point first
             return
         sp.pos_ne = (n, e) if not ctx.landed else None
-        if descend_and_disarm(ctx, sp):
-            self._complete(ctx)
+        # Landed: ArduCopter disarms here and leaves the land item current; the disarm resets
+        # the mission (so the land item is never reported reached).
+        descend_and_disarm(ctx, sp)
 
     def _hold(self, ctx, sp: Setpoint) -> None:
         self._legs.end()  # a leg after the hold starts from where the vehicle then is
@@ -194,11 +195,11 @@ class Auto(Mode):
     def landed_state_hint(self, ctx) -> str | None:
         if self._index is None:
             return None
-        command = self._items[self._index].command
+        command = self._item.command
         if command == CMD_TAKEOFF:
             return "TAKEOFF"
         if command == CMD_LAND:
             return "LANDING"
-        if command == CMD_RTL:
+        if command == CMD_RTL and self._rtl is not None:
             return self._rtl.landed_state_hint(ctx)
         return None

@@ -24,8 +24,8 @@ class ModeContext:
     Actions:
         notify(text, severity)   a STATUSTEXT
         disarm(reason)           a Result: FAILED while flying
-        mission_progress         mission/progress.py: the items and current index to read; AUTO
-                                 alone moves it on (stop, resume, set_index, item_reached, complete)
+        mission_progress         mission/progress.py: AP_Mission's rules; AUTO binds itself as its
+                                 runner and drives it (start_or_resume, update, stop)
         set_speed(m_s)           as DO_CHANGE_SPEED
         set_home(ned or None)    as DO_SET_HOME (None = here)
     """

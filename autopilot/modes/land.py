@@ -57,6 +57,9 @@ class Rtl(Mode):
     number = ModeNumber.RTL
     requires_position = True
 
+    def __init__(self, disarm_on_land: bool = True):
+        self.disarm_on_land = disarm_on_land  # AUTO's RTL item leaves the disarm to the mission's end
+
     def enter(self, ctx) -> str | None:
         params = ctx.params
         home_d = ctx.home_ned[2]
@@ -81,7 +84,14 @@ class Rtl(Mode):
                 self._stage = "LAND"
         if self._stage == "LAND":
             sp.pos_ne = home_ne if not ctx.landed else None
-            descend_and_disarm(ctx, sp)
+            if self.disarm_on_land:
+                descend_and_disarm(ctx, sp)
+            else:
+                sp.vel_d = sp.speed_dn = descent_rate_m_s(ctx)
+
+    def touched_down(self, ctx) -> bool:
+        """Landed at the end of the return."""
+        return self._stage == "LAND" and ctx.landed
 
     def _fly_home(self, ctx, sp: Setpoint, dt: float, home_ne: tuple, speed: float) -> None:
         return_target = (home_ne[0], home_ne[1], self._return_d)

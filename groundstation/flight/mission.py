@@ -98,6 +98,8 @@ async def fly_mission(url: str, plan: MissionPlan, plot: Path | None) -> dict:
 
         async def watch_progress():
             async for mp in mission.subscribe_mission_progress():
+                if mp.current == 0 and rec.current_item > 0:
+                    continue  # ArduCopter resets the mission when it disarms: the last item stands
                 rec.current_item = min(mp.current, len(plan.items))  # MAVSDK reports n+1 when done
 
         tasks = [asyncio.ensure_future(c()) for c in (watch_time, watch_battery, watch_position, watch_progress)]

@@ -86,3 +86,20 @@ def expect_failsafe(gcs: Gcs, words: str, mode: int, timeout: float = 30.0):
     assert hb is not None, f"vehicle did not switch to mode {mode}"
     assert hb.system_status == mav.MAV_STATE_CRITICAL
     return text
+
+
+def upload_mission(gcs: Gcs, items: list) -> None:
+    """Upload a mission; items are (command, x, y, z) in MAV_FRAME_GLOBAL_RELATIVE_ALT_INT, seq 0
+    (home) is added in front. Waits for an accepting MISSION_ACK."""
+    full = [(mav.MAV_CMD_NAV_WAYPOINT, 0, 0, 0.0)] + list(items)
+    gcs.mav.mission_count_send(gcs.conn.target_system, gcs.conn.target_component, len(full), 0)
+    while True:
+        msg = gcs.recv(["MISSION_REQUEST_INT", "MISSION_REQUEST", "MISSION_ACK"], 5)
+        assert msg is not None, "upload stalled"
+        if msg.get_type() == "MISSION_ACK":
+            assert msg.type == mav.MAV_MISSION_ACCEPTED, msg
+            return
+        command, x, y, z = full[msg.seq]
+        gcs.mav.mission_item_int_send(gcs.conn.target_system, gcs.conn.target_component, msg.seq,
+                                      mav.MAV_FRAME_GLOBAL_RELATIVE_ALT_INT, command, 0, 1, 0, 0, 0, 0,
+                                      x, y, z, 0)

@@ -27,24 +27,81 @@ def test_mission_start_on_the_ground_needs_a_takeoff_first():
     v.set_mode(4)
     assert v.arm() == Result.ACCEPTED
     assert v.mission_start() == Result.FAILED
-    assert any("Missing Takeoff Cmd" in text for _, text in v.events)
+    assert [t for _, t in v.events][-2:] == ["Auto: Missing Takeoff Cmd", "Mode change to AUTO failed: init failed"]
     assert v.mode.number == 4
 
 
-def test_auto_on_the_ground_waits_for_mission_start():
+def test_auto_on_the_ground_starts_the_mission_but_waits_for_mission_start_to_fly():
     v = ready_vehicle()
     v.mission.replace(0, [takeoff(), wp_at(v, 20, 0)])
     v.set_mode(4)
     v.arm()
     assert v.set_mode(3) == Result.ACCEPTED
     v.run_until(v.time_s + 3.0)
-    assert v.landed and v.mission_progress.state is MissionState.NOT_STARTED
+    assert v.landed and v.mission_progress.running and v.mission_progress.current_seq() == 1
     assert v.mission_start() == Result.ACCEPTED
     assert fly_until(v, lambda x: altitude(x) > 9.5, 20.0)
     # The leg's S-curve ends at rest on the waypoint: reached once it is over, within the radius.
     assert fly_until(v, lambda x: len(x.mission_progress.reached) >= 2, 20.0)
     assert abs(v.body.n_m - 20) < 2.0
     assert v.mission_progress.reached[:2] == [1, 2]
+
+
+def test_mission_start_announces_the_first_item_twice_as_arducopter():
+    """MISSION_START starts the mission, and AUTO's first tick resumes it (restarting the item)."""
+    v = ready_vehicle()
+    v.mission.replace(0, [takeoff(), wp_at(v, 20, 0)])
+    v.set_mode(4)
+    v.arm()
+    v.drain_events()
+    assert v.mission_start() == Result.ACCEPTED
+    v.run_until(v.time_s + 0.1)
+    assert [t for _, t in v.drain_events() if t.startswith("Mission")] == ["Mission: 1 Takeoff"] * 2
+
+
+def test_after_landing_and_a_new_upload_auto_starts_the_new_mission_from_its_first_item():
+    """Issue 12: disarming resets the mission; the new list is flown from item 1, not resumed."""
+    v = hovering_vehicle()
+    v.mission.replace(0, [wp_at(v, 10, 0), MissionItem(20, REL)])
+    v.set_mode(3)
+    assert fly_until(v, lambda x: not x.armed, 120.0)
+    assert v.mission_progress.state is MissionState.COMPLETE and v.mission_progress.current_seq() == 0
+    v.mission.replace(0, [takeoff(), wp_at(v, 0, 15), wp_at(v, 15, 15), MissionItem(20, REL)])
+    v.set_mode(4)
+    assert v.arm() == Result.ACCEPTED and v.takeoff(10) == Result.ACCEPTED
+    assert fly_until(v, lambda x: altitude(x) > 9.5, 30.0)
+    v.drain_events()
+    assert v.set_mode(3) == Result.ACCEPTED
+    v.run_until(v.time_s + 0.1)
+    assert v.mission_progress.current_seq() in (1, 2)
+    assert "Mission: 1 Takeoff" in [t for _, t in v.drain_events()]
+
+
+def test_leaving_auto_and_a_new_upload_in_flight_resumes_at_the_same_index():
+    v = hovering_vehicle()
+    v.mission.replace(0, [wp_at(v, 5, 0), wp_at(v, 30, 0), wp_at(v, 30, 30)])
+    v.set_mode(3)
+    assert fly_until(v, lambda x: x.mission_progress.current_seq() == 2, 60.0)
+    v.set_mode(4)
+    assert v.mission_progress.state is MissionState.NOT_STARTED
+    v.mission.replace(0, [wp_at(v, 0, 5), wp_at(v, 0, 20), wp_at(v, 20, 20), wp_at(v, 20, 0)])
+    v.set_mode(3)
+    v.run_until(v.time_s + 0.1)
+    assert v.mission_progress.current_seq() == 2
+    assert fly_until(v, lambda x: abs(x.body.e_m - 20) < 2 and abs(x.body.n_m) < 2, 60.0)
+
+
+def test_mis_restart_1_restarts_the_mission_on_entering_auto():
+    v = hovering_vehicle()
+    v.params.set("MIS_RESTART", 1)
+    v.mission.replace(0, [wp_at(v, 5, 0), wp_at(v, 30, 0), wp_at(v, 30, 30)])
+    v.set_mode(3)
+    assert fly_until(v, lambda x: x.mission_progress.current_seq() == 2, 60.0)
+    v.set_mode(4)
+    v.drain_events()
+    v.set_mode(3)
+    v.run_until(v.time_s + 0.01)
+    assert v.mission_progress.current_seq() == 1 and v.drain_events()[0][1] == "Mission: 1 WP"
 
 
 def test_auto_in_the_air_starts_at_once_without_takeoff_item():
@@ -64,7 +121,8 @@ def test_do_jump_repeats_and_unsupported_items_are_skipped():
     v.set_mode(3)
     assert fly_until(v, lambda x: v.mission_progress.state is MissionState.COMPLETE, 120.0)
     assert v.mission_progress.reached.count(1) == 3 and v.mission_progress.reached.count(2) == 3  # first pass + two repeats
-    assert any("unsupported mission command 31000" in text for _, text in v.events)
+    assert [t for _, t in v.events if "Jump" in t] == ["Mission: 3 Jump 1/2", "Mission: 3 Jump 2/2"]
+    assert any("Skipping invalid cmd #31000" in text for _, text in v.events)
 
 
 def test_loiter_time_holds_for_its_time():
@@ -82,11 +140,14 @@ def test_mission_land_and_rtl_end_disarmed_at_the_spot():
     v.set_mode(3)
     assert fly_until(v, lambda x: not x.armed, 120.0)
     assert abs(v.body.n_m) < 1.0 and abs(v.body.e_m) < 1.0
+    assert v.mission_progress.state is MissionState.COMPLETE  # the RTL item done, then disarmed
     v2 = hovering_vehicle()
     v2.mission.replace(0, [MissionItem(21, REL, x=0, y=0, z=0)])
     v2.set_mode(3)
     assert fly_until(v2, lambda x: not x.armed, 60.0)
-    assert v2.mission_progress.state is MissionState.COMPLETE
+    # ArduCopter disarms in the land item; the reset mission runs on from its first item.
+    v2.run_until(v2.time_s + 0.1)
+    assert v2.mission_progress.running and v2.mission_progress.current_seq() == 1
 
 
 def test_set_current_jumps_in_flight():
@@ -117,3 +178,25 @@ def corner_speeds(hold_s: float) -> list[float]:
 def test_a_waypoint_is_flown_through_into_the_next_leg_unless_it_has_a_hold_time():
     assert min(corner_speeds(0.0)) > 2.0   # blended: no stop at the corner
     assert min(corner_speeds(2.0)) < 0.3   # a hold time: it stops there first
+
+def test_set_current_in_guided_is_where_auto_resumes():
+    v = hovering_vehicle()
+    v.mission.replace(0, [takeoff(), wp_at(v, 40, 0), wp_at(v, 0, 30)])
+    assert v.set_mission_current(3) and v.mission_progress.state is MissionState.NOT_STARTED
+    v.set_mode(3)
+    v.run_until(v.time_s + 0.05)
+    assert v.mission_progress.current_seq() == 3
+
+
+def test_a_mission_ending_in_the_air_completes_and_auto_again_starts_over():
+    v = hovering_vehicle()
+    v.mission.replace(0, [takeoff(), wp_at(v, 8, 0)])
+    v.set_mode(3)
+    assert fly_until(v, lambda x: x.mission_progress.state is MissionState.COMPLETE, 60.0)
+    assert v.armed and v.mission_progress.current_seq() == 2
+    assert not any(t == "Mission complete" for _, t in v.events)  # ArduCopter says nothing
+    v.set_mode(4)
+    v.drain_events()
+    v.set_mode(3)
+    v.run_until(v.time_s + 0.01)
+    assert v.mission_progress.running and [t for _, t in v.drain_events()] == ["Mission: 1 Takeoff"]

@@ -45,4 +45,4 @@ def test_imports_point_one_way(folder, forbidden):
 
 def test_the_check_sees_relative_imports():
     modules = absolute_imports(ROOT / "autopilot" / "modes" / "auto.py")
-    assert "autopilot.mission.progress" in modules and "autopilot.modes.base" in modules
+    assert "autopilot.mission.commands" in modules and "autopilot.modes.base" in modules

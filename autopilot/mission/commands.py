@@ -1,0 +1,38 @@
+"""Mission command numbers (MAV_CMD) and what AP_Mission calls them in its "Mission: 2 WP" texts."""
+from __future__ import annotations
+
+CMD_WAYPOINT, CMD_LOITER_UNLIM, CMD_LOITER_TIME, CMD_RTL, CMD_LAND, CMD_TAKEOFF = 16, 17, 19, 20, 21, 22
+CMD_DO_JUMP, CMD_DO_CHANGE_SPEED, CMD_DO_SET_HOME = 177, 178, 179
+NAV_LAST = 95  # MAV_CMD_NAV_LAST: every command numbered up to it is a navigation command
+NAV_EXCEPTIONS = {213, 42702, 42703}  # NAV_SET_YAW_SPEED, NAV_SCRIPT_TIME, NAV_ATTITUDE_TIME
+TAKEOFF_COMMANDS = {CMD_TAKEOFF, 84, 24}  # NAV_TAKEOFF, NAV_VTOL_TAKEOFF, NAV_TAKEOFF_LOCAL
+
+NAMES = {
+    16: "WP", 82: "SplineWP", 20: "RTL", 17: "LoitUnlim", 19: "LoitTime", 92: "GuidedEnable",
+    18: "LoitTurns", 31: "LoitAltitude", 213: "SetYawSpd", 112: "CondDelay", 114: "CondDist",
+    115: "CondYaw", 178: "ChangeSpeed", 179: "SetHome", 183: "SetServo", 181: "SetRelay",
+    184: "RepeatServo", 182: "RepeatRelay", 202: "DigiCamCfg", 203: "DigiCamCtrl",
+    206: "SetCamTrigDst", 195: "SetROILocation", 197: "SetROINone", 201: "SetROI",
+    194: "SetReverse", 215: "SetRepeatDist", 222: "GuidedLimits", 22: "Takeoff", 21: "Land",
+    30: "ContinueAndChangeAlt", 83: "AltitudeWait", 84: "VTOLTakeoff", 85: "VTOLLand",
+    210: "InvertedFlight", 207: "FenceEnable", 212: "AutoTuneEnable", 3000: "VTOLTransition",
+    223: "EngineControl", 188: "ReturnPathStart", 189: "LandStart", 93: "Delay", 211: "Gripper",
+    94: "PayloadPlace", 208: "Parachute", 216: "Sprayer", 218: "AuxFunction",
+    205: "MountControl", 42600: "Winch", 217: "Scripting", 177: "Jump", 601: "JumpToTag",
+    600: "Tag", 191: "Go Around", 42702: "NavScriptTime", 42703: "NavAttitudeTime",
+    193: "PauseContinue", 1000: "GimbalPitchYaw", 2000: "ImageStartCapture",
+    2001: "ImageStopCapture", 531: "SetCameraZoom", 532: "SetCameraFocus", 534: "SetCameraSource",
+    2500: "VideoStartCapture", 2501: "VideoStopCapture",
+}
+
+
+def is_nav(command: int) -> bool:
+    return command <= NAV_LAST or command in NAV_EXCEPTIONS
+
+
+def is_takeoff(command: int) -> bool:
+    return command in TAKEOFF_COMMANDS
+
+
+def command_name(command: int) -> str:
+    return NAMES.get(command, "?")
