@@ -197,8 +197,7 @@ class Vehicle:
         if not self.armed:
             return Result.ACCEPTED
         if not force and not self.landed:
-            self.notify("Disarm: not landed", Severity.CRITICAL)
-            return Result.FAILED
+            return Result.FAILED  # ArduCopter refuses in silence
         self.arming.disarm()
         self.mission_progress.reset()  # as ArduCopter: a mission flown again starts over
         self.notify("Disarming motors")
@@ -207,16 +206,17 @@ class Vehicle:
     def _set_home_here(self) -> None:
         b = self.body
         self.home_ned = (b.n_m, b.e_m, b.d_m)
-        self.notify("Home set")
 
     # ----- commands: modes and navigation ------------------------------------------------------
     def set_mode(self, number: int) -> Result:
         new = self.modes.get(number)
         if new is None:
+            self.notify(f"No such mode {number}", Severity.WARNING)
             return Result.FAILED
         if new is self.mode:
             return Result.ACCEPTED
-        reason = "requires position" if new.requires_position and not self.has_position() else None
+        # As ArduCopter, a disarmed vehicle may enter any mode: the checks guard flight only.
+        reason = "requires position" if self.armed and new.requires_position and not self.has_position() else None
         if reason is None:
             reason = new.enter(self.ctx)
         if reason is not None:
@@ -253,7 +253,9 @@ class Vehicle:
         target = math.radians(angle_deg)
         if relative:
             target = self.attitude[2] + (-target if direction < 0 else target)
-        return Result.ACCEPTED if self.mode.set_heading(self.ctx, wrap_pi(target)) else Result.FAILED
+        # ArduCopter accepts it in every mode; only modes that steer the heading act on it.
+        self.mode.set_heading(self.ctx, wrap_pi(target))
+        return Result.ACCEPTED
 
     def set_home(self, ned: tuple | None) -> Result:
         """DO_SET_HOME: here (None) or at a local NED point within HOME_RANGE_M."""
@@ -266,7 +268,8 @@ class Vehicle:
         return Result.ACCEPTED
 
     def set_speed(self, speed_m_s: float) -> Result:
-        if not (math.isfinite(speed_m_s) and speed_m_s > 0):
+        """DO_CHANGE_SPEED: only the modes that fly at a set speed take it (ArduCopter: FAILED else)."""
+        if not self.mode.takes_speed_change or not (math.isfinite(speed_m_s) and speed_m_s > 0):
             return Result.FAILED
         self.nav_speed_m_s = min(speed_m_s, self.params["WPNAV_SPEED"] / 100.0 * SPEED_MAX_WPNAV)
         return Result.ACCEPTED

@@ -107,6 +107,8 @@ def target_ned(s, c: Command):
 
 
 def do_reposition(s, c: Command) -> Result:
+    if not c.is_int:
+        return Result.UNSUPPORTED  # ArduCopter takes a position command only as COMMAND_INT
     v = s.vehicle
     change_mode = _int_param(c.p2, 0, 255) if math.isfinite(c.p2) else 0
     if v.mode.number != ModeNumber.GUIDED and not (change_mode and change_mode & mav.MAV_DO_REPOSITION_FLAGS_CHANGE_MODE):

@@ -23,13 +23,14 @@ GLOBAL_AMSL_FRAMES = {0, 5}  # MAV_FRAME_GLOBAL, MAV_FRAME_GLOBAL_INT: altitude 
 
 
 class Auto(Mode):
+    takes_speed_change = True
     number = ModeNumber.AUTO
     requires_position = True
 
     def enter(self, ctx) -> str | None:
         mission = ctx.mission_progress
         # ArduCopter gives one reason for both refusals ("Mode change to AUTO failed: init failed").
-        if not mission.items():
+        if not mission.items() and ctx.armed:  # disarmed: entered, and refused at arming instead
             return "init failed"
         if ctx.armed and ctx.landed and not mission.starts_with_takeoff(self._restart(ctx)):
             ctx.notify("Auto: Missing Takeoff Cmd", Severity.CRITICAL)

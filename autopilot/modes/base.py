@@ -61,6 +61,7 @@ class Mode:
     name: str = "?"
     requires_position = False
     allows_arming = False
+    takes_speed_change = False  # DO_CHANGE_SPEED accepted (ArduCopter: GUIDED, AUTO, RTL)
     has_user_takeoff = False
     manual_throttle = False
 

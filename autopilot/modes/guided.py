@@ -10,6 +10,7 @@ VELOCITY_TIMEOUT_S = 3.0  # ArduCopter stops if velocity setpoints stop arriving
 
 
 class Guided(Mode):
+    takes_speed_change = True
     number = ModeNumber.GUIDED
     requires_position = True
     allows_arming = True

@@ -54,6 +54,7 @@ class Rtl(Mode):
     """Climb to RTL_ALT (or stay higher), fly home, loiter RTL_LOIT_TIME, land and disarm.
     The climb and the return are waypoint legs, as ArduCopter flies them with its wp_nav: the
     climb blends into the return leg, which stops over home."""
+    takes_speed_change = True
     number = ModeNumber.RTL
     requires_position = True
 

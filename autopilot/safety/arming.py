@@ -8,6 +8,8 @@ from __future__ import annotations
 
 import math
 
+from ..modes.numbers import ModeNumber
+
 FORCE_ARM_MAGIC = 2989  # COMPONENT_ARM_DISARM param2 that skips the checks (ArduPilot's)
 FORCE_DISARM_MAGIC = 21196  # ... and that disarms even in flight
 THROTTLE_ARM_MAX = 0.1  # manual-throttle modes refuse to arm with the stick above this
@@ -51,8 +53,10 @@ def prearm_failure(v) -> str | None:
 
 def arm_refusal(v, force: bool) -> str | None:
     """The STATUSTEXT that refuses an ARM in the vehicle's state, or None to arm."""
+    if v.mode.number == ModeNumber.AUTO and not v.mission_progress.items():
+        return "Arm: Mode requires mission"  # ArduCopter's first word on arming in an empty AUTO
     if not v.mode.allows_arming:
-        return "Arm: Mode not armable"
+        return f"Arm: {v.mode.name} mode not armable"
     if force:
         return None
     reason = prearm_failure(v)

@@ -43,7 +43,7 @@ def test_arming_check_0_and_force_skip_the_checks_but_not_the_mode_rule():
     v.params.set("ARMING_CHECK", 1)
     assert arm_refusal(v, force=True) is None
     v.mode = v.modes[ModeNumber.LAND]
-    assert arm_refusal(v, force=True) == "Arm: Mode not armable"
+    assert arm_refusal(v, force=True) == "Arm: LAND mode not armable"
 
 
 def test_a_manual_throttle_mode_refuses_to_arm_with_the_stick_up():

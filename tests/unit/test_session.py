@@ -84,7 +84,7 @@ def test_exact_retry_of_a_refused_arm_replays_the_result_without_acting_again(li
     ack1, _ = link.command(mav.MAV_CMD_COMPONENT_ARM_DISARM, 1, now=t)
     ack2, _ = link.command(mav.MAV_CMD_COMPONENT_ARM_DISARM, 1, now=t + 0.5, confirmation=1)
     assert ack1.result == ack2.result == mav.MAV_RESULT_FAILED
-    assert [text for _, text in link.vehicle.events].count("Arm: Mode not armable") == 1
+    assert [text for _, text in link.vehicle.events].count("Arm: LAND mode not armable") == 1
 
 
 def test_exact_retry_of_an_accepted_arm_does_not_arm_again(link):

@@ -118,7 +118,7 @@ def test_vehicle_events_go_out_as_statustext_with_severity(link):
     link.command(mav.MAV_CMD_COMPONENT_ARM_DISARM, 1)
     out = link.poll(0.01)
     texts = of_type(out, "STATUSTEXT")
-    assert any(statustexts([m])[0] == "Arm: Mode not armable" and
+    assert any(statustexts([m])[0] == "Arm: BRAKE mode not armable" and
                m.severity == mav.MAV_SEVERITY_CRITICAL for m in texts)
     assert link.vehicle.events == []  # drained
     link.vehicle.notify("x" * 80)
