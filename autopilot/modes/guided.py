@@ -1,8 +1,6 @@
 """GUIDED: the vehicle goes where the ground station says (position, velocity, takeoff)."""
 from __future__ import annotations
 
-import math
-
 from .base import Mode, Setpoint, hold_here
 from .numbers import ModeNumber
 

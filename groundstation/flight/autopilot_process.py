@@ -28,6 +28,17 @@ def free_udp_port() -> int:
         return s.getsockname()[1]
 
 
+def stop_process(process: subprocess.Popen, timeout_s: float = 10.0) -> None:
+    """Terminate `process` and reap it; killed if it has not exited within `timeout_s`."""
+    if process.poll() is None:
+        process.terminate()
+        try:
+            process.wait(timeout=timeout_s)
+        except subprocess.TimeoutExpired:
+            process.kill()
+            process.wait()
+
+
 class AutopilotExited(RuntimeError):
     """The autopilot process ended while a flight still needed it."""
 
@@ -72,13 +83,7 @@ class AutopilotProcess:
                 await asyncio.gather(task, return_exceptions=True)
 
     def stop(self) -> int:
-        if self.process.poll() is None:
-            self.process.terminate()
-            try:
-                self.process.wait(timeout=10)
-            except subprocess.TimeoutExpired:
-                self.process.kill()
-                self.process.wait()
+        stop_process(self.process)
         if self.stderr_log is not None:
             if not self.exit_reported:
                 sys.stderr.write(self._stderr_text())  # nothing the process said is lost

@@ -36,6 +36,7 @@ class Client:
         self.log: list[tuple[int, object]] = []        # (time_boot_ms, msg) while logging
         self.logging = False
         self.acks: list[object] = []
+        self.heartbeats = 0       # HEARTBEATs received, to wait for one sent after a moment
         self._last_hb_sent = 0.0
         self.wait(lambda: self.mode is not None, 60, what="first HEARTBEAT")
         if streams_hz:  # ArduCopter streams nothing on a link until asked, as MAVProxy asks
@@ -64,6 +65,7 @@ class Client:
         if self.logging:
             self.log.append((self.now_ms, msg))
         if kind == "HEARTBEAT":
+            self.heartbeats += 1
             self.mode = msg.custom_mode
             self.base_mode = msg.base_mode
             self.armed = bool(msg.base_mode & mav.MAV_MODE_FLAG_SAFETY_ARMED)
@@ -101,18 +103,15 @@ class Client:
         p = (list(params) + [0.0] * 7)[:7]
         self.acks.clear()
         self.conn.mav.command_long_send(1, 1, command, 0, *p)
-        found = []
-
-        def acked():
-            found.extend(a for a in self.acks if a.command == command)
-            self.acks.clear()
-            return bool(found)
-        return found[0].result if self.try_wait(acked, sim_s) else None
+        return self._ack_result(command, sim_s)
 
     def command_int(self, command: int, frame: int, p1=0.0, p2=0.0, p3=0.0, p4=0.0, x=0, y=0, z=0.0,
                     sim_s: float = 5.0) -> int | None:
         self.acks.clear()
         self.conn.mav.command_int_send(1, 1, frame, command, 0, 0, p1, p2, p3, p4, x, y, z)
+        return self._ack_result(command, sim_s)
+
+    def _ack_result(self, command: int, sim_s: float) -> int | None:
         found = []
 
         def acked():
@@ -137,6 +136,13 @@ class Client:
         self.conn.mav.request_data_stream_send(1, 1, mav.MAV_DATA_STREAM_ALL, hz, 1)
 
     # ----- state -------------------------------------------------------------------------------
+    def fresh_heartbeat(self, sim_s: float = 3.0) -> None:
+        """Wait for a HEARTBEAT sent from now on: at 1 Hz the last one can predate a change made
+        a second ago (the beat may fall in the same tick as the end of the wait), so mode and
+        arming read after this are the vehicle's present state on both vehicles."""
+        seen = self.heartbeats
+        self.wait(lambda: self.heartbeats > seen, sim_s, what="a new HEARTBEAT")
+
     def texts_since(self, t_ms: int) -> list[str]:
         return [text for stamp, _, text in self.texts if stamp >= t_ms]
 

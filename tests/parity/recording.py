@@ -7,7 +7,7 @@ from pathlib import Path
 
 RECORDED = Path(__file__).parent / "recorded"
 ARDUPILOT_COMMIT = "90700977c553d2dfd95a305acf1c3e098e4d9477"  # ArduCopter 4.7.0-dev
-PROBE_VERSION = 1  # raise when a probe changes what it measures; re-record then
+PROBE_VERSION = 2  # raise when a probe changes what it measures; re-record then (2: state read from a fresh HEARTBEAT)
 
 
 def path_of(area: str) -> Path:

@@ -10,7 +10,7 @@ import shutil
 import subprocess
 from pathlib import Path
 
-from groundstation.flight.autopilot_process import free_udp_port, start_autopilot
+from groundstation.flight.autopilot_process import free_udp_port, start_autopilot, stop_process
 
 from .client import Client, ProbeTimeout, mav
 
@@ -87,10 +87,5 @@ class ArduCopterTarget:
 
     def close(self) -> None:
         if self.process is not None:
-            self.process.terminate()
-            try:
-                self.process.wait(timeout=10)
-            except subprocess.TimeoutExpired:
-                self.process.kill()
-                self.process.wait()
+            stop_process(self.process)
             self.process = None

@@ -62,6 +62,7 @@ def observe(client: Client, trace: Trace, name: str, how) -> None:
     t0 = client.now_ms
     result = send(client, how)
     client.idle(1.0)
+    client.fresh_heartbeat()
     trace.fact(f"{name}.result", result)
     trace.fact(f"{name}.mode_after", mode_name(client.mode))
     trace.fact(f"{name}.armed_after", client.armed)

@@ -48,7 +48,6 @@ def run(target) -> dict[str, Trace]:
         t = traces["guided_goto_north_60m"] = Trace()
         lat = client.last["HOME_POSITION"].latitude + int(60 / EARTH_M_PER_DEG * 1e7)
         lon = client.last["HOME_POSITION"].longitude
-        t0 = client.now_ms
         client.conn.mav.set_position_target_global_int_send(
             0, 1, 1, mav.MAV_FRAME_GLOBAL_RELATIVE_ALT_INT, 0b110111111000, lat, lon, 20, 0, 0, 0, 0, 0, 0, 0, 0)
         top = [0.0]
@@ -64,7 +63,6 @@ def run(target) -> dict[str, Trace]:
         t.fact("overshoot_m", max(0.0, ne(client)[0] - 60), Tol(abs=1.0, why="stops within a metre on both"))
 
         t = traces["rtl_from_60m_north"] = Trace()
-        t0 = client.now_ms
         t.fact("result", client.set_mode(RTL))
         home_reached = client.wait(lambda: math.hypot(*ne(client)) < 2.0, 90, what="back over home")
         t.fact("return_time", home_reached, TIME)
@@ -97,7 +95,8 @@ def run(target) -> dict[str, Trace]:
             return not client.armed
         client.wait(disarmed, 60, what="disarm after LAND")
         t.fact("disarm_after_touchdown_s", (client.now_ms - (touchdown[0] or client.now_ms)) / 1000.0,
-               Tol(abs=1.0, why="touchdown is judged from a 0.2 m altitude on both"))
+               Tol(abs=1.5, why="touchdown is judged from a 0.2 m altitude; the reference itself gave "
+                                  "2.4 s and 3.4 s in two recordings"))
     finally:
         target.close()
     return traces

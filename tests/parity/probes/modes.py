@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from ..client import Client
 from ..facts import Trace
-from .states import (GUIDED, MODE_NAMES, STABILIZE, mode_name, on_ground_disarmed, reach_armed_on_ground,
+from .states import (MODE_NAMES, STABILIZE, mode_name, on_ground_disarmed, reach_armed_on_ground,
                      reach_flying)
 from .texts import said
 
@@ -16,6 +16,7 @@ def try_mode(client: Client, trace: Trace, name: str, mode: int) -> None:
     t0 = client.now_ms
     result = client.set_mode(mode)
     client.idle(0.5)
+    client.fresh_heartbeat()
     trace.fact(f"{name}.result", result)
     trace.fact(f"{name}.mode_after", mode_name(client.mode))
     trace.fact(f"{name}.said", said(client.texts_since(t0)))

@@ -9,6 +9,8 @@ BACKGROUND = [re.compile(p) for p in (
     r"^EKF\d", r"^AHRS:", r"^GPS \d", r"^u-blox", r"^Field Elevation", r"^Barometer",
     r"^PreArm: ", r"^ArduCopter V", r"^Frame: ", r"^RCOut:", r"^IMU\d", r"^Param space",
     r"^fmuv", r"^Loaded", r"^Ready to FLY", r"^Init ",
+    r"^SIM ",  # the reference simulator's own remarks (ground contact), not the autopilot's
+    r"^EKF variance$",  # said when its estimate degrades after GPS loss: timing, not a reply
 )]
 
 
