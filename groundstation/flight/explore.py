@@ -41,6 +41,41 @@ class CommandRefused(RuntimeError):
     pass
 
 
+class Feed:
+    """The telemetry feeding the survey, one task per message kind. A handler that raises stops
+    the flight with its error (and the vehicle is made safe) instead of dying unseen while the
+    search flies on without readings."""
+
+    def __init__(self, direct, moved: asyncio.Event):
+        self.direct, self.moved = direct, moved
+        self.tasks: list[asyncio.Future] = []
+        self.failure: str | None = None
+
+    def watch(self, name: str, handle) -> None:
+        async def run():
+            try:
+                async for msg in self.direct.subscribe_message(name):
+                    handle(json.loads(msg.fields_json))
+            except asyncio.CancelledError:
+                raise
+            except Exception as exc:  # noqa: BLE001 - any handler error ends the flight, named
+                self.failure = f"{name} handling failed: {type(exc).__name__}: {exc}"
+                self.moved.set()  # wake the survey loop to see it
+        self.tasks.append(asyncio.ensure_future(run()))
+
+    def check(self) -> None:
+        if self.failure is not None:
+            raise FeedFailed(self.failure)
+
+    def cancel(self) -> None:
+        for t in self.tasks:
+            t.cancel()
+
+
+class FeedFailed(RuntimeError):
+    pass
+
+
 async def explore(url: str, world: FireWorld, policy_name: str, plot: Path | None, truth: bool,
                   config: SearchConfig = SearchConfig(), say=print) -> dict:
     """Fly one search; `say` receives the progress lines (print by default)."""
@@ -49,17 +84,13 @@ async def explore(url: str, world: FireWorld, policy_name: str, plot: Path | Non
     survey = Survey(geometry, config)
     moved = asyncio.Event()  # set by every position report
     link = await VehicleLink.connect(url)
-    tasks = []
+    feed = None
     try:
         await link.wait_armable()
         say(f"vehicle armable; surveying {geometry.area_m:g} m x {geometry.area_m:g} m "
             f"({geometry.cells_per_side}^2 cells) at {geometry.survey_alt_m:g} m with policy {policy_name}")
-        direct = MavlinkDirectAsync(link.system)
+        feed = Feed(MavlinkDirectAsync(link.system), moved)
         await link.telemetry.set_rate_position_velocity_ned(10.0)
-
-        async def watch(name, handle):
-            async for msg in direct.subscribe_message(name):
-                handle(json.loads(msg.fields_json))
 
         def on_position(f):
             survey.add_position(int(f["time_boot_ms"]), f["x"], f["y"], f["z"])
@@ -69,8 +100,8 @@ async def explore(url: str, world: FireWorld, policy_name: str, plot: Path | Non
             if str(f.get("name", "")).rstrip("\0") == TEMPERATURE_NAME:
                 survey.add_reading(int(f["time_boot_ms"]), float(f["value"]))
 
-        tasks = [asyncio.ensure_future(watch("LOCAL_POSITION_NED", on_position)),
-                 asyncio.ensure_future(watch("NAMED_VALUE_FLOAT", on_value))]
+        feed.watch("LOCAL_POSITION_NED", on_position)
+        feed.watch("NAMED_VALUE_FLOAT", on_value)
         await command(link.action.arm(), "arm")
         await command(link.action.set_takeoff_altitude(geometry.survey_alt_m), "set takeoff altitude")
         await command(link.action.takeoff(), "takeoff")
@@ -80,8 +111,9 @@ async def explore(url: str, world: FireWorld, policy_name: str, plot: Path | Non
         wall0 = time.monotonic()
         start_t_ms = survey.vehicle_t_ms
         controller = SearchController(geometry, policy, config, survey.here(), np.random.default_rng(POLICY_SEED))
+        feed.check()
         survey.start(controller)
-        declared = await fly_survey(link, survey, moved)
+        declared = await fly_survey(link, survey, moved, feed)
         est_n, est_e = declared.position
         est = link.lat_lon_of(est_n, est_e)
         result = {
@@ -106,12 +138,12 @@ async def explore(url: str, world: FireWorld, policy_name: str, plot: Path | Non
         final = await link.position()
         result["landed_from_home_m"] = math.hypot(*link.north_east_m(final))
         say(f"landed and disarmed {result['landed_from_home_m']:.1f} m from home")
-    except (LinkError, CommandRefused) as exc:
+    except (LinkError, CommandRefused, FeedFailed) as exc:
         await make_safe(link)
         raise LinkError(str(exc)) from None
     finally:
-        for t in tasks:
-            t.cancel()
+        if feed is not None:
+            feed.cancel()
         link.close()
     if plot is not None:
         write_plot(survey, world if truth else None, result, plot)
@@ -149,12 +181,13 @@ async def make_safe(link: VehicleLink) -> None:
             continue
 
 
-async def fly_survey(link: VehicleLink, survey: Survey, moved: asyncio.Event) -> Declaration:
+async def fly_survey(link: VehicleLink, survey: Survey, moved: asyncio.Event, feed: Feed) -> Declaration:
     """Fly the controller's targets until it declares; its decisions come at new observations and
     arrivals (survey.next_move), and every position report is a chance to look."""
     alt = link.home.absolute_altitude_m + survey.geometry.survey_alt_m
     sent = None
     while True:
+        feed.check()
         moved.clear()
         move = survey.next_move()
         if isinstance(move, Declaration):
