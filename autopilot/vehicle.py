@@ -86,6 +86,7 @@ class Vehicle:
         self.mode = self.modes[ModeNumber.STABILIZE]
         self.setpoint = Setpoint()
         self.home_ned: tuple | None = None
+        self.home_sets = 0  # times home was set: a cleared mission lists home again after the next
         self.pilot_input = PilotInput()
         self.events: list[tuple[int, str]] = []
         self.nav_speed_m_s = self.params["WPNAV_SPEED"] / 100.0
@@ -206,6 +207,7 @@ class Vehicle:
     def _set_home_here(self) -> None:
         b = self.body
         self.home_ned = (b.n_m, b.e_m, b.d_m)
+        self.home_sets += 1
 
     # ----- commands: modes and navigation ------------------------------------------------------
     def set_mode(self, number: int) -> Result:
@@ -265,6 +267,7 @@ class Vehicle:
         if math.hypot(ned[0], ned[1]) > HOME_RANGE_M:
             return Result.DENIED
         self.home_ned = tuple(ned)
+        self.home_sets += 1
         return Result.ACCEPTED
 
     def set_speed(self, speed_m_s: float) -> Result:

@@ -54,7 +54,9 @@ def check_item(item: MissionItem) -> int:
     for n, value in enumerate((item.p1, item.p2, item.p3, item.p4), start=1):
         if math.isinf(value):  # NaN means "unchanged" for some params; infinity never makes sense
             return getattr(mav, f"MAV_MISSION_INVALID_PARAM{n}")
-    if not math.isfinite(item.z) or abs(item.z) > 100_000:
+    # z is an altitude only for positional items; elsewhere ArduCopter ignores it, NaN included
+    # (MAVSDK's mission plugin sends DO_CHANGE_SPEED with z = NaN).
+    if math.isinf(item.z) or abs(item.z) > 100_000 or (math.isnan(item.z) and item.command in POSITIONAL):
         return mav.MAV_MISSION_INVALID_PARAM7
     if item.command in POSITIONAL and item.frame in GLOBAL_FRAMES:
         if not -900_000_000 <= item.x <= 900_000_000:
@@ -82,6 +84,7 @@ class MissionService:
         self.upload: Upload | None = None
         self._completed = None  # (peer, kind, last seq) of the upload just stored, to re-ACK a resend
         self.refused = 0  # uploads refused: unsupported list, no space, busy, an invalid item
+        self._cleared_at_home_set: int | None = None  # the vehicle's home_sets when the mission was cleared
 
     # ----- helpers ----------------------------------------------------------------------------
     def _ack(self, peer: tuple, result: int, kind: int):
@@ -96,6 +99,8 @@ class MissionService:
         items = self.store.items(kind)
         if kind != MISSION:
             return items
+        if self._cleared_at_home_set == self.vehicle.home_sets:
+            return []  # ArduCopter: a cleared mission has no items, home either, until home is set again
         home = self.vehicle.home or self.vehicle.origin
         home_item = MissionItem(mav.MAV_CMD_NAV_WAYPOINT, mav.MAV_FRAME_GLOBAL, 0, 0, 0, 0,
                                 int(round(home.lat_deg * 1e7)), int(round(home.lon_deg * 1e7)), home.alt_m)
@@ -147,6 +152,8 @@ class MissionService:
         self.upload = None
         self._completed = (peer, up.kind, up.count - 1)
         items = up.items[1:] if up.kind == MISSION else up.items  # seq 0 is home: not stored
+        if up.kind == MISSION:
+            self._cleared_at_home_set = None
         self.store.replace(up.kind, items)
         if up.kind == MISSION:
             self.vehicle.notify("Flight plan received")
@@ -195,6 +202,8 @@ class MissionService:
         if self.upload is not None and self.upload.kind == msg.mission_type:
             self.upload = None
         self.store.clear(msg.mission_type)
+        if msg.mission_type == MISSION:
+            self._cleared_at_home_set = self.vehicle.home_sets
         return [self._ack(peer, mav.MAV_MISSION_ACCEPTED, msg.mission_type)]
 
     def on_set_current(self, msg) -> list:

@@ -1,7 +1,7 @@
 """GUIDED: the vehicle goes where the ground station says (position, velocity, takeoff)."""
 from __future__ import annotations
 
-from .base import Mode, Setpoint, hold_here
+from .base import Mode, Setpoint, stopping_point
 from .numbers import ModeNumber
 
 VELOCITY_TIMEOUT_S = 3.0  # ArduCopter stops if velocity setpoints stop arriving
@@ -20,7 +20,7 @@ class Guided(Mode):
         return None
 
     def hold(self, ctx) -> None:
-        self.target_ne, self.target_d = hold_here(ctx)
+        self.target_ne, self.target_d = stopping_point(ctx)
         self.target_vel_ne, self.target_vel_d = (0.0, 0.0), 0.0
         self.target_yaw = None
         self.velocity_mode = False

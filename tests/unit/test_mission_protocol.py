@@ -7,10 +7,13 @@ import random
 
 import pytest
 
+from autopilot.results import Result
+
 from autopilot.mavlink.dialect import mavlink as mav
 from autopilot.mavlink.dialect import new_codec
 from autopilot.mavlink.session import Session
 from autopilot.mission import MissionItem
+from autopilot.results import Result
 from autopilot.vehicle import Vehicle, VehicleConfig
 
 TICK_S = 0.05  # link-clock step between exchanges
@@ -179,6 +182,42 @@ def test_invalid_item_refuses_the_upload_and_keeps_the_old_one(setup):
     run(session, bad, LossyLink(0.0, 0))
     assert bad.done == mav.MAV_MISSION_INVALID_PARAM5_X
     assert stored_lats(v) == before
+
+
+@pytest.mark.parametrize("command, accepted", [(mav.MAV_CMD_DO_CHANGE_SPEED, True), (mav.MAV_CMD_NAV_WAYPOINT, False)])
+def test_nan_altitude_is_refused_only_where_it_is_an_altitude(setup, command, accepted):
+    """MAVSDK's mission plugin sends DO_CHANGE_SPEED with z = NaN; ArduCopter stores it."""
+    v, session = setup
+    gcs = GroundStation()
+    items = plan(3)
+    items[2] = item(2, command=command, alt=float("nan"), frame=mav.MAV_FRAME_MISSION if accepted else
+                    mav.MAV_FRAME_GLOBAL_RELATIVE_ALT_INT)
+    gcs.start_upload(items, 0.0)
+    run(session, gcs, LossyLink(0.0, 0))
+    assert gcs.done == (mav.MAV_MISSION_ACCEPTED if accepted else mav.MAV_MISSION_INVALID_PARAM7)
+    assert len(v.mission.items(0)) == (2 if accepted else 0)
+
+
+def test_a_cleared_mission_lists_nothing_until_home_is_set_again(setup):
+    """ArduCopter: MISSION_CLEAR_ALL leaves no items, home included (MISSION_COUNT 0), until home
+    is written again; a fresh vehicle lists its home item."""
+    v, session = setup
+
+    def listed() -> int:
+        gcs = GroundStation()
+        gcs.start_download(0.0)
+        run(session, gcs, LossyLink(0.0, 0))
+        return gcs.expected
+
+    assert listed() == 1
+    gcs = GroundStation()
+    gcs.start_upload(plan(3), 0.0)
+    run(session, gcs, LossyLink(0.0, 0))
+    assert listed() == 3
+    session.receive(gcs.codec.mission_clear_all_encode(1, 1, 0), 0.0, 0.0)
+    assert listed() == 0
+    assert v.set_home(None) == Result.ACCEPTED
+    assert listed() == 1
 
 
 def test_bad_frame_is_refused(setup):

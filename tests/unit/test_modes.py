@@ -55,6 +55,20 @@ def test_stick_deadzone_is_zero_inside_continuous_outside_and_full_at_the_end():
     assert stick_deadzone(0.5) == pytest.approx(-stick_deadzone(-0.5))
 
 
+@pytest.mark.parametrize("speed, stop_m", [(2.0, 2.0), (5.0, 0.5 * 2.5 + 25.0 / 5.0)])
+def test_guided_taking_over_at_speed_holds_the_stopping_point_ahead(speed, stop_m):
+    """Not the point where the mode changed: ArduCopter's GUIDED stops ahead and stays there.
+    P = 1/s, accel 2.5 m/s/s: v/P below 2.5 m/s, accel/(2P^2) + v^2/(2 accel) above."""
+    c = ctx(d_m=-10.0, n_m=3.0, vn_m_s=speed * 0.6, ve_m_s=speed * 0.8)
+    mode = Guided()
+    mode.enter(c)
+    (n, e), d = mode.target_ne, mode.target_d
+    assert n == pytest.approx(3.0 + 0.6 * stop_m) and e == pytest.approx(0.8 * stop_m) and d == -10.0
+    still = ctx(d_m=-10.0, n_m=3.0)
+    mode.enter(still)
+    assert mode.target_ne == (3.0, 0.0)
+
+
 def test_land_descent_is_fast_high_and_slow_low():
     params = ParamStore()
     high = ctx(d_m=-(params["LAND_ALT_LOW"] / 100.0 + 5.0), params=params)
