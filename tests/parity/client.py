@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import math
 import time
+from contextlib import contextmanager
 
 from pymavlink import mavutil
 
@@ -24,6 +25,7 @@ class ProbeTimeout(RuntimeError):
 
 class Client:
     def __init__(self, url: str, streams_hz: int | None = 10):
+        self.url = url
         self.conn = mavutil.mavlink_connection(url, source_system=255, source_component=190,
                                                autoreconnect=True)
         self.now_ms = 0           # vehicle time
@@ -36,7 +38,8 @@ class Client:
         self.log: list[tuple[int, object]] = []        # (time_boot_ms, msg) while logging
         self.logging = False
         self.acks: list[object] = []
-        self.heartbeats = 0       # HEARTBEATs received, to wait for one sent after a moment
+        self.received: dict[str, int] = {}  # messages of each type so far, to wait for one sent after a moment
+        self.listeners: list = []  # callables given every message from the vehicle (protocol exchanges)
         self._last_hb_sent = 0.0
         self.wait(lambda: self.mode is not None, 60, what="first HEARTBEAT")
         if streams_hz:  # ArduCopter streams nothing on a link until asked, as MAVProxy asks
@@ -62,10 +65,10 @@ class Client:
         if stamp is not None and stamp > self.now_ms and kind != "TIMESYNC":
             self.now_ms = stamp
         self.last[kind] = msg
+        self.received[kind] = self.received.get(kind, 0) + 1
         if self.logging:
             self.log.append((self.now_ms, msg))
         if kind == "HEARTBEAT":
-            self.heartbeats += 1
             self.mode = msg.custom_mode
             self.base_mode = msg.base_mode
             self.armed = bool(msg.base_mode & mav.MAV_MODE_FLAG_SAFETY_ARMED)
@@ -74,6 +77,18 @@ class Client:
             self.texts.append((self.now_ms, msg.severity, msg.text))
         elif kind == "COMMAND_ACK":
             self.acks.append(msg)
+        for listener in self.listeners:
+            listener(msg)
+
+    @contextmanager
+    def listening(self, listener):
+        """`listener(msg)` sees every message from the vehicle inside the block: for a protocol
+        exchange (mission transfer, FTP) that answers messages as they come."""
+        self.listeners.append(listener)
+        try:
+            yield
+        finally:
+            self.listeners.remove(listener)
 
     def wait(self, condition, sim_s: float, what: str = "condition") -> float:
         """Pump until condition() holds; returns the vehicle seconds it took. ProbeTimeout after
@@ -140,8 +155,12 @@ class Client:
         """Wait for a HEARTBEAT sent from now on: at 1 Hz the last one can predate a change made
         a second ago (the beat may fall in the same tick as the end of the wait), so mode and
         arming read after this are the vehicle's present state on both vehicles."""
-        seen = self.heartbeats
-        self.wait(lambda: self.heartbeats > seen, sim_s, what="a new HEARTBEAT")
+        self.fresh("HEARTBEAT", sim_s)
+
+    def fresh(self, kind: str, sim_s: float = 3.0) -> None:
+        """Wait for a message of `kind` sent from now on (see fresh_heartbeat)."""
+        seen = self.received.get(kind, 0)
+        self.wait(lambda: self.received.get(kind, 0) > seen, sim_s, what=f"a new {kind}")
 
     def texts_since(self, t_ms: int) -> list[str]:
         return [text for stamp, _, text in self.texts if stamp >= t_ms]

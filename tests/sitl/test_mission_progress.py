@@ -1,6 +1,7 @@
 """Mission progress over the wire, as ArduCopter's SITL does it (issue 12, "Missions"): a landed
 vehicle flies a newly uploaded mission from its first item; one that never disarmed resumes it
-at the item it left. The message sequences are those recorded in tests/parity/recorded."""
+at the item it left. The parity area `missions` compares the same situations, fact by fact, with
+the recorded ArduCopter (tests/parity/recorded/missions.json)."""
 from __future__ import annotations
 
 import pytest

@@ -1,11 +1,13 @@
-"""Every command Firefly handles, sent in each situation a vehicle can be in: the COMMAND_ACK
-result, the mode and arming state a second later, and what the vehicle said about it."""
+"""Every command Firefly handles, sent in each situation a vehicle can be in (disarmed in each
+mode, armed on the ground, flying, landing, in a battery failsafe's RTL): the COMMAND_ACK result,
+the mode and arming state a second later, and what the vehicle said about it."""
 from __future__ import annotations
 
 from ..client import Client, mav
 from ..facts import Trace
 from .states import (ALT_HOLD, AUTO, BRAKE, GUIDED, LAND, LOITER, RTL, STABILIZE, mode_name,
-                     reach_armed_on_ground, reach_disarmed_in, reach_flying, reach_landing)
+                     reach_armed_on_ground, reach_battery_failsafe, reach_disarmed_in, reach_flying,
+                     reach_landing)
 from .texts import said
 
 AREA = "commands"
@@ -79,6 +81,12 @@ def run(target) -> dict[str, Trace]:
                 reach(client)
                 trace.fact(f"{name}.in_mode", mode_name(client.mode))
                 observe(client, trace, name, how)
+        trace = traces["battery_failsafe"] = Trace()
+        for name, how in STATEFUL.items():  # a fresh vehicle each: a battery failsafe lasts until reboot
+            client = target.boot()
+            reach_battery_failsafe(client)
+            trace.fact(f"{name}.in_mode", mode_name(client.mode))
+            observe(client, trace, name, how)
         reach_disarmed_in(client, GUIDED)
         trace = traces["queries"] = Trace()
         for name, how in QUERIES.items():

@@ -60,3 +60,13 @@ def reach_landing(client: Client) -> None:
     client.set_mode(LAND)
     client.wait(lambda: client.mode == LAND, 5, what="LAND")
     client.idle(1.0)
+
+
+def reach_battery_failsafe(client: Client) -> None:
+    """Flying on a fresh vehicle whose low-battery failsafe has fired (BATT_LOW_VOLT above the
+    pack's voltage) and sent it home in RTL: a failsafe, with time left before it lands."""
+    client.set_param("BATT_FS_LOW_ACT", 2)  # RTL
+    reach_flying(client, 20.0)
+    client.set_param("BATT_LOW_VOLT", 30.0)
+    client.wait(lambda: client.mode == RTL, 30, what="the battery failsafe's RTL")
+    client.idle(1.0)
