@@ -41,13 +41,17 @@ def heartbeat(v, codec):
     mode = v.mode
     base = mav.MAV_MODE_FLAG_CUSTOM_MODE_ENABLED | mav.MAV_MODE_FLAG_STABILIZE_ENABLED \
         | mav.MAV_MODE_FLAG_MANUAL_INPUT_ENABLED
-    if mode.requires_position:
+    if mode.controls_position(v.ctx):
         base |= mav.MAV_MODE_FLAG_GUIDED_ENABLED
     if v.armed:
         base |= mav.MAV_MODE_FLAG_SAFETY_ARMED
-    status = mav.MAV_STATE_ACTIVE if v.armed else mav.MAV_STATE_STANDBY
-    if v.armed and v.failsafes.active:
+    # As ArduCopter: any failsafe makes it CRITICAL, on the ground (armed or not) it is STANDBY.
+    if v.failsafes.active:
         status = mav.MAV_STATE_CRITICAL
+    elif v.landed:
+        status = mav.MAV_STATE_STANDBY
+    else:
+        status = mav.MAV_STATE_ACTIVE
     return codec.heartbeat_encode(mav.MAV_TYPE_QUADROTOR, mav.MAV_AUTOPILOT_ARDUPILOTMEGA, base,
                                   mode.number, status)
 

@@ -84,6 +84,11 @@ class Mode:
         """'TAKEOFF' or 'LANDING' while the mode is doing either, else None."""
         return None
 
+    def controls_position(self, ctx) -> bool:
+        """The horizontal position controller flies this mode (HEARTBEAT's GUIDED_ENABLED flag,
+        as ArduCopter sets it from its position controller)."""
+        return self.requires_position
+
     # ----- commands from a ground station; refused unless the mode flies them ----------------
     def user_takeoff(self, ctx, alt_above_home_m: float) -> None:
         """Climb to alt_above_home_m; called only if has_user_takeoff, armed on the ground."""

@@ -6,6 +6,9 @@ from .numbers import ModeNumber
 from .waypoint_legs import WaypointLegs
 
 
+GROUND_DISARM_S = 0.9  # LAND entered on the ground disarms this long after
+
+
 def descent_rate_m_s(ctx) -> float:
     """ArduCopter's two-stage descent: fast high up, LAND_SPEED below LAND_ALT_LOW."""
     params = ctx.params
@@ -34,6 +37,9 @@ class Land(Mode):
 
     def enter(self, ctx) -> str | None:
         self._hold_ne = hold_here(ctx)[0] if ctx.has_position() else None
+        # Entered on the ground, ArduCopter disarms about a second later, not at once (measured on
+        # its SITL: still armed 0.5 s after, "Disarming motors" stamped 1.1-1.5 s after the command).
+        self._disarm_from_s = ctx.time_s + GROUND_DISARM_S if ctx.landed else ctx.time_s
         return None
 
     def update(self, ctx, sp: Setpoint, dt: float) -> None:
@@ -44,10 +50,16 @@ class Land(Mode):
             sp.lean = (0.0, 0.0)
         else:
             sp.pos_ne = self._hold_ne
+        if ctx.time_s < self._disarm_from_s:
+            sp.vel_d = sp.speed_dn = descent_rate_m_s(ctx)
+            return
         descend_and_disarm(ctx, sp)
 
     def landed_state_hint(self, ctx) -> str | None:
         return None if ctx.landed else "LANDING"
+
+    def controls_position(self, ctx) -> bool:
+        return ctx.has_position()  # it holds its point with a fix, comes down level without
 
 
 class Rtl(Mode):
@@ -68,7 +80,9 @@ class Rtl(Mode):
         rtl_alt = max(params["RTL_ALT"] / 100.0, current_alt + params["RTL_CLIMB_MIN"] / 100.0)
         self._return_d = home_d - rtl_alt
         self._hold_ne, _ = hold_here(ctx)
-        self._stage = "LAND" if ctx.landed else "CLIMB"
+        # Entered on the ground it stays there armed, as ArduCopter's RTL does, until the
+        # auto-disarm (DISARM_DELAY from arming) disarms it.
+        self._stage = "GROUND" if ctx.landed else "CLIMB"
         self._loiter_until = None
         self._legs = None
         return None
@@ -83,6 +97,8 @@ class Rtl(Mode):
             sp.pos_ne, sp.pos_d = home_ne, self._return_d
             if ctx.time_s >= self._loiter_until:
                 self._stage = "LAND"
+        if self._stage == "GROUND":
+            sp.vel_d = sp.speed_dn = descent_rate_m_s(ctx)
         if self._stage == "LAND":
             sp.pos_ne = home_ne if not ctx.landed else None
             if self.disarm_on_land:

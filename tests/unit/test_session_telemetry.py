@@ -8,7 +8,7 @@ import pytest
 from autopilot.modes import Brake, Guided, Loiter
 
 from ._session_link import SYSTEM_ID, Link, gcs, link  # noqa: F401 - link is a fixture
-from ._util import mav, of_type, ready_vehicle, statustexts, wire
+from ._util import hovering_vehicle, mav, of_type, ready_vehicle, statustexts, wire
 
 
 # ----- requested messages and streams -----------------------------------------------------------
@@ -103,7 +103,11 @@ def test_heartbeat_reports_mode_and_armed_flag_after_arming(link):
     assert hb.base_mode & mav.MAV_MODE_FLAG_SAFETY_ARMED
     assert hb.base_mode & mav.MAV_MODE_FLAG_CUSTOM_MODE_ENABLED
     assert hb.custom_mode == Guided.number
+    assert hb.system_status == mav.MAV_STATE_STANDBY  # ArduCopter: STANDBY while landed, armed or not
+    flying = Link(hovering_vehicle())
+    hb = of_type(flying.poll(0.0), "HEARTBEAT")[0]
     assert hb.system_status == mav.MAV_STATE_ACTIVE
+    assert hb.base_mode & mav.MAV_MODE_FLAG_GUIDED_ENABLED  # GUIDED: the position controller flies it
 
 
 def test_first_message_a_new_client_sees_is_the_heartbeat():
@@ -175,7 +179,6 @@ def test_timesync_is_answered_with_sim_time(link):
 
 # ----- telemetry units -----------------------------------------------------------------------------
 def test_telemetry_in_flight_uses_mavlink_units():
-    from ._util import hovering_vehicle
     link = Link(hovering_vehicle(10.0, home_yaw_deg=90.0))
     v = link.vehicle
     v.guided_velocity(0.0, 0.0, 0.5)  # descending at 0.5 m/s (NED down positive)

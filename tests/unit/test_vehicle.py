@@ -197,6 +197,31 @@ def test_auto_disarm_after_disarm_delay_on_the_ground():
     assert "Disarming motors" in texts(v)
 
 
+def test_land_and_rtl_entered_on_the_ground_disarm_as_arducopter_does():
+    """Measured on ArduCopter SITL: LAND entered armed on the ground disarms 1.1-1.5 s later;
+    RTL stays armed until the auto-disarm, DISARM_DELAY after arming."""
+    v = ready_vehicle()
+    v.set_mode(Guided.number)
+    v.arm()
+    armed_at = v.time_s
+    v.run_until(armed_at + 1.0)
+    v.set_mode(Land.number)
+    v.run_until(v.time_s + 0.5)
+    assert v.armed
+    v.run_until(v.time_s + 1.0)
+    assert not v.armed
+    v = ready_vehicle()
+    v.set_mode(Guided.number)
+    v.arm()
+    armed_at = v.time_s
+    v.run_until(armed_at + 1.0)
+    v.set_mode(Rtl.number)
+    v.run_until(armed_at + v.params["DISARM_DELAY"] - 0.5)
+    assert v.armed and v.landed
+    v.run_until(armed_at + v.params["DISARM_DELAY"] + 0.5)
+    assert not v.armed
+
+
 def test_auto_disarm_follows_the_parameter():
     v = ready_vehicle()
     v.params.set("DISARM_DELAY", 2)

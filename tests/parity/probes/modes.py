@@ -9,17 +9,19 @@ from .states import (MODE_NAMES, STABILIZE, mode_name, on_ground_disarmed, reach
 from .texts import said
 
 AREA = "modes"
+SAID_WITHIN_S = 0.5  # the replies to a mode change, not what follows it (LAND on the ground disarms ~1 s later)
 MODES = [m for m in MODE_NAMES if m != 1]  # ACRO needs a pilot's sticks: neither offers it by MAVLink alone
 
 
 def try_mode(client: Client, trace: Trace, name: str, mode: int) -> None:
     t0 = client.now_ms
     result = client.set_mode(mode)
-    client.idle(0.5)
+    client.idle(SAID_WITHIN_S)
+    texts = said(client.texts_since(t0))  # what it said within SAID_WITHIN_S of the command
     client.fresh_heartbeat()
     trace.fact(f"{name}.result", result)
     trace.fact(f"{name}.mode_after", mode_name(client.mode))
-    trace.fact(f"{name}.said", said(client.texts_since(t0)))
+    trace.fact(f"{name}.said", texts)
 
 
 def run(target) -> dict[str, Trace]:
