@@ -8,6 +8,9 @@ from .manual import pilot_vertical
 from .numbers import ModeNumber
 
 
+STOPPED_M_S = 0.2  # below this horizontal speed braking is over and the point is held
+
+
 class Loiter(Mode):
     number = ModeNumber.LOITER
     requires_position = True
@@ -47,9 +50,14 @@ class Brake(Mode):
 
     def update(self, ctx, sp: Setpoint, dt: float) -> None:
         sp.clear()
-        b = ctx.body
-        if self._hold_ne is None and math.hypot(b.vn_m_s, b.ve_m_s) < 0.2:
-            self._hold_ne = (b.n_m, b.e_m)
-        sp.pos_ne = self._hold_ne
+        self.brake_then_hold(ctx, sp)
         sp.pos_d = self._hold_d
         sp.yaw = ctx.attitude[2] if self._hold_ne else None
+
+    def brake_then_hold(self, ctx, sp: Setpoint) -> None:
+        """Zero velocity wanted until the vehicle is nearly stopped (or on the ground), then the
+        point where it stopped is held."""
+        b = ctx.body
+        if self._hold_ne is None and (ctx.landed or math.hypot(b.vn_m_s, b.ve_m_s) < STOPPED_M_S):
+            self._hold_ne = (b.n_m, b.e_m)
+        sp.pos_ne = self._hold_ne

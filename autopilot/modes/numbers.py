@@ -12,4 +12,5 @@ class ModeNumber(IntEnum):
     LOITER = 5
     RTL = 6
     LAND = 9
+    POSHOLD = 16
     BRAKE = 17

@@ -6,7 +6,7 @@ from types import SimpleNamespace
 
 import pytest
 
-from autopilot.modes import AltHold, Brake, Guided, Land, Loiter, Rtl, Setpoint, Stabilize
+from autopilot.modes import AltHold, Brake, Guided, Land, Loiter, PosHold, Rtl, Setpoint, Stabilize
 from autopilot.modes.base import stick_deadzone
 from autopilot.modes.guided import VELOCITY_TIMEOUT_S
 from autopilot.modes.land import descent_rate_m_s
@@ -186,6 +186,25 @@ def test_loiter_holds_then_flies_forward_with_the_stick():
         v.run_until(v.time_s + 0.1)
     assert v.body.n_m > n0 + 5.0
     assert abs(v.body.e_m) < 1.0
+    assert abs(altitude(v) - 10.0) < 1.0
+
+
+def test_poshold_brakes_then_holds_and_leans_with_the_stick():
+    v = hovering_vehicle(10.0)
+    v.guided_velocity(5.0, 0.0, 0.0)
+    v.run_until(v.time_s + 2.5)
+    assert v.body.vn_m_s > 3.0
+    assert v.set_mode(PosHold.number) == Result.ACCEPTED
+    assert fly_until(v, lambda x: math.hypot(x.body.vn_m_s, x.body.ve_m_s) < 0.1, 10.0)
+    n_stop = v.body.n_m
+    v.run_until(v.time_s + 3.0)
+    assert abs(v.body.n_m - n_stop) < 0.5
+    assert abs(altitude(v) - 10.0) < 0.5
+    for _ in range(20):  # 2 s of right roll stick: a lean, not a velocity demand
+        v.pilot_input.update(1.0, 0.0, 0.0, 0.5, v.time_s)
+        v.run_until(v.time_s + 0.1)
+    assert math.degrees(v.attitude[0]) > 10.0
+    assert v.body.e_m > 2.0
     assert abs(altitude(v) - 10.0) < 1.0
 
 
