@@ -18,6 +18,12 @@ SENSORS = (mav.MAV_SYS_STATUS_SENSOR_3D_GYRO | mav.MAV_SYS_STATUS_SENSOR_3D_ACCE
            | mav.MAV_SYS_STATUS_SENSOR_MOTOR_OUTPUTS | mav.MAV_SYS_STATUS_AHRS
            | mav.MAV_SYS_STATUS_SENSOR_BATTERY)
 PREARM = mav.MAV_SYS_STATUS_PREARM_CHECK
+# Reported present, enabled and healthy as ArduCopter SITL does: RC input (its SITL's stand-in, here
+# RC override / MANUAL_CONTROL), terrain following (no data needed to report it healthy), logging
+# and propulsion. Proximity is reported healthy though not present, as ArduPilot does.
+ALWAYS_ON = (mav.MAV_SYS_STATUS_SENSOR_RC_RECEIVER | mav.MAV_SYS_STATUS_TERRAIN
+             | mav.MAV_SYS_STATUS_LOGGING | mav.MAV_SYS_STATUS_SENSOR_PROPULSION)
+CONTROL = mav.MAV_SYS_STATUS_SENSOR_Z_ALTITUDE_CONTROL | mav.MAV_SYS_STATUS_SENSOR_XY_POSITION_CONTROL
 
 CAPABILITIES = (mav.MAV_PROTOCOL_CAPABILITY_MISSION_FLOAT | mav.MAV_PROTOCOL_CAPABILITY_PARAM_FLOAT
                 | mav.MAV_PROTOCOL_CAPABILITY_MISSION_INT | mav.MAV_PROTOCOL_CAPABILITY_COMMAND_INT
@@ -57,21 +63,29 @@ def heartbeat(v, codec):
 
 
 def sys_status(v, codec):
-    present = SENSORS | PREARM
-    healthy = SENSORS | (PREARM if v.is_armable() else 0)
+    present = SENSORS | PREARM | ALWAYS_ON | mav.MAV_SYS_STATUS_GEOFENCE
+    # The altitude and position controllers are enabled (and healthy) only in modes that use them.
+    enabled = present & ~CONTROL & ~mav.MAV_SYS_STATUS_GEOFENCE
+    if not v.mode.manual_throttle:
+        enabled |= mav.MAV_SYS_STATUS_SENSOR_Z_ALTITUDE_CONTROL
+    if v.mode.controls_position(v.ctx):
+        enabled |= mav.MAV_SYS_STATUS_SENSOR_XY_POSITION_CONTROL
+    if v.params["FENCE_ENABLE"]:
+        enabled |= mav.MAV_SYS_STATUS_GEOFENCE
+    healthy = (enabled & ~PREARM & ~mav.MAV_SYS_STATUS_GEOFENCE) | mav.MAV_SYS_STATUS_SENSOR_PROXIMITY
+    if v.is_armable():
+        healthy |= PREARM
     if v.failsafes.battery_level:
         healthy &= ~mav.MAV_SYS_STATUS_SENSOR_BATTERY
     if not v.has_position():  # as ArduCopter: the GPS is healthy only with a 3D fix
         healthy &= ~mav.MAV_SYS_STATUS_SENSOR_GPS
     # As ArduPilot: the fence bit is healthy unless a fence is enabled and breached (MAVProxy
     # reads a missing health bit as a breach even when no fence exists).
-    if v.params["FENCE_ENABLE"]:
-        present |= mav.MAV_SYS_STATUS_GEOFENCE
     if not v.failsafes.fence_breached:
         healthy |= mav.MAV_SYS_STATUS_GEOFENCE
     est = v.estimate
     batt = est.battery
-    return codec.sys_status_encode(present, present, healthy, 100,
+    return codec.sys_status_encode(present, enabled, healthy, 100,
                                    int(batt.voltage_v * 1000), int(batt.current_a * 100),
                                    int(round(est.battery_remaining * 100)), 0, 0, 0, 0, 0, 0)
 

@@ -5,6 +5,9 @@ from .base import Mode, Setpoint, stopping_point
 from .numbers import ModeNumber
 
 VELOCITY_TIMEOUT_S = 3.0  # ArduCopter stops if velocity setpoints stop arriving
+# The takeoff is over (EXTENDED_SYS_STATE TAKEOFF -> IN_AIR) this close to its altitude: ArduCopter's
+# ends at the altitude (measured on its SITL: IN_AIR at 9.99 m of a 10 m takeoff).
+TAKEOFF_DONE_M = 0.1
 
 
 class Guided(Mode):
@@ -72,7 +75,7 @@ class Guided(Mode):
             # On the ground without a takeoff: stay put wherever the target was set.
             self.target_d = ctx.body.d_m
             sp.pos_d = self.target_d
-        if self.takeoff_d is not None and abs(ctx.body.d_m - self.takeoff_d) < 0.5:
+        if self.takeoff_d is not None and abs(ctx.body.d_m - self.takeoff_d) < TAKEOFF_DONE_M:
             self.takeoff_d = None
 
     def landed_state_hint(self, ctx) -> str | None:

@@ -106,6 +106,9 @@ class Rtl(Mode):
             else:
                 sp.vel_d = sp.speed_dn = descent_rate_m_s(ctx)
 
+    def controls_position(self, ctx) -> bool:
+        return ctx.armed  # disarmed on the ground ArduCopter's RTL runs no position controller
+
     def touched_down(self, ctx) -> bool:
         """Landed at the end of the return."""
         return self._stage == "LAND" and ctx.landed

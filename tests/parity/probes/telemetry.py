@@ -9,7 +9,8 @@ from collections import Counter
 from ..client import Client, mav
 from ..facts import Tol, Trace
 from ..targets import wait_armable
-from .states import GUIDED, LAND, on_ground_disarmed, reach_armed_on_ground, reach_flying
+from .states import (ALT_HOLD, AUTO, BRAKE, GUIDED, LAND, LOITER, RTL, STABILIZE, mode_name, on_ground_disarmed,
+                     reach_armed_on_ground, reach_battery_failsafe, reach_flying)
 
 AREA = "telemetry"
 WINDOW_S = 10.0
@@ -17,6 +18,7 @@ WINDOW_S = 10.0
 # behaviour, and ArduPilot's scheduler slips a little under load; so 15 % and 0.2 Hz.
 RATE_TOL = Tol(abs=0.2, rel=0.15, why="scheduler jitter over a 10 s window")
 # Messages a vehicle sends that carry nothing a client acts on and are not what this checks.
+MODES_BY_MAVLINK = (STABILIZE, ALT_HOLD, LOITER, GUIDED, AUTO, LAND, RTL, BRAKE, 16)  # 16: POSHOLD
 IGNORED = {"TIMESYNC", "BAD_DATA", "PARAM_VALUE", "STATUSTEXT", "COMMAND_ACK"}
 
 
@@ -31,6 +33,7 @@ def rates(client: Client, window_s: float) -> dict[str, float]:
 
 def status(client: Client, trace: Trace, name: str) -> None:
     client.idle(1.0)
+    client.fresh_heartbeat()
     hb = client.last["HEARTBEAT"]
     trace.fact(f"{name}.base_mode", hb.base_mode)
     trace.fact(f"{name}.system_status", hb.system_status)
@@ -84,10 +87,16 @@ def run(target) -> dict[str, Trace]:
         status(client, t, "landing")
         client.wait(lambda: not client.armed, 60, what="landed")
         status(client, t, "landed")
+        for mode in MODES_BY_MAVLINK:  # the GUIDED_ENABLED flag and system_status in each mode, disarmed
+            client.set_mode(mode)
+            client.wait(lambda: client.mode == mode, 5, what=mode_name(mode))
+            status(client, t, f"disarmed_{mode_name(mode).lower()}")
+        reach_battery_failsafe(client)
+        status(client, t, "battery_failsafe")
     finally:
         target.close()
     return traces
 
 
-BIT_NAMES = {v: k.removeprefix("MAV_SYS_STATUS_").lower() for k, v in vars(mav).items()
-             if k.startswith("MAV_SYS_STATUS_") and isinstance(v, int) and v & (v - 1) == 0 and v}
+BIT_NAMES = {value: entry.name.removeprefix("MAV_SYS_STATUS_").lower()
+             for value, entry in mav.enums["MAV_SYS_STATUS_SENSOR"].items() if value & (value - 1) == 0 and value}
