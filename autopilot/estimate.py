@@ -11,15 +11,22 @@ from __future__ import annotations
 
 import math
 
-from sim.rigid_body import euler_from_quaternion
+from sim.physics import specific_force_body
+
+from .startup import Startup
+from sim.rigid_body import euler_from_quaternion, ned_to_body
 
 GPS_RATE_HZ = 10  # GPS and barometer samples
+# The earth's magnetic field the compass reads (NED, milligauss): as ArduCopter SITL reports it at
+# its default home (-35.36, 149.17). Firefly does not model how the field changes from place to place.
+EARTH_FIELD_NED_MGAUSS = (232.0, 52.0, -528.0)
 TEMPERATURE_RATE_HZ = 10
 
 
 class StateEstimate:
-    def __init__(self, sim, physics_hz: int):
+    def __init__(self, sim, physics_hz: int, startup=None):
         self.sim = sim
+        self.startup = startup if startup is not None else Startup(None)
         self.gps_every = max(1, physics_hz // GPS_RATE_HZ)  # physics steps between GPS samples
         self.temperature_every = max(1, physics_hz // TEMPERATURE_RATE_HZ)
         self.gps = sim.gps.read(sim.state.body)
@@ -31,6 +38,8 @@ class StateEstimate:
     def sample_gps(self) -> None:
         sim = self.sim
         self.gps = sim.gps.read(sim.state.body)
+        if not self.startup.gps_powered_up(sim.time_s):  # still acquiring: no fix, no satellites
+            self.gps = self.gps._replace(satellites=0, fix_type=0)
         self.baro_alt_m = sim.baro.altitude_m(sim.state.body, sim.time_s)
 
     def sample_temperature(self, home_d_m: float) -> None:
@@ -55,8 +64,16 @@ class StateEstimate:
         return euler_from_quaternion(b.qw, b.qx, b.qy, b.qz)
 
     def has_position(self) -> bool:
-        """Whether the horizontal position is known: only with a 3D GPS fix."""
-        return self.gps.fix_type >= 3
+        """Whether the horizontal position is known: only with a 3D GPS fix the EKF uses."""
+        return self.gps.fix_type >= 3 and self.startup.gps_in_use(self.sim.time_s)
+
+    def origin_known(self) -> bool:
+        """Whether the EKF has an origin (set from a 3D fix), so home can be set."""
+        return self.gps.fix_type >= 3 and self.startup.origin_set(self.sim.time_s)
+
+    def attitude_known(self) -> bool:
+        """Whether the EKF has aligned its attitude (false only during a realistic start-up)."""
+        return self.startup.attitude_known(self.sim.time_s)
 
     @property
     def battery(self):
@@ -67,3 +84,24 @@ class StateEstimate:
     def battery_remaining(self) -> float:
         """Remaining charge, 0..1."""
         return self.sim.battery_remaining
+
+    # ----- the inertial sensors and the air, as telemetry reports them -----------------------
+    @property
+    def accel_body(self) -> tuple:
+        """What the accelerometer reads (FRD, m/s^2): noise-free, as the rest of the estimate."""
+        sim = self.sim
+        return specific_force_body(sim.state, sim.airframe, sim.wind_ned)
+
+    @property
+    def mag_body_mgauss(self) -> tuple:
+        return ned_to_body(self.sim.state.body, EARTH_FIELD_NED_MGAUSS)
+
+    @property
+    def wind_ned(self) -> tuple:
+        """The wind the vehicle flies in (NED velocity of the air, m/s), known as a converged
+        wind estimate would know it."""
+        return self.sim.wind_ned
+
+    @property
+    def motor_speeds_rad_s(self) -> tuple:
+        return self.sim.state.omega_rad_s

@@ -129,6 +129,7 @@ PARAM_TABLE: tuple[ParamSpec, ...] = (
     # Telemetry stream rates (ArduPilot SRn_ names, Hz; SITL streams by default)
     _i("SR0_RAW_SENS", 2, 0, 50), _i("SR0_EXT_STAT", 2, 0, 50), _i("SR0_POSITION", 4, 0, 50), _i("SR0_EXTRA1", 10, 0, 50),
     _i("SR0_EXTRA2", 4, 0, 50), _i("SR0_EXTRA3", 2, 0, 50),
+    _i("SR0_RC_CHAN", 0, 0, 50, "RC_CHANNELS and SERVO_OUTPUT_RAW: not streamed unasked"),
     # Simulation faults (ArduPilot SITL 4.5's SIM_ names; SIM_LINK_* are Firefly's own)
     _i("SIM_ENGINE_FAIL", 0, 0, 3, "motor SIM_ENGINE_MUL applies to, 0 = motor 1 (front)"),
     _f("SIM_ENGINE_MUL", 1, 0, 1, "thrust multiplier of motor SIM_ENGINE_FAIL, 0 = failed"),

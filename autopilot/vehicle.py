@@ -18,6 +18,7 @@ from sim.geo import GeoPoint, global_from_ned, ned_from_global
 from sim.vehicle import BATTERY_EVERY, SimConfig, SimVehicle
 
 from .control.attitude import wrap_pi
+from .startup import Startup, StartupTimeline
 from .control.compiled import make_cascade
 from .estimate import StateEstimate
 from .faults.world import Faults, world_values
@@ -29,7 +30,7 @@ from .params import ParamStore
 from .pilot import CENTRED, CENTRED_MANUAL, PilotInput
 from .rates import LoopRates
 from .results import Result, Severity
-from .safety.arming import Arming, arm_refusal, prearm_failure
+from .safety.arming import Arming, arm_refusals, prearm_failure
 from .safety.failsafe import Failsafes
 from .safety.land_detector import AutoDisarm, LandDetector
 from .safety.thrust_loss import ThrustLossCheck
@@ -50,6 +51,7 @@ class VehicleConfig:
     epoch_unix_us: int = 1_790_000_000_000_000  # UNIX time at sim time 0 (SYSTEM_TIME only)
     compiled: bool = True  # fly the compiled cascade when it is built (False: the Python reference)
     faults: dict = field(default_factory=dict)  # SIM_* parameter values to start with (a scenario's [faults])
+    startup: StartupTimeline | None = None  # None: armable at once; else ArduCopter's start-up (startup.py)
 
 
 class Vehicle:
@@ -70,7 +72,8 @@ class Vehicle:
         for name, value in {**world_values(config.sim), **config.faults}.items():
             self.params.set(name, value)
         self.faults = Faults(self.sim, self.params, self.origin)
-        self.estimate = StateEstimate(self.sim, config.rates.physics_hz)
+        self.startup = Startup(config.startup)
+        self.estimate = StateEstimate(self.sim, config.rates.physics_hz, self.startup)
         airframe = config.sim.airframe
         self.thrust_max_n = 4.0 * airframe.max_rotor_thrust_n
         self.omega_max_rad_s = airframe.omega_max_rad_s
@@ -97,7 +100,7 @@ class Vehicle:
         # sample or a battery update (the sim integrates the battery every BATTERY_EVERY steps).
         est = self.estimate
         self._chunk = math.gcd(self._mode_every, est.gps_every, est.temperature_every, BATTERY_EVERY)
-        if est.has_position():  # the simulated GPS has a fix at once: armable from the first heartbeat
+        if est.origin_known():  # by default the GPS has a fix at once: armable from the first heartbeat
             self._set_home_here()
 
     # ----- state, as modes, safety checks and telemetry read it -------------------------------
@@ -181,9 +184,10 @@ class Vehicle:
     def arm(self, force: bool = False) -> Result:
         if self.armed:
             return Result.ACCEPTED
-        refusal = arm_refusal(self, force)
-        if refusal is not None:
-            self.notify(refusal, Severity.CRITICAL)
+        refusals = arm_refusals(self, force)
+        if refusals:
+            for text in refusals:
+                self.notify(text, Severity.CRITICAL)
             return Result.FAILED
         if self.home_ned is None:
             self._set_home_here()
@@ -318,7 +322,7 @@ class Vehicle:
         est = self.estimate
         if steps % est.gps_every == 0:
             est.sample_gps()
-            if self.home_ned is None and est.has_position():
+            if self.home_ned is None and est.origin_known():
                 self._set_home_here()
         if steps % est.temperature_every == 0:
             est.sample_temperature((self.home_ned or (0, 0, 0))[2])
@@ -334,6 +338,7 @@ class Vehicle:
     def _mode_tick(self) -> None:
         dt, now = self._dt_mode, self.sim.time_s
         self.estimate.track_barometer()
+        self.startup.say_due(now, self.origin.alt_m, self.notify)
         if self.script is not None:
             self.script.run_due(self)
         self.mode.update(self.ctx, self.setpoint, dt)

@@ -96,3 +96,19 @@ def make_fast_step(airframe: Airframe, dt: float):
         return new_state(body, (o1, o2, o3, o4), False)
 
     return fast_step
+
+
+def specific_force_body(state: PhysicsState, airframe: Airframe, wind_ned: tuple) -> tuple:
+    """What an accelerometer at the centre of mass reads (FRD body frame, m/s^2): every force
+    but gravity, per unit mass. Resting on the ground the ground's push reads as 1 g up; in the
+    air, the rotors' thrust along body -z and the drag of the air moving past."""
+    from .airframe import GRAVITY_M_S2
+    from .rigid_body import ned_to_body
+    s = state.body
+    if state.on_ground:
+        return ned_to_body(s, (0.0, 0.0, -GRAVITY_M_S2))
+    thrust = sum(rotor_forces(state.omega_rad_s, airframe.thrust_coeff_b))
+    k, m = airframe.linear_drag_n_per_m_s, airframe.mass_kg
+    drag = ned_to_body(s, (-k * (s.vn_m_s - wind_ned[0]) / m, -k * (s.ve_m_s - wind_ned[1]) / m,
+                           -k * (s.vd_m_s - wind_ned[2]) / m))
+    return (drag[0], drag[1], drag[2] - thrust / m)

@@ -92,3 +92,12 @@ def apply_ground(s: BodyState, ground_d_m: float = 0.0) -> tuple[BodyState, bool
     _, _, yaw = euler_from_quaternion(s.qw, s.qx, s.qy, s.qz)
     qw, qx, qy, qz = quaternion_from_euler(0.0, 0.0, yaw)
     return BodyState(s.n_m, s.e_m, ground_d_m, 0.0, 0.0, 0.0, qw, qx, qy, qz, 0.0, 0.0, 0.0), True
+
+
+def ned_to_body(s: BodyState, v_ned: tuple) -> tuple:
+    """A vector in NED expressed in the body's FRD frame (R_body_to_ned transposed)."""
+    qw, qx, qy, qz = s.qw, s.qx, s.qy, s.qz
+    x, y, z = v_ned
+    return ((1.0 - 2.0 * (qy * qy + qz * qz)) * x + 2.0 * (qx * qy + qw * qz) * y + 2.0 * (qx * qz - qw * qy) * z,
+            2.0 * (qx * qy - qw * qz) * x + (1.0 - 2.0 * (qx * qx + qz * qz)) * y + 2.0 * (qy * qz + qw * qx) * z,
+            2.0 * (qx * qz + qw * qy) * x + 2.0 * (qy * qz - qw * qx) * y + (1.0 - 2.0 * (qx * qx + qy * qy)) * z)

@@ -62,6 +62,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--scenario", default=None, metavar="FILE", help="scenario TOML file")
     p.add_argument("--state-dir", default=None, metavar="DIR",
                    help="where parameters are kept per instance (default ~/.local/state/firefly)")
+    p.add_argument("--startup", choices=("instant", "realistic"), default=None,
+                   help="instant: armable at once (default); realistic: boot as ArduCopter does, "
+                        "about 41 s of vehicle time before a mode that needs a position can arm")
     p.add_argument("--wipe", action="store_true", help="reset saved parameters to defaults (like SITL -w)")
     p.add_argument("--duration", type=float, default=math.inf, help="stop after this many sim seconds")
     p.add_argument("--tlog", default=None, metavar="FILE",
@@ -83,6 +86,7 @@ GRID_SPACING_M = 5.0  # vehicles of one process start this far apart, on a squar
 
 def build(args) -> list:
     """Assemble every vehicle with its MAVLink session and UDP endpoint: a list of (Node, outs)."""
+    from ..startup import StartupTimeline
     from .scenario import Scenario, load_scenario, parse_home
 
     if not 0 <= args.instance <= 200:
@@ -97,6 +101,10 @@ def build(args) -> list:
         scenario.seed = args.seed
     if args.signing_key:
         scenario.signing_key = signing_key_option(args.signing_key)
+    if args.startup == "instant":
+        scenario.startup = None
+    elif args.startup == "realistic" and scenario.startup is None:
+        scenario.startup = StartupTimeline()
     outs = [parse_udp(o, "--out") for o in args.out] if args.out else None
     listen = parse_udp(args.listen, "--listen") if args.listen else None
     epoch_us = int(time.time() * 1e6)
@@ -158,7 +166,7 @@ def build_vehicle(args, scenario, k: int, outs, listen, epoch_us: int):
     config = VehicleConfig(home=scenario.home, home_yaw_deg=scenario.home_yaw_deg, sim=sim,
                            offset_ne_m=(GRID_SPACING_M * (k // cols), GRID_SPACING_M * (k % cols)),
                            rates=LoopRates(rate, min(400, rate), 100), system_id=n + 1,
-                           epoch_unix_us=epoch_us, faults=scenario.faults)
+                           epoch_unix_us=epoch_us, faults=scenario.faults, startup=scenario.startup)
     vehicle = Vehicle(config, params, mission)
     if scenario.script:
         from .script import Script

@@ -1,6 +1,6 @@
 """The scenario tables the vehicle acts on, on top of the world that sim/scenario.py reads:
-[faults] (SIM_* parameters to start with), [script] (commands in sim time) and [signing] (the
-MAVLink 2 key). Every mistake is one ScenarioError line naming the file, the table and the key.
+[faults] (SIM_* parameters to start with), [script] (commands in sim time), [signing] (the
+MAVLink 2 key) and [startup] (boot as ArduCopter does instead of armable at once). Every mistake is one ScenarioError line naming the file, the table and the key.
 """
 from __future__ import annotations
 
@@ -12,6 +12,7 @@ from sim.scenario import DEFAULT_HOME, ScenarioError, parse_home  # noqa: F401 -
 
 from ..faults.world import world_values
 from ..params import SPEC_BY_NAME, ParamError, checked_value
+from ..startup import StartupTimeline
 
 FAULT_NAMES = tuple(name for name in SPEC_BY_NAME if name.startswith("SIM_"))
 # SIM_* values the scenario's own tables give, and where a scenario sets them instead of [faults].
@@ -24,6 +25,7 @@ class Scenario(world.Scenario):
     script: list = dataclasses.field(default_factory=list)  # (time_s, verb, args) steps
     signing_key: bytes | None = None  # MAVLink 2 signing key ([signing] or --signing-key)
     faults: dict = dataclasses.field(default_factory=dict)  # SIM_* parameter values from [faults]
+    startup: StartupTimeline | None = None  # [startup] or --startup realistic; None = armable at once
 
 
 def load_scenario(path: Path) -> Scenario:
@@ -53,7 +55,36 @@ def scenario_from_dict(data: dict, name: str = "scenario", base_dir: Path = Path
             raise ScenarioError(str(exc)) from None
     if "signing" in data:
         sc.signing_key = _signing_key(data["signing"], name, base_dir)
+    if "startup" in data:
+        sc.startup = startup_from_table(data["startup"], f"{name}: [startup]")
     return sc
+
+
+STARTUP_TIMES = tuple(f.name for f in dataclasses.fields(StartupTimeline))
+
+
+def startup_from_table(table, where: str) -> StartupTimeline | None:
+    """[startup]: realistic = true (the default when the table is there) boots as ArduCopter does,
+    each stage at its measured time unless the table gives it (e.g. gps_in_use_s = 20)."""
+    if not isinstance(table, dict):
+        raise ScenarioError(f"{where} must be a table")
+    times = {}
+    for key, value in table.items():
+        if key == "realistic":
+            if not isinstance(value, bool):
+                raise ScenarioError(f"{where}.realistic: expected true or false, got {value!r}")
+            continue
+        if key not in STARTUP_TIMES:
+            raise ScenarioError(f"{where}.{key}: unknown key (known: realistic, {', '.join(STARTUP_TIMES)})")
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise ScenarioError(f"{where}.{key}: expected seconds, got {value!r}")
+        times[key] = float(value)
+    if not table.get("realistic", True):
+        return None
+    try:
+        return StartupTimeline(**times)
+    except ValueError as exc:
+        raise ScenarioError(f"{where}: {exc}") from None
 
 
 def _faults(table, name: str) -> dict:

@@ -92,6 +92,10 @@ class WaypointNav:
             self._next = self.limits.leg(destination, next_destination)
         self.reached = False
 
+    @property
+    def destination(self) -> tuple:
+        return self._this.destination
+
     def _stopping_point(self) -> tuple:
         """Where the target comes to rest from its current motion at the acceleration limit."""
         p, v = self.pos, self.vel

@@ -4,7 +4,11 @@ from __future__ import annotations
 
 import math
 
-from .telemetry import BUILDERS, FIXED_RATES_HZ, STREAM_GROUPS
+from .telemetry import BUILDERS, FIXED_RATES_HZ, MIN_INTERVAL_S, STREAM_GROUPS, UNASKED
+
+
+def _limited(msg_id: int, interval_s: float) -> float:
+    return max(interval_s, MIN_INTERVAL_S.get(msg_id, 0.0))
 
 
 class StreamScheduler:
@@ -18,8 +22,9 @@ class StreamScheduler:
         for name, ids in STREAM_GROUPS.values():
             rate = params[name]
             for msg_id in ids:
-                self._default_s[msg_id] = 1.0 / rate if rate > 0 else math.inf
-        self._interval_s.update(self._default_s)
+                self._default_s[msg_id] = _limited(msg_id, 1.0 / rate if rate > 0 else math.inf)
+        self._interval_s.update({msg_id: interval for msg_id, interval in self._default_s.items()
+                                 if msg_id in UNASKED or msg_id in FIXED_RATES_HZ})
 
     def param_changed(self, name: str, value: float) -> None:
         """An SRn_ parameter set over PARAM_SET applies at once, as on ArduPilot."""
@@ -40,7 +45,7 @@ class StreamScheduler:
         elif interval_us == 0:
             self._interval_s[msg_id] = self._default_s.get(msg_id, math.inf)
         else:
-            self._interval_s[msg_id] = max(interval_us * 1e-6, 0.001)
+            self._interval_s[msg_id] = _limited(msg_id, max(interval_us * 1e-6, 0.001))
         self._next_s.pop(msg_id, None)
         return True
 
@@ -51,7 +56,7 @@ class StreamScheduler:
         for _, ids in groups:
             for msg_id in ids:
                 interval = 1.0 / rate_hz if start and rate_hz > 0 else math.inf
-                self._interval_s[msg_id] = interval
+                self._interval_s[msg_id] = _limited(msg_id, interval)
                 self._next_s.pop(msg_id, None)
 
     def due(self, now_s: float) -> list[int]:

@@ -6,6 +6,11 @@ import math
 from ..mission.progress import MissionState
 from ..modes import MODE_BY_NUMBER
 from .dialect import mavlink as mav
+from .encoding import deg_e7 as _deg_e7
+from .encoding import time_boot_ms as _ms
+from .sensor_messages import BUILDERS as SENSOR_BUILDERS
+from .terrain import BUILDERS as TERRAIN_BUILDERS
+from .terrain import REQUEST_MIN_INTERVAL_S
 
 LANDED_STATE = {"ON_GROUND": mav.MAV_LANDED_STATE_ON_GROUND, "IN_AIR": mav.MAV_LANDED_STATE_IN_AIR,
                 "TAKEOFF": mav.MAV_LANDED_STATE_TAKEOFF, "LANDING": mav.MAV_LANDED_STATE_LANDING}
@@ -33,14 +38,6 @@ CAPABILITIES = (mav.MAV_PROTOCOL_CAPABILITY_MISSION_FLOAT | mav.MAV_PROTOCOL_CAP
                 | mav.MAV_PROTOCOL_CAPABILITY_FTP)
 # Reported as ArduCopter 4.5.0 official, so ground stations pick their ArduPilot code paths.
 FIRMWARE_VERSION = (4 << 24) | (5 << 16) | (0 << 8) | mav.FIRMWARE_VERSION_TYPE_OFFICIAL
-
-
-def _ms(v) -> int:
-    return int(v.time_s * 1000.0) & 0xFFFFFFFF
-
-
-def _deg_e7(x: float) -> int:
-    return int(round(x * 1e7))
 
 
 def heartbeat(v, codec):
@@ -77,7 +74,7 @@ def sys_status(v, codec):
         healthy |= PREARM
     if v.failsafes.battery_level:
         healthy &= ~mav.MAV_SYS_STATUS_SENSOR_BATTERY
-    if not v.has_position():  # as ArduCopter: the GPS is healthy only with a 3D fix
+    if v.gps.fix_type < 3:  # as ArduCopter: the GPS is healthy only with a 3D fix
         healthy &= ~mav.MAV_SYS_STATUS_SENSOR_GPS
     # As ArduPilot: the fence bit is healthy unless a fence is enabled and breached (MAVProxy
     # reads a missing health bit as a breach even when no fence exists).
@@ -122,14 +119,6 @@ def gps_raw_int(v, codec):
     return codec.gps_raw_int_encode(int(v.time_s * 1e6), g.fix_type, _deg_e7(pos.lat_deg),
                                     _deg_e7(pos.lon_deg), int(pos.alt_m * 1000), 80, 120,
                                     int(speed * 100), cog, g.satellites)
-
-
-def scaled_pressure(v, codec):
-    """The barometer as ArduPilot reports it: absolute pressure [hPa] and temperature [cdegC] of
-    the International Standard Atmosphere at the altitude the (possibly drifting) sensor reads."""
-    alt_m = v.origin.alt_m + v.estimate.baro_alt_m
-    pressure_hpa = 1013.25 * (1.0 - 2.25577e-5 * alt_m) ** 5.25588
-    return codec.scaled_pressure_encode(_ms(v), pressure_hpa, 0.0, int(round((15.0 - 0.0065 * alt_m) * 100)), 0)
 
 
 def attitude(v, codec):
@@ -209,6 +198,8 @@ EKF_GPS_GLITCH = 32768  # MAVLink's EKF_GPS_GLITCH flag, newer than this pymavli
 
 def ekf_status_report(v, codec):
     """Flags for what the estimate knows; horizontal variances over FS_EKF_THRESH without a fix."""
+    if not v.estimate.attitude_known():  # a realistic start-up before the EKF has aligned
+        return codec.ekf_status_report_encode(mav.EKF_UNINITIALIZED, 1.0, 1.0, 1.0, 1.0, 0.0)
     flags, variance = (EKF_GOOD, 0.01) if v.has_position() else (EKF_NO_POSITION, 1.0)
     if v.failsafes.ekf.gps_glitching:
         flags |= EKF_GPS_GLITCH
@@ -222,7 +213,6 @@ BUILDERS = {
     mav.MAVLINK_MSG_ID_GLOBAL_POSITION_INT: global_position_int,
     mav.MAVLINK_MSG_ID_LOCAL_POSITION_NED: local_position_ned,
     mav.MAVLINK_MSG_ID_GPS_RAW_INT: gps_raw_int,
-    mav.MAVLINK_MSG_ID_SCALED_PRESSURE: scaled_pressure,
     mav.MAVLINK_MSG_ID_ATTITUDE: attitude,
     mav.MAVLINK_MSG_ID_ATTITUDE_QUATERNION: attitude_quaternion,
     mav.MAVLINK_MSG_ID_VFR_HUD: vfr_hud,
@@ -233,24 +223,40 @@ BUILDERS = {
     mav.MAVLINK_MSG_ID_AUTOPILOT_VERSION: autopilot_version,
     mav.MAVLINK_MSG_ID_EKF_STATUS_REPORT: ekf_status_report,
     mav.MAVLINK_MSG_ID_NAMED_VALUE_FLOAT: ground_temperature,
+    **SENSOR_BUILDERS,
+    **TERRAIN_BUILDERS,
 }
 
-# ArduPilot's stream groups (REQUEST_DATA_STREAM ids) and the SRn_ parameter that sets each rate.
+# ArduPilot's stream groups (REQUEST_DATA_STREAM ids), the SRn_ parameter that sets each rate,
+# and their messages, as ArduCopter fills them (GCS_MAVLink_Parameters.cpp) for what Firefly has.
+_ID = mav.__dict__
 STREAM_GROUPS = {
-    mav.MAV_DATA_STREAM_RAW_SENSORS: ("SR0_RAW_SENS", (mav.MAVLINK_MSG_ID_SCALED_PRESSURE,)),
-    mav.MAV_DATA_STREAM_EXTENDED_STATUS: ("SR0_EXT_STAT", (mav.MAVLINK_MSG_ID_SYS_STATUS,
-                                                          mav.MAVLINK_MSG_ID_GPS_RAW_INT,
-                                                          mav.MAVLINK_MSG_ID_MISSION_CURRENT)),
-    mav.MAV_DATA_STREAM_POSITION: ("SR0_POSITION", (mav.MAVLINK_MSG_ID_GLOBAL_POSITION_INT,
-                                                   mav.MAVLINK_MSG_ID_LOCAL_POSITION_NED)),
-    mav.MAV_DATA_STREAM_EXTRA1: ("SR0_EXTRA1", (mav.MAVLINK_MSG_ID_ATTITUDE,
-                                               mav.MAVLINK_MSG_ID_ATTITUDE_QUATERNION)),
-    mav.MAV_DATA_STREAM_EXTRA2: ("SR0_EXTRA2", (mav.MAVLINK_MSG_ID_VFR_HUD,)),
-    mav.MAV_DATA_STREAM_EXTRA3: ("SR0_EXTRA3", (mav.MAVLINK_MSG_ID_BATTERY_STATUS,
-                                               mav.MAVLINK_MSG_ID_SYSTEM_TIME,
-                                               mav.MAVLINK_MSG_ID_EKF_STATUS_REPORT,
-                                               mav.MAVLINK_MSG_ID_EXTENDED_SYS_STATE)),
+    mav.MAV_DATA_STREAM_RAW_SENSORS: ("SR0_RAW_SENS", ("RAW_IMU", "SCALED_IMU2", "SCALED_IMU3",
+                                                      "SCALED_PRESSURE", "SCALED_PRESSURE2")),
+    mav.MAV_DATA_STREAM_EXTENDED_STATUS: ("SR0_EXT_STAT", ("SYS_STATUS", "POWER_STATUS", "MEMINFO",
+                                                          "MISSION_CURRENT", "GPS_RAW_INT",
+                                                          "NAV_CONTROLLER_OUTPUT")),
+    mav.MAV_DATA_STREAM_POSITION: ("SR0_POSITION", ("GLOBAL_POSITION_INT", "LOCAL_POSITION_NED")),
+    mav.MAV_DATA_STREAM_RC_CHANNELS: ("SR0_RC_CHAN", ("SERVO_OUTPUT_RAW", "RC_CHANNELS")),
+    # ATTITUDE_QUATERNION is Firefly's addition to EXTRA1 (ArduCopter sends it only when asked).
+    mav.MAV_DATA_STREAM_EXTRA1: ("SR0_EXTRA1", ("ATTITUDE", "ATTITUDE_QUATERNION", "SIMSTATE", "AHRS2",
+                                               "ESC_TELEMETRY_1_TO_4")),
+    mav.MAV_DATA_STREAM_EXTRA2: ("SR0_EXTRA2", ("VFR_HUD",)),
+    # EXTENDED_SYS_STATE is Firefly's addition to EXTRA3 (ArduCopter sends it only when asked).
+    mav.MAV_DATA_STREAM_EXTRA3: ("SR0_EXTRA3", ("AHRS", "WIND", "SYSTEM_TIME", "TERRAIN_REPORT",
+                                               "TERRAIN_REQUEST", "BATTERY_STATUS", "EKF_STATUS_REPORT",
+                                               "VIBRATION", "EXTENDED_SYS_STATE")),
 }
+STREAM_GROUPS = {group: (param, tuple(_ID[f"MAVLINK_MSG_ID_{name}"] for name in names))
+                 for group, (param, names) in STREAM_GROUPS.items()}
+# What Firefly streams before any client asks (ArduCopter streams nothing unasked): what a ground
+# station shows of a vehicle. The rest of each group comes once a client asks for the group.
+UNASKED = frozenset(_ID[f"MAVLINK_MSG_ID_{name}"] for name in (
+    "SCALED_PRESSURE", "SYS_STATUS", "MISSION_CURRENT", "GPS_RAW_INT", "GLOBAL_POSITION_INT",
+    "LOCAL_POSITION_NED", "ATTITUDE", "ATTITUDE_QUATERNION", "VFR_HUD", "SYSTEM_TIME", "BATTERY_STATUS",
+    "EKF_STATUS_REPORT", "EXTENDED_SYS_STATE"))
+# Sent no more often than this whatever the stream rate asks.
+MIN_INTERVAL_S = {mav.MAVLINK_MSG_ID_TERRAIN_REQUEST: REQUEST_MIN_INTERVAL_S}
 # Always streamed regardless of groups: heartbeat at 1 Hz, home position at 0.5 Hz.
 # The ground temperature goes out at the sensor's own 10 Hz so every sample reaches the client.
 FIXED_RATES_HZ = {mav.MAVLINK_MSG_ID_HEARTBEAT: 1.0, mav.MAVLINK_MSG_ID_HOME_POSITION: 0.5,

@@ -49,6 +49,9 @@ class Auto(Mode):
         if ctx.mission_progress.running:
             ctx.mission_progress.stop()
 
+    def destination(self) -> tuple | None:
+        return getattr(self, "_target", None) if self._index is not None else None
+
     @staticmethod
     def _restart(ctx) -> bool:
         return ctx.params["MIS_RESTART"] == 1

@@ -89,6 +89,11 @@ class Mode:
         as ArduCopter sets it from its position controller)."""
         return self.requires_position
 
+    def destination(self) -> tuple | None:
+        """The point (local NED; d None = any height) the mode is flying to, if it flies to one:
+        NAV_CONTROLLER_OUTPUT's bearing and distance to the waypoint."""
+        return None
+
     # ----- commands from a ground station; refused unless the mode flies them ----------------
     def user_takeoff(self, ctx, alt_above_home_m: float) -> None:
         """Climb to alt_above_home_m; called only if has_user_takeoff, armed on the ground."""

@@ -58,6 +58,9 @@ class Guided(Mode):
         self.target_yaw = yaw_rad
         return True
 
+    def destination(self) -> tuple | None:
+        return None if self.velocity_mode else (self.target_ne[0], self.target_ne[1], self.target_d)
+
     # Loop --------------------------------------------------------------------------------------
     def update(self, ctx, sp: Setpoint, dt: float) -> None:
         sp.clear()

@@ -106,6 +106,9 @@ class Rtl(Mode):
             else:
                 sp.vel_d = sp.speed_dn = descent_rate_m_s(ctx)
 
+    def destination(self) -> tuple | None:
+        return self._legs.destination if self._legs is not None else None
+
     def controls_position(self, ctx) -> bool:
         return ctx.armed  # disarmed on the ground ArduCopter's RTL runs no position controller
 

@@ -47,6 +47,11 @@ class WaypointLegs:
     def __init__(self):
         self.nav: WaypointNav | None = None
 
+    @property
+    def destination(self) -> tuple | None:
+        """The point the current leg flies to (local NED)."""
+        return self.nav.destination if self.nav is not None else None
+
     def end(self) -> None:
         """Another kind of item took over: the next leg starts afresh."""
         self.nav = None

@@ -15,16 +15,24 @@ FORCE_DISARM_MAGIC = 21196  # ... and that disarms even in flight
 THROTTLE_ARM_MAX = 0.1  # manual-throttle modes refuse to arm with the stick above this
 
 
-def _need_3d_fix(v):
-    return None if v.has_position() else "Need 3D Fix"
+def _starting_up(v):
+    """A realistic start-up's sensor and EKF stages (startup.py); none by default."""
+    return v.startup.arm_blockers(v.time_s)
+
+
+def _need_position(v):
+    """Modes that fly by position need home and the estimate's position; as ArduCopter words it,
+    "AHRS: waiting for home" before the EKF has an origin, then "Need 3D Fix" while the GPS has
+    no fix, "Need Position Estimate" while the EKF does not use it yet."""
+    if not v.mode.requires_position or v.has_position():
+        return None
+    if v.home_ned is None:
+        return "AHRS: waiting for home"
+    return "Need 3D Fix" if v.gps.fix_type < 3 else "Need Position Estimate"
 
 
 def _gps_glitching(v):
     return "GPS glitching" if v.failsafes.ekf.gps_glitching else None
-
-
-def _waiting_for_home(v):
-    return "Waiting for home" if v.home_ned is None else None
 
 
 def _leaning(v):
@@ -37,34 +45,51 @@ def _battery_low(v):
     return "Battery below minimum arming voltage" if low > 0 and v.estimate.battery.voltage_v < low else None
 
 
-PREARM_CHECKS = (_need_3d_fix, _gps_glitching, _waiting_for_home, _leaning, _battery_low)
+# In ArduCopter's order; a check gives its words, a list of them, or None when it passes.
+PREARM_CHECKS = (_starting_up, _need_position, _gps_glitching, _leaning, _battery_low)
+
+
+def prearm_failures(v) -> list[str]:
+    """Every failing pre-arm check, in order ([] when all pass or ARMING_CHECK is 0): an ARM
+    refused by them is answered with each, as ArduCopter reports every failing check."""
+    if v.params["ARMING_CHECK"] == 0:
+        return []
+    if v.startup.initialising(v.time_s):
+        return ["System not initialised"]  # nothing else is checked yet
+    failures = []
+    for check in PREARM_CHECKS:
+        reason = check(v)
+        if reason:
+            failures.extend([reason] if isinstance(reason, str) else reason)
+    return failures
 
 
 def prearm_failure(v) -> str | None:
-    """The first failing pre-arm check, or None (all pass, or ARMING_CHECK is 0)."""
-    if v.params["ARMING_CHECK"] == 0:
-        return None
-    for check in PREARM_CHECKS:
-        reason = check(v)
-        if reason is not None:
-            return reason
-    return None
+    """The first failing pre-arm check, or None."""
+    failures = prearm_failures(v)
+    return failures[0] if failures else None
+
+
+def arm_refusals(v, force: bool) -> list[str]:
+    """The STATUSTEXTs that refuse an ARM in the vehicle's state; [] to arm."""
+    if v.mode.number == ModeNumber.AUTO and not v.mission_progress.items():
+        return ["Arm: Mode requires mission"]  # ArduCopter's first word on arming in an empty AUTO
+    if not v.mode.allows_arming:
+        return [f"Arm: {v.mode.name} mode not armable"]
+    if force:
+        return []
+    failures = prearm_failures(v)
+    if failures:  # ArduPilot prefixes the checks an ARM runs "Arm:", its periodic report "PreArm:"
+        return [f"Arm: {reason}" for reason in failures]
+    if v.mode.manual_throttle and v.pilot.throttle > THROTTLE_ARM_MAX:
+        return ["Arm: Throttle too high"]
+    return []
 
 
 def arm_refusal(v, force: bool) -> str | None:
-    """The STATUSTEXT that refuses an ARM in the vehicle's state, or None to arm."""
-    if v.mode.number == ModeNumber.AUTO and not v.mission_progress.items():
-        return "Arm: Mode requires mission"  # ArduCopter's first word on arming in an empty AUTO
-    if not v.mode.allows_arming:
-        return f"Arm: {v.mode.name} mode not armable"
-    if force:
-        return None
-    reason = prearm_failure(v)
-    if reason is not None:
-        return f"PreArm: {reason}"
-    if v.mode.manual_throttle and v.pilot.throttle > THROTTLE_ARM_MAX:
-        return "Arm: Throttle too high"
-    return None
+    """The first STATUSTEXT that refuses an ARM, or None to arm."""
+    refusals = arm_refusals(v, force)
+    return refusals[0] if refusals else None
 
 
 class Arming:

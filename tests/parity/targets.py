@@ -55,10 +55,12 @@ class FireflyTarget:
         self.speedup = speedup
         self.process = None
 
-    def boot(self, streams_hz: int | None = 10) -> Client:
-        """A fresh vehicle; with streams_hz, streams requested and ready to arm."""
+    def boot(self, streams_hz: int | None = 10, realistic_startup: bool = False) -> Client:
+        """A fresh vehicle; with streams_hz, streams requested and ready to arm; with
+        realistic_startup, booting as ArduCopter does instead of armable at once."""
         self.close()
-        self.process = start_autopilot(speedup=self.speedup, extra=(f"--home={HOME}",), capture_stderr=True)
+        extra = (f"--home={HOME}",) + (("--startup", "realistic") if realistic_startup else ())
+        self.process = start_autopilot(speedup=self.speedup, extra=extra, capture_stderr=True)
         return ready(Client(self.process.pymavlink_url, streams_hz), streams_hz)
 
     def close(self) -> None:
@@ -76,7 +78,8 @@ class ArduCopterTarget:
         self.out_dir, self.instance, self.speedup, self.runner = Path(out_dir), instance, speedup, runner
         self.process = None
 
-    def boot(self, streams_hz: int | None = 10) -> Client:
+    def boot(self, streams_hz: int | None = 10, realistic_startup: bool = True) -> Client:
+        """A fresh vehicle (its start-up is always ArduCopter's own)."""
         self.close()
         shutil.rmtree(self.out_dir / f"run-{self.instance}", ignore_errors=True)
         port = free_udp_port()

@@ -8,7 +8,7 @@ import math
 import pytest
 
 from autopilot.safety.ekf_check import EKF_CHECK_ITERATIONS_MAX
-from autopilot.mavlink import telemetry
+from autopilot.mavlink import sensor_messages, telemetry
 from autopilot.mavlink.dialect import mavlink as mav
 from autopilot.mavlink.dialect import new_codec
 from autopilot.modes import AltHold, Guided, Land
@@ -122,7 +122,7 @@ def test_arming_is_refused_without_a_fix_or_while_the_gps_glitches(fault, reason
     v.run_until(v.time_s + 0.3)
     v.set_mode(Guided.number)
     assert v.arm() == Result.FAILED
-    assert f"PreArm: {reason}" in texts(v)
+    assert f"Arm: {reason}" in texts(v)
 
 
 # ----- GPS glitch -----------------------------------------------------------------------------------
@@ -185,10 +185,10 @@ def test_baro_drift_moves_the_height_estimate_so_the_vehicle_sinks_while_reporti
 
 def test_scaled_pressure_reports_what_the_drifting_barometer_reads():
     v = ready_vehicle()
-    before = telemetry.scaled_pressure(v, CODEC)
+    before = sensor_messages.scaled_pressure(v, CODEC)
     v.params.set("SIM_BARO_DRIFT", 1.0)
     v.run_until(v.time_s + 20.0)  # still on the ground: only the sensor rises, by 20 m
-    after = telemetry.scaled_pressure(v, CODEC)
+    after = sensor_messages.scaled_pressure(v, CODEC)
     # About 0.12 hPa per metre near sea level (this home is at 150 m).
     assert before.press_abs - after.press_abs == pytest.approx(20 * 0.118, rel=0.05)
     assert 1013.25 > before.press_abs > 900 and after.temperature < before.temperature

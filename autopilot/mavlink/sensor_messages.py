@@ -1,0 +1,193 @@
+"""Raw sensor, subsystem and navigator telemetry that ArduCopter streams with the others: the IMU
+(RAW_IMU, SCALED_IMU2/3), the second barometer, the attitude estimators (AHRS, AHRS2), the
+simulator's truth (SIMSTATE), vibration, wind, power and memory, RC input, servo and ESC outputs
+and the navigation controller's targets. Field conventions and the values of things Firefly does
+not model (memory, board voltage) are ArduCopter SITL's, as measured on it.
+"""
+from __future__ import annotations
+
+import math
+
+from sim.airframe import GRAVITY_M_S2
+from sim.rigid_body import euler_from_quaternion
+
+from .dialect import mavlink as mav
+from .encoding import deg_e7, time_boot_ms
+
+MILLI_G = 1000.0 / GRAVITY_M_S2  # accelerations go out in milli-g, as ArduPilot scales them
+# ArduCopter SITL's MEMINFO and POWER_STATUS: memory it never runs out of, a 5 V board rail.
+FREE_MEMORY_16, FREE_MEMORY_32 = 65535, 524288
+BOARD_VCC_MV = 5000
+RC_IDLE = (1500, 1500, 1000, 1500, 1800, 1000, 1000, 1800)  # SITL's RC with no stick input
+RC_CHANNELS_USED = 8
+ESC_TEMPERATURE_C = 32  # what ArduCopter SITL's simulated ESCs report; Firefly models no ESC heat
+
+
+def air_temperature_cdeg(v) -> int:
+    """The standard atmosphere's temperature at the vehicle's altitude [centi-degrees C]."""
+    return int(round((15.0 - 0.0065 * v.position_global().alt_m) * 100))
+
+
+def _imu_fields(v) -> tuple:
+    """(xacc, yacc, zacc [mg], xgyro, ygyro, zgyro [mrad/s], xmag, ymag, zmag [mgauss])."""
+    est, b = v.estimate, v.body
+    acc = tuple(int(round(a * MILLI_G)) for a in est.accel_body)
+    gyro = tuple(int(round(w * 1000.0)) for w in (b.p_rad_s, b.q_rad_s, b.r_rad_s))
+    mag = tuple(int(round(m)) for m in est.mag_body_mgauss)
+    return acc + gyro + mag
+
+
+def raw_imu(v, codec):
+    return codec.raw_imu_encode(int(v.time_s * 1e6), *_imu_fields(v), 0, air_temperature_cdeg(v))
+
+
+def scaled_imu2(v, codec):
+    """The second IMU: Firefly simulates one, and reports it here too."""
+    return codec.scaled_imu2_encode(time_boot_ms(v), *_imu_fields(v), air_temperature_cdeg(v))
+
+
+def scaled_imu3(v, codec):
+    """As ArduCopter SITL: a third compass without a third IMU (inertial fields zero)."""
+    mag = _imu_fields(v)[6:]
+    return codec.scaled_imu3_encode(time_boot_ms(v), 0, 0, 0, 0, 0, 0, *mag, 0)
+
+
+def _barometer_fields(v) -> tuple:
+    """The barometer as ArduPilot reports it: absolute pressure [hPa], differential pressure and
+    temperature [cdegC] of the International Standard Atmosphere at the altitude the (possibly
+    drifting) sensor reads, and no differential sensor's temperature."""
+    alt_m = v.origin.alt_m + v.estimate.baro_alt_m
+    pressure_hpa = 1013.25 * (1.0 - 2.25577e-5 * alt_m) ** 5.25588
+    return pressure_hpa, 0.0, int(round((15.0 - 0.0065 * alt_m) * 100)), 0
+
+
+def scaled_pressure(v, codec):
+    return codec.scaled_pressure_encode(time_boot_ms(v), *_barometer_fields(v))
+
+
+def scaled_pressure2(v, codec):
+    """The second barometer: Firefly simulates one, and reports it here too."""
+    return codec.scaled_pressure2_encode(time_boot_ms(v), *_barometer_fields(v))
+
+
+def ahrs(v, codec):
+    """DCM's gyro drift and error terms: Firefly's estimate has no drift, so zeros."""
+    return codec.ahrs_encode(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+
+
+def ahrs2(v, codec):
+    roll, pitch, yaw = v.attitude
+    pos = v.position_global()
+    return codec.ahrs2_encode(roll, pitch, yaw, pos.alt_m, deg_e7(pos.lat_deg), deg_e7(pos.lon_deg))
+
+
+def simstate(v, codec):
+    """The simulator's truth (not the estimate): attitude, accelerations [m/s^2], rates, place."""
+    body = v.sim.state.body
+    roll, pitch, yaw = euler_from_quaternion(body.qw, body.qx, body.qy, body.qz)
+    ax, ay, az = v.estimate.accel_body
+    true_pos = v.ned_to_global(body.n_m, body.e_m, body.d_m)
+    return codec.simstate_encode(roll, pitch, yaw, ax, ay, az, body.p_rad_s, body.q_rad_s, body.r_rad_s,
+                                 deg_e7(true_pos.lat_deg), deg_e7(true_pos.lon_deg))
+
+
+def vibration(v, codec):
+    """Firefly's rotors and frame do not vibrate and its accelerometer never clips."""
+    return codec.vibration_encode(int(v.time_s * 1e6), 0.0, 0.0, 0.0, 0, 0, 0)
+
+
+def wind(v, codec):
+    """Where the wind blows from [deg, -180..180 as ArduPilot sends it], its horizontal speed and
+    its vertical speed (positive up)."""
+    wn, we, wd = v.estimate.wind_ned
+    return codec.wind_encode(math.degrees(math.atan2(-we, -wn)), math.hypot(wn, we), -wd)
+
+
+def meminfo(v, codec):
+    return codec.meminfo_encode(0, FREE_MEMORY_16, FREE_MEMORY_32)
+
+
+def power_status(v, codec):
+    return codec.power_status_encode(BOARD_VCC_MV, 0, 0)
+
+
+def rc_channels(v, codec):
+    """The sticks as PWM: MANUAL_CONTROL or RC_CHANNELS_OVERRIDE input while it lasts, else SITL's
+    idle RC (centred sticks, throttle low). Pitch forward is low PWM, as on a transmitter."""
+    chans = list(RC_IDLE)
+    p = v.pilot_input
+    if p.present(v.time_s):
+        chans[:4] = [int(round(1500 + 500 * p.roll)), int(round(1500 - 500 * p.pitch)),
+                     int(round(1000 + 1000 * p.throttle)), int(round(1500 + 500 * p.yaw))]
+    return codec.rc_channels_encode(time_boot_ms(v), RC_CHANNELS_USED, *chans, *([0] * (18 - len(chans))), 255)
+
+
+def motor_pwm(v) -> list[int]:
+    """Each motor's PWM as ArduCopter's motor library makes it: thrust as a fraction of the most
+    a rotor gives, turned into throttle through the MOT_THST_EXPO curve, spread over
+    MOT_SPIN_MIN..MOT_SPIN_MAX of the MOT_PWM_MIN..MOT_PWM_MAX range; MOT_PWM_MIN disarmed."""
+    params = v.params
+    low, high = params["MOT_PWM_MIN"] or 1000.0, params["MOT_PWM_MAX"] or 2000.0
+    if not v.armed:
+        return [int(low)] * 4
+    expo, spin_min, spin_max = params["MOT_THST_EXPO"], params["MOT_SPIN_MIN"], params["MOT_SPIN_MAX"]
+    out = []
+    for omega in v.motor_commands:
+        thrust = min(max(omega / v.omega_max_rad_s, 0.0), 1.0) ** 2
+        throttle = thrust if expo <= 0 else \
+            ((expo - 1.0) + math.sqrt((1.0 - expo) ** 2 + 4.0 * expo * thrust)) / (2.0 * expo)
+        out.append(int(round(low + (high - low) * (spin_min + (spin_max - spin_min) * throttle))))
+    return out
+
+
+def servo_output_raw(v, codec):
+    servos = motor_pwm(v) + [0] * 12
+    return codec.servo_output_raw_encode(int(v.time_s * 1e6) & 0xFFFFFFFF, 0, *servos)
+
+
+def esc_telemetry_1_to_4(v, codec):
+    """Each ESC's voltage, a quarter of the pack current and charge, and its rotor's speed."""
+    batt = v.estimate.battery
+    rpm = [int(round(w * 60.0 / (2.0 * math.pi))) for w in v.estimate.motor_speeds_rad_s]
+    count = int(v.time_s * 10) & 0xFFFF  # reports received: one per 100 ms of vehicle time
+    return codec.esc_telemetry_1_to_4_encode(
+        [ESC_TEMPERATURE_C] * 4, [min(int(batt.voltage_v * 100), 65535)] * 4,
+        [min(int(batt.current_a * 25), 65535)] * 4, [int(batt.consumed_mah / 4)] * 4, rpm, [count] * 4)
+
+
+def nav_controller_output(v, codec):
+    """The lean the position loop asks for [deg], the heading wanted, the bearing and distance to
+    the mode's destination and the height still to go (ArduCopter fills xtrack only for planes)."""
+    roll_t, pitch_t = v.lean_target
+    b = v.body
+    dest = v.mode.destination()
+    bearing, dist, alt_error = 0, 0, 0.0
+    if dest is not None:
+        dn, de = dest[0] - b.n_m, dest[1] - b.e_m
+        dist = min(int(math.hypot(dn, de)), 65535)
+        bearing = int(round(math.degrees(math.atan2(de, dn))))
+        if dest[2] is not None:
+            alt_error = b.d_m - dest[2]
+    nav_bearing = int(round(math.degrees(v.cascade.yaw_t)))
+    return codec.nav_controller_output_encode(math.degrees(roll_t), math.degrees(pitch_t), nav_bearing, bearing,
+                                              dist, alt_error, 0.0, 0.0)
+
+
+BUILDERS = {
+    mav.MAVLINK_MSG_ID_RAW_IMU: raw_imu,
+    mav.MAVLINK_MSG_ID_SCALED_IMU2: scaled_imu2,
+    mav.MAVLINK_MSG_ID_SCALED_IMU3: scaled_imu3,
+    mav.MAVLINK_MSG_ID_SCALED_PRESSURE: scaled_pressure,
+    mav.MAVLINK_MSG_ID_SCALED_PRESSURE2: scaled_pressure2,
+    mav.MAVLINK_MSG_ID_AHRS: ahrs,
+    mav.MAVLINK_MSG_ID_AHRS2: ahrs2,
+    mav.MAVLINK_MSG_ID_SIMSTATE: simstate,
+    mav.MAVLINK_MSG_ID_VIBRATION: vibration,
+    mav.MAVLINK_MSG_ID_WIND: wind,
+    mav.MAVLINK_MSG_ID_MEMINFO: meminfo,
+    mav.MAVLINK_MSG_ID_POWER_STATUS: power_status,
+    mav.MAVLINK_MSG_ID_RC_CHANNELS: rc_channels,
+    mav.MAVLINK_MSG_ID_SERVO_OUTPUT_RAW: servo_output_raw,
+    mav.MAVLINK_MSG_ID_ESC_TELEMETRY_1_TO_4: esc_telemetry_1_to_4,
+    mav.MAVLINK_MSG_ID_NAV_CONTROLLER_OUTPUT: nav_controller_output,
+}

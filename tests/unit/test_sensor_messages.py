@@ -1,0 +1,91 @@
+"""The sensor, subsystem and navigator messages ArduCopter streams (sensor_messages.py, terrain.py),
+and the stream groups that carry them."""
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from autopilot.mavlink import sensor_messages, terrain
+from autopilot.mavlink.streams import StreamScheduler
+from autopilot.mavlink.telemetry import BUILDERS, STREAM_GROUPS
+from sim.vehicle import SimConfig
+from sim.wind import SteadyWind
+
+from ._util import client_codec, hovering_vehicle, mav, ready_vehicle
+
+CODEC = client_codec()
+
+
+def test_accelerometer_reads_one_g_up_at_rest_and_while_hovering():
+    v = ready_vehicle()
+    imu = sensor_messages.raw_imu(v, CODEC)
+    assert (imu.xacc, imu.yacc) == (0, 0) and imu.zacc == -1000
+    v = hovering_vehicle(10.0)
+    imu = sensor_messages.raw_imu(v, CODEC)
+    assert abs(imu.zacc + 1000) < 30 and abs(imu.xacc) < 30 and abs(imu.yacc) < 30
+
+
+def test_compass_turns_with_the_vehicle():
+    v = hovering_vehicle(10.0)
+    before = sensor_messages.raw_imu(v, CODEC)
+    v.set_yaw(90.0, relative=False, direction=0)
+    v.run_until(v.time_s + 8.0)
+    after = sensor_messages.raw_imu(v, CODEC)
+    # Facing east, magnetic north is to the left: the field's north part moves from x to -y.
+    assert before.xmag == pytest.approx(232, abs=10) and after.ymag == pytest.approx(-232, abs=15)
+
+
+def test_servo_outputs_idle_disarmed_and_spread_over_the_spin_range_when_flying():
+    v = ready_vehicle()
+    servo = sensor_messages.servo_output_raw(v, CODEC)
+    assert [servo.servo1_raw, servo.servo2_raw, servo.servo3_raw, servo.servo4_raw] == [1000] * 4
+    v = hovering_vehicle(10.0)
+    pwm = sensor_messages.motor_pwm(v)
+    low = 1000 + 1000 * v.params["MOT_SPIN_MIN"]
+    assert all(low < p < 1800 for p in pwm), pwm
+    esc = sensor_messages.esc_telemetry_1_to_4(v, CODEC)
+    assert all(r > 1000 for r in esc.rpm)
+
+
+def test_wind_reports_where_the_wind_blows_from():
+    v = ready_vehicle(sim=SimConfig(wind=SteadyWind(6.0, 270.0)))
+    w = sensor_messages.wind(v, CODEC)
+    assert w.speed == pytest.approx(6.0, abs=1e-6)
+    assert w.direction % 360 == pytest.approx(270.0, abs=1e-6)
+
+
+def test_nav_controller_output_points_at_the_guided_destination():
+    v = hovering_vehicle(10.0)
+    v.guided_goto(v.body.n_m, v.body.e_m + 40.0, v.body.d_m - 5.0)
+    v.run_until(v.time_s + 1.0)
+    out = sensor_messages.nav_controller_output(v, CODEC)
+    assert out.target_bearing == pytest.approx(90, abs=2)
+    assert 30 < out.wp_dist < 40
+    assert 3.0 < out.alt_error <= 5.0
+
+
+def test_terrain_grid_block_is_ap_terrains():
+    # Measured on ArduCopter SITL at its default home: TERRAIN_REQUEST lat -353747690 lon 1491548424.
+    assert terrain.grid_block_corner(-353632610, 1491652299, 100) == (-353747690, 1491548424)
+    lat, lon = terrain.grid_block_corner(435615000, 14838000, 100)
+    assert lat <= 435615000 and lon <= 14838000
+
+
+def test_terrain_request_goes_out_no_more_often_than_every_two_seconds():
+    v = ready_vehicle()
+    streams = StreamScheduler(v.params)
+    streams.set_group_rate(0, 10, True)
+    sent = sum(mav.MAVLINK_MSG_ID_TERRAIN_REQUEST in streams.due(k / 100.0) for k in range(1000))
+    assert sent == 5
+
+
+def test_every_streamed_message_has_a_builder_and_builds():
+    v = hovering_vehicle(5.0)
+    for _, ids in STREAM_GROUPS.values():
+        for msg_id in ids:
+            msg = BUILDERS[msg_id](v, CODEC)
+            assert msg is not None
+            msg.pack(CODEC)  # every field in range for its wire type
+    assert all(math.isfinite(x) for x in sensor_messages.ahrs2(v, CODEC).to_dict().values()
+               if isinstance(x, float))
