@@ -62,6 +62,8 @@ def build_parser() -> argparse.ArgumentParser:
                     help="declare only after a reading within M metres of the cell's centre (default 10)")
     ev.add_argument("--no-confirm", action="store_true", help="declare as soon as the belief is confident")
     ev.add_argument("--subcells", type=count, default=3, help="sub-positions per cell side in the belief (default 3)")
+    ev.add_argument("--outlier-rate", type=share, default=0.02,
+                    help="the belief's prior share of wild readings (default 0.02; 0 = the plain Gaussian model)")
     ev.add_argument("--budget", type=positive, default=6000.0, help="path budget [m] before a forced declaration")
     ev.add_argument("--speed", type=positive, default=5.0,
                     help="survey speed [m/s], flown too with --flight; one observation per second")
@@ -98,6 +100,17 @@ def non_negative(text: str) -> float:
         raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
     if not value >= 0 or math.isinf(value):
         raise argparse.ArgumentTypeError(f"must be zero or positive, got {text!r}")
+    return value
+
+
+def share(text: str) -> float:
+    """A proportion in [0, 1)."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
+    if not 0 <= value < 1:
+        raise argparse.ArgumentTypeError(f"must be within [0, 1), got {text!r}")
     return value
 
 

@@ -173,7 +173,7 @@ def evaluate(args) -> int:
     seed = scenario.seed if args.seed is None else args.seed
     config = EpisodeConfig(start=args.start, threshold=args.threshold, budget_m=args.budget,
                            fixed_fire=args.fixed_fire, speed_m_s=args.speed, subcells=args.subcells,
-                           confirm_m=None if args.no_confirm else args.confirm)
+                           confirm_m=None if args.no_confirm else args.confirm, outlier_rate=args.outlier_rate)
     jobs = args.jobs or 1
     progress = EpisodeProgress(len(policies) * args.episodes)
     t0 = time.monotonic()

@@ -28,12 +28,32 @@ holds k x k equally likely sub-positions and its evidence is their average,
 the exact marginal for a fire uniform on that sub-grid: the misfit shrinks k-fold and the mass
 spreads along a ridge instead of piling on one centre. The episodes use k = 3.
 
+Outliers (heavy tail). A reading is, with prior probability w (outlier_rate), an outlier: a value
+anywhere in a range of outlier_range_k kelvin, whatever the fire, rather than the Gaussian model
+above. With w > 0 the exact evidence is a sum over which readings are outliers (2^n terms), so it
+is replaced by:
+  - a burn-in, exact: over the first BURN_IN (6) readings the evidence is marginalised exactly over
+    which of them are outliers, up to two (22 Gaussian marginals per hypothesis, each closed-form);
+  - then assumed-density filtering: each new reading's evidence is its predictive density under
+    the hypothesis, the mixture (1 - w) N(z; m, v) + w / range, m and v the Gaussian model's
+    prediction from the readings so far; the reading then enters that hypothesis's sums with
+    weight r = the posterior probability that it is not an outlier (a fractional reading: its
+    noise variance s2 / r).
+A single reading can then move a hypothesis's log evidence by at most about
+log((1 - w) / (w sqrt(2 pi s2) / range)): one or two wild readings cannot make the belief certain.
+The burn-in matters because the flat ambient prior makes the first readings define the level the
+later ones are judged against; judging them one at a time would let an outlier among the first
+two set a wrong level under every hypothesis. With w = 0 both steps are the exact marginal above
+(the chain rule of the same Gaussian), up to a constant common to all hypotheses.
+The sums are then kept per hypothesis (the weights differ from one hypothesis to the next).
+
 The belief knows only what the strategy may know: the area, the cell size, the kernel, the plume
 sigma and the sensor noise (Geometry). It never sees the true fire, ambient or strength.
 Every update and query is vectorised: O(cells x subcells^2).
 """
 from __future__ import annotations
 
+import itertools
 import math
 from dataclasses import dataclass
 
@@ -87,6 +107,10 @@ def entropy_of_log_weights(logw: np.ndarray) -> np.ndarray:
     return np.log(total) - np.einsum("...i,...i->...", w, shifted) / total
 
 
+BURN_IN = 6  # readings whose evidence is marginalised exactly over their outliers before filtering starts
+BURN_IN_OUTLIERS = 2  # ... counting the cases of up to this many outliers among them
+
+
 class Belief:
     """Probability per cell that it holds the fire; see the module docstring for the model.
 
@@ -96,13 +120,18 @@ class Belief:
     """
 
     def __init__(self, geometry: Geometry, strength_mean_k: float = 50.0, strength_sd_k: float = 25.0,
-                 sigma_k: float | None = None, subcells: int = 1):
+                 sigma_k: float | None = None, subcells: int = 1, outlier_rate: float = 0.0,
+                 outlier_range_k: float = 100.0):
         if geometry.kernel not in KERNELS:
             raise ValueError(f"kernel must be one of {', '.join(KERNELS)}, got {geometry.kernel!r}")
         if not strength_sd_k > 0:
             raise ValueError("strength_sd_k must be positive")
         if int(subcells) != subcells or subcells < 1:
             raise ValueError("subcells must be a positive integer")
+        if not 0.0 <= outlier_rate < 1.0:
+            raise ValueError("outlier_rate must be within 0..1 (1 excluded)")
+        if not outlier_range_k > 0:
+            raise ValueError("outlier_range_k must be positive")
         self.geometry = geometry
         self.size = geometry.cells_per_side
         self.cell_m = geometry.cell_size_m
@@ -122,14 +151,22 @@ class Belief:
         self.s2 = max(float(sigma), MIN_SIGMA_K) ** 2
         self.mu_a = float(strength_mean_k)
         self.sa2 = float(strength_sd_k) ** 2
+        self.outlier_rate = float(outlier_rate)
+        # log of an outlier's density, and of a reading's prior odds of being one
+        self._log_outlier = (math.log(self.outlier_rate) - math.log(outlier_range_k)) if outlier_rate > 0 else -math.inf
+        self._log_inlier = math.log1p(-self.outlier_rate)
         hyps = self.hyp_n.size
         self.n = 0
         self.z_ref = 0.0
-        self.s_z = 0.0
-        self.s_zz = 0.0
+        # per hypothesis: the (weighted) readings' sums, and the log evidence once filtering
+        self.w_sum = np.zeros(hyps)
+        self.s_z = np.zeros(hyps)
+        self.s_zz = np.zeros(hyps)
         self.s_g = np.zeros(hyps)
         self.s_gg = np.zeros(hyps)
         self.s_gz = np.zeros(hyps)
+        self.log_ev = np.zeros(hyps)
+        self._burn_in: list[tuple[np.ndarray, float]] = []  # (g, y) of the first readings
         self.closest_r2 = np.full(self.centres_n.size, np.inf)  # per cell: nearest reading, squared [m^2]
         self._cache = None
 
@@ -153,13 +190,90 @@ class Belief:
             self.z_ref = float(z)
         y = float(z) - self.z_ref
         self.n += 1
-        self.s_z += y
-        self.s_zz += y * y
-        self.s_g += g
-        self.s_gg += g * g
-        self.s_gz += g * y
+        if self.n <= BURN_IN:
+            self._add(g, y, 1.0)
+            self._burn_in.append((g, y))
+            if self.n == BURN_IN:
+                self._end_burn_in()
+        else:
+            self._filter(g, y)
         np.minimum(self.closest_r2, (self.centres_n - n) ** 2 + (self.centres_e - e) ** 2, out=self.closest_r2)
         self._cache = None
+
+    def _add(self, g: np.ndarray, y: float, weight) -> None:
+        self.w_sum += weight
+        self.s_z += weight * y
+        self.s_zz += weight * (y * y)
+        wg = weight * g
+        self.s_g += wg
+        self.s_gg += wg * g
+        self.s_gz += wg * y
+
+    def _gaussian_log_marginal(self, w, s_z, s_zz, s_g, s_gg, s_gz) -> np.ndarray:
+        """log p(readings | q) of the Gaussian model for (weighted) sums, b and A integrated out,
+        up to a constant that depends on neither the hypothesis nor the number of readings."""
+        g_bar = s_g / w
+        precision = 1.0 / self.sa2 + np.maximum(s_gg - s_g * g_bar, 0.0) / self.s2
+        h = self.mu_a / self.sa2 + (s_gz - g_bar * s_z) / self.s2
+        szz_c = np.maximum(s_zz - s_z * s_z / w, 0.0)
+        return (0.5 * h * h / precision - 0.5 * np.log(precision) - 0.5 * szz_c / self.s2
+                - 0.5 * (w - 1.0) * math.log(2.0 * math.pi * self.s2) - 0.5 * np.log(w))
+
+    def _burn_in_cases(self) -> tuple[np.ndarray, list[tuple[int, ...]]]:
+        """log p(readings, case | q) for each case of which burn-in readings are outliers (none,
+        one or two of them), and the cases (tuples of reading indices)."""
+        sums = (self.w_sum, self.s_z, self.s_zz, self.s_g, self.s_gg, self.s_gz)
+        m = len(self._burn_in)
+        cases = [()]
+        if self.outlier_rate > 0.0:
+            cases += [c for k in range(1, min(BURN_IN_OUTLIERS, m - 1) + 1)
+                      for c in itertools.combinations(range(m), k)]
+        rows = []
+        for case in cases:
+            minus = list(sums)
+            for k in case:
+                g, y = self._burn_in[k]
+                for i, part in enumerate((1.0, y, y * y, g, g * g, g * y)):
+                    minus[i] = minus[i] - part
+            prior = (m - len(case)) * self._log_inlier + (len(case) * self._log_outlier if case else 0.0)
+            rows.append(prior + self._gaussian_log_marginal(*minus))
+        return np.stack(rows), cases
+
+    @staticmethod
+    def _log_total(cases: np.ndarray) -> np.ndarray:
+        top = cases.max(axis=0)
+        return top + np.log(np.exp(cases - top).sum(axis=0))
+
+    def _end_burn_in(self) -> None:
+        """Evidence of the first readings over which of them (none, one or two) are outliers;
+        each then stays in the sums weighted by its probability of not being one."""
+        rows, cases = self._burn_in_cases()
+        self.log_ev = self._log_total(rows)
+        posterior = np.exp(rows - self.log_ev)
+        for k, (g, y) in enumerate(self._burn_in):
+            p_outlier = sum(posterior[c] for c, case in enumerate(cases) if k in case)
+            if not isinstance(p_outlier, int):  # in at least one case
+                self._add(g, y, -p_outlier)
+        self._burn_in = []
+
+    def _filter(self, g: np.ndarray, y: float) -> None:
+        """A reading after the burn-in: its predictive density (the mixture) joins the evidence,
+        and it joins the sums weighted by its probability of being no outlier."""
+        w = self.w_sum
+        g_bar = self.s_g / w
+        precision = 1.0 / self.sa2 + np.maximum(self.s_gg - self.s_g * g_bar, 0.0) / self.s2
+        a_mean = (self.mu_a / self.sa2 + (self.s_gz - g_bar * self.s_z) / self.s2) / precision
+        dg = g - g_bar
+        mean = self.s_z / w + a_mean * dg
+        var = self.s2 * (1.0 + 1.0 / w) + dg * dg / precision
+        log_in = self._log_inlier - 0.5 * np.log(2.0 * math.pi * var) - 0.5 * (y - mean) ** 2 / var
+        if self.outlier_rate > 0.0:
+            both = np.logaddexp(log_in, self._log_outlier)
+            weight = np.exp(log_in - both)
+        else:
+            both, weight = log_in, 1.0
+        self.log_ev += both
+        self._add(g, y, weight)
 
     # ----- the posterior over cells ----------------------------------------------------------------
     def _stats(self):
@@ -169,14 +283,18 @@ class Belief:
             cells = self.centres_n.size
             if self.n == 0:
                 self._cache = (np.zeros(self.hyp_n.size), None, None, None, np.full(cells, 1.0 / cells),
-                               np.full(cells, -math.log(cells)), np.arange(cells) * self.per_cell)
+                               np.full(cells, -math.log(cells)), np.arange(cells) * self.per_cell, None, None)
             else:
-                g_bar = self.s_g / self.n
+                weight = self.w_sum
+                g_bar = self.s_g / weight
                 sgg_c = np.maximum(self.s_gg - self.s_g * g_bar, 0.0)
                 sgz_c = self.s_gz - g_bar * self.s_z
                 precision = 1.0 / self.sa2 + sgg_c / self.s2
                 h = self.mu_a / self.sa2 + sgz_c / self.s2
-                log_ev = 0.5 * h * h / precision - 0.5 * np.log(precision)
+                if self.n < BURN_IN:  # all readings in with weight 1; "none or one an outlier", exactly
+                    log_ev = self._log_total(self._burn_in_cases()[0])
+                else:
+                    log_ev = self.log_ev
                 top = log_ev.max()
                 sub = np.exp(log_ev - top).reshape(cells, self.per_cell)
                 rep = np.argmax(sub, axis=1) + np.arange(cells) * self.per_cell
@@ -191,7 +309,7 @@ class Belief:
                     le = log_ev.reshape(cells, self.per_cell)[bad]
                     mx = le.max(axis=1)
                     logp[bad] = mx + np.log(np.exp(le - mx[:, None]).sum(axis=1)) - top - math.log(total)
-                self._cache = (log_ev, precision, h / precision, g_bar, p, logp, rep)
+                self._cache = (log_ev, precision, h / precision, g_bar, p, logp, rep, self.s_z / weight, weight)
         return self._cache
 
     @property
@@ -260,19 +378,20 @@ class Belief:
     def predictive(self, n, e, height_m: float | None = None, cells: np.ndarray | None = None):
         """Predictive mean and variance of a reading at point(s) (n, e), per cell.
 
-        Given hypothesis q and the readings so far, A ~ N(h/P, 1/P) and b | A ~ N(mean(z) - A mean(g),
-        s2/n), so a new reading with kernel value g has mean  mean(z) + E[A] (g - mean(g))  and variance
-        s2 (1 + 1/n) + (g - mean(g))^2 / P. A cell is represented by its most likely sub-position (its
+        Given hypothesis q and the readings so far (weighted as the hypothesis weighs them, W their
+        total weight), A ~ N(h/P, 1/P) and b | A ~ N(mean(z) - A mean(g), s2/W), so a new reading with
+        kernel value g has mean  mean(z) + E[A] (g - mean(g))  and variance s2 (1 + 1/W) + (g - mean(g))^2 / P;
+        an outlier is not predicted (the planner asks what a good reading would tell). A cell is represented by its most likely sub-position (its
         centre when subcells = 1). Shapes: (cells,) for a scalar point, (K, cells) for K points.
         """
         if self.n == 0:
             raise ValueError("no reading yet: the flat ambient prior makes the prediction improper")
         height = self.geometry.survey_alt_m if height_m is None else height_m
-        _, precision, a_mean, g_bar, _, _, rep = self._stats()
+        _, precision, a_mean, g_bar, _, _, rep, z_bar, w = self._stats()
         hyps = rep if cells is None else rep[cells]
         dg = self.kernel_at(n, e, height, hyps) - g_bar[hyps]
-        mean = self.z_ref + self.s_z / self.n + a_mean[hyps] * dg
-        var = self.s2 * (1.0 + 1.0 / self.n) + dg * dg / precision[hyps]
+        mean = self.z_ref + z_bar[hyps] + a_mean[hyps] * dg
+        var = self.s2 * (1.0 + 1.0 / w[hyps]) + dg * dg / precision[hyps]
         return mean, var
 
     def entropy_after(self, n, e, z, height_m: float | None = None, cells: np.ndarray | None = None,

@@ -53,6 +53,8 @@ class SearchConfig:
     prior_strength_sd_k: float = 25.0
     subcells: int = 3               # sub-positions per cell side in the belief
     confirm_m: float | None = 10.0  # declare after a reading this close to the cell's centre; None: at once
+    outlier_rate: float = 0.02      # the belief's prior share of wild readings (belief.py, "Outliers")
+    outlier_range_k: float = 100.0  # the span a wild reading may take anywhere in [K]
 
     def __post_init__(self):
         if not (self.speed_m_s > 0 and self.sample_s > 0):
@@ -80,7 +82,8 @@ class SearchController:
         self.policy = policy
         self.config = config
         self.belief = Belief(geometry, config.prior_strength_mean_k, config.prior_strength_sd_k,
-                             subcells=config.subcells)
+                             subcells=config.subcells, outlier_rate=config.outlier_rate,
+                             outlier_range_k=config.outlier_range_k)
         self.rule = StoppingRule(config.threshold, 1, config.confirm_m)
         self.timer = timer
         self.max_observations = int(4 * config.budget_m / config.observation_spacing_m) + 100

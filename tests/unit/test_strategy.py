@@ -96,6 +96,50 @@ def test_centred_evidence_equals_the_2x2_gaussian_integral():
     assert np.allclose(p, b.p, rtol=1e-6, atol=1e-12)
 
 
+def line_readings(w: FireWorld, wild: dict, count: int = 12):
+    """Noisy readings every 5 m along the south edge from the corner, some replaced by wild ones."""
+    rng = np.random.default_rng(11)
+    out = []
+    for k in range(count):
+        n, e = 5.0, 5.0 + 5.0 * k
+        z = true_temperature(w, n, e, w.survey_alt_m, 0.0) + rng.normal()
+        out.append((n, e, z + wild.get(k, 0.0)))
+    return out
+
+
+@pytest.mark.parametrize("wild", [{0: 20.0}, {1: 20.0, 2: 20.0}, {5: 20.0, 9: 20.0}, {3: -20.0},
+                                  {7: 20.0, 8: 20.0}])
+def test_a_wild_reading_or_two_cannot_make_the_robust_belief_certain(wild):
+    w = world("R", fire=(300.0, 300.0))  # far from the readings: they all see about the ambient
+    readings = line_readings(w, wild)
+    robust = belief_from(w, readings, subcells=3, outlier_rate=0.02)
+    assert robust.best_block()[1] < 0.5
+    if wild in ({0: 20.0}, {7: 20.0, 8: 20.0}):
+        # The plain Gaussian model puts the fire under the wild readings and is sure of it: the
+        # failure the heavy tail fixes.
+        assert belief_from(w, readings, subcells=3).best_block()[1] > 0.99
+
+
+def test_the_robust_belief_still_finds_the_fire_after_an_outlier_first():
+    w = world("R", fire=(123.0, 237.0))
+    readings = grid_readings(w, spacing=40.0)
+    readings[0] = (readings[0][0], readings[0][1], readings[0][2] + 20.0)
+    b = belief_from(w, readings, subcells=3, outlier_rate=0.02)
+    assert b.best_block()[0] in {(11, 22), (11, 23), (12, 22), (12, 23), (13, 23), (12, 24)}
+    assert b.best_block()[1] > 0.9
+
+
+@pytest.mark.parametrize("count", [3, 6, 7, 30])
+def test_without_outliers_the_robust_machinery_is_the_exact_marginal(count):
+    """outlier_rate 0: the burn-in and the filtering give the closed-form evidence (the chain rule
+    of the same Gaussian), whatever the number of readings."""
+    w, readings = random_readings(9, count)
+    b = belief_from(w, readings, subcells=2)
+    closed = b._gaussian_log_marginal(b.w_sum, b.s_z, b.s_zz, b.s_g, b.s_gg, b.s_gz)
+    ev = b._stats()[0]
+    assert np.ptp(ev - closed) < 1e-7
+
+
 def test_entropy_after_a_hypothetical_reading_matches_the_update_and_leaves_the_belief_alone():
     w, readings = random_readings(5, 30)
     b = belief_from(w, readings)
