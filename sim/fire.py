@@ -5,8 +5,9 @@ from the sensor to fire f. Kernels:
   R (radiant point source, default): g = h^2 / (h^2 + r^2), h the sensor's height above ground —
     the inverse-square fall-off of radiant flux q = chi*Q / (4 pi R^2) with R^2 = h^2 + r^2;
   G (plume-like): g = exp(-r^2 / (2 s^2)).
-A wind tilt shifts the hot spot downwind by tilt * h (the plume leans with the wind), something a
-model that ignores wind does not know. Fires may spread: their strength grows linearly in time.
+A wind tilt shifts the hot spot downwind by tilt * h (the plume leans with the wind): either given
+as it is (wind_tilt, wind_to_deg: a lean nothing else in the world explains) or made by the
+scenario's wind, tilt = wind speed / plume_rise_m_s toward where the wind blows. Fires may spread: their strength grows linearly in time.
 """
 from __future__ import annotations
 
@@ -46,6 +47,9 @@ class FireWorld:
     outlier_k: float = 15.0
     wind_tilt: float = 0.0  # metres downwind per metre of height
     wind_to_deg: float = 90.0  # direction the plume leans toward
+    # The speed the hot gases rise at: with it the plume leans with the scenario's [wind], by
+    # wind speed / rise speed metres per metre of height (sim/scenario.py sets wind_tilt from it).
+    plume_rise_m_s: float = 0.0
 
     def validate(self) -> None:
         if self.kernel not in KERNELS:
@@ -55,7 +59,7 @@ class FireWorld:
                 raise ValueError(f"{name} must be positive")
         if self.cell_m > self.area_m:
             raise ValueError("cell_m must not exceed area_m")
-        for name in ("noise_k", "outlier_k", "wind_tilt"):
+        for name in ("noise_k", "outlier_k", "wind_tilt", "plume_rise_m_s"):
             if not getattr(self, name) >= 0:
                 raise ValueError(f"{name} must be zero or positive")
         if not 0 <= self.outlier_rate <= 1:
@@ -105,7 +109,7 @@ class TemperatureSensor:
 
 
 WORLD_KEYS = {"area_m", "cell_m", "survey_alt_m", "ambient_c", "kernel", "plume_sigma_m", "noise_k",
-              "outlier_rate", "outlier_k", "wind_tilt", "wind_to_deg"}
+              "outlier_rate", "outlier_k", "wind_tilt", "wind_to_deg", "plume_rise_m_s"}
 FIRE_KEYS = {"n_m", "e_m", "strength_k", "growth_k_per_s"}
 
 

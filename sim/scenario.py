@@ -145,6 +145,12 @@ def scenario_from_dict(data: dict, name: str = "scenario") -> Scenario:
         sc.world = world_from_tables(data.get("world", {}), data.get("fire"), name)
     except ValueError as exc:
         raise ScenarioError(str(exc)) from None
+    if sc.world.plume_rise_m_s > 0:
+        if "wind_tilt" in data.get("world", {}) or "wind_to_deg" in data.get("world", {}):
+            raise ScenarioError(f"{name}: [world].plume_rise_m_s leans the plume with [wind]; "
+                                "give it or wind_tilt/wind_to_deg, not both")
+        sc.world = dataclasses.replace(sc.world, wind_tilt=wind.speed_m_s / sc.world.plume_rise_m_s,
+                                       wind_to_deg=(wind.from_direction_deg + 180.0) % 360.0)
     sc.sim = SimConfig(airframe=airframe, wind=wind, noise=noise, physics_rate_hz=rate, seed=sc.seed,
                        world=sc.world)
     sc.vehicle_tables = {key: data[key] for key in VEHICLE_TABLES if key in data}

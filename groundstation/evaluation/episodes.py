@@ -41,6 +41,7 @@ class EpisodeConfig(SearchConfig):
     fixed_fire: bool = False
     strength_k: tuple = (20.0, 80.0)
     ambient_c: tuple = (15.0, 35.0)
+    wind_ne_m_s: tuple = (0.0, 0.0)  # the wind the search is told (the WIND message's, as (n, e) m/s)
 
     def __post_init__(self):
         super().__post_init__()
@@ -123,7 +124,8 @@ def run_episode(world: FireWorld, seed: int, index: int, policy: Policy,
     sensor = TemperatureSensor(ep_world, seed=(seed * 1_000_003 + index) & 0xFFFFFFFF)
     alt = geometry.survey_alt_m
     pos = start_position(geometry, config.start)
-    controller = SearchController(geometry, policy, config, pos, policy_rng(seed, index), time.perf_counter)
+    controller = SearchController(geometry, policy, config, pos, policy_rng(seed, index), time.perf_counter,
+                                  wind_ne_m_s=config.wind_ne_m_s)
     step_m = config.observation_spacing_m
     t = path = 0.0
     readings = 0

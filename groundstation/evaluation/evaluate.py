@@ -173,7 +173,8 @@ def evaluate(args) -> int:
     seed = scenario.seed if args.seed is None else args.seed
     config = EpisodeConfig(start=args.start, threshold=args.threshold, budget_m=args.budget,
                            fixed_fire=args.fixed_fire, speed_m_s=args.speed, subcells=args.subcells,
-                           confirm_m=None if args.no_confirm else args.confirm, outlier_rate=args.outlier_rate)
+                           confirm_m=None if args.no_confirm else args.confirm, outlier_rate=args.outlier_rate,
+                           wind_ne_m_s=(0.0, 0.0) if args.ignore_wind else scenario.sim.wind.velocity_ned()[:2])
     jobs = args.jobs or 1
     progress = EpisodeProgress(len(policies) * args.episodes)
     t0 = time.monotonic()

@@ -7,7 +7,9 @@ reading (NAMED_VALUE_FLOAT) with the vehicle's position at its own timestamp and
 evaluated density. When the controller declares the fire it prints the estimate, returns to launch,
 lands, and writes a PNG of the flown track over the final belief.
 
-Everything it knows of the vehicle arrives as MAVLink. On a lost link or a refused command it says
+It asks the vehicle for its WIND report (ArduCopter sends it only when asked) and tells the
+search where the air goes: the plume leans with it. Everything it knows of the vehicle arrives as
+MAVLink. On a lost link or a refused command it says
 so, leaves the vehicle in RTL (or hold) if it can, and exits non-zero.
 """
 from __future__ import annotations
@@ -76,6 +78,51 @@ class FeedFailed(RuntimeError):
     pass
 
 
+WIND_MSG_ID = 168
+WIND_RATE_HZ = 1.0  # asked for: ArduCopter sends WIND only in a requested stream
+WIND_WAIT_S = 10.0
+
+
+class WindReport:
+    """The vehicle's last WIND message: where the wind blows from [deg] and its speed [m/s]."""
+
+    def __init__(self):
+        self.from_deg = self.speed_m_s = None
+        self.seen = asyncio.Event()
+
+    def take(self, fields: dict) -> None:
+        self.from_deg, self.speed_m_s = float(fields["direction"]), float(fields["speed"])
+        self.seen.set()
+
+    def air_velocity_ne(self) -> tuple[float, float]:
+        """Where the air goes (north, east) [m/s]: toward from_deg + 180."""
+        to = math.radians(self.from_deg + 180.0)
+        return self.speed_m_s * math.cos(to), self.speed_m_s * math.sin(to)
+
+
+async def request_message_rate(direct, system, msg_id: int, rate_hz: float) -> None:
+    """SET_MESSAGE_INTERVAL for one message (what a ground station does to get a message no
+    stream carries by default)."""
+    from mavsdk.asyncio.plugins.mavlink_direct import MavlinkMessage
+    fields = {"target_system": await system.get_system_id(), "target_component": 1, "command": 511,
+              "confirmation": 0,
+              "param1": float(msg_id), "param2": 1e6 / rate_hz, "param3": 0.0, "param4": 0.0,
+              "param5": 0.0, "param6": 0.0, "param7": 0.0}
+    ack = await command(direct.send_command(MavlinkMessage("COMMAND_LONG", 0, 0, fields["target_system"], 1,
+                                                           json.dumps(fields))),
+                        f"SET_MESSAGE_INTERVAL({msg_id})")
+    result = json.loads(ack.fields_json).get("result") if ack.fields_json else None
+    if result != 0:
+        raise CommandRefused(f"vehicle refused SET_MESSAGE_INTERVAL({msg_id}): result {result}")
+
+
+async def first_wind(wind: WindReport) -> None:
+    try:
+        await asyncio.wait_for(wind.seen.wait(), WIND_WAIT_S)
+    except asyncio.TimeoutError:
+        raise LinkError(f"no WIND message within {WIND_WAIT_S:g} s of asking for it") from None
+
+
 async def explore(url: str, world: FireWorld, policy_name: str, plot: Path | None, truth: bool,
                   config: SearchConfig = SearchConfig(), say=print) -> dict:
     """Fly one search; `say` receives the progress lines (print by default)."""
@@ -100,8 +147,11 @@ async def explore(url: str, world: FireWorld, policy_name: str, plot: Path | Non
             if str(f.get("name", "")).rstrip("\0") == TEMPERATURE_NAME:
                 survey.add_reading(int(f["time_boot_ms"]), float(f["value"]))
 
+        wind = WindReport()
         feed.watch("LOCAL_POSITION_NED", on_position)
         feed.watch("NAMED_VALUE_FLOAT", on_value)
+        feed.watch("WIND", wind.take)
+        await request_message_rate(feed.direct, link.system, WIND_MSG_ID, WIND_RATE_HZ)
         await command(link.action.arm(), "arm")
         await command(link.action.set_takeoff_altitude(geometry.survey_alt_m), "set takeoff altitude")
         await command(link.action.takeoff(), "takeoff")
@@ -110,7 +160,10 @@ async def explore(url: str, world: FireWorld, policy_name: str, plot: Path | Non
         await command(link.action.set_current_speed(config.speed_m_s), "set speed")
         wall0 = time.monotonic()
         start_t_ms = survey.vehicle_t_ms
-        controller = SearchController(geometry, policy, config, survey.here(), np.random.default_rng(POLICY_SEED))
+        await first_wind(wind)
+        say(f"wind {wind.speed_m_s:.1f} m/s from {wind.from_deg % 360:.0f} deg (WIND)")
+        controller = SearchController(geometry, policy, config, survey.here(), np.random.default_rng(POLICY_SEED),
+                                      wind_ne_m_s=wind.air_velocity_ne())
         feed.check()
         survey.start(controller)
         declared = await fly_survey(link, survey, moved, feed)

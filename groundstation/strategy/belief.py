@@ -47,6 +47,11 @@ two set a wrong level under every hypothesis. With w = 0 both steps are the exac
 (the chain rule of the same Gaussian), up to a constant common to all hypotheses.
 The sums are then kept per hypothesis (the weights differ from one hypothesis to the next).
 
+Wind. A plume leans downwind: its hot spot is at q + h (wind / rise), rise the speed its gases
+rise at. The vehicle reports the wind (the WIND message) but nobody knows the rise, so each
+sub-position holds one hypothesis per rise speed in PLUME_RISE_M_S and the cell's evidence is the
+average over them too: the marginal over a lean known in direction, uncertain in size.
+
 The belief knows only what the strategy may know: the area, the cell size, the kernel, the plume
 sigma and the sensor noise (Geometry). It never sees the true fire, ambient or strength.
 Every update and query is vectorised: O(cells x subcells^2).
@@ -96,6 +101,22 @@ class Geometry:
 
 
 MIN_SIGMA_K = 0.01  # the belief needs a positive noise level even for a noiseless sensor
+# How fast a fire's hot gases may rise [m/s]: the plume leans by wind / rise metres per metre of
+# height, and the belief marginalises over these (a fire's rise speed is not known to the search).
+# From one survey height the lean and the fire's position along the wind cannot be told apart (the
+# readings only place the hot spot), so this prior's width is how far along the wind the fire stays
+# uncertain: 4-7.5 m/s puts it within about a cell either way in a 4 m/s wind at 30 m. Chosen on
+# the tuning episodes (seed 1); EVALUATION.md measures rise speeds outside it.
+PLUME_RISE_M_S = (4.0, 5.5, 7.5)
+CALM_M_S = 0.5  # below this wind the plume is taken as upright
+
+
+def plume_tilts(wind_ne_m_s: tuple, rise_m_s: tuple = PLUME_RISE_M_S) -> list[tuple[float, float]]:
+    """The plume leans the belief considers, as (north, east) metres per metre of height."""
+    wn, we = float(wind_ne_m_s[0]), float(wind_ne_m_s[1])
+    if math.hypot(wn, we) < CALM_M_S:
+        return [(0.0, 0.0)]
+    return [(wn / rise, we / rise) for rise in rise_m_s]
 
 
 def entropy_of_log_weights(logw: np.ndarray) -> np.ndarray:
@@ -116,12 +137,13 @@ class Belief:
 
     Cells are indexed (i, j): i along north, j along east; cell (i, j) has its centre at
     ((i + 0.5) c, (j + 0.5) c), c the cell size. Flat per-cell arrays use index i * cells_per_side + j;
-    hypothesis h belongs to cell h // subcells^2.
+    hypothesis h belongs to cell h // per_cell (subcells^2 sub-positions x plume tilts).
     """
 
     def __init__(self, geometry: Geometry, strength_mean_k: float = 50.0, strength_sd_k: float = 25.0,
                  sigma_k: float | None = None, subcells: int = 1, outlier_rate: float = 0.0,
-                 outlier_range_k: float = 100.0):
+                 outlier_range_k: float = 100.0, wind_ne_m_s: tuple = (0.0, 0.0),
+                 plume_rise_m_s: tuple = PLUME_RISE_M_S):
         if geometry.kernel not in KERNELS:
             raise ValueError(f"kernel must be one of {', '.join(KERNELS)}, got {geometry.kernel!r}")
         if not strength_sd_k > 0:
@@ -136,15 +158,23 @@ class Belief:
         self.size = geometry.cells_per_side
         self.cell_m = geometry.cell_size_m
         self.subcells = int(subcells)
-        self.per_cell = self.subcells ** 2
+        self.tilts = plume_tilts(wind_ne_m_s, plume_rise_m_s)  # (n, e) metres per metre of height
+        self.per_cell = self.subcells ** 2 * len(self.tilts)
         centres = (np.arange(self.size) + 0.5) * self.cell_m
         cn, ce = np.meshgrid(centres, centres, indexing="ij")
         self.centres_n = cn.ravel()
         self.centres_e = ce.ravel()
         offsets = ((np.arange(self.subcells) + 0.5) / self.subcells - 0.5) * self.cell_m
         on, oe = np.meshgrid(offsets, offsets, indexing="ij")
-        self.hyp_n = (self.centres_n[:, None] + on.ravel()).ravel()
-        self.hyp_e = (self.centres_e[:, None] + oe.ravel()).ravel()
+        # hypotheses: cell x sub-position x plume tilt, in that order (a cell's are contiguous)
+        per_cell_n = np.repeat(on.ravel(), len(self.tilts))
+        per_cell_e = np.repeat(oe.ravel(), len(self.tilts))
+        self.hyp_n = (self.centres_n[:, None] + per_cell_n).ravel()
+        self.hyp_e = (self.centres_e[:, None] + per_cell_e).ravel()
+        tilted = any(t != (0.0, 0.0) for t in self.tilts)
+        self.hyp_tilt = (np.tile([t[0] for t in self.tilts], self.centres_n.size * self.subcells ** 2),
+                         np.tile([t[1] for t in self.tilts], self.centres_n.size * self.subcells ** 2)) \
+            if tilted else None
         self.kernel = geometry.kernel
         self.plume_sigma_m = geometry.plume_sigma_m
         sigma = geometry.noise_k if sigma_k is None else sigma_k
@@ -176,6 +206,9 @@ class Belief:
         point, (K, H) for K points."""
         qn = self.hyp_n if hyps is None else self.hyp_n[hyps]
         qe = self.hyp_e if hyps is None else self.hyp_e[hyps]
+        if self.hyp_tilt is not None:  # the hot spot is downwind of the fire by tilt x height
+            tn, te = self.hyp_tilt if hyps is None else (self.hyp_tilt[0][hyps], self.hyp_tilt[1][hyps])
+            qn, qe = qn + height_m * tn, qe + height_m * te
         n = np.asarray(n, dtype=float)
         e = np.asarray(e, dtype=float)
         r2 = (n[..., None] - qn) ** 2 + (e[..., None] - qe) ** 2

@@ -76,14 +76,16 @@ class Goto:
 
 class SearchController:
     def __init__(self, geometry: Geometry, policy: Policy, config: SearchConfig, start,
-                 rng: np.random.Generator, timer: Callable[[], float] | None = None):
-        """`timer`, if given (a clock in seconds), times every decision of the policy."""
+                 rng: np.random.Generator, timer: Callable[[], float] | None = None,
+                 wind_ne_m_s: tuple = (0.0, 0.0)):
+        """`timer`, if given (a clock in seconds), times every decision of the policy;
+        `wind_ne_m_s`, the wind the vehicle reports (where the air goes, m/s): the plume leans with it."""
         self.geometry = geometry
         self.policy = policy
         self.config = config
         self.belief = Belief(geometry, config.prior_strength_mean_k, config.prior_strength_sd_k,
                              subcells=config.subcells, outlier_rate=config.outlier_rate,
-                             outlier_range_k=config.outlier_range_k)
+                             outlier_range_k=config.outlier_range_k, wind_ne_m_s=wind_ne_m_s)
         self.rule = StoppingRule(config.threshold, 1, config.confirm_m)
         self.timer = timer
         self.max_observations = int(4 * config.budget_m / config.observation_spacing_m) + 100

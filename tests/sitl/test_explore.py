@@ -145,3 +145,22 @@ async def test_guard_passes_the_flight_result_while_its_autopilot_runs(autopilot
     home = await autopilot.guard(home_of_the_vehicle())
     assert math.isclose(home.latitude_deg, -35.363261, abs_tol=1e-6)
     assert autopilot.process.poll() is None
+
+
+def test_explore_reads_the_wind_and_finds_the_fire_under_a_leaning_plume(autopilot_factory, tmp_path):
+    """The plume leans 20 m east at the survey height (4 m/s from the west, gases rising at 5 m/s):
+    the companion asks for WIND, says what it read, and declares the fire, not its hot spot."""
+    scenario = tmp_path / "windy.toml"
+    scenario.write_text(SMALL_WORLD.read_text().replace("[world]", "[wind]\nspeed_m_s = 4.0\n"
+                                                        "from_direction_deg = 270.0\n\n[world]\nplume_rise_m_s = 5.0"))
+    ap = autopilot_factory(speedup="20", extra=("--scenario", str(scenario)))
+    result = subprocess.run([sys.executable, "-m", "groundstation", "explore", "--url", ap.mavsdk_url,
+                             "--scenario", str(scenario), "--plot", str(tmp_path / "windy.png")],
+                            cwd=REPO, capture_output=True, text=True, timeout=240)
+    assert result.returncode == 0, result.stdout[-2000:] + result.stderr[-2000:]
+    wind = re.search(r"wind ([\d.]+) m/s from (\d+) deg \(WIND\)", result.stdout)
+    assert wind, result.stdout
+    assert abs(float(wind.group(1)) - 4.0) < 0.5 and abs(int(wind.group(2)) - 270) <= 5
+    declared = re.search(r"fire declared at N ([\d.]+) m E ([\d.]+) m", result.stdout)
+    n, e = float(declared.group(1)), float(declared.group(2))
+    assert abs(n - 135.0) <= 15.0 and abs(e - 72.0) <= 15.0, (n, e)  # the hot spot is at E 92

@@ -275,3 +275,16 @@ def test_default_scenario_file_matches_the_built_in_defaults():
     built_in = Scenario()
     assert from_file.world == built_in.world
     assert from_file.home == built_in.home
+
+
+def test_a_plume_rise_speed_leans_the_plume_with_the_wind():
+    sc = scenario_from_dict({"wind": {"speed_m_s": 4.0, "from_direction_deg": 270.0},
+                             "world": {"plume_rise_m_s": 5.0}})
+    assert sc.world.wind_tilt == pytest.approx(0.8) and sc.world.wind_to_deg == pytest.approx(90.0)
+    calm = scenario_from_dict({"world": {"plume_rise_m_s": 5.0}})
+    assert calm.world.wind_tilt == 0.0
+
+
+def test_a_plume_leaned_both_ways_is_refused():
+    with pytest.raises(ScenarioError, match="plume_rise_m_s leans the plume with \\[wind\\]"):
+        scenario_from_dict({"world": {"plume_rise_m_s": 5.0, "wind_tilt": 0.5}}, "sc")

@@ -15,6 +15,7 @@ from hypothesis import strategies as st
 from groundstation import cli
 from groundstation.evaluation.episodes import EpisodeConfig, run_episode
 from groundstation.strategy import Belief, Geometry, Planner, PlannerConfig, StoppingRule, make_policy
+from groundstation.strategy.belief import PLUME_RISE_M_S, plume_tilts
 from groundstation.strategy.controller import SearchConfig
 from groundstation.strategy.policies import POLICIES, lanes
 from sim.fire import Fire, FireWorld, true_temperature
@@ -127,6 +128,19 @@ def test_the_robust_belief_still_finds_the_fire_after_an_outlier_first():
     b = belief_from(w, readings, subcells=3, outlier_rate=0.02)
     assert b.best_block()[0] in {(11, 22), (11, 23), (12, 22), (12, 23), (13, 23), (12, 24)}
     assert b.best_block()[1] > 0.9
+
+
+def test_told_the_wind_the_belief_finds_the_fire_not_its_leaning_hot_spot():
+    w = dataclasses.replace(world("G", fire=(200.0, 150.0)), wind_tilt=0.8, wind_to_deg=90.0)  # 24 m east
+    readings = grid_readings(w, spacing=20.0)
+    unaware = belief_from(w, readings, subcells=3)
+    told = belief_from(w, readings, subcells=3, wind_ne_m_s=(0.0, 4.0))
+    (i, j), _ = unaware.best_block()
+    assert abs(i - 20) <= 1 and j in (17, 18)  # under the hot spot, 24 m east
+    (i, j), _ = told.best_block()
+    assert abs(i - 20) <= 1 and abs(j - 15) <= 1
+    assert plume_tilts((0.2, 0.1)) == [(0.0, 0.0)]  # calm: upright
+    assert len(plume_tilts((0.0, 4.0))) == len(PLUME_RISE_M_S)
 
 
 @pytest.mark.parametrize("count", [3, 6, 7, 30])
