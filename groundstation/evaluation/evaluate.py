@@ -127,6 +127,42 @@ def summarize(rows: list[dict]) -> dict:
     }
 
 
+T_975 = {k: v for k, v in ((1, 12.71), (2, 4.30), (3, 3.18), (4, 2.78), (5, 2.57), (10, 2.23), (20, 2.09),
+                            (30, 2.04), (60, 2.00), (120, 1.98))}  # Student's t, two-sided 95 %
+
+
+def t_975(dof: int) -> float:
+    """Student's t quantile for a two-sided 95 % interval (the nearest tabulated dof at or below)."""
+    if dof >= 120:
+        return 1.96
+    return T_975[max(k for k in T_975 if k <= max(dof, 1))]
+
+
+def paired_path_differences(results: dict[str, list[dict]], base: str) -> dict[str, dict]:
+    """Per other policy: the mean of (its path - base's path) over the same episodes, with a 95 %
+    confidence interval from the paired differences (Student's t): the episodes are the same worlds
+    for every policy, so pairing removes what the worlds have in common."""
+    by_episode = {r["episode"]: r["path_m"] for r in results[base]}
+    out = {}
+    for name, rows in results.items():
+        if name == base:
+            continue
+        diffs = np.array([r["path_m"] - by_episode[r["episode"]] for r in rows if r["episode"] in by_episode])
+        if diffs.size < 2:
+            continue
+        mean, sd = float(diffs.mean()), float(diffs.std(ddof=1))
+        half = t_975(diffs.size - 1) * sd / math.sqrt(diffs.size)
+        out[name] = {"episodes": int(diffs.size), "mean_m": mean, "ci95_low_m": mean - half, "ci95_high_m": mean + half}
+    return out
+
+
+def differences_table(diffs: dict[str, dict], base: str) -> str:
+    lines = [f"path minus {base}'s on the same episodes, mean [95 % CI]:"]
+    for name, d in diffs.items():
+        lines.append(f"  {name:<10} {d['mean_m']:>+8.0f} m  [{d['ci95_low_m']:+.0f}, {d['ci95_high_m']:+.0f}]")
+    return "\n".join(lines)
+
+
 def table(summary: dict[str, dict]) -> str:
     head = (f"{'policy':<10} {'success':>7} {'mean m':>8} {'median m':>8} {'p90 m':>8} {'err m':>6} "
             f"{'false':>5} {'forced':>6} {'ms/dec':>7} {'max ms':>7}")
@@ -185,6 +221,9 @@ def evaluate(args) -> int:
              f"{args.episodes} episodes, seed {seed}")
     print(title)
     print(table(summary))
+    diffs = paired_path_differences(results, policies[0]) if len(policies) > 1 else {}
+    if diffs:
+        print(differences_table(diffs, policies[0]))
     confirm = "off" if config.confirm_m is None else f"within {config.confirm_m:g} m"
     print(f"({time.monotonic() - t0:.0f} s, {jobs} job{'s' if jobs > 1 else ''}; declare at 3x3 mass >= "
           f"{config.threshold:g}, confirmation {confirm}, budget {config.budget_m:g} m; success = declared cell "
@@ -194,7 +233,8 @@ def evaluate(args) -> int:
         args.json.parent.mkdir(parents=True, exist_ok=True)
         payload = {"scenario": str(args.scenario), "seed": seed, "episodes": args.episodes, "start": args.start,
                    "kernel": world.kernel, "noise_k": world.noise_k, "config": dataclasses.asdict(config),
-                   "jobs": jobs, "cpus": os.cpu_count(), "summary": summary, "results": results}
+                   "jobs": jobs, "cpus": os.cpu_count(), "summary": summary,
+                   "paired_path_differences": {"base": policies[0], "policies": diffs}, "results": results}
         if flights is not None:
             payload["flights"] = flights
         args.json.write_text(json.dumps(payload, indent=1))

@@ -369,3 +369,16 @@ def test_a_flown_episode_scenario_file_keeps_the_scenario_and_loads_back_as_the_
         assert loaded.home == original.home and loaded.home_yaw_deg == original.home_yaw_deg
         assert loaded.sim.wind == original.sim.wind and loaded.sim.airframe == original.sim.airframe
         assert loaded.script == []  # the companion flies it
+
+
+def test_paired_path_differences_pair_by_episode_and_bound_the_mean():
+    from groundstation.evaluation.evaluate import paired_path_differences
+    rng = np.random.default_rng(4)
+    worlds = rng.uniform(300, 900, 50)  # what the episodes' worlds cost every policy alike
+    results = {"gig": [{"episode": k, "path_m": float(w)} for k, w in enumerate(worlds)],
+               "other": [{"episode": k, "path_m": float(w + 40 + rng.normal(0, 10))}
+                         for k, w in reversed(list(enumerate(worlds)))]}
+    d = paired_path_differences(results, "gig")["other"]
+    assert d["episodes"] == 50
+    assert d["ci95_low_m"] < 40 < d["ci95_high_m"]
+    assert d["ci95_high_m"] - d["ci95_low_m"] < 10  # paired: the worlds' spread (600 m) cancels
