@@ -322,6 +322,11 @@ def test_evaluate_writes_table_json_and_plot(tmp_path, capsys):
     data = json.loads(out.read_text())
     assert len(data["results"]["gig"]) == 2 and data["summary"]["gig"]["episodes"] == 2
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert "path minus gig's" in text and set(data["paired_path_differences"]["policies"]) == {"greedy"}
+    from groundstation.evaluation import report
+    assert report.main([str(out)]) == 0
+    tables = capsys.readouterr().out
+    assert "| gig | " in tables and "| greedy | " in tables and "95 % CI" in tables
 
 
 @pytest.mark.parametrize("argv,needle", [
@@ -333,6 +338,7 @@ def test_evaluate_writes_table_json_and_plot(tmp_path, capsys):
     (["evaluate", "--scenario", str(DEFAULT_SCENARIO), "--flight", "1", "--start", "centre"], "--start corner"),
     (["evaluate", "--scenario", str(DEFAULT_SCENARIO), "--episodes", "2", "--flight", "3"], "at most --episodes"),
     (["evaluate", "--flight-speedup", "0"], "--flight-speedup"),
+    (["evaluate", "--outlier-rate", "1"], "--outlier-rate"),
 ])
 def test_evaluate_errors_are_one_line_exit_2(argv, needle, capsys):
     assert cli.main(argv) == 2
