@@ -428,7 +428,8 @@ class Belief:
         return mean, var
 
     def entropy_after(self, n, e, z, height_m: float | None = None, cells: np.ndarray | None = None,
-                      mean: np.ndarray | None = None, var: np.ndarray | None = None) -> np.ndarray:
+                      mean: np.ndarray | None = None, var: np.ndarray | None = None,
+                      logp: np.ndarray | None = None) -> np.ndarray:
         """Posterior entropy over cells after hypothetical reading(s) z at point(s) (n, e); the belief
         is unchanged.
 
@@ -439,7 +440,8 @@ class Belief:
         to skip negligible mass. `mean`/`var` may be passed when already computed by predictive()."""
         if mean is None or var is None:
             mean, var = self.predictive(n, e, height_m, cells)
-        logp = self.log_p if cells is None else self.log_p[cells]
+        if logp is None:  # (given: the cells stand for pooled blocks of that mass)
+            logp = self.log_p if cells is None else self.log_p[cells]
         z = np.asarray(z, dtype=float)
         base = logp - 0.5 * np.log(var)  # (..., C)
         inv2v = 0.5 / var

@@ -49,7 +49,8 @@ from .belief import Belief, Geometry
 
 @dataclass(frozen=True)
 class PlannerConfig:
-    lattice_m: float = 40.0               # spacing of the coarse lattice of candidates
+    lattice_m: float = 40.0               # spacing of the coarse lattice of candidates ...
+    lattice_max: int = 10                 # ... widened so that no more than this many lie along a side
     radii_m: tuple = (10.0, 25.0, 50.0)   # rings of candidates around the vehicle
     directions: int = 8                   # candidates per ring
     samples: int = 8                      # predicted readings per candidate
@@ -60,6 +61,7 @@ class PlannerConfig:
     include_most_likely: bool = True
     keep_target: float = 1.3              # keep the previous waypoint unless the best scores this much more
     block_elements: int = 12000           # candidates x samples x cells per vectorised block
+    max_cells: int = 1600                 # more cells in the support are pooled into blocks (see coarse_support)
 
 
 class Planner:
@@ -69,7 +71,7 @@ class Planner:
         self.config = config
         self.rng = rng if rng is not None else np.random.default_rng(0)
         area = geometry.area_m
-        k = max(1, int(round(area / config.lattice_m)))
+        k = min(max(1, int(round(area / config.lattice_m))), config.lattice_max)
         ticks = (np.arange(k) + 0.5) * (area / k)
         ln, le = np.meshgrid(ticks, ticks, indexing="ij")
         self.lattice = np.column_stack([ln.ravel(), le.ravel()])
@@ -105,6 +107,10 @@ class Planner:
             return np.zeros(len(points))  # one reading alone says nothing under a flat ambient prior
         cells = belief.support(self.config.support_mass)
         p = belief.p[cells]
+        logp = None  # the belief's own, per cell
+        if len(cells) > self.config.max_cells:
+            cells, p = coarse_support(belief, cells, self.config.max_cells)
+            logp = np.log(np.maximum(p, 1e-300))
         p = p / p.sum()
         h_now = float(-(p * np.log(np.maximum(p, 1e-300))).sum())
         m = self.config.samples
@@ -119,7 +125,7 @@ class Planner:
             draw, weight = self._draws(p, mean, u)
             rows = np.arange(len(blk))[:, None]
             z = mean[rows, draw] + np.sqrt(var[rows, draw]) * xi  # (B, M) predicted readings
-            h_after = belief.entropy_after(blk[:, 0], blk[:, 1], z, None, cells, mean, var)
+            h_after = belief.entropy_after(blk[:, 0], blk[:, 1], z, None, cells, mean, var, logp)
             out[k0:k0 + step] = h_now - (weight * h_after).sum(axis=1) / weight.sum(axis=1)
         return np.maximum(out, 0.0)
 
@@ -177,3 +183,23 @@ class Planner:
                 k = int(same[0])
         self.target = pts[k].copy()
         return float(pts[k, 0]), float(pts[k, 1])
+
+
+def coarse_support(belief: Belief, cells: np.ndarray, max_cells: int) -> tuple[np.ndarray, np.ndarray]:
+    """The support pooled into f x f blocks of cells (f the smallest that leaves at most max_cells
+    blocks): per block its likeliest cell, standing for the block, and the block's mass. A belief
+    spread over a large area (the start of a search on an 800 m world: 6,400 cells) is then
+    planned on as a coarser grid, which is all its spread can tell apart; once it has narrowed to
+    max_cells cells the planner sees every cell again."""
+    size = belief.size
+    f = 2
+    while (math.ceil(size / f)) ** 2 > max_cells and f < size:
+        f += 1
+    i, j = np.divmod(cells, size)
+    block = (i // f) * math.ceil(size / f) + (j // f)
+    p = belief.p[cells]
+    order = np.lexsort((-p, block))  # by block, likeliest first within each
+    block_sorted = block[order]
+    first = np.flatnonzero(np.r_[True, block_sorted[1:] != block_sorted[:-1]])
+    mass = np.add.reduceat(p[order], first)
+    return cells[order[first]], mass

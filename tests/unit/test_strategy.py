@@ -388,3 +388,19 @@ def test_paired_path_differences_pair_by_episode_and_bound_the_mean():
     assert d["episodes"] == 50
     assert d["ci95_low_m"] < 40 < d["ci95_high_m"]
     assert d["ci95_high_m"] - d["ci95_low_m"] < 10  # paired: the worlds' spread (600 m) cancels
+
+
+def test_a_spread_belief_is_planned_on_pooled_blocks_that_keep_its_mass():
+    from groundstation.strategy.planner import coarse_support
+    w = FireWorld(fires=(Fire(590.0, 450.0, 50.0),), area_m=800.0)
+    b = belief_from(w, [(5.0, 5.0 + 5 * k, 22.0) for k in range(8)], subcells=1)
+    cells = b.support()
+    assert len(cells) == 6400
+    reps, mass = coarse_support(b, cells, 1600)
+    assert len(reps) <= 1600 and mass.sum() == pytest.approx(b.p[cells].sum())
+    # each block is stood for by its likeliest cell
+    assert np.all(b.p[reps] * 4 >= mass - 1e-12)
+    planner = Planner(Geometry.from_world(w), PlannerConfig(), np.random.default_rng(0))
+    assert len(planner.lattice) == 100  # the lattice widens to 80 m rather than growing
+    n, e = planner.choose(b, (5.0, 40.0))
+    assert 0 <= n <= 800 and 0 <= e <= 800
