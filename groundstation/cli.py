@@ -64,6 +64,8 @@ def build_parser() -> argparse.ArgumentParser:
     ev.add_argument("--subcells", type=count, default=3, help="sub-positions per cell side in the belief (default 3)")
     ev.add_argument("--outlier-rate", type=share, default=0.02,
                     help="the belief's prior share of wild readings (default 0.02; 0 = the plain Gaussian model)")
+    ev.add_argument("--fires", type=count, default=1,
+                    help="fires drawn per episode (default 1); found fires are counted per fire")
     ev.add_argument("--ignore-wind", action="store_true",
                     help="do not tell the search the scenario's wind (as if the vehicle reported none)")
     ev.add_argument("--budget", type=positive, default=6000.0, help="path budget [m] before a forced declaration")

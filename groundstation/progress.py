@@ -15,9 +15,9 @@ REDRAW_S = 0.1
 
 
 class Progress:
-    def __init__(self, total: int, stream=sys.stderr):
+    def __init__(self, total: int, stream=None):
         self.total = max(1, total)
-        self.stream = stream
+        self.stream = sys.stderr if stream is None else stream  # the stderr of now, not of import time
         self.tty = hasattr(stream, "isatty") and stream.isatty()
         self._milestone = object()  # differs from any milestone a caller passes
         self._drawn_at = -math.inf

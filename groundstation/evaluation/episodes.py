@@ -42,11 +42,14 @@ class EpisodeConfig(SearchConfig):
     strength_k: tuple = (20.0, 80.0)
     ambient_c: tuple = (15.0, 35.0)
     wind_ne_m_s: tuple = (0.0, 0.0)  # the wind the search is told (the WIND message's, as (n, e) m/s)
+    fires: int = 1                   # fires drawn per episode (each uniform, strength uniform)
 
     def __post_init__(self):
         super().__post_init__()
         if self.start not in STARTS:
             raise ValueError(f"start must be one of {', '.join(STARTS)}, got {self.start!r}")
+        if int(self.fires) != self.fires or self.fires < 1:
+            raise ValueError(f"fires must be a positive whole number, got {self.fires!r}")
 
 
 @dataclass
@@ -63,6 +66,7 @@ class EpisodeResult:
     declared_cell: tuple   # (i_north, j_east)
     error_m: float         # declared cell centre to the nearest fire
     success: bool          # declared cell within one cell (Chebyshev) of a fire's cell
+    fires_found: int       # fires with a declared cell within one cell of theirs (the search declares one)
     declared_by: str       # "confident", "budget" or "end" (the policy had nothing more to do)
     forced: bool           # declared without the belief being confident
     false_declaration: bool  # a confident declaration that is wrong
@@ -91,7 +95,20 @@ def episode_world(world: FireWorld, seed: int, index: int, config: EpisodeConfig
     n, e = rng.uniform(lo, hi, size=2)
     strength = rng.uniform(*config.strength_k)
     ambient = rng.uniform(*config.ambient_c)
-    return dataclasses.replace(world, fires=(Fire(float(n), float(e), float(strength)),), ambient_c=float(ambient))
+    fires = [Fire(float(n), float(e), float(strength))]
+    for _ in range(config.fires - 1):  # drawn after the first fire's, so one-fire episodes are unchanged
+        n, e = rng.uniform(lo, hi, size=2)
+        fires.append(Fire(float(n), float(e), float(rng.uniform(*config.strength_k))))
+    return dataclasses.replace(world, fires=tuple(fires), ambient_c=float(ambient))
+
+
+def fires_found(world: FireWorld, declared: list[tuple[float, float]]) -> int:
+    """How many of the world's fires have a declared point whose cell is within one cell of theirs
+    (a point between two fires, more than a cell from each, finds neither)."""
+    geometry = Geometry.from_world(world)
+    cells = [geometry.cell_of(n, e) for n, e in declared]
+    return sum(any(max(abs(c[0] - i), abs(c[1] - j)) <= 1 for c in cells)
+               for i, j in (geometry.cell_of(f.n_m, f.e_m) for f in world.fires))
 
 
 def judge(world: FireWorld, n: float, e: float) -> tuple[float, bool]:
@@ -159,7 +176,7 @@ def run_episode(world: FireWorld, seed: int, index: int, policy: Policy,
         policy=policy.name, episode=index, seed=seed, kernel=ep_world.kernel, start=config.start,
         fires=[(f.n_m, f.e_m, f.strength_k) for f in ep_world.fires], ambient_c=ep_world.ambient_c,
         path_m=path, declared=move.position, declared_cell=move.index, error_m=error,
-        success=bool(success), declared_by=move.reason, forced=move.forced,
+        success=bool(success), fires_found=fires_found(ep_world, [move.position]), declared_by=move.reason, forced=move.forced,
         false_declaration=bool(move.reason == "confident" and not success),
         mass=move.mass, readings=readings, decisions=controller.decisions,
         ms_mean=float(np.mean(ms)) if ms else 0.0, ms_max=float(np.max(ms)) if ms else 0.0)

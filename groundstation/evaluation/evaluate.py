@@ -116,6 +116,8 @@ def summarize(rows: list[dict]) -> dict:
     return {
         "episodes": len(rows),
         "success_rate": len(ok) / len(rows) if rows else math.nan,
+        "fires_found_rate": (sum(r.get("fires_found", 0) for r in rows) / sum(len(r["fires"]) for r in rows)
+                             if rows else math.nan),
         "path_mean_m": float(paths.mean()) if rows else math.nan,
         "path_median_m": float(np.median(paths)) if rows else math.nan,
         "path_p90_m": float(np.percentile(paths, 90)) if rows else math.nan,
@@ -164,11 +166,12 @@ def differences_table(diffs: dict[str, dict], base: str) -> str:
 
 
 def table(summary: dict[str, dict]) -> str:
-    head = (f"{'policy':<10} {'success':>7} {'mean m':>8} {'median m':>8} {'p90 m':>8} {'err m':>6} "
+    head = (f"{'policy':<10} {'success':>7} {'found':>6} {'mean m':>8} {'median m':>8} {'p90 m':>8} {'err m':>6} "
             f"{'false':>5} {'forced':>6} {'ms/dec':>7} {'max ms':>7}")
     lines = [head, "-" * len(head)]
     for name, s in summary.items():
-        lines.append(f"{name:<10} {s['success_rate']:>7.3f} {s['path_mean_m']:>8.0f} {s['path_median_m']:>8.0f} "
+        lines.append(f"{name:<10} {s['success_rate']:>7.3f} {s['fires_found_rate']:>6.3f} {s['path_mean_m']:>8.0f} "
+                     f"{s['path_median_m']:>8.0f} "
                      f"{s['path_p90_m']:>8.0f} {s['error_mean_m']:>6.1f} {s['false_declarations']:>5d} "
                      f"{s['forced_declarations']:>6d} {s['ms_per_decision_mean']:>7.2f} "
                      f"{s['ms_per_decision_max']:>7.1f}")
@@ -210,7 +213,8 @@ def evaluate(args) -> int:
     config = EpisodeConfig(start=args.start, threshold=args.threshold, budget_m=args.budget,
                            fixed_fire=args.fixed_fire, speed_m_s=args.speed, subcells=args.subcells,
                            confirm_m=None if args.no_confirm else args.confirm, outlier_rate=args.outlier_rate,
-                           wind_ne_m_s=(0.0, 0.0) if args.ignore_wind else scenario.sim.wind.velocity_ned()[:2])
+                           wind_ne_m_s=(0.0, 0.0) if args.ignore_wind else scenario.sim.wind.velocity_ned()[:2],
+                           fires=args.fires)
     jobs = args.jobs or 1
     progress = EpisodeProgress(len(policies) * args.episodes)
     t0 = time.monotonic()
@@ -218,7 +222,7 @@ def evaluate(args) -> int:
     progress.close()
     summary = {name: summarize(rows) for name, rows in results.items()}
     title = (f"{args.scenario.name}: kernel {world.kernel}, noise {world.noise_k:g} K, {args.start} start, "
-             f"{args.episodes} episodes, seed {seed}")
+             f"{args.episodes} episodes, seed {seed}" + (f", {args.fires} fires each" if args.fires > 1 else ""))
     print(title)
     print(table(summary))
     diffs = paired_path_differences(results, policies[0]) if len(policies) > 1 else {}

@@ -12,10 +12,13 @@ from pathlib import Path
 
 
 def summary_table(doc: dict) -> list[str]:
-    lines = ["| policy | success | mean path m | median m | p90 m | mean error m | false | forced | ms/decision (mean) |",
-             "|---|---|---|---|---|---|---|---|---|"]
+    several = any(r.get("fires") and len(r["fires"]) > 1 for rows in doc.get("results", {}).values() for r in rows)
+    lines = ["| policy | success |" + (" fires found |" if several else "") +
+             " mean path m | median m | p90 m | mean error m | false | forced | ms/decision (mean) |",
+             "|---|---|" + ("---|" if several else "") + "---|---|---|---|---|---|---|"]
     for name, s in doc["summary"].items():
-        lines.append(f"| {name} | {s['success_rate']:.3f} | {s['path_mean_m']:.0f} | {s['path_median_m']:.0f} | "
+        found = f" {s['fires_found_rate']:.3f} |" if several else ""
+        lines.append(f"| {name} | {s['success_rate']:.3f} |{found} {s['path_mean_m']:.0f} | {s['path_median_m']:.0f} | "
                      f"{s['path_p90_m']:.0f} | {s['error_mean_m']:.1f} | {s['false_declarations']} | "
                      f"{s['forced_declarations']} | {s['ms_per_decision_mean']:.1f} |")
     return lines

@@ -404,3 +404,27 @@ def test_a_spread_belief_is_planned_on_pooled_blocks_that_keep_its_mass():
     assert len(planner.lattice) == 100  # the lattice widens to 80 m rather than growing
     n, e = planner.choose(b, (5.0, 40.0))
     assert 0 <= n <= 800 and 0 <= e <= 800
+
+
+def test_episodes_with_several_fires_keep_the_first_and_count_fires_found():
+    from groundstation.evaluation.episodes import episode_world, fires_found
+    base = FireWorld()
+    one = episode_world(base, 2, 5, EpisodeConfig())
+    two = episode_world(base, 2, 5, EpisodeConfig(fires=2))
+    assert len(two.fires) == 2 and two.fires[0] == one.fires[0] and two.ambient_c == one.ambient_c
+    pair = dataclasses.replace(base, fires=(Fire(100.0, 100.0), Fire(100.0, 140.0)))
+    assert fires_found(pair, [(100.0, 120.0)]) == 0  # halfway between: neither
+    assert fires_found(pair, [(102.0, 98.0)]) == 1
+    assert fires_found(pair, [(102.0, 98.0), (100.0, 141.0)]) == 2
+    with pytest.raises(ValueError, match="fires must be a positive whole number"):
+        EpisodeConfig(fires=0)
+
+
+def test_evaluate_draws_several_fires_and_reports_fires_found(tmp_path, capsys):
+    out = tmp_path / "two.json"
+    assert cli.main(["evaluate", "--scenario", str(DEFAULT_SCENARIO), "--episodes", "2", "--policies", "greedy",
+                     "--fires", "2", "--json", str(out)]) == 0
+    assert "2 fires each" in capsys.readouterr().out
+    data = json.loads(out.read_text())
+    assert all(len(r["fires"]) == 2 and 0 <= r["fires_found"] <= 1 for r in data["results"]["greedy"])
+    assert 0 <= data["summary"]["greedy"]["fires_found_rate"] <= 0.5
