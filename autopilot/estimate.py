@@ -103,5 +103,10 @@ class StateEstimate:
         return self.sim.wind_ned
 
     @property
+    def true_body(self):
+        """The simulator's own state, not the estimate (for SIMSTATE, which reports exactly that)."""
+        return self.sim.state.body
+
+    @property
     def motor_speeds_rad_s(self) -> tuple:
         return self.sim.state.omega_rad_s

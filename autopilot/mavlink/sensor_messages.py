@@ -83,7 +83,7 @@ def ahrs2(v, codec):
 
 def simstate(v, codec):
     """The simulator's truth (not the estimate): attitude, accelerations [m/s^2], rates, place."""
-    body = v.sim.state.body
+    body = v.estimate.true_body
     roll, pitch, yaw = euler_from_quaternion(body.qw, body.qx, body.qy, body.qz)
     ax, ay, az = v.estimate.accel_body
     true_pos = v.ned_to_global(body.n_m, body.e_m, body.d_m)
