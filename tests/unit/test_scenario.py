@@ -288,3 +288,9 @@ def test_a_plume_rise_speed_leans_the_plume_with_the_wind():
 def test_a_plume_leaned_both_ways_is_refused():
     with pytest.raises(ScenarioError, match="plume_rise_m_s leans the plume with \\[wind\\]"):
         scenario_from_dict({"world": {"plume_rise_m_s": 5.0, "wind_tilt": 0.5}}, "sc")
+
+
+@pytest.mark.parametrize("path", sorted((Path(__file__).parents[2] / "scenarios").glob("*.toml")), ids=lambda p: p.name)
+def test_every_shipped_scenario_loads(path):
+    sc = load_scenario(path)  # the autopilot's reading, which includes the world's
+    sc.world.validate()
