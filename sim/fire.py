@@ -74,7 +74,7 @@ class FireWorld:
 def kernel_value(kernel: str, r2, h: float, sigma: float):
     """g(r) for squared horizontal distance(s) r2 (float or numpy array)."""
     if kernel == "R":
-        h2 = max(h, 0.5) ** 2
+        h2 = np.maximum(h, 0.5) ** 2  # (h may be an array too, one height per r2)
         return h2 / (h2 + r2)
     return np.exp(-r2 / (2.0 * sigma * sigma)) if isinstance(r2, np.ndarray) else math.exp(-r2 / (2.0 * sigma * sigma))
 

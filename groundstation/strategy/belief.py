@@ -52,12 +52,19 @@ rise at. The vehicle reports the wind (the WIND message) but nobody knows the ri
 sub-position holds one hypothesis per rise speed in PLUME_RISE_M_S and the cell's evidence is the
 average over them too: the marginal over a lean known in direction, uncertain in size.
 
+Several fires. Fires found earlier can be `known`: their kernels, and the kernels' slopes along
+north and east (a hot spot is placed only to a few metres), join the ambient as nuisances with
+flat priors, projected out per hypothesis like the ambient; cells within EXCLUDED_CELLS of a known
+fire get no prior mass. With null_prior > 0 one more hypothesis, kernel zero everywhere, says there
+is no further fire; p_fire is the probability there is one (docs/strategy.md, "Several fires").
+
 The belief knows only what the strategy may know: the area, the cell size, the kernel, the plume
 sigma and the sensor noise (Geometry). It never sees the true fire, ambient or strength.
 Every update and query is vectorised: O(cells x subcells^2).
 """
 from __future__ import annotations
 
+import dataclasses
 import itertools
 import math
 from dataclasses import dataclass
@@ -130,6 +137,134 @@ def entropy_of_log_weights(logw: np.ndarray) -> np.ndarray:
 
 BURN_IN = 6  # readings whose evidence is marginalised exactly over their outliers before filtering starts
 BURN_IN_OUTLIERS = 2  # ... counting the cases of up to this many outliers among them
+RIDGE = 1e-9  # keeps the known fires' normal equations invertible before the readings pin their strengths
+EXCLUDED_LOG_PRIOR = -1e4  # a cell next to a known fire: no prior mass (finite, so 0 x log 0 stays 0)
+KNOWN_SHIFT_M = 2.0  # the step of a known fire's slopes (a central difference over 2 x this)
+EXCLUDED_CELLS = 2  # ... within this many cells (Chebyshev) of the known fire's
+
+
+def symmetric_inverse(a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Inverses and determinants of a stack of symmetric positive definite matrices (H, m, m): in
+    closed form for m = 3 (one known fire: a batched LAPACK call costs ten times more), else LAPACK."""
+    if a.shape[-1] != 3:
+        return np.linalg.inv(a), np.linalg.det(a)
+    a00, a01, a02, a11, a12, a22 = a[:, 0, 0], a[:, 0, 1], a[:, 0, 2], a[:, 1, 1], a[:, 1, 2], a[:, 2, 2]
+    c00 = a11 * a22 - a12 * a12
+    c01 = a02 * a12 - a01 * a22
+    c02 = a01 * a12 - a02 * a11
+    c11 = a00 * a22 - a02 * a02
+    c12 = a01 * a02 - a00 * a12
+    c22 = a00 * a11 - a01 * a01
+    det = a00 * c00 + a01 * c01 + a02 * c02
+    inv = np.stack([c00, c01, c02, c01, c11, c12, c02, c12, c22], axis=-1).reshape(a.shape) / det[:, None, None]
+    return inv, det
+
+
+class Sums:
+    """The weighted sums of the readings, per hypothesis, that the evidence needs: with u = (1, k),
+    k the known fires' kernels at the reading (the nuisance regressors), and g the hypothesis's,
+    w = sum 1, z, zz, g, gg, gz, and for the known fires k, kk, kg, kz."""
+    FIELDS = ("w", "z", "zz", "g", "gg", "gz", "k", "kk", "kg", "kz")
+
+    def __init__(self, hyps: int, known: int):
+        self.fields = self.FIELDS if known else self.FIELDS[:6]  # the known fires' terms only with some
+        for name in self.FIELDS[:6]:
+            setattr(self, name, np.zeros(hyps))
+        self.k, self.kg, self.kz = (np.zeros((hyps, known)) for _ in range(3))
+        self.kk = np.zeros((hyps, known, known))
+
+    @staticmethod
+    def parts(g: np.ndarray, k: np.ndarray, y: float) -> tuple:
+        """One reading's terms, in FIELDS order (g per hypothesis, k per known fire)."""
+        if not k.size:
+            return (1.0, y, y * y, g, g * g, g * y)
+        return (1.0, y, y * y, g, g * g, g * y, k, np.outer(k, k), g[:, None] * k, k * y)
+
+    def add(self, parts: tuple, weight) -> None:
+        """Add a reading's terms with a weight (a number, or one per hypothesis)."""
+        if np.ndim(weight) == 0:
+            for name, part in zip(self.fields, parts):
+                arr = getattr(self, name)
+                arr += part if weight == 1.0 else weight * part
+            return
+        for name, part in zip(self.fields, parts):
+            arr = getattr(self, name)
+            arr += weight.reshape(weight.shape + (1,) * (arr.ndim - 1)) * part
+
+    def without(self, readings: list[tuple]) -> tuple:
+        """The sums (in FIELDS order) with these readings' terms taken out."""
+        out = list(self.as_tuple())
+        for parts in readings:
+            for i, p in enumerate(parts):
+                out[i] = out[i] - p
+        return tuple(out)
+
+    def as_tuple(self) -> tuple:
+        return tuple(getattr(self, name) for name in self.fields)
+
+
+@dataclass
+class Fit:
+    """Per hypothesis, the readings' fit with the nuisances (the ambient and the known fires'
+    strengths, flat priors) projected out: what the evidence and the prediction of a reading need."""
+    w: np.ndarray       # total weight of the readings
+    g_bar: np.ndarray   # weighted means of g and z
+    z_bar: np.ndarray
+    k_bar: np.ndarray   # (H, m) weighted means of the known fires' kernels (None without known fires)
+    kk_inv: np.ndarray  # (H, m, m) inverse of their centred Gram matrix (None ...)
+    a_g: np.ndarray     # (H, m) regression of g on the centred k (None ...)
+    a_z: np.ndarray     # (H, m) regression of z on the centred k (None ...)
+    gg: np.ndarray      # residual sums after projecting out (1, k): g.g, g.z, z.z
+    gz: np.ndarray
+    zz: np.ndarray
+    logdet: np.ndarray  # log det of the nuisances' Gram matrix
+
+    @classmethod
+    def of(cls, w, z, zz, g, gg, gz, k=None, kk=None, kg=None, kz=None, evidence: bool = True) -> "Fit":
+        """The fit of sums in Sums.FIELDS order (without the known fires' when there are none);
+        evidence=False leaves out zz and logdet, which only the evidence needs (then None)."""
+        g_bar, z_bar = g / w, z / w
+        gg_c = np.maximum(gg - g * g_bar, 0.0)
+        gz_c = gz - g_bar * z
+        zz_c = np.maximum(zz - z * z_bar, 0.0) if evidence else None
+        logdet = np.log(w) if evidence else None
+        k_bar = None
+        if k is not None:
+            m = k.shape[-1]
+            k_bar = k / w[:, None]
+            kk_c = kk - k_bar[:, :, None] * k[:, None, :] + RIDGE * np.eye(m)
+            kg_c = kg - k_bar * g[:, None]
+            kz_c = kz - k_bar * z[:, None]
+            kk_inv, det = symmetric_inverse(kk_c)
+            a_g = np.einsum("hij,hj->hi", kk_inv, kg_c)
+            a_z = np.einsum("hij,hj->hi", kk_inv, kz_c)
+            gg_c = np.maximum(gg_c - (kg_c * a_g).sum(1), 0.0)
+            gz_c = gz_c - (kg_c * a_z).sum(1)
+            if evidence:
+                zz_c = np.maximum(zz_c - (kz_c * a_z).sum(1), 0.0)
+                logdet = logdet + np.log(det)
+        else:
+            kk_inv = a_g = a_z = None
+        return cls(w, g_bar, z_bar, k_bar, kk_inv, a_g, a_z, gg_c, gz_c, zz_c, logdet)
+
+    def take(self, hyps: np.ndarray) -> "Fit":
+        values = (getattr(self, f.name) for f in dataclasses.fields(self))
+        return Fit(*(None if v is None else v[hyps] for v in values))
+
+    def strength(self, mu_a: float, sa2: float, s2: float) -> tuple[np.ndarray, np.ndarray]:
+        """The fire strength's posterior precision P and mean h / P (prior N(mu_a, sa2)), as (P, h)."""
+        return 1.0 / sa2 + self.gg / s2, mu_a / sa2 + self.gz / s2
+
+    def at(self, g: np.ndarray, k: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """For a new reading with kernels g (..., H) and k (..., m): the nuisances' fit of z there,
+        g's residual after the same projection, and the reading's leverage x^T (U^T U)^-1 x."""
+        if self.a_g is None:
+            return self.z_bar, g - self.g_bar, 1.0 / self.w
+        dk = k[..., None, :] - self.k_bar  # (..., H, m)
+        fit_z = self.z_bar + (dk * self.a_z).sum(-1)
+        dg = g - self.g_bar - (dk * self.a_g).sum(-1)
+        leverage = 1.0 / self.w + np.einsum("...hi,hij,...hj->...h", dk, self.kk_inv, dk)
+        return fit_z, dg, leverage
 
 
 class Belief:
@@ -138,12 +273,19 @@ class Belief:
     Cells are indexed (i, j): i along north, j along east; cell (i, j) has its centre at
     ((i + 0.5) c, (j + 0.5) c), c the cell size. Flat per-cell arrays use index i * cells_per_side + j;
     hypothesis h belongs to cell h // per_cell (subcells^2 sub-positions x plume tilts).
+
+    Several fires (docs/strategy.md, "Several fires"): `known` fires, as hot spots (n, e, tilt_n,
+    tilt_e) found earlier, join the ambient as nuisances with flat priors on their strengths, so the
+    belief is over one more fire with those explained away; cells within one cell of a known fire
+    hold no prior mass (a fire there is the known one). With null_prior > 0 one more hypothesis says
+    there is no further fire (its kernel is zero everywhere): p_fire is then the probability that
+    there is one, and p the distribution of where, given that there is.
     """
 
     def __init__(self, geometry: Geometry, strength_mean_k: float = 50.0, strength_sd_k: float = 25.0,
                  sigma_k: float | None = None, subcells: int = 1, outlier_rate: float = 0.0,
                  outlier_range_k: float = 100.0, wind_ne_m_s: tuple = (0.0, 0.0),
-                 plume_rise_m_s: tuple = PLUME_RISE_M_S):
+                 plume_rise_m_s: tuple = PLUME_RISE_M_S, known: tuple = (), null_prior: float = 0.0):
         if geometry.kernel not in KERNELS:
             raise ValueError(f"kernel must be one of {', '.join(KERNELS)}, got {geometry.kernel!r}")
         if not strength_sd_k > 0:
@@ -154,6 +296,8 @@ class Belief:
             raise ValueError("outlier_rate must be within 0..1 (1 excluded)")
         if not outlier_range_k > 0:
             raise ValueError("outlier_range_k must be positive")
+        if not 0.0 <= null_prior < 1.0:
+            raise ValueError("null_prior must be within 0..1 (1 excluded)")
         self.geometry = geometry
         self.size = geometry.cells_per_side
         self.cell_m = geometry.cell_size_m
@@ -185,25 +329,29 @@ class Belief:
         # log of an outlier's density, and of a reading's prior odds of being one
         self._log_outlier = (math.log(self.outlier_rate) - math.log(outlier_range_k)) if outlier_rate > 0 else -math.inf
         self._log_inlier = math.log1p(-self.outlier_rate)
-        hyps = self.hyp_n.size
+        self.known = np.asarray(known, dtype=float).reshape(-1, 4)
+        self.null_prior = float(null_prior)
+        self.cell_log_prior = np.zeros(self.centres_n.size)
+        for fire_n, fire_e, _, _ in self.known:  # the block around a known fire is that fire
+            i, j = geometry.cell_of(fire_n, fire_e)
+            block = np.zeros((self.size, self.size), dtype=bool)
+            r = EXCLUDED_CELLS
+            block[max(0, i - r):i + r + 1, max(0, j - r):j + r + 1] = True
+            self.cell_log_prior[block.ravel()] = EXCLUDED_LOG_PRIOR
+        self.cells_allowed = int((self.cell_log_prior == 0).sum())
+        hyps = self.hyp_n.size + (1 if self.null_prior > 0 else 0)  # the last: no further fire
         self.n = 0
         self.z_ref = 0.0
-        # per hypothesis: the (weighted) readings' sums, and the log evidence once filtering
-        self.w_sum = np.zeros(hyps)
-        self.s_z = np.zeros(hyps)
-        self.s_zz = np.zeros(hyps)
-        self.s_g = np.zeros(hyps)
-        self.s_gg = np.zeros(hyps)
-        self.s_gz = np.zeros(hyps)
-        self.log_ev = np.zeros(hyps)
-        self._burn_in: list[tuple[np.ndarray, float]] = []  # (g, y) of the first readings
+        self.sums = Sums(hyps, 3 * len(self.known))  # per hypothesis: the (weighted) readings' sums
+        self.log_ev = np.zeros(hyps)             # ... and the log evidence once filtering
+        self._burn_in: list[tuple] = []          # the first readings' terms (Sums.parts)
         self.closest_r2 = np.full(self.centres_n.size, np.inf)  # per cell: nearest reading, squared [m^2]
         self._cache = None
 
     # ----- updates ---------------------------------------------------------------------------------
     def kernel_at(self, n, e, height_m: float, hyps: np.ndarray | None = None) -> np.ndarray:
-        """g_q at point(s) (n, e) for every hypothesis (or those in hyps): shape (H,) for a scalar
-        point, (K, H) for K points."""
+        """g_q at point(s) (n, e) for every cell hypothesis (or those in hyps): shape (H,) for a
+        scalar point, (K, H) for K points."""
         qn = self.hyp_n if hyps is None else self.hyp_n[hyps]
         qe = self.hyp_e if hyps is None else self.hyp_e[hyps]
         if self.hyp_tilt is not None:  # the hot spot is downwind of the fire by tilt x height
@@ -214,48 +362,72 @@ class Belief:
         r2 = (n[..., None] - qn) ** 2 + (e[..., None] - qe) ** 2
         return kernel_value(self.kernel, r2, height_m, self.plume_sigma_m)
 
+    def known_kernels_at(self, n, e, height_m: float) -> np.ndarray:
+        """The nuisance regressors of the known fires at point(s) (n, e): per fire its kernel and the
+        kernel's change when the fire moves by KNOWN_SHIFT_M north and east (see below); shape
+        (3m,), or (K, 3m) for K points.
+
+        A known fire's hot spot is fitted, not exact: a few metres off, its kernel leaves a two-lobed
+        residual beside it that a search for the next fire would take for one. To first order a shift
+        d of the hot spot adds A (d . grad_q g), linear in the unknown A d: so the two slopes join the
+        nuisances with flat priors, and the position error is integrated out with the strength."""
+        if not len(self.known):
+            return np.zeros(np.shape(n) + (0,))
+        n = np.asarray(n, dtype=float)[..., None]
+        e = np.asarray(e, dtype=float)[..., None]
+        kn = self.known[:, 0] + height_m * self.known[:, 2]
+        ke = self.known[:, 1] + height_m * self.known[:, 3]
+        d = KNOWN_SHIFT_M
+
+        def g(dn, de):
+            return kernel_value(self.kernel, (n - kn - dn) ** 2 + (e - ke - de) ** 2, height_m, self.plume_sigma_m)
+        columns = (g(0.0, 0.0), g(d, 0.0) - g(-d, 0.0), g(0.0, d) - g(0.0, -d))
+        return np.stack(columns, axis=-1).reshape(n.shape[:-1] + (3 * len(self.known),))
+
+    def hot_spot(self, index) -> tuple[float, float, float, float]:
+        """The likeliest hypothesis of cell `index` as a known fire: (n, e, tilt_n, tilt_e)."""
+        hyp = int(self._stats()[4][index[0] * self.size + index[1]])
+        tn, te = (0.0, 0.0) if self.hyp_tilt is None else (self.hyp_tilt[0][hyp], self.hyp_tilt[1][hyp])
+        return float(self.hyp_n[hyp]), float(self.hyp_e[hyp]), float(tn), float(te)
+
     def update(self, n: float, e: float, z: float, height_m: float) -> None:
         """Add one reading z taken at (n, e) and height_m above ground."""
         if not math.isfinite(z):
             raise ValueError(f"reading must be finite, got {z!r}")
         g = self.kernel_at(n, e, height_m)
+        if self.null_prior > 0:
+            g = np.append(g, 0.0)
+        k = self.known_kernels_at(n, e, height_m)
         if self.n == 0:
             self.z_ref = float(z)
-        y = float(z) - self.z_ref
+        parts = Sums.parts(g, k, float(z) - self.z_ref)
         self.n += 1
         if self.n <= BURN_IN:
-            self._add(g, y, 1.0)
-            self._burn_in.append((g, y))
+            self.sums.add(parts, 1.0)
+            self._burn_in.append(parts)
             if self.n == BURN_IN:
                 self._end_burn_in()
         else:
-            self._filter(g, y)
+            self._filter(parts, k)
         np.minimum(self.closest_r2, (self.centres_n - n) ** 2 + (self.centres_e - e) ** 2, out=self.closest_r2)
         self._cache = None
 
-    def _add(self, g: np.ndarray, y: float, weight) -> None:
-        self.w_sum += weight
-        self.s_z += weight * y
-        self.s_zz += weight * (y * y)
-        wg = weight * g
-        self.s_g += wg
-        self.s_gg += wg * g
-        self.s_gz += wg * y
+    def _log_marginal(self, fit: Fit) -> np.ndarray:
+        """log p(readings | q) of the Gaussian model for (weighted) sums, the nuisances (ambient, known
+        fires' strengths) and A integrated out, up to a constant that depends on neither the
+        hypothesis nor the number of readings."""
+        precision, h = fit.strength(self.mu_a, self.sa2, self.s2)
+        nuisances = 1 + 3 * len(self.known)
+        return (0.5 * h * h / precision - 0.5 * np.log(precision) - 0.5 * fit.zz / self.s2
+                - 0.5 * (fit.w - nuisances) * math.log(2.0 * math.pi * self.s2) - 0.5 * fit.logdet)
 
-    def _gaussian_log_marginal(self, w, s_z, s_zz, s_g, s_gg, s_gz) -> np.ndarray:
-        """log p(readings | q) of the Gaussian model for (weighted) sums, b and A integrated out,
-        up to a constant that depends on neither the hypothesis nor the number of readings."""
-        g_bar = s_g / w
-        precision = 1.0 / self.sa2 + np.maximum(s_gg - s_g * g_bar, 0.0) / self.s2
-        h = self.mu_a / self.sa2 + (s_gz - g_bar * s_z) / self.s2
-        szz_c = np.maximum(s_zz - s_z * s_z / w, 0.0)
-        return (0.5 * h * h / precision - 0.5 * np.log(precision) - 0.5 * szz_c / self.s2
-                - 0.5 * (w - 1.0) * math.log(2.0 * math.pi * self.s2) - 0.5 * np.log(w))
+    def _gaussian_log_marginal(self, *sums) -> np.ndarray:
+        """_log_marginal of sums given in Sums.FIELDS order."""
+        return self._log_marginal(Fit.of(*sums))
 
     def _burn_in_cases(self) -> tuple[np.ndarray, list[tuple[int, ...]]]:
         """log p(readings, case | q) for each case of which burn-in readings are outliers (none,
         one or two of them), and the cases (tuples of reading indices)."""
-        sums = (self.w_sum, self.s_z, self.s_zz, self.s_g, self.s_gg, self.s_gz)
         m = len(self._burn_in)
         cases = [()]
         if self.outlier_rate > 0.0:
@@ -263,13 +435,8 @@ class Belief:
                       for c in itertools.combinations(range(m), k)]
         rows = []
         for case in cases:
-            minus = list(sums)
-            for k in case:
-                g, y = self._burn_in[k]
-                for i, part in enumerate((1.0, y, y * y, g, g * g, g * y)):
-                    minus[i] = minus[i] - part
             prior = (m - len(case)) * self._log_inlier + (len(case) * self._log_outlier if case else 0.0)
-            rows.append(prior + self._gaussian_log_marginal(*minus))
+            rows.append(prior + self._gaussian_log_marginal(*self.sums.without([self._burn_in[k] for k in case])))
         return np.stack(rows), cases
 
     @staticmethod
@@ -283,22 +450,22 @@ class Belief:
         rows, cases = self._burn_in_cases()
         self.log_ev = self._log_total(rows)
         posterior = np.exp(rows - self.log_ev)
-        for k, (g, y) in enumerate(self._burn_in):
+        for k, parts in enumerate(self._burn_in):
             p_outlier = sum(posterior[c] for c, case in enumerate(cases) if k in case)
             if not isinstance(p_outlier, int):  # in at least one case
-                self._add(g, y, -p_outlier)
+                self.sums.add(parts, -p_outlier)
         self._burn_in = []
 
-    def _filter(self, g: np.ndarray, y: float) -> None:
+    def _filter(self, parts: tuple, k: np.ndarray) -> None:
         """A reading after the burn-in: its predictive density (the mixture) joins the evidence,
         and it joins the sums weighted by its probability of being no outlier."""
-        w = self.w_sum
-        g_bar = self.s_g / w
-        precision = 1.0 / self.sa2 + np.maximum(self.s_gg - self.s_g * g_bar, 0.0) / self.s2
-        a_mean = (self.mu_a / self.sa2 + (self.s_gz - g_bar * self.s_z) / self.s2) / precision
-        dg = g - g_bar
-        mean = self.s_z / w + a_mean * dg
-        var = self.s2 * (1.0 + 1.0 / w) + dg * dg / precision
+        fit = Fit.of(*self.sums.as_tuple(), evidence=False)
+        g, y = parts[3], parts[1]
+        precision, h = fit.strength(self.mu_a, self.sa2, self.s2)
+        a_mean = h / precision
+        fit_z, dg, leverage = fit.at(g, k)
+        mean = fit_z + a_mean * dg
+        var = self.s2 * (1.0 + leverage) + dg * dg / precision
         log_in = self._log_inlier - 0.5 * np.log(2.0 * math.pi * var) - 0.5 * (y - mean) ** 2 / var
         if self.outlier_rate > 0.0:
             both = np.logaddexp(log_in, self._log_outlier)
@@ -306,53 +473,59 @@ class Belief:
         else:
             both, weight = log_in, 1.0
         self.log_ev += both
-        self._add(g, y, weight)
+        self.sums.add(parts, weight)
 
     # ----- the posterior over cells ----------------------------------------------------------------
     def _stats(self):
-        """Cached until the next update: per hypothesis (log evidence, A precision P, A posterior
-        mean, mean g), per cell (p, log p, representative hypothesis = the cell's most likely)."""
+        """Cached until the next update: the Fit per hypothesis (None before any reading), the log
+        evidence per hypothesis, per cell (p, log p, representative hypothesis = the cell's most
+        likely) and the probability that there is a (further) fire."""
         if self._cache is None:
             cells = self.centres_n.size
+            cell_hyps = cells * self.per_cell
             if self.n == 0:
-                self._cache = (np.zeros(self.hyp_n.size), None, None, None, np.full(cells, 1.0 / cells),
-                               np.full(cells, -math.log(cells)), np.arange(cells) * self.per_cell, None, None)
+                fit, log_ev = None, np.zeros(self.sums.w.size)
             else:
-                weight = self.w_sum
-                g_bar = self.s_g / weight
-                sgg_c = np.maximum(self.s_gg - self.s_g * g_bar, 0.0)
-                sgz_c = self.s_gz - g_bar * self.s_z
-                precision = 1.0 / self.sa2 + sgg_c / self.s2
-                h = self.mu_a / self.sa2 + sgz_c / self.s2
-                if self.n < BURN_IN:  # all readings in with weight 1; "none or one an outlier", exactly
-                    log_ev = self._log_total(self._burn_in_cases()[0])
-                else:
-                    log_ev = self.log_ev
-                top = log_ev.max()
-                sub = np.exp(log_ev - top).reshape(cells, self.per_cell)
-                rep = np.argmax(sub, axis=1) + np.arange(cells) * self.per_cell
-                w = sub.sum(axis=1)
-                total = w.sum()
-                p = w / total
-                with np.errstate(divide="ignore"):
-                    logp = np.log(w) - math.log(total)
-                # cells whose every sub-position underflowed: recompute their log mass exactly
-                bad = ~np.isfinite(logp)
-                if bad.any():
-                    le = log_ev.reshape(cells, self.per_cell)[bad]
-                    mx = le.max(axis=1)
-                    logp[bad] = mx + np.log(np.exp(le - mx[:, None]).sum(axis=1)) - top - math.log(total)
-                self._cache = (log_ev, precision, h / precision, g_bar, p, logp, rep, self.s_z / weight, weight)
+                fit = Fit.of(*self.sums.as_tuple(), evidence=False)
+                # before the burn-in ends all readings are in with weight 1: its cases, exactly
+                log_ev = self._log_total(self._burn_in_cases()[0]) if self.n < BURN_IN else self.log_ev
+            cell_ev = log_ev[:cell_hyps] + np.repeat(self.cell_log_prior, self.per_cell)
+            top = cell_ev.max()
+            sub = np.exp(cell_ev - top).reshape(cells, self.per_cell)
+            rep = np.argmax(sub, axis=1) + np.arange(cells) * self.per_cell
+            w = sub.sum(axis=1)
+            total = w.sum()
+            p = w / total
+            with np.errstate(divide="ignore"):
+                logp = np.log(w) - math.log(total)
+            # cells whose every sub-position underflowed: recompute their log mass exactly
+            bad = ~np.isfinite(logp)
+            if bad.any():
+                le = cell_ev.reshape(cells, self.per_cell)[bad]
+                mx = le.max(axis=1)
+                logp[bad] = mx + np.log(np.exp(le - mx[:, None]).sum(axis=1)) - top - math.log(total)
+            p_fire = 1.0
+            if self.null_prior > 0:  # a fire's evidence is the mean over the allowed cells' hypotheses
+                log_fire = top + math.log(total) - math.log(self.cells_allowed * self.per_cell) \
+                    + math.log1p(-self.null_prior)
+                log_none = log_ev[-1] + math.log(self.null_prior)
+                p_fire = float(1.0 / (1.0 + math.exp(min(700.0, log_none - log_fire))))
+            self._cache = (fit, log_ev, p, logp, rep, p_fire)
         return self._cache
+
+    @property
+    def p_fire(self) -> float:
+        """Probability that there is a (further) fire: 1 without a null hypothesis."""
+        return self._stats()[5]
 
     @property
     def p(self) -> np.ndarray:
         """Probabilities as a flat array over cells (read-only view; do not modify)."""
-        return self._stats()[4]
+        return self._stats()[2]
 
     @property
     def log_p(self) -> np.ndarray:
-        return self._stats()[5]
+        return self._stats()[3]
 
     def probabilities(self) -> np.ndarray:
         """Probabilities as a (cells_per_side, cells_per_side) array indexed [i_north, j_east]."""
@@ -413,18 +586,23 @@ class Belief:
 
         Given hypothesis q and the readings so far (weighted as the hypothesis weighs them, W their
         total weight), A ~ N(h/P, 1/P) and b | A ~ N(mean(z) - A mean(g), s2/W), so a new reading with
-        kernel value g has mean  mean(z) + E[A] (g - mean(g))  and variance s2 (1 + 1/W) + (g - mean(g))^2 / P;
-        an outlier is not predicted (the planner asks what a good reading would tell). A cell is represented by its most likely sub-position (its
+        kernel value g has mean  mean(z) + E[A] (g - mean(g))  and variance s2 (1 + 1/W) + (g - mean(g))^2 / P
+        (with known fires, the same after projecting out all nuisances: Fit.at); an outlier is not
+        predicted (the planner asks what a good reading would tell). A cell is represented by its most likely sub-position (its
         centre when subcells = 1). Shapes: (cells,) for a scalar point, (K, cells) for K points.
         """
         if self.n == 0:
             raise ValueError("no reading yet: the flat ambient prior makes the prediction improper")
         height = self.geometry.survey_alt_m if height_m is None else height_m
-        _, precision, a_mean, g_bar, _, _, rep, z_bar, w = self._stats()
+        fit, _, _, _, rep, _ = self._stats()
         hyps = rep if cells is None else rep[cells]
-        dg = self.kernel_at(n, e, height, hyps) - g_bar[hyps]
-        mean = self.z_ref + z_bar[hyps] + a_mean[hyps] * dg
-        var = self.s2 * (1.0 + 1.0 / w[hyps]) + dg * dg / precision[hyps]
+        fit = fit.take(hyps)
+        precision, h = fit.strength(self.mu_a, self.sa2, self.s2)
+        a_mean = h / precision
+        k = self.known_kernels_at(n, e, height)
+        fit_z, dg, leverage = fit.at(self.kernel_at(n, e, height, hyps), k)
+        mean = self.z_ref + fit_z + a_mean * dg
+        var = self.s2 * (1.0 + leverage) + dg * dg / precision
         return mean, var
 
     def entropy_after(self, n, e, z, height_m: float | None = None, cells: np.ndarray | None = None,

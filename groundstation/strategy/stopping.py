@@ -6,7 +6,9 @@ the most mass: usually the most likely cell itself, but when the mass straddles 
 fire near the edge between two cells, with a third cell beyond) the block centred on the middle of
 the mass covers it better, and success is judged on exactly that block ("within one cell"). Its
 block mass is at least the most likely cell's. When the search has to end without a confident
-belief (its path budget spent), force() declares that cell anyway, marked forced.
+belief (its path budget spent), force() declares that cell anyway, marked forced. A belief that may
+hold no (further) fire (a null hypothesis, belief.p_fire < 1) counts a block's mass times the
+probability that there is a fire, and clear() says when it is confident there is none.
 
 Confirmation: with confirm_m set, a confident belief is declared only once a reading has been
 taken within confirm_m of the cell's centre; until then to_confirm() names the centre to fly to,
@@ -44,19 +46,25 @@ class StoppingRule:
         if self.confirm_m is not None and not self.confirm_m >= 0:
             raise ValueError("confirm_m must be zero or positive")
 
-    def _candidate(self, belief: Belief):
+    def candidate(self, belief: Belief):
+        """The block to declare, if the belief is confident: the mass counted is the probability that
+        the (further) fire is there, i.e. the block's share times the probability there is one."""
         if belief.n == 0:
             return None
         _, index = belief.most_likely()
-        if belief.mass_around(index, self.radius_cells) < self.threshold:
+        if belief.mass_around(index, self.radius_cells) * belief.p_fire < self.threshold:
             return None
         best, mass = belief.best_block(self.radius_cells)
-        return belief.geometry.centre_of(best), best, mass
+        return belief.geometry.centre_of(best), best, mass * belief.p_fire
+
+    def clear(self, belief: Belief) -> bool:
+        """The belief is confident that there is no (further) fire."""
+        return belief.n > 0 and 1.0 - belief.p_fire >= self.threshold
 
     def confident(self, belief: Belief) -> Declaration | None:
         """The declaration if the block mass around the most likely cell reaches the threshold
         (and, with confirm_m, a reading has been taken within confirm_m of its centre)."""
-        found = self._candidate(belief)
+        found = self.candidate(belief)
         if found is None:
             return None
         position, index, mass = found
@@ -68,11 +76,11 @@ class StoppingRule:
         """The centre to fly over when the belief is confident but not yet confirmed, else None."""
         if self.confirm_m is None:
             return None
-        found = self._candidate(belief)
+        found = self.candidate(belief)
         if found is None or belief.closest_reading_m(found[1]) <= self.confirm_m:
             return None
         return found[0]
 
     def force(self, belief: Belief, reason: str = "budget") -> Declaration:
         index, mass = belief.best_block(self.radius_cells)
-        return Declaration(belief.geometry.centre_of(index), index, mass, True, reason)
+        return Declaration(belief.geometry.centre_of(index), index, mass * belief.p_fire, True, reason)

@@ -1,0 +1,137 @@
+"""Several fires (docs/strategy.md, "Several fires"): the belief with known fires explained away and
+a "no further fire" hypothesis, the hot-spot fit, the controller's find-and-go-on search and how
+episodes with several fires are judged. Fast: no flight, no sockets."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from groundstation.evaluation.episodes import EpisodeConfig, judge_all, run_episode
+from groundstation.strategy import Belief, Geometry, make_policy
+from groundstation.strategy.belief import symmetric_inverse
+from groundstation.strategy.refine import refine_hot_spots
+from sim.fire import Fire, FireWorld, true_temperature
+
+FIRE_A = Fire(120.0, 110.0, 50.0)
+FIRE_B = Fire(300.0, 280.0, 40.0)
+
+
+def two_fire_world(fires=(FIRE_A, FIRE_B), noise=1.0) -> FireWorld:
+    return FireWorld(fires=tuple(fires), kernel="R", ambient_c=21.0, noise_k=noise)
+
+
+def noisy_readings(w: FireWorld, count: int, seed: int = 0):
+    rng = np.random.default_rng(seed)
+    pts = rng.uniform(0, w.area_m, size=(count, 2))
+    return [(n, e, true_temperature(w, n, e, w.survey_alt_m, 0.0) + rng.normal(0, w.noise_k)) for n, e in pts]
+
+
+def brute_force_log_evidence(b: Belief, readings, height: float) -> np.ndarray:
+    """log p(z | hypothesis) by the full linear-Gaussian integral over (ambient, known fires' nuisances
+    with flat priors, strength ~ N(mu, sA2)), one hypothesis at a time; the last entry is the null."""
+    z = np.array([r[2] for r in readings])
+    x = np.array([np.concatenate([[1.0], b.known_kernels_at(n, e, height)]) for n, e, _ in readings])
+    g = np.array([b.kernel_at(n, e, height) for n, e, _ in readings])
+    g = np.column_stack([g, np.zeros(len(readings))])  # the null: no further fire
+    out = np.empty(g.shape[1])
+    for h in range(g.shape[1]):
+        d = np.column_stack([x, g[:, h]])
+        lam = d.T @ d / b.s2
+        lam[-1, -1] += 1.0 / b.sa2
+        eta = d.T @ z / b.s2
+        eta[-1] += b.mu_a / b.sa2
+        out[h] = 0.5 * eta @ np.linalg.solve(lam, eta) - 0.5 * np.linalg.slogdet(lam)[1]
+    return out
+
+
+def test_evidence_with_a_known_fire_and_the_null_is_the_full_gaussian_integral():
+    w = two_fire_world()
+    readings = noisy_readings(w, 40)
+    b = Belief(Geometry(cell_m=40.0), known=((FIRE_A.n_m + 3.0, FIRE_A.e_m - 2.0, 0.0, 0.0),), null_prior=0.5)
+    for n, e, z in readings:
+        b.update(n, e, z, 30.0)
+    log_ev = b._stats()[1]
+    brute = brute_force_log_evidence(b, readings, 30.0)
+    assert log_ev.shape == brute.shape
+    # equal up to one constant, the null included (to the RIDGE that keeps the first readings invertible)
+    assert np.ptp(log_ev - brute) < 1e-3
+
+
+def test_the_known_fires_block_holds_no_mass_and_the_other_fire_gets_it():
+    w = two_fire_world(noise=0.5)
+    g = Geometry()
+    b = Belief(g, subcells=3, known=((FIRE_A.n_m, FIRE_A.e_m, 0.0, 0.0),), null_prior=0.5)
+    for n, e, z in noisy_readings(w, 300, seed=1):
+        b.update(n, e, z, 30.0)
+    i, j = g.cell_of(FIRE_A.n_m, FIRE_A.e_m)
+    assert b.probabilities()[i - 1:i + 2, j - 1:j + 2].sum() == 0.0
+    assert b.p_fire > 0.999
+    (_, index), mass = b.most_likely(), None
+    assert max(abs(index[0] - g.cell_of(FIRE_B.n_m, FIRE_B.e_m)[0]), abs(index[1] - g.cell_of(FIRE_B.n_m, FIRE_B.e_m)[1])) <= 1
+    assert math.isfinite(b.entropy())
+
+
+def test_with_both_fires_known_the_null_takes_the_mass():
+    w = two_fire_world()
+    b = Belief(Geometry(), known=((FIRE_A.n_m, FIRE_A.e_m, 0.0, 0.0), (FIRE_B.n_m, FIRE_B.e_m, 0.0, 0.0)),
+               null_prior=0.5)
+    assert b.p_fire == pytest.approx(0.5)  # the prior, before any reading
+    for n, e, z in noisy_readings(w, 800, seed=2):
+        b.update(n, e, z, 30.0)
+    assert b.p_fire < 0.01
+
+
+def test_the_hot_spot_fit_puts_a_misplaced_find_right():
+    w = two_fire_world(noise=0.3)
+    readings = [(n, e, z, 30.0) for n, e, z in noisy_readings(w, 200, seed=3)]
+    start = [(FIRE_A.n_m + 6.0, FIRE_A.e_m - 5.0, 0.0, 0.0), (FIRE_B.n_m - 4.0, FIRE_B.e_m + 4.0, 0.0, 0.0)]
+    fitted = refine_hot_spots(Geometry(), readings, start, 0.3)
+    for spot, fire in zip(fitted, (FIRE_A, FIRE_B)):
+        assert math.hypot(spot[0] - fire.n_m, spot[1] - fire.e_m) < 1.5, spot
+
+
+def test_symmetric_inverse_matches_lapack():
+    rng = np.random.default_rng(4)
+    m = rng.normal(size=(50, 3, 3))
+    a = m @ m.transpose(0, 2, 1) + 0.1 * np.eye(3)
+    inv, det = symmetric_inverse(a)
+    assert np.allclose(inv, np.linalg.inv(a))
+    assert np.allclose(det, np.linalg.det(a))
+
+
+def test_a_declaration_between_two_fires_fails_the_episode():
+    w = two_fire_world(fires=(Fire(200.0, 180.0, 50.0), Fire(200.0, 220.0, 50.0)))
+    assert judge_all(w, [(205.0, 185.0)])[1]
+    assert not judge_all(w, [(205.0, 205.0)])[1]  # halfway: more than a cell from each
+    assert not judge_all(w, [(205.0, 185.0), (205.0, 205.0)])[1]  # one good, one between: a failure
+    assert not judge_all(w, [])[1]
+
+
+@pytest.mark.parametrize("policy", ["gig", "greedy"])
+def test_the_search_finds_both_fires_and_ends(policy):
+    w = two_fire_world()
+    config = EpisodeConfig(fixed_fire=True, fires=2, max_fires=2)
+    result = run_episode(w, 5, 0, make_policy(policy), config)
+    assert len(result.declarations) == 2
+    assert result.fires_found == 2 and result.success, result.declarations
+    assert result.declared_by == "confident"
+
+
+def test_looking_for_two_in_a_world_with_one_ends_confident_there_is_no_other():
+    w = FireWorld(area_m=200.0, fires=(Fire(130.0, 70.0, 45.0),), kernel="R", ambient_c=18.0, noise_k=1.0,
+                  survey_alt_m=25.0)
+    config = EpisodeConfig(fixed_fire=True, max_fires=2)
+    result = run_episode(w, 6, 0, make_policy("gig"), config)
+    assert result.declared_by == "clear"
+    assert result.success and len(result.declarations) == 1
+
+
+def test_one_fire_to_look_for_is_the_plain_search():
+    """max_fires 1 (the default) never builds the several-fire machinery: no null, no known fires."""
+    from groundstation.strategy.controller import SearchConfig, SearchController
+    c = SearchController(Geometry(), make_policy("gig"), SearchConfig(), (0.0, 0.0), np.random.default_rng(0))
+    assert c.belief.null_prior == 0.0 and len(c.belief.known) == 0 and c.belief.p_fire == 1.0
+    with pytest.raises(ValueError, match="max_fires"):
+        SearchConfig(max_fires=0)
