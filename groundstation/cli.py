@@ -48,6 +48,9 @@ def build_parser() -> argparse.ArgumentParser:
     explore.add_argument("--speedup", type=positive, default=20.0, help="speedup of the autopilot it starts")
     explore.add_argument("--plot", type=Path, default=Path("out/explore.png"), help="PNG of track over final belief")
     explore.add_argument("--no-truth", action="store_true", help="do not mark the scenario's fire (unknown world)")
+    explore.add_argument("--max-fires", type=count, default=1,
+                         help="fires to look for (default 1); above 1 the search goes on after a find until it "
+                              "has them all or is confident there is no other")
     ev = sub.add_parser("evaluate", help="judge the fire-localization policies on seeded decision-level episodes")
     ev.add_argument("--scenario", type=Path, default=Path("scenarios/default.toml"), help="scenario TOML file")
     ev.add_argument("--episodes", type=count, default=200, help="episodes per policy (default 200)")
@@ -66,6 +69,11 @@ def build_parser() -> argparse.ArgumentParser:
                     help="the belief's prior share of wild readings (default 0.02; 0 = the plain Gaussian model)")
     ev.add_argument("--fires", type=count, default=1,
                     help="fires drawn per episode (default 1); found fires are counted per fire")
+    ev.add_argument("--fire-spacing", type=positive, default=None, metavar="M",
+                    help="with --fires 2: the second fire M metres from the first, as strong (a random bearing)")
+    ev.add_argument("--max-fires", type=count, default=None,
+                    help="fires the search looks for (default: --fires); above 1 it goes on after a find "
+                         "until it has them all or is confident there is no other")
     ev.add_argument("--ignore-wind", action="store_true",
                     help="do not tell the search the scenario's wind (as if the vehicle reported none)")
     ev.add_argument("--budget", type=positive, default=6000.0, help="path budget [m] before a forced declaration")
@@ -167,7 +175,8 @@ def run_command(args) -> int:
         return demo.run(args.url, args.speedup, args.side, args.alt, args.plot)
     if args.command == "explore":
         from .flight import explore
-        return explore.run(args.url, args.scenario, args.policy, args.speedup, args.plot, not args.no_truth)
+        return explore.run(args.url, args.scenario, args.policy, args.speedup, args.plot, not args.no_truth,
+                           args.max_fires)
     from .flight import mission
     return mission.run(args.file, args.url, args.speedup, args.plot)
 

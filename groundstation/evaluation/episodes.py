@@ -43,6 +43,7 @@ class EpisodeConfig(SearchConfig):
     ambient_c: tuple = (15.0, 35.0)
     wind_ne_m_s: tuple = (0.0, 0.0)  # the wind the search is told (the WIND message's, as (n, e) m/s)
     fires: int = 1                   # fires drawn per episode (each uniform, strength uniform)
+    fire_spacing_m: float | None = None  # set: the second fire this far from the first, as strong
 
     def __post_init__(self):
         super().__post_init__()
@@ -50,6 +51,8 @@ class EpisodeConfig(SearchConfig):
             raise ValueError(f"start must be one of {', '.join(STARTS)}, got {self.start!r}")
         if int(self.fires) != self.fires or self.fires < 1:
             raise ValueError(f"fires must be a positive whole number, got {self.fires!r}")
+        if self.fire_spacing_m is not None and not (self.fire_spacing_m > 0 and self.fires == 2):
+            raise ValueError("fire_spacing_m needs two fires and a positive distance")
 
 
 @dataclass
@@ -64,10 +67,11 @@ class EpisodeResult:
     path_m: float
     declared: tuple        # (n, e) local metres
     declared_cell: tuple   # (i_north, j_east)
-    error_m: float         # declared cell centre to the nearest fire
-    success: bool          # declared cell within one cell (Chebyshev) of a fire's cell
-    fires_found: int       # fires with a declared cell within one cell of theirs (the search declares one)
-    declared_by: str       # "confident", "budget" or "end" (the policy had nothing more to do)
+    error_m: float         # the declared cell centre farthest from every fire: to its nearest fire
+    success: bool          # a declaration, and every declared cell within one cell (Chebyshev) of a fire's
+    fires_found: int       # fires with a declared cell within one cell of theirs
+    declared_by: str       # "confident", "budget", "end" (the policy had nothing more to do) or
+                           # "clear" (several fires: confident there is no further fire)
     forced: bool           # declared without the belief being confident
     false_declaration: bool  # a confident declaration that is wrong
     mass: float            # belief mass in the 3x3 block around the declared cell
@@ -75,6 +79,7 @@ class EpisodeResult:
     decisions: int
     ms_mean: float
     ms_max: float
+    declarations: list = dataclasses.field(default_factory=list)  # every declared (n, e): several fires
 
     def to_dict(self) -> dict:
         return dataclasses.asdict(self)
@@ -96,7 +101,16 @@ def episode_world(world: FireWorld, seed: int, index: int, config: EpisodeConfig
     strength = rng.uniform(*config.strength_k)
     ambient = rng.uniform(*config.ambient_c)
     fires = [Fire(float(n), float(e), float(strength))]
-    for _ in range(config.fires - 1):  # drawn after the first fire's, so one-fire episodes are unchanged
+    if config.fire_spacing_m is not None:  # a twin at that distance, on a bearing that keeps it inside
+        for _ in range(1000):
+            bearing = rng.uniform(0.0, 2.0 * math.pi)
+            n2, e2 = n + config.fire_spacing_m * math.cos(bearing), e + config.fire_spacing_m * math.sin(bearing)
+            if lo <= n2 <= hi and lo <= e2 <= hi:
+                break
+        else:
+            raise ValueError(f"no room for two fires {config.fire_spacing_m:g} m apart in a {world.area_m:g} m area")
+        fires.append(Fire(float(n2), float(e2), float(strength)))
+    for _ in range(config.fires - len(fires)):  # drawn after the first fire's, so one-fire episodes are unchanged
         n, e = rng.uniform(lo, hi, size=2)
         fires.append(Fire(float(n), float(e), float(rng.uniform(*config.strength_k))))
     return dataclasses.replace(world, fires=tuple(fires), ambient_c=float(ambient))
@@ -120,6 +134,15 @@ def judge(world: FireWorld, n: float, e: float) -> tuple[float, bool]:
     within = any(max(abs(declared[0] - i), abs(declared[1] - j)) <= 1
                  for i, j in (geometry.cell_of(f.n_m, f.e_m) for f in world.fires))
     return (min(errors) if errors else math.nan), within
+
+
+def judge_all(world: FireWorld, declared: list[tuple[float, float]]) -> tuple[float, bool]:
+    """judge() over several declared points: the worst error, and success when there is at least
+    one and every one is on a fire (a point between two fires is a failure, whatever the others)."""
+    verdicts = [judge(world, n, e) for n, e in declared]
+    if not verdicts:
+        return math.nan, False
+    return max(v[0] for v in verdicts), all(v[1] for v in verdicts)
 
 
 def start_position(geometry: Geometry, start: str) -> tuple[float, float]:
@@ -170,13 +193,16 @@ def run_episode(world: FireWorld, seed: int, index: int, policy: Policy,
             path += step_m
             t += config.sample_s
 
-    error, success = judge(ep_world, *move.position)
+    declared = [d.position for d in controller.declarations]
+    error, success = judge_all(ep_world, declared)
+    wrong = any(d.reason == "confident" and not judge(ep_world, *d.position)[1] for d in controller.declarations)
     ms = [1000.0 * x for x in controller.decision_s]
     return EpisodeResult(
         policy=policy.name, episode=index, seed=seed, kernel=ep_world.kernel, start=config.start,
         fires=[(f.n_m, f.e_m, f.strength_k) for f in ep_world.fires], ambient_c=ep_world.ambient_c,
         path_m=path, declared=move.position, declared_cell=move.index, error_m=error,
-        success=bool(success), fires_found=fires_found(ep_world, [move.position]), declared_by=move.reason, forced=move.forced,
-        false_declaration=bool(move.reason == "confident" and not success),
+        success=bool(success), fires_found=fires_found(ep_world, declared), declared_by=controller.finished_by,
+        forced=move.forced, false_declaration=bool(wrong),
         mass=move.mass, readings=readings, decisions=controller.decisions,
-        ms_mean=float(np.mean(ms)) if ms else 0.0, ms_max=float(np.max(ms)) if ms else 0.0)
+        ms_mean=float(np.mean(ms)) if ms else 0.0, ms_max=float(np.max(ms)) if ms else 0.0,
+        declarations=[tuple(p) for p in declared])

@@ -16,7 +16,7 @@ import numpy as np
 from ..plots import png
 from ..progress import Progress
 from ..strategy.policies import POLICIES, make_policy
-from .episodes import EpisodeConfig, run_episode
+from .episodes import EpisodeConfig, episode_world, run_episode
 
 
 class EvaluateError(ValueError):
@@ -121,7 +121,7 @@ def summarize(rows: list[dict]) -> dict:
         "path_mean_m": float(paths.mean()) if rows else math.nan,
         "path_median_m": float(np.median(paths)) if rows else math.nan,
         "path_p90_m": float(np.percentile(paths, 90)) if rows else math.nan,
-        "error_mean_m": float(np.mean([r["error_m"] for r in rows])) if rows else math.nan,
+        "error_mean_m": float(np.nanmean([r["error_m"] for r in rows])) if rows else math.nan,
         "false_declarations": sum(r["false_declaration"] for r in rows),
         "forced_declarations": sum(r["forced"] for r in rows),
         "ms_per_decision_mean": ms_total / decisions if decisions else 0.0,
@@ -210,11 +210,16 @@ def evaluate(args) -> int:
     except ValueError as exc:
         raise EvaluateError(str(exc)) from None
     seed = scenario.seed if args.seed is None else args.seed
-    config = EpisodeConfig(start=args.start, threshold=args.threshold, budget_m=args.budget,
-                           fixed_fire=args.fixed_fire, speed_m_s=args.speed, subcells=args.subcells,
-                           confirm_m=None if args.no_confirm else args.confirm, outlier_rate=args.outlier_rate,
-                           wind_ne_m_s=(0.0, 0.0) if args.ignore_wind else scenario.sim.wind.velocity_ned()[:2],
-                           fires=args.fires)
+    try:
+        config = EpisodeConfig(start=args.start, threshold=args.threshold, budget_m=args.budget,
+                               fixed_fire=args.fixed_fire, speed_m_s=args.speed, subcells=args.subcells,
+                               confirm_m=None if args.no_confirm else args.confirm, outlier_rate=args.outlier_rate,
+                               wind_ne_m_s=(0.0, 0.0) if args.ignore_wind else scenario.sim.wind.velocity_ned()[:2],
+                               fires=args.fires, max_fires=args.max_fires or args.fires,
+                               fire_spacing_m=args.fire_spacing)
+        episode_world(world, seed, 0, config)  # a world that cannot be drawn fails here, in one line
+    except ValueError as exc:
+        raise EvaluateError(f"--fire-spacing/--fires: {exc}" if args.fire_spacing else str(exc)) from None
     jobs = args.jobs or 1
     progress = EpisodeProgress(len(policies) * args.episodes)
     t0 = time.monotonic()
@@ -222,7 +227,9 @@ def evaluate(args) -> int:
     progress.close()
     summary = {name: summarize(rows) for name, rows in results.items()}
     title = (f"{args.scenario.name}: kernel {world.kernel}, noise {world.noise_k:g} K, {args.start} start, "
-             f"{args.episodes} episodes, seed {seed}" + (f", {args.fires} fires each" if args.fires > 1 else ""))
+             f"{args.episodes} episodes, seed {seed}" + (f", {args.fires} fires each" if args.fires > 1 else "")
+             + (f" {args.fire_spacing:g} m apart" if args.fire_spacing else "")
+             + (f", looking for up to {config.max_fires}" if config.max_fires > 1 else ""))
     print(title)
     print(table(summary))
     diffs = paired_path_differences(results, policies[0]) if len(policies) > 1 else {}

@@ -22,7 +22,7 @@ from sim.fire import WORLD_KEYS, FireWorld
 from ..flight.autopilot_process import AutopilotExited, run_flight
 from ..flight.explore import explore
 from ..flight.vehicle_link import LinkError
-from .episodes import EpisodeConfig, episode_world
+from .episodes import EpisodeConfig, episode_world, fires_found, judge_all
 
 
 def scenario_text(base: dict, seed: int, world: FireWorld) -> str:
@@ -65,8 +65,11 @@ def fly_episode(base: dict, world: FireWorld, seed: int, index: int, policy: str
                                 None, speedup, path, say=lambda text: None)
         except (LinkError, AutopilotExited) as exc:
             return row | {"flown": False, "why": str(exc)}
-    error, within = result["error_m"], result["within_one_cell"]
-    return row | {"flown": True, "declared": (result["declared_n_m"], result["declared_e_m"]), "path_m": result["path_m"], "error_m": error, "success": within,
+    declared = [(f["n_m"], f["e_m"]) for f in result["fires"]]
+    error, within = judge_all(world, declared)
+    return row | {"flown": True, "declared": (result["declared_n_m"], result["declared_e_m"]),
+                  "declarations": declared, "fires_found": fires_found(world, declared),
+                  "path_m": result["path_m"], "error_m": error, "success": within,
                   "forced": result["forced"], "landed_from_home_m": result["landed_from_home_m"],
                   "survey_vehicle_s": result["survey_vehicle_s"], "survey_wall_s": result["survey_wall_s"],
                   "plot": result.get("plot")}

@@ -25,7 +25,7 @@ from mavsdk.asyncio.plugins.mavlink_direct import MavlinkDirectAsync
 
 from sim.fire import FireWorld
 
-from ..evaluation.episodes import judge
+from ..evaluation.episodes import fires_found, judge
 from ..strategy import Geometry, make_policy
 from ..strategy.controller import SearchConfig, SearchController
 from ..strategy.stopping import Declaration
@@ -171,21 +171,35 @@ async def explore(url: str, world: FireWorld, policy_name: str, plot: Path | Non
         est = link.lat_lon_of(est_n, est_e)
         result = {
             "declared_n_m": est_n, "declared_e_m": est_e, "declared_lat": est[0], "declared_lon": est[1],
-            "mass_3x3": declared.mass, "forced": declared.forced, "declared_by": declared.reason,
+            "mass_3x3": declared.mass, "forced": declared.forced, "declared_by": controller.finished_by,
             "spread_m": spread_m(controller.belief.probabilities(), geometry.cell_size_m),
             "survey_vehicle_s": (survey.vehicle_t_ms - start_t_ms) / 1000.0,
             "survey_wall_s": time.monotonic() - wall0,
             "path_m": survey.path_m, "readings": survey.readings, "observations": controller.observations,
+            "fires": [],
         }
-        say(f"fire declared at N {est_n:.1f} m E {est_e:.1f} m (lat {est[0]:.7f}, lon {est[1]:.7f}), "
-            f"3x3 mass {declared.mass:.3f}, spread {result['spread_m']:.1f} m, after {result['path_m']:.0f} m "
-            f"and {result['survey_vehicle_s']:.0f} s of vehicle time")
-        if truth and world.fires:
-            error, within = judge(world, est_n, est_e)
-            best = min(world.fires, key=lambda f: math.hypot(est_n - f.n_m, est_e - f.e_m))
-            result.update(true_n_m=best.n_m, true_e_m=best.e_m, error_m=error, within_one_cell=within)
-            say(f"true fire at N {best.n_m:.1f} m E {best.e_m:.1f} m: error {error:.1f} m "
-                f"({'within' if within else 'NOT within'} one {geometry.cell_size_m:g} m cell)")
+        if not controller.declarations:
+            say(f"no fire: the search is confident there is none, after {result['path_m']:.0f} m "
+                f"and {result['survey_vehicle_s']:.0f} s of vehicle time")
+        for k, found in enumerate(controller.declarations):
+            n_m, e_m = found.position
+            lat, lon = link.lat_lon_of(n_m, e_m)
+            fire = {"n_m": n_m, "e_m": e_m, "lat": lat, "lon": lon, "mass_3x3": found.mass}
+            result["fires"].append(fire)
+            say(f"fire declared at N {n_m:.1f} m E {e_m:.1f} m (lat {lat:.7f}, lon {lon:.7f}), "
+                f"3x3 mass {found.mass:.3f}" + ("" if k else f", spread {result['spread_m']:.1f} m, after "
+                f"{result['path_m']:.0f} m and {result['survey_vehicle_s']:.0f} s of vehicle time"))
+            if truth and world.fires:
+                error, within = judge(world, n_m, e_m)
+                best = min(world.fires, key=lambda f: math.hypot(n_m - f.n_m, e_m - f.e_m))
+                fire.update(true_n_m=best.n_m, true_e_m=best.e_m, error_m=error, within_one_cell=within)
+                if k == 0:
+                    result.update(true_n_m=best.n_m, true_e_m=best.e_m, error_m=error, within_one_cell=within)
+                say(f"true fire at N {best.n_m:.1f} m E {best.e_m:.1f} m: error {error:.1f} m "
+                    f"({'within' if within else 'NOT within'} one {geometry.cell_size_m:g} m cell)")
+        if truth and world.fires and len(world.fires) > 1:
+            result["fires_found"] = fires_found(world, [(f["n_m"], f["e_m"]) for f in result["fires"]])
+            say(f"{result['fires_found']} of {len(world.fires)} fires found")
         say("returning to launch")
         await link.land_and_disarm(600, rtl=True)
         final = await link.position()
@@ -264,7 +278,8 @@ def write_plot(survey: Survey, world: FireWorld | None, result: dict, path: Path
         fig.colorbar(img, ax=ax, label="log10 P(fire in cell)")
         if survey.track:
             draw_track(ax, survey.track, color="cyan", lw=1.2, label="flown (readings)")
-        ax.plot(result["declared_e_m"], result["declared_n_m"], "wx", ms=12, mew=2.5, label="declared")
+        for k, fire in enumerate(result["fires"]):
+            ax.plot(fire["e_m"], fire["n_m"], "wx", ms=12, mew=2.5, label="declared" if k == 0 else None)
         if world is not None:
             for k, f in enumerate(world.fires):
                 ax.plot(f.e_m, f.n_m, "o", mfc="none", mec="lime", ms=14, mew=2, label="true fire" if k == 0 else None)
@@ -273,11 +288,12 @@ def write_plot(survey: Survey, world: FireWorld | None, result: dict, path: Path
 
 
 def run(url: str | None, scenario: Path | None, policy: str, speedup: float, plot: Path | None,
-        truth: bool) -> int:
+        truth: bool, max_fires: int = 1) -> int:
     from sim.scenario import Scenario, load_scenario
     sc = load_scenario(scenario) if scenario else Scenario()
     if scenario and not url:
         check_scenario(scenario)  # the vehicle's tables too, before a vehicle starts on them
     make_policy(policy)  # a bad name fails here, before anything starts
-    result = run_flight(lambda at: explore(at, sc.world, policy, plot, truth), url, speedup, scenario)
+    config = SearchConfig(max_fires=max_fires)
+    result = run_flight(lambda at: explore(at, sc.world, policy, plot, truth, config), url, speedup, scenario)
     return 0 if result.get("landed_from_home_m", math.inf) < 5.0 else 1

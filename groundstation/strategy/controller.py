@@ -23,6 +23,14 @@ Declaring, in this order at every step:
   4. on arrival, or when the policy asks to replan, the policy names the next waypoint; a policy
      with nothing more to do ends the search -> declared "end".
 
+Several fires (config.max_fires > 1; docs/strategy.md, "Several fires"): a confident block is a
+find, not the end. The finds are kept (relocated with each other explained away, their hot spots
+fitted to the readings), the vehicle flies a cross over the new one, and the search goes on over a
+belief rebuilt with the finds known and a "no further fire" hypothesis. It ends with max_fires
+finds ("confident"), confident there is no other ("clear"), or at the budget or the policy's end;
+`declarations` then lists every find (a forced one only when there is none and it did not end
+clear), `finished_by` says why it ended, and step() returns the first.
+
 Threshold 0.99 with confirmation within 10 m: a calibrated belief declared at mass t is wrong about
 1 - t of the time, a little more in practice, as the declaration is taken at the first reading that
 crosses the threshold. Measured with gig on validation episodes (seed 1, episodes 100-299, not the
@@ -39,7 +47,15 @@ import numpy as np
 
 from .belief import Belief, Geometry
 from .policies import Policy
+from .refine import refine_hot_spots
 from .stopping import Declaration, StoppingRule
+
+
+# Several fires: the finds' hot spots are refitted to the readings every REFRESH_EVERY observations
+# and before a new find is accepted; the belief is rebuilt when one has moved more than REFRESH_M.
+REFRESH_EVERY = 10
+REFRESH_M = 1.0
+PIN_M = 30.0  # after a find with more to look for: a cross this far either way over it (_pin_pattern)
 
 
 @dataclass(frozen=True)
@@ -55,12 +71,18 @@ class SearchConfig:
     confirm_m: float | None = 10.0  # declare after a reading this close to the cell's centre; None: at once
     outlier_rate: float = 0.02      # the belief's prior share of wild readings (belief.py, "Outliers")
     outlier_range_k: float = 100.0  # the span a wild reading may take anywhere in [K]
+    max_fires: int = 1              # fires to look for; above 1 the search goes on after a find (below)
+    null_prior: float = 0.5         # with max_fires > 1: prior probability that there is no (further) fire
 
     def __post_init__(self):
         if not (self.speed_m_s > 0 and self.sample_s > 0):
             raise ValueError("speed and sample interval must be positive")
         if not self.budget_m > 0:
             raise ValueError("budget_m must be positive")
+        if int(self.max_fires) != self.max_fires or self.max_fires < 1:
+            raise ValueError(f"max_fires must be a positive whole number, got {self.max_fires!r}")
+        if not 0.0 < self.null_prior < 1.0:
+            raise ValueError(f"null_prior must be within 0..1 (both excluded), got {self.null_prior!r}")
 
     @property
     def observation_spacing_m(self) -> float:
@@ -83,9 +105,11 @@ class SearchController:
         self.geometry = geometry
         self.policy = policy
         self.config = config
-        self.belief = Belief(geometry, config.prior_strength_mean_k, config.prior_strength_sd_k,
-                             subcells=config.subcells, outlier_rate=config.outlier_rate,
-                             outlier_range_k=config.outlier_range_k, wind_ne_m_s=wind_ne_m_s)
+        self.wind_ne_m_s = wind_ne_m_s
+        self.several = config.max_fires > 1
+        self.found: list[tuple[Declaration, tuple]] = []  # several fires: (declaration, hot spot) of each find
+        self.readings: list[tuple] = []  # several fires: every observation, to rebuild the belief from
+        self.belief = self._belief(())
         self.rule = StoppingRule(config.threshold, 1, config.confirm_m)
         self.timer = timer
         self.max_observations = int(4 * config.budget_m / config.observation_spacing_m) + 100
@@ -95,15 +119,29 @@ class SearchController:
         self.target: tuple[float, float] | None = None
         self.confirming = False
         self.declared: Declaration | None = None
+        self.declarations: list[Declaration] = []  # every fire declared, once the search has ended
+        self.finished_by: str | None = None        # why it ended: a Declaration's reason, or "clear"
         self._need_decision = True
         self._since_decision = 0
+        self._pin: list[tuple[float, float]] = []  # several fires: the cross still to fly over the last find
         policy.reset(geometry, (float(start[0]), float(start[1])), rng)
+
+    def _belief(self, known: tuple, null: bool | None = None) -> Belief:
+        """A belief over one (more) fire, the `known` hot spots explained away; with several fires to
+        look for, it also weighs the hypothesis that there is none (unless null is False)."""
+        c = self.config
+        null_prior = c.null_prior if (self.several if null is None else null) else 0.0
+        return Belief(self.geometry, c.prior_strength_mean_k, c.prior_strength_sd_k, subcells=c.subcells,
+                      outlier_rate=c.outlier_rate, outlier_range_k=c.outlier_range_k,
+                      wind_ne_m_s=self.wind_ne_m_s, known=known, null_prior=null_prior)
 
     def observe(self, n: float, e: float, z: float, height_m: float) -> None:
         """One observation: a temperature z at (n, e), height_m above ground. Ignored once declared."""
         if self.declared is not None:
             return
         self.belief.update(n, e, z, height_m)
+        if self.several:
+            self.readings.append((n, e, z, height_m))
         self.policy.observe(n, e, z)
         self.observations += 1
         self._since_decision += 1
@@ -120,12 +158,32 @@ class SearchController:
         if arrived:
             self._need_decision = True
         uses_belief = self.policy.uses_stopping_rule
+        if self._pin:  # several fires: pinning the last find down before looking on
+            if path_m >= self.config.budget_m or self.observations >= self.max_observations:
+                return self._finish("budget")
+            if arrived:
+                self._pin.pop(0)
+            if self._pin:
+                self.target = self._pin[0]
+                return Goto(self.target, True)
+            self._refresh(always=True)
+            self._need_decision = True
+        if self.found and self.observations % REFRESH_EVERY == 0:
+            self._refresh()
         if uses_belief:
             found = self.rule.confident(self.belief)
+            if found is not None and self.found and self._refresh():  # re-judged with the finds put right
+                found = self.rule.confident(self.belief)
             if found is not None:
-                return self._declare(found, "confident")
+                if not self.several:
+                    return self._declare(found, "confident")
+                self._found(found, position)
+                if len(self.found) == self.config.max_fires:
+                    return self._finish("confident")
+            elif self.several and self.rule.clear(self.belief):
+                return self._finish("clear")
         if path_m >= self.config.budget_m or self.observations >= self.max_observations:
-            return self._declare(self.rule.force(self.belief, "budget"), "budget")
+            return self._finish("budget")
         if uses_belief and self.config.confirm_m is not None:
             check = self.rule.to_confirm(self.belief)
             if check is not None:  # confident but not yet flown over: go and look
@@ -135,7 +193,7 @@ class SearchController:
         if self._need_decision:
             waypoint = self._decide(position)
             if waypoint is None:
-                return self._declare(self.rule.force(self.belief, "end"), "end")
+                return self._finish("end")
             self.target = waypoint
         return Goto(self.target, self.confirming)
 
@@ -154,6 +212,89 @@ class SearchController:
             raise RuntimeError(f"policy {self.policy.name} chose a waypoint outside the area: {(n, e)}")
         return n, e
 
+    # ----- several fires ---------------------------------------------------------------------------
+    def _found(self, found: Declaration, position) -> None:
+        """A confident find with more fires to look for: keep it as a hot spot to explain away, put
+        every earlier find right now that this one explains part of the readings (relocate), and
+        go on over a belief rebuilt from all readings with the finds known."""
+        t0 = self.timer() if self.timer else 0.0
+        self.found.append((found, self.belief.hot_spot(found.index)))
+        self._relocate()
+        spots = refine_hot_spots(self.geometry, self.readings, [spot for _, spot in self.found],
+                                 self.belief.s2 ** 0.5)
+        self.found = [(d, spot) for (d, _), spot in zip(self.found, spots)]
+        if len(self.found) == self.config.max_fires:  # the search ends here
+            return
+        self.belief = self._replay(self._belief(tuple(spot for _, spot in self.found)))
+        self.confirming, self._need_decision = False, True
+        self._pin = self._pin_pattern(found.position, position)
+        self.decisions += 1  # a decision too (what to believe), timed with the policy's
+        if self.timer:
+            self.decision_s.append(self.timer() - t0)
+
+    def _refresh(self, always: bool = False) -> bool:
+        """Fit the finds' hot spots to every reading so far; when one has moved more than
+        REFRESH_M (or always), rebuild the belief with them where they now are. True if rebuilt."""
+        t0 = self.timer() if self.timer else 0.0
+        spots = [spot for _, spot in self.found]
+        fitted = refine_hot_spots(self.geometry, self.readings, spots, self.belief.s2 ** 0.5)
+        moved = max(math.hypot(a[0] - b[0], a[1] - b[1]) for a, b in zip(spots, fitted))
+        if moved <= REFRESH_M and not always:
+            return False
+        self.found = [(d, spot) for (d, _), spot in zip(self.found, fitted)]
+        self.belief = self._replay(self._belief(tuple(fitted)))
+        self.decisions += 1
+        if self.timer:
+            self.decision_s.append(self.timer() - t0)
+        return True
+
+    def _pin_pattern(self, centre, position) -> list[tuple[float, float]]:
+        """A cross over a find, PIN_M either way along north and east, nearest end first: one
+        pass seldom tells how far the fire lies to its side, two crossing passes do."""
+        a, (n, e) = self.geometry.area_m, centre
+        clip = lambda v: min(a, max(0.0, v))
+        legs = [[(clip(n - PIN_M), e), (clip(n + PIN_M), e)], [(n, clip(e - PIN_M)), (n, clip(e + PIN_M))]]
+        here = (float(position[0]), float(position[1]))
+        near = lambda p: math.hypot(p[0] - here[0], p[1] - here[1])
+        first = min(legs, key=lambda leg: min(near(leg[0]), near(leg[1])))
+        second = legs[1] if first is legs[0] else legs[0]
+        first = sorted(first, key=near)
+        second = sorted(second, key=lambda p: math.hypot(p[0] - first[1][0], p[1] - first[1][1]))
+        return first + second
+
+    def _relocate(self) -> None:
+        """Each earlier find again, with the others explained away: a find that a later one explains
+        (one declared between two fires, or pulled towards a second one by its readings) moves
+        to where the belief, given the others, is now confident of it. One pass over the finds."""
+        if len(self.found) < 2:
+            return
+        for i in range(len(self.found) - 1):  # the newest was found with the others known already
+            others = tuple(spot for k, (_, spot) in enumerate(self.found) if k != i)
+            belief = self._replay(self._belief(others, null=False))
+            moved = self.rule.candidate(belief)
+            if moved is not None and moved[1] != self.found[i][0].index:
+                position, index, mass = moved
+                self.found[i] = (Declaration(position, index, mass, False, "confident"),
+                                 belief.hot_spot(index))
+
+    def _replay(self, belief: Belief) -> Belief:
+        for n, e, z, height_m in self.readings:
+            belief.update(n, e, z, height_m)
+        return belief
+
+    def _finish(self, reason: str) -> Declaration:
+        """End the search. One fire: the declaration (forced unless confident). Several: every
+        find; a forced declaration only when there is none and the search did not end clear."""
+        if not self.several or not self.found:
+            if reason == "clear":
+                self.declarations, self.finished_by = [], "clear"
+                self.declared = self.rule.force(self.belief, "clear")
+                return self.declared
+            return self._declare(self.rule.force(self.belief, reason), reason)
+        self.declarations = [d for d, _ in self.found]
+        self.declared, self.finished_by = self.declarations[0], reason
+        return self.declared
+
     def _declare(self, found: Declaration, reason: str) -> Declaration:
         """The policy's own point if it has one, else the stopping rule's; snapped to its cell's centre."""
         own = self.policy.declaration(self.belief)
@@ -162,4 +303,5 @@ class SearchController:
         forced = reason == "budget" or (reason != "confident" and self.policy.uses_stopping_rule)
         self.declared = Declaration(self.geometry.centre_of(index), index, self.belief.mass_around(index, 1),
                                     forced, reason)
+        self.declarations, self.finished_by = [self.declared], reason
         return self.declared

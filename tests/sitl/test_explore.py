@@ -164,3 +164,22 @@ def test_explore_reads_the_wind_and_finds_the_fire_under_a_leaning_plume(autopil
     declared = re.search(r"fire declared at N ([\d.]+) m E ([\d.]+) m", result.stdout)
     n, e = float(declared.group(1)), float(declared.group(2))
     assert abs(n - 135.0) <= 15.0 and abs(e - 72.0) <= 15.0, (n, e)  # the hot spot is at E 92
+
+
+def test_explore_looks_for_two_fires_and_declares_both(autopilot_factory, tmp_path):
+    """--max-fires 2 on a world with two fires: after the first find the search explains it away
+    and goes on; both are declared, each within a cell of its own fire, and the vehicle lands."""
+    scenario = tmp_path / "two_fires.toml"
+    scenario.write_text(SMALL_WORLD.read_text() + "\n[[fire]]\nn_m = 45.0\ne_m = 150.0\nstrength_k = 40.0\n")
+    ap = autopilot_factory(speedup="20", extra=("--scenario", str(scenario)))
+    result = subprocess.run([sys.executable, "-m", "groundstation", "explore", "--url", ap.mavsdk_url,
+                             "--scenario", str(scenario), "--max-fires", "2", "--plot", str(tmp_path / "two.png")],
+                            cwd=REPO, capture_output=True, text=True, timeout=240)
+    assert result.returncode == 0, result.stdout[-2000:] + result.stderr[-2000:]
+    declared = [(float(n), float(e)) for n, e in re.findall(r"fire declared at N ([\d.]+) m E ([\d.]+) m", result.stdout)]
+    assert len(declared) == 2, result.stdout
+    fires = [(135.0, 72.0), (45.0, 150.0)]
+    for fire in fires:  # each fire has its own declaration within a cell and a half
+        assert any(abs(n - fire[0]) <= 15.0 and abs(e - fire[1]) <= 15.0 for n, e in declared), (fire, declared)
+    assert "2 of 2 fires found" in result.stdout
+    assert (tmp_path / "two.png").stat().st_size > 0

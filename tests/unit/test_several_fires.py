@@ -135,3 +135,22 @@ def test_one_fire_to_look_for_is_the_plain_search():
     assert c.belief.null_prior == 0.0 and len(c.belief.known) == 0 and c.belief.p_fire == 1.0
     with pytest.raises(ValueError, match="max_fires"):
         SearchConfig(max_fires=0)
+
+
+def test_evaluate_refuses_a_fire_spacing_it_cannot_draw_in_one_line(capsys):
+    from groundstation import cli
+    assert cli.main(["evaluate", "--episodes", "1", "--fire-spacing", "40"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "needs two fires" in err[0]
+    assert cli.main(["evaluate", "--episodes", "1", "--fires", "2", "--fire-spacing", "900"]) == 2
+    assert "no room for two fires 900 m apart" in capsys.readouterr().err
+
+
+def test_twin_fires_are_drawn_at_the_spacing_and_equally_strong():
+    from groundstation.evaluation.episodes import episode_world
+    w = FireWorld()
+    for index in range(20):
+        a, b = episode_world(w, 3, index, EpisodeConfig(fires=2, fire_spacing_m=40.0)).fires
+        assert math.hypot(a.n_m - b.n_m, a.e_m - b.e_m) == pytest.approx(40.0)
+        assert a.strength_k == b.strength_k
+        assert all(w.cell_m <= v <= w.area_m - w.cell_m for v in (b.n_m, b.e_m))

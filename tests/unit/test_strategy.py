@@ -149,8 +149,8 @@ def test_without_outliers_the_robust_machinery_is_the_exact_marginal(count):
     of the same Gaussian), whatever the number of readings."""
     w, readings = random_readings(9, count)
     b = belief_from(w, readings, subcells=2)
-    closed = b._gaussian_log_marginal(b.w_sum, b.s_z, b.s_zz, b.s_g, b.s_gg, b.s_gz)
-    ev = b._stats()[0]
+    closed = b._gaussian_log_marginal(*b.sums.as_tuple())
+    ev = b._stats()[1]
     assert np.ptp(ev - closed) < 1e-7
 
 
@@ -421,10 +421,17 @@ def test_episodes_with_several_fires_keep_the_first_and_count_fires_found():
 
 
 def test_evaluate_draws_several_fires_and_reports_fires_found(tmp_path, capsys):
-    out = tmp_path / "two.json"
+    one, both = tmp_path / "one.json", tmp_path / "both.json"
     assert cli.main(["evaluate", "--scenario", str(DEFAULT_SCENARIO), "--episodes", "2", "--policies", "greedy",
-                     "--fires", "2", "--json", str(out)]) == 0
+                     "--fires", "2", "--max-fires", "1", "--json", str(one)]) == 0
     assert "2 fires each" in capsys.readouterr().out
-    data = json.loads(out.read_text())
-    assert all(len(r["fires"]) == 2 and 0 <= r["fires_found"] <= 1 for r in data["results"]["greedy"])
+    data = json.loads(one.read_text())  # looking for one: one declaration, at most one fire found
+    assert all(len(r["fires"]) == 2 and len(r["declarations"]) == 1 and 0 <= r["fires_found"] <= 1
+               for r in data["results"]["greedy"])
     assert 0 <= data["summary"]["greedy"]["fires_found_rate"] <= 0.5
+    assert cli.main(["evaluate", "--scenario", str(DEFAULT_SCENARIO), "--episodes", "2", "--policies", "greedy",
+                     "--fires", "2", "--json", str(both)]) == 0
+    assert "looking for up to 2" in capsys.readouterr().out
+    data = json.loads(both.read_text())  # looking for as many as were drawn (the default)
+    assert all(1 <= len(r["declarations"]) <= 2 and r["fires_found"] <= len(r["declarations"])
+               for r in data["results"]["greedy"])
