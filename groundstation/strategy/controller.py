@@ -47,7 +47,7 @@ import numpy as np
 
 from .belief import Belief, Geometry
 from .policies import Policy
-from .refine import refine_hot_spots
+from .refine import FINAL_REACH_CELLS, refine_hot_spots
 from .stopping import Declaration, StoppingRule
 
 
@@ -291,9 +291,16 @@ class SearchController:
                 self.declared = self.rule.force(self.belief, "clear")
                 return self.declared
             return self._declare(self.rule.force(self.belief, reason), reason)
-        self.declarations = [d for d, _ in self.found]
+        spots = refine_hot_spots(self.geometry, self.readings, [spot for _, spot in self.found],
+                                 self.belief.s2 ** 0.5, FINAL_REACH_CELLS)
+        self.declarations = [self._placed(d, spot) for (d, _), spot in zip(self.found, spots)]
         self.declared, self.finished_by = self.declarations[0], reason
         return self.declared
+
+    def _placed(self, found: Declaration, spot: tuple) -> Declaration:
+        """The find declared at the cell its fitted hot spot lies in."""
+        index = self.geometry.cell_of(spot[0], spot[1])
+        return Declaration(self.geometry.centre_of(index), index, found.mass, found.forced, found.reason)
 
     def _declare(self, found: Declaration, reason: str) -> Declaration:
         """The policy's own point if it has one, else the stopping rule's; snapped to its cell's centre."""

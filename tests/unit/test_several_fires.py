@@ -154,3 +154,21 @@ def test_twin_fires_are_drawn_at_the_spacing_and_equally_strong():
         assert math.hypot(a.n_m - b.n_m, a.e_m - b.e_m) == pytest.approx(40.0)
         assert a.strength_k == b.strength_k
         assert all(w.cell_m <= v <= w.area_m - w.cell_m for v in (b.n_m, b.e_m))
+
+
+def test_twin_fires_40m_apart_are_each_declared_on_their_own_cell():
+    """Two equal fires 40 m apart: no declaration between them, and none pushed beyond a twin
+    (the finds are placed by fitting both together at the end)."""
+    w = two_fire_world(fires=(Fire(200.0, 180.0, 50.0), Fire(200.0, 220.0, 50.0)))
+    result = run_episode(w, 7, 0, make_policy("gig"), EpisodeConfig(fixed_fire=True, fires=2, max_fires=2))
+    assert result.success and result.fires_found == 2, result.declarations
+
+
+def test_the_final_fit_reaches_a_find_declared_two_cells_off():
+    w = two_fire_world(fires=(Fire(200.0, 180.0, 50.0), Fire(200.0, 220.0, 50.0)), noise=0.5)
+    readings = [(n, e, z, 30.0) for n, e, z in noisy_readings(w, 300, seed=8)]
+    start = [(200.0, 185.0, 0.0, 0.0), (205.0, 240.0, 0.0, 0.0)]  # the second pushed 20 m out
+    near = refine_hot_spots(Geometry(), readings, start, 0.5)  # the search's reach: one cell
+    far = refine_hot_spots(Geometry(), readings, start, 0.5, reach_cells=3.0)
+    assert math.hypot(near[1][0] - 200.0, near[1][1] - 220.0) > 5.0
+    assert all(math.hypot(s[0] - f.n_m, s[1] - f.e_m) < 2.0 for s, f in zip(far, w.fires)), far
