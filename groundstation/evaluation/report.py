@@ -39,8 +39,12 @@ def differences_table(doc: dict) -> list[str]:
 
 def section(path: Path) -> str:
     doc = json.loads(path.read_text())
+    config = doc.get("config", {})
+    fires, spacing, wanted = config.get("fires", 1), config.get("fire_spacing_m"), config.get("max_fires", 1)
     head = (f"`{doc['scenario']}`, kernel {doc['kernel']}, noise {doc['noise_k']:g} K, {doc['start']} start, "
-            f"{doc['episodes']} episodes, seed {doc['seed']}")
+            f"{doc['episodes']} episodes, seed {doc['seed']}"
+            + (f", {fires} fires per episode" if fires > 1 else "") + (f" {spacing:g} m apart" if spacing else "")
+            + (f", the search looking for up to {wanted}" if fires > 1 or wanted > 1 else ""))
     parts = [head, ""] + summary_table(doc)
     diffs = differences_table(doc)
     if diffs:
