@@ -18,7 +18,7 @@ class Progress:
     def __init__(self, total: int, stream=None):
         self.total = max(1, total)
         self.stream = sys.stderr if stream is None else stream  # the stderr of now, not of import time
-        self.tty = hasattr(stream, "isatty") and stream.isatty()
+        self.tty = hasattr(self.stream, "isatty") and self.stream.isatty()
         self._milestone = object()  # differs from any milestone a caller passes
         self._drawn_at = -math.inf
         self._bar_open = False

@@ -116,13 +116,17 @@ def episode_world(world: FireWorld, seed: int, index: int, config: EpisodeConfig
     return dataclasses.replace(world, fires=tuple(fires), ambient_c=float(ambient))
 
 
+def within_one_cell(a: tuple[int, int], b: tuple[int, int]) -> bool:
+    """Cells a and b are the same or neighbours (Chebyshev distance at most 1): how a declaration is judged."""
+    return max(abs(a[0] - b[0]), abs(a[1] - b[1])) <= 1
+
+
 def fires_found(world: FireWorld, declared: list[tuple[float, float]]) -> int:
     """How many of the world's fires have a declared point whose cell is within one cell of theirs
     (a point between two fires, more than a cell from each, finds neither)."""
     geometry = Geometry.from_world(world)
     cells = [geometry.cell_of(n, e) for n, e in declared]
-    return sum(any(max(abs(c[0] - i), abs(c[1] - j)) <= 1 for c in cells)
-               for i, j in (geometry.cell_of(f.n_m, f.e_m) for f in world.fires))
+    return sum(any(within_one_cell(c, geometry.cell_of(f.n_m, f.e_m)) for c in cells) for f in world.fires)
 
 
 def judge(world: FireWorld, n: float, e: float) -> tuple[float, bool]:
@@ -131,18 +135,19 @@ def judge(world: FireWorld, n: float, e: float) -> tuple[float, bool]:
     geometry = Geometry.from_world(world)
     declared = geometry.cell_of(n, e)
     errors = [math.hypot(n - f.n_m, e - f.e_m) for f in world.fires]
-    within = any(max(abs(declared[0] - i), abs(declared[1] - j)) <= 1
-                 for i, j in (geometry.cell_of(f.n_m, f.e_m) for f in world.fires))
+    within = any(within_one_cell(declared, geometry.cell_of(f.n_m, f.e_m)) for f in world.fires)
     return (min(errors) if errors else math.nan), within
 
 
-def judge_all(world: FireWorld, declared: list[tuple[float, float]]) -> tuple[float, bool]:
-    """judge() over several declared points: the worst error, and success when there is at least
-    one and every one is on a fire (a point between two fires is a failure, whatever the others)."""
+def judge_all(world: FireWorld, declared: list[tuple[float, float]]) -> tuple[float, bool, list[bool]]:
+    """judge() over several declared points: the worst error, success when there is at least one
+    and every one is on a fire (a point between two fires is a failure, whatever the others), and
+    each point's own verdict."""
     verdicts = [judge(world, n, e) for n, e in declared]
+    ok = [v[1] for v in verdicts]
     if not verdicts:
-        return math.nan, False
-    return max(v[0] for v in verdicts), all(v[1] for v in verdicts)
+        return math.nan, False, ok
+    return max(v[0] for v in verdicts), all(ok), ok
 
 
 def start_position(geometry: Geometry, start: str) -> tuple[float, float]:
@@ -194,8 +199,8 @@ def run_episode(world: FireWorld, seed: int, index: int, policy: Policy,
             t += config.sample_s
 
     declared = [d.position for d in controller.declarations]
-    error, success = judge_all(ep_world, declared)
-    wrong = any(d.reason == "confident" and not judge(ep_world, *d.position)[1] for d in controller.declarations)
+    error, success, on_fire = judge_all(ep_world, declared)
+    wrong = any(d.reason == "confident" and not ok for d, ok in zip(controller.declarations, on_fire))
     ms = [1000.0 * x for x in controller.decision_s]
     return EpisodeResult(
         policy=policy.name, episode=index, seed=seed, kernel=ep_world.kernel, start=config.start,

@@ -66,7 +66,7 @@ def fly_episode(base: dict, world: FireWorld, seed: int, index: int, policy: str
         except (LinkError, AutopilotExited) as exc:
             return row | {"flown": False, "why": str(exc)}
     declared = [(f["n_m"], f["e_m"]) for f in result["fires"]]
-    error, within = judge_all(world, declared)
+    error, within, _ = judge_all(world, declared)
     return row | {"flown": True, "declared": (result["declared_n_m"], result["declared_e_m"]),
                   "declarations": declared, "fires_found": fires_found(world, declared),
                   "path_m": result["path_m"], "error_m": error, "success": within,

@@ -139,8 +139,8 @@ BURN_IN = 6  # readings whose evidence is marginalised exactly over their outlie
 BURN_IN_OUTLIERS = 2  # ... counting the cases of up to this many outliers among them
 RIDGE = 1e-9  # keeps the known fires' normal equations invertible before the readings pin their strengths
 EXCLUDED_LOG_PRIOR = -1e4  # a cell next to a known fire: no prior mass (finite, so 0 x log 0 stays 0)
-KNOWN_SHIFT_M = 2.0  # the step of a known fire's slopes (a central difference over 2 x this)
 EXCLUDED_CELLS = 2  # ... within this many cells (Chebyshev) of the known fire's
+KNOWN_SHIFT_M = 2.0  # the step of a known fire's slopes (a central difference over 2 x this)
 
 
 def symmetric_inverse(a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -276,8 +276,8 @@ class Belief:
 
     Several fires (docs/strategy.md, "Several fires"): `known` fires, as hot spots (n, e, tilt_n,
     tilt_e) found earlier, join the ambient as nuisances with flat priors on their strengths, so the
-    belief is over one more fire with those explained away; cells within one cell of a known fire
-    hold no prior mass (a fire there is the known one). With null_prior > 0 one more hypothesis says
+    belief is over one more fire with those explained away; cells within EXCLUDED_CELLS of a known
+    fire hold no prior mass (a fire there is the known one). With null_prior > 0 one more hypothesis says
     there is no further fire (its kernel is zero everywhere): p_fire is then the probability that
     there is one, and p the distribution of where, given that there is.
     """

@@ -47,7 +47,7 @@ import numpy as np
 
 from .belief import Belief, Geometry
 from .policies import Policy
-from .refine import FINAL_REACH_CELLS, refine_hot_spots
+from .refine import FINAL_REACH_CELLS, REACH_CELLS, refine_hot_spots
 from .stopping import Declaration, StoppingRule
 
 
@@ -216,13 +216,11 @@ class SearchController:
     def _found(self, found: Declaration, position) -> None:
         """A confident find with more fires to look for: keep it as a hot spot to explain away, put
         every earlier find right now that this one explains part of the readings (relocate), and
-        go on over a belief rebuilt from all readings with the finds known."""
+        go on over a belief rebuilt from all readings with the finds known, after the cross."""
         t0 = self.timer() if self.timer else 0.0
         self.found.append((found, self.belief.hot_spot(found.index)))
         self._relocate()
-        spots = refine_hot_spots(self.geometry, self.readings, [spot for _, spot in self.found],
-                                 self.belief.s2 ** 0.5)
-        self.found = [(d, spot) for (d, _), spot in zip(self.found, spots)]
+        self._move_spots(self._fitted_spots())
         if len(self.found) == self.config.max_fires:  # the search ends here
             return
         self.belief = self._replay(self._belief(tuple(spot for _, spot in self.found)))
@@ -237,16 +235,24 @@ class SearchController:
         REFRESH_M (or always), rebuild the belief with them where they now are. True if rebuilt."""
         t0 = self.timer() if self.timer else 0.0
         spots = [spot for _, spot in self.found]
-        fitted = refine_hot_spots(self.geometry, self.readings, spots, self.belief.s2 ** 0.5)
+        fitted = self._fitted_spots()
         moved = max(math.hypot(a[0] - b[0], a[1] - b[1]) for a, b in zip(spots, fitted))
         if moved <= REFRESH_M and not always:
             return False
-        self.found = [(d, spot) for (d, _), spot in zip(self.found, fitted)]
+        self._move_spots(fitted)
         self.belief = self._replay(self._belief(tuple(fitted)))
         self.decisions += 1
         if self.timer:
             self.decision_s.append(self.timer() - t0)
         return True
+
+    def _fitted_spots(self, reach_cells: float = REACH_CELLS) -> list[tuple]:
+        """The finds' hot spots fitted together to every reading so far (refine.py)."""
+        return refine_hot_spots(self.geometry, self.readings, [spot for _, spot in self.found],
+                                self.belief.s2 ** 0.5, reach_cells)
+
+    def _move_spots(self, spots: list[tuple]) -> None:
+        self.found = [(d, spot) for (d, _), spot in zip(self.found, spots)]
 
     def _pin_pattern(self, centre, position) -> list[tuple[float, float]]:
         """A cross over a find, PIN_M either way along north and east, nearest end first: one
@@ -291,8 +297,7 @@ class SearchController:
                 self.declared = self.rule.force(self.belief, "clear")
                 return self.declared
             return self._declare(self.rule.force(self.belief, reason), reason)
-        spots = refine_hot_spots(self.geometry, self.readings, [spot for _, spot in self.found],
-                                 self.belief.s2 ** 0.5, FINAL_REACH_CELLS)
+        spots = self._fitted_spots(FINAL_REACH_CELLS)
         self.declarations = [self._placed(d, spot) for (d, _), spot in zip(self.found, spots)]
         self.declared, self.finished_by = self.declarations[0], reason
         return self.declared

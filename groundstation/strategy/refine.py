@@ -5,7 +5,7 @@ A find's hot spot comes from the belief's grid (sub-positions a third of a cell 
 second search explains that fire away with the hot spot held fixed. Near the fire the kernel is
 steep: a hot spot 3 m off leaves a two-lobed residual of several kelvin beside it, which the next
 search would take for another fire. So before each new search the found hot spots are fitted,
-continuously and together, to all readings: the positions by Gauss-Newton (scipy's least_squares),
+continuously and together, to all readings: the positions by scipy's least_squares (trust region),
 the ambient and the strengths as linear terms, with a soft-L1 loss so that the rare wild reading
 does not pull them. Each hot spot stays within REACH_CELLS of where the grid put it, and keeps the
 plume lean of its hypothesis.

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import ast
 import io
+import sys
 from pathlib import Path
 
 import pytest
@@ -77,3 +78,13 @@ def test_progress_on_a_terminal_redraws_one_bar_and_ends_its_line():
     text = screen.getvalue()
     assert text.startswith("\r[") and text.count("\r") == 2 and text.endswith("4/4 \n")
     assert "[" + "#" * 24 + "]" in text
+
+
+def test_progress_without_a_stream_draws_on_the_stderr_of_when_it_is_made(monkeypatch):
+    """The default stream is sys.stderr as it is then (a terminal here), bar and all."""
+    screen = Terminal()
+    monkeypatch.setattr(sys, "stderr", screen)
+    progress = Progress(2)
+    progress.show(2, "2/2")
+    progress.close()
+    assert screen.getvalue().startswith("\r[")
