@@ -23,6 +23,8 @@ import threading
 import time
 from pathlib import Path
 
+from autopilot.modes.numbers import ModeNumber
+
 from ..sitl.conftest import free_udp_port
 from .frames import FrameSource
 
@@ -173,7 +175,7 @@ def verdict(result: dict) -> list[str]:
         if v["counters"].get("handler_errors"):
             problems.append(f"vehicle {v['system_id']}: handlers raised {v['counters']['handler_errors']} "
                             f"times, last: {v.get('last_handler_error')}")
-        if not v["state_finite"] or v["mode"] not in (0, 2, 3, 4, 5, 6, 9, 17):
+        if not v["state_finite"] or v["mode"] not in set(ModeNumber):
             problems.append(f"vehicle {v['system_id']} ended invalid: {v}")
     samples = [mb for t, mb in result["rss_mb"] if t > 10.0]  # after start-up and imports
     if len(samples) >= 8:
