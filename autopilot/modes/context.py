@@ -52,6 +52,7 @@ class ModeContext:
     pilot = property(attrgetter("_v.pilot"))
     armed = property(attrgetter("_arming.armed"))
     landed = property(attrgetter("_land.landed"))
+    landed_at_s = property(attrgetter("_land.landed_at_s"))
     time_s = property(attrgetter("_sim.time_s"))
     home_ned = property(attrgetter("_v.home_ned"))
     nav_speed_m_s = property(attrgetter("_v.nav_speed_m_s"))

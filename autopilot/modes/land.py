@@ -18,12 +18,19 @@ def descent_rate_m_s(ctx) -> float:
     return params["LAND_SPEED"] / 100.0
 
 
+def spool_down_s(params) -> float:
+    """How long the motors take from flying to ground idle (MOT_SPOOL_TIM_DN, 0 = MOT_SPOOL_TIME)."""
+    return params["MOT_SPOOL_TIM_DN"] or params["MOT_SPOOL_TIME"]
+
+
 def descend_and_disarm(ctx, sp: Setpoint) -> bool:
-    """The final descent shared by LAND, RTL and AUTO's land item; True once landed and disarmed."""
+    """The final descent shared by LAND, RTL and AUTO's land item; True once landed and disarmed.
+    As ArduCopter, it disarms when landed with the motors spooled down to ground idle, which they
+    begin once the land detector has fired."""
     rate = descent_rate_m_s(ctx)
     sp.vel_d = rate
     sp.speed_dn = rate
-    if ctx.landed and ctx.armed:
+    if ctx.landed and ctx.armed and ctx.time_s - ctx.landed_at_s >= spool_down_s(ctx.params) - 1e-9:
         ctx.disarm("landed")
         return True
     return False

@@ -20,6 +20,7 @@ class LandDetector:
         self.weight_n = weight_n
         self.landed = True
         self._landed_since: float | None = None
+        self.landed_at_s = 0.0  # sim time the vehicle was last found landed
 
     def set_landed(self) -> None:
         """On arming: the vehicle stands on the ground until it rises."""
@@ -45,6 +46,7 @@ class LandDetector:
             return False
         if now_s - self._landed_since >= LAND_DETECT_S:
             self.landed = True
+            self.landed_at_s = now_s
             return True
         return False
 

@@ -22,7 +22,7 @@ from ._util import altitude, fly_until, hovering_vehicle
 def ctx(d_m=0.0, landed=False, armed=True, pilot=None, params=None, **body):
     disarms = []
     c = SimpleNamespace(body=BodyState(d_m=d_m, **body), params=params or ParamStore(),
-                        home_ned=(0.0, 0.0, 0.0), landed=landed, armed=armed, time_s=0.0,
+                        home_ned=(0.0, 0.0, 0.0), landed=landed, landed_at_s=0.0, armed=armed, time_s=0.0,
                         attitude=(0.0, 0.0, 0.0), pilot=pilot or PilotInput(throttle=0.5),
                         nav_speed_m_s=10.0, disarms=disarms)
     c.disarm = lambda reason="": disarms.append(reason)
@@ -98,7 +98,13 @@ def test_land_mode_setpoint_holds_position_and_descends():
     assert sp.pos_ne == (3.0, 4.0)
     assert sp.pos_d is None and sp.vel_d > 0.0
     assert mode.landed_state_hint(c) == "LANDING"
-    c.landed = True
+    c.landed, c.landed_at_s, c.time_s = True, 20.0, 20.0
+    mode.update(c, sp, 0.01)
+    assert c.disarms == [], "the motors first spool down to ground idle (MOT_SPOOL_TIME)"
+    c.time_s = 20.0 + c.params["MOT_SPOOL_TIME"] - 0.01
+    mode.update(c, sp, 0.01)
+    assert c.disarms == []
+    c.time_s = 20.0 + c.params["MOT_SPOOL_TIME"]
     mode.update(c, sp, 0.01)
     assert c.disarms == ["landed"]
 
