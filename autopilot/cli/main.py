@@ -73,7 +73,8 @@ def build_parser() -> argparse.ArgumentParser:
                    help="MAVLink 2 signing: FILE holds 64 hex digits (the key) or a passphrase "
                         "(SHA-256, as MAVProxy's 'signing setup'); unsigned commands are then dropped")
     p.add_argument("--state-log", default=None, metavar="FILE",
-                   help="write the true body state every 0.1 s of sim time (CSV; for determinism checks)")
+                   help="write the true state (body, on ground, armed, mode, home) every 0.1 s of sim time "
+                        "(CSV with a header line; for determinism checks and waits in vehicle time)")
     p.add_argument("--stats", default=None, metavar="FILE",
                    help="at exit, write a JSON report: ticks run, sim time, frames refused and dropped per vehicle")
     p.add_argument("--quiet", action="store_true", help="print nothing but errors")
@@ -189,9 +190,10 @@ def build_vehicle(args, scenario, k: int, outs, listen, epoch_us: int):
             raise CliError(f"--tlog: cannot open {path}: {exc.strerror}") from None
     state_log = None
     if args.state_log:
+        from ..io.state_log import open_state_log
         path = Path(args.state_log) if args.count == 1 else Path(args.state_log).with_suffix(f".{n}.csv")
         try:
-            state_log = open(path, "w")
+            state_log = open_state_log(path)
         except OSError as exc:
             endpoint.close()
             raise CliError(f"--state-log: cannot open {path}: {exc.strerror}") from None

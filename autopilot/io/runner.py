@@ -15,6 +15,8 @@ import select
 import time
 from dataclasses import dataclass
 
+from .state_log import state_line
+
 MAX_LAG_WALL_S = 0.5  # if the sim falls further behind than this, pacing restarts from now
 STATE_LOG_EVERY = 10  # ticks (0.1 s of sim time)
 
@@ -37,7 +39,7 @@ class Node:
     endpoint: object  # UdpEndpoint: the socket and who it answers
     link: object  # Link (autopilot/mavlink/link.py): decodes, judges and packs, between the two
     tlog: object = None  # TlogWriter, or None
-    state_log: object = None  # open text file: the body state every STATE_LOG_EVERY ticks, or None
+    state_log: object = None  # open text file (state_log.py): a line every STATE_LOG_EVERY ticks, or None
 
     @property
     def link_faults(self):
@@ -99,8 +101,7 @@ class Runner:
         if self.ticks % STATE_LOG_EVERY == 0:
             for node in self.nodes:
                 if node.state_log is not None:
-                    v = node.vehicle
-                    node.state_log.write(f"{v.time_s!r}," + ",".join(repr(x) for x in v.body) + "\n")
+                    node.state_log.write(state_line(node.vehicle))
 
     def run(self, duration_s: float = math.inf) -> None:
         wall0 = time.monotonic()

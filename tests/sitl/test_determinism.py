@@ -30,8 +30,8 @@ def test_trajectory_is_bit_identical_across_speedups_and_load(tmp_path):
     for proc, _ in runs:
         assert proc.wait(timeout=120) == 0
     digests = {hashlib.sha256(log.read_bytes()).hexdigest() for _, log in runs}
-    lines = runs[0][1].read_text().splitlines()
-    assert len(lines) == 600  # 60 s of sim time, a state every 0.1 s
+    header, *lines = runs[0][1].read_text().splitlines()
+    assert header.startswith("time_s,n_m,e_m,d_m,") and len(lines) == 600  # 60 s of sim time, a state every 0.1 s
     assert len(digests) == 1, "the same seed flew different trajectories"
     # The script really flew: it climbed to 10 m and went round the 30 m square.
     north = [float(x.split(",")[1]) for x in lines]
