@@ -77,6 +77,8 @@ def build_parser() -> argparse.ArgumentParser:
                         "(CSV with a header line; for determinism checks and waits in vehicle time)")
     p.add_argument("--stats", default=None, metavar="FILE",
                    help="at exit, write a JSON report: ticks run, sim time, frames refused and dropped per vehicle")
+    p.add_argument("--exit-with-parent", action="store_true",
+                   help="stop when the process that started this one dies (for harnesses that start autopilots)")
     p.add_argument("--quiet", action="store_true", help="print nothing but errors")
     return p
 
@@ -202,6 +204,7 @@ def build_vehicle(args, scenario, k: int, outs, listen, epoch_us: int):
 
 
 def main(argv=None) -> int:
+    parent = os.getppid()  # first, before the imports: --exit-with-parent watches this one
     from .scenario import ScenarioError
     try:
         args = build_parser().parse_args(argv)
@@ -216,6 +219,8 @@ def main(argv=None) -> int:
     nodes = [node for node, _ in built]
     runner = Runner(nodes, speedup)
     signal.signal(signal.SIGTERM, lambda *_: runner.stop())
+    if args.exit_with_parent:
+        watch_parent(parent, runner.stop)
     if not args.quiet:
         for node, outs in built[:10]:
             host, port = node.endpoint.address
@@ -247,6 +252,22 @@ def main(argv=None) -> int:
             if node.state_log is not None:
                 node.state_log.close()
     return 0
+
+
+PARENT_POLL_S = 0.5
+
+
+def watch_parent(parent: int, stop) -> None:
+    """Call stop() once the parent process has gone (this process is then re-parented), so that
+    a harness killed without its clean-up (a test worker, a campaign worker) leaves no vehicle
+    flying on. A daemon thread: the loop itself never waits on it."""
+    import threading
+
+    def watch():
+        while os.getppid() == parent:
+            time.sleep(PARENT_POLL_S)
+        stop()
+    threading.Thread(target=watch, name="exit-with-parent", daemon=True).start()
 
 
 def check_writable(path: Path, option: str) -> None:

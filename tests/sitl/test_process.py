@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import signal
+import time
 import subprocess
 import sys
 
@@ -126,3 +127,34 @@ def test_tlog_survives_a_kill(autopilot_factory, tmp_path):
     msgs = _tlog_messages(tlog)
     boot_ms = [m.time_boot_ms for m in msgs if m.get_type() == "GLOBAL_POSITION_INT"]
     assert boot_ms and max(boot_ms) >= 1500, "more than the last second was lost"
+
+
+def test_exit_with_parent_stops_a_vehicle_whose_starter_was_killed(tmp_path):
+    """A harness killed without its clean-up (a campaign worker, a test worker) must not leave its
+    autopilot flying on: with --exit-with-parent the orphan stops by itself, and exits 0."""
+    starter = subprocess.Popen([sys.executable, "-c", (
+        "import subprocess, sys, time\n"
+        "ap = subprocess.Popen([sys.executable, '-m', 'autopilot', '--listen', 'udp:127.0.0.1:0', "
+        "'--out', 'udp:127.0.0.1:9', '--quiet', '--wipe', '--exit-with-parent', "
+        f"'--state-dir', {str(tmp_path / 'state')!r}, '--state-log', {str(tmp_path / 'states.csv')!r}])\n"
+        "print(ap.pid, flush=True)\n"
+        "ap.wait()\n")], cwd=REPO, stdout=subprocess.PIPE, text=True)
+    autopilot_pid = int(starter.stdout.readline())
+    proc_stat = f"/proc/{autopilot_pid}/stat"
+    deadline = time.monotonic() + 20
+    states = tmp_path / "states.csv"
+    while not (states.exists() and len(states.read_text().splitlines()) > 2):  # its loop runs
+        assert time.monotonic() < deadline, "the autopilot never started its loop"
+        time.sleep(0.02)
+    starter.kill()
+    starter.wait()
+
+    def gone() -> bool:
+        try:
+            return open(proc_stat).read().rsplit(")", 1)[1].split()[0] == "Z"  # exited, not yet reaped by init
+        except OSError:
+            return True
+    deadline = time.monotonic() + 10
+    while not gone():
+        assert time.monotonic() < deadline, "the orphaned autopilot was still running 10 s after its starter died"
+        time.sleep(0.05)
