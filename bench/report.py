@@ -94,6 +94,10 @@ def swarm_rows(sw: dict) -> list[str]:
 
 def flight_rows(r: dict) -> list[str]:
     rows = []
+    for speedup, figures in r.get("plugin_fixture", {}).items():
+        rows.append(f"| pytest plugin at speedup {speedup}: `firefly` fixture request to a connected MAVSDK System "
+                    f"(`await firefly.mavsdk()`) / to a pymavlink connection that saw a HEARTBEAT | "
+                    f"{fmt(figures['to_mavsdk_s'], ' s', 3)} / {fmt(figures['to_pymavlink_s'], ' s', 3)} |")
     if "startup" in r:
         rows.append(f"| startup_heartbeat_s (process start to first HEARTBEAT on loopback; sources byte-compiled, as after a pip install) | {fmt(r['startup']['startup_heartbeat_s'], ' s', 3)} |")
         rows.append(f"| startup_armable_s (to SYS_STATUS with the PREARM bit healthy) | {fmt(r['startup']['startup_armable_s'], ' s', 3)} |")

@@ -129,6 +129,47 @@ def startup(runs: int) -> dict:
     return {"startup_heartbeat_s": summary(hb_times), "startup_armable_s": summary(armable_times)}
 
 
+# ----- the pytest plugin's fixture --------------------------------------------------------------------
+def plugin_fixture(runs: int, speedups=("10", "inf")) -> dict:
+    """Seconds from the `firefly` fixture's request to a connected MAVSDK System, through the
+    plugin's own code (autopilot/testing): settings, a fresh process on free ports, its first
+    state line, then `await firefly.mavsdk()`. And the same to a pymavlink connection that has
+    seen a HEARTBEAT."""
+    import tempfile
+    from autopilot.testing.run import FireflyRun
+    from autopilot.testing.settings import FireflySettings, parse_speedup
+    from mavsdk import LogLevel, log_subscribe
+    log_subscribe(lambda level, *_: level < LogLevel.WARN)
+    subprocess.run([sys.executable, "-m", "compileall", "-q", "sim", "autopilot", "groundstation"], cwd=ROOT,
+                   check=True)
+    out = {}
+    for speedup in speedups:
+        to_mavsdk, to_pymavlink = [], []
+        for i in range(runs + 1):  # the first run warms the imports (mavsdk, pymavlink): not counted
+            for client in ("mavsdk", "pymavlink"):
+                with tempfile.TemporaryDirectory(prefix="firefly-bench-") as tmp:
+                    t0 = time.monotonic()
+                    run = FireflyRun(FireflySettings(speedup=parse_speedup(speedup, "speedup"), seed=i), Path(tmp))
+                    try:
+                        run.start()
+                        run.prepare()
+                        vehicle = run.vehicles[0]
+                        if client == "mavsdk":
+                            asyncio.run(vehicle.mavsdk())
+                        else:
+                            vehicle.mavlink()
+                        wall = time.monotonic() - t0
+                    finally:
+                        run.stop()
+                if i > 0:
+                    (to_mavsdk if client == "mavsdk" else to_pymavlink).append(wall)
+            if i > 0:
+                progress(f"fixture at speedup {speedup}, run {i}/{runs}: MAVSDK {to_mavsdk[-1]:.3f} s, "
+                         f"pymavlink {to_pymavlink[-1]:.3f} s")
+        out[speedup] = {"to_mavsdk_s": summary(to_mavsdk), "to_pymavlink_s": summary(to_pymavlink)}
+    return out
+
+
 # ----- the MAVSDK flight of the SITL tests -----------------------------------------------------------
 def mavsdk_flight(speedup: str) -> float | None:
     """Wall seconds for the flight at this speedup, or None if it failed."""
@@ -300,7 +341,7 @@ def main() -> int:
     ap.add_argument("--runs", type=int, default=5)
     ap.add_argument("--reference-runs", type=int, default=None, help="runs of the speedup-1 flight (default --runs)")
     ap.add_argument("--ladder", default="10,20,50,100,200,500,inf")
-    ap.add_argument("--skip", default="", help="comma list of: rtf,startup,mavsdk,mission,swarm")
+    ap.add_argument("--skip", default="", help="comma list of: rtf,startup,plugin,mavsdk,mission,swarm")
     ap.add_argument("--swarm", default="50,100,150,200,250",
                     help="vehicle counts tried, in order (MAVLink system ids stop at 255)")
     ap.add_argument("--batch", default="1,10,100,1000", help="vehicle counts of the batched step cost")
@@ -329,6 +370,10 @@ def main() -> int:
     if "startup" not in skip:
         print("start-up ...", flush=True)
         results["startup"] = startup(args.runs)
+        save(results)
+    if "plugin" not in skip:
+        print("pytest plugin fixture start-up ...", flush=True)
+        results["plugin_fixture"] = plugin_fixture(max(args.runs, 9))
         save(results)
     if "mavsdk" not in skip:
         print("MAVSDK flight ...", flush=True)

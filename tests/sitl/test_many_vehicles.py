@@ -6,7 +6,8 @@ import math
 import pytest
 from pymavlink import mavutil
 
-from .conftest import free_udp_port
+from autopilot.testing.run import free_port_bases
+
 from .pymav import Gcs
 
 pytestmark = pytest.mark.sitl
@@ -14,10 +15,7 @@ mav = mavutil.mavlink
 
 
 def test_three_vehicles_one_process_each_its_own(autopilot_factory):
-    # Ports p, p+10, p+20 must all be free for the offsets; pick a base with room.
-    base = free_udp_port()
-    while not all(_free(base + 10 * k) for k in range(3)):
-        base = free_udp_port()
+    (base,) = free_port_bases(1, 3)  # base, base+10, base+20: the three vehicles' --out ports
     ap = autopilot_factory(extra=("--count", "3"), port=base)
     links = [Gcs(f"udpin:127.0.0.1:{base + 10 * k}") for k in range(3)]
     try:
@@ -41,13 +39,3 @@ def test_three_vehicles_one_process_each_its_own(autopilot_factory):
     finally:
         for g in links:
             g.close()
-
-
-def _free(port: int) -> bool:
-    import socket
-    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:
-        try:
-            s.bind(("127.0.0.1", port))
-        except OSError:
-            return False
-    return True

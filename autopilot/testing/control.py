@@ -1,0 +1,110 @@
+"""The plugin's own MAVLink link to one vehicle: parameters and the ready states, over pymavlink.
+
+It listens on a port of its own (the autopilot sends to it as to any --out), so the user's MAVSDK
+or pymavlink client never sees a reply it did not ask for, except the PARAM_VALUE ArduPilot sends
+to every link when a parameter changes. Telemetry keeps arriving here whether or not anybody
+reads it; before each request the socket is emptied without decoding, so a reply is found among
+the few messages that follow it, even when the vehicle runs flat out.
+"""
+from __future__ import annotations
+
+import math
+import socket
+import struct
+import time
+
+from .errors import FireflyError
+
+MAV_RESULT = {0: "ACCEPTED", 1: "TEMPORARILY_REJECTED", 2: "DENIED", 3: "UNSUPPORTED", 4: "FAILED",
+              5: "IN_PROGRESS", 6: "CANCELLED"}
+REPLY_WALL_S = 2.0  # per attempt; loopback loses nothing unless the test asked for SIM_LINK_* faults
+ATTEMPTS = 3
+REASON_WALL_S = 0.5  # how long a refused PARAM_SET's STATUSTEXT is looked for
+
+
+class ControlError(FireflyError):
+    """A request the vehicle refused or never answered."""
+
+
+class ControlLink:
+    def __init__(self, port: int, system_id: int, alive):
+        from pymavlink import mavutil
+        self.system_id = system_id
+        self.alive = alive  # () -> None; raises if the autopilot process has exited
+        self.conn = mavutil.mavlink_connection(f"udpin:127.0.0.1:{port}", source_system=255,
+                                               source_component=191, dialect="ardupilotmega")
+        self.conn.port.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 1 << 16)
+
+    def close(self) -> None:
+        self.conn.close()
+
+    def _drain(self) -> None:
+        sock = self.conn.port
+        sock.setblocking(False)
+        try:
+            while True:
+                sock.recv(65536)
+        except (BlockingIOError, InterruptedError):
+            pass
+        finally:
+            sock.setblocking(True)
+
+    def _await(self, send, match, what: str):
+        """send(), then the first message for which match(msg) is not None, retried ATTEMPTS times."""
+        for _ in range(ATTEMPTS):
+            if self.conn.last_address is not None:  # else nothing can be sent yet: wait for the first datagram
+                self._drain()
+            send()
+            deadline = time.monotonic() + REPLY_WALL_S
+            while time.monotonic() < deadline:
+                msg = self.conn.recv_match(blocking=True, timeout=0.05)
+                if msg is None:
+                    self.alive()
+                    continue
+                if msg.get_srcSystem() != self.system_id:
+                    continue
+                found = match(msg)
+                if found is not None:
+                    return found
+        raise ControlError(f"firefly: vehicle {self.system_id} did not answer {what}")
+
+    def wait_heartbeat(self) -> None:
+        self._await(lambda: None, lambda m: m if m.get_type() == "HEARTBEAT" else None, "with a HEARTBEAT")
+
+    def set_param(self, name: str, value: float) -> float:
+        """Set `name` and return the value the vehicle now holds; ControlError with the vehicle's
+        own reason when it refuses (an unknown name, a value out of range)."""
+        reasons = []
+
+        def match(m):
+            kind = m.get_type()
+            if kind == "STATUSTEXT" and m.text.startswith("Param set failed"):
+                reasons.append(m.text)
+                if f"unknown parameter {name}" in m.text:  # no PARAM_VALUE follows this one
+                    return math.nan
+            elif kind == "PARAM_VALUE" and m.param_id == name:
+                return m.param_value
+            return None
+        held = self._await(lambda: self.conn.mav.param_set_send(self.system_id, 1, name.encode(), float(value), 9),
+                           match, f"PARAM_SET {name}")
+        wanted = struct.unpack("<f", struct.pack("<f", float(value)))[0]  # what a float32 can hold
+        if held == wanted:
+            return held
+        if not reasons:  # the reason is announced beside the unchanged value
+            deadline = time.monotonic() + REASON_WALL_S
+            while not reasons and time.monotonic() < deadline:
+                m = self.conn.recv_match(type="STATUSTEXT", blocking=True, timeout=0.05)
+                if m is not None and m.text.startswith("Param set failed"):
+                    reasons.append(m.text)
+        reason = reasons[0] if reasons else f"the vehicle holds {held:g}"
+        raise ControlError(f"firefly: {name} = {value:g} refused: {reason}")
+
+    def command(self, command: int, *params: float) -> None:
+        """COMMAND_LONG, which must be ACCEPTED."""
+        args = (list(params) + [0.0] * 7)[:7]
+        ack = self._await(lambda: self.conn.mav.command_long_send(self.system_id, 1, command, 0, *args),
+                          lambda m: m if m.get_type() == "COMMAND_ACK" and m.command == command else None,
+                          f"command {command}")
+        if ack.result != 0:
+            raise ControlError(f"firefly: vehicle {self.system_id} refused command {command}: "
+                               f"MAV_RESULT_{MAV_RESULT.get(ack.result, ack.result)}")

@@ -1,0 +1,126 @@
+"""Firefly's pytest plugin (registered through the `pytest11` entry point of the installed
+package): a fresh simulated ArduCopter for every test that asks for one.
+
+    async def test_returns_home(firefly):
+        drone = await firefly.mavsdk()
+        ...
+        assert firefly.state().distance_from_home_m < 2
+
+Fixtures: `firefly` (the vehicle, a FireflyVehicle) and `firefly_fleet` (every vehicle of the
+test's process, when `@pytest.mark.firefly(count=N)` asks for several). Nothing starts for a
+test that uses neither. See the README, "Testing your own drone code".
+"""
+from __future__ import annotations
+
+import re
+import shutil
+import tempfile
+from pathlib import Path
+
+import pytest
+
+from .settings import KEYS, FireflySettings, SettingsError, parse_speedup, seed_for, settings
+
+RUN_KEY = pytest.StashKey()  # on a test item: its FireflyRun
+REPORTS_KEY = pytest.StashKey()  # on a test item: its reports so far, by phase
+SPEEDUP_KEY = pytest.StashKey()  # on the config: --firefly-speedup
+
+
+def pytest_addoption(parser):
+    group = parser.getgroup("firefly", "Firefly simulated ArduCopter")
+    group.addoption("--firefly-speedup", default="10", metavar="X",
+                    help="default vehicle speedup for tests using the firefly fixtures (a number or 'inf'; "
+                         "a test's @pytest.mark.firefly(speedup=...) wins). Default 10.")
+    group.addoption("--firefly-keep", action="store_true",
+                    help="keep every test's .tlog, state log and autopilot stderr, not only a failed test's")
+    group.addoption("--firefly-evidence", default=None, metavar="DIR",
+                    help="put each test's evidence directory under DIR (default: pytest's temporary directory)")
+
+
+def pytest_configure(config):
+    config.addinivalue_line(
+        "markers", f"firefly({', '.join(k + '=...' for k in KEYS)}): how the test's simulated vehicle is "
+                   "started (Firefly's pytest plugin)")
+    try:
+        config.stash[SPEEDUP_KEY] = parse_speedup(config.getoption("--firefly-speedup"), "--firefly-speedup")
+    except SettingsError as exc:
+        raise pytest.UsageError(str(exc)) from None
+
+
+@pytest.hookimpl(wrapper=True, tryfirst=True)
+def pytest_runtest_makereport(item, call):
+    report = yield
+    item.stash.setdefault(REPORTS_KEY, {})[report.when] = report
+    run = item.stash.get(RUN_KEY, None)
+    if run is not None and report.failed:
+        report.sections.append(("firefly", run.describe()))
+    return report
+
+
+def pytest_sessionfinish(session):
+    from .run import stop_all
+    stop_all()
+
+
+def test_identity(item) -> str:
+    """The test's module and name ("tests.test_app::TestX::test_y[2]"): its node id without the
+    file path, which is relative to pytest's rootdir and so changes with how pytest was invoked."""
+    module = getattr(getattr(item, "module", None), "__name__", None)
+    return f"{module}::{item.nodeid.split('::', 1)[1]}" if module and "::" in item.nodeid else item.nodeid
+
+
+def _settings(request) -> FireflySettings:
+    defaults = FireflySettings(speedup=request.config.stash[SPEEDUP_KEY], seed=seed_for(test_identity(request.node)))
+    marker = request.node.get_closest_marker("firefly")
+    if marker is None:
+        return defaults
+    try:
+        return settings(marker.kwargs, defaults, request.node.path.parent, marker.args)
+    except SettingsError as exc:
+        problem = str(exc)
+    pytest.fail(problem, pytrace=False)  # outside the except: one line, no chained traceback
+
+
+def _evidence_dir(request, tmp_path_factory) -> Path:
+    name = re.sub(r"[^A-Za-z0-9_.-]+", "_", request.node.name)[:60]
+    root = request.config.getoption("--firefly-evidence")
+    if root:
+        Path(root).mkdir(parents=True, exist_ok=True)
+        return Path(tempfile.mkdtemp(prefix=f"{name}-", dir=root))
+    return tmp_path_factory.mktemp(f"firefly-{name}", numbered=True)
+
+
+@pytest.fixture
+def firefly_fleet(request, tmp_path_factory):
+    """Every vehicle of this test's autopilot process (one unless the marker says count=N)."""
+    from .run import FireflyRun
+    from .errors import FireflyError
+    settings = _settings(request)
+    evidence = _evidence_dir(request, tmp_path_factory)
+    run = FireflyRun(settings, evidence)
+    request.node.stash[RUN_KEY] = run
+    try:
+        run.start()
+        run.prepare()
+        problem = None
+    except FireflyError as exc:
+        problem = str(exc)  # the report's firefly section says the rest
+    if problem is not None:
+        run.stop()
+        pytest.fail(problem, pytrace=False)
+    yield run.vehicles
+    code = run.stop()
+    reports = request.node.stash.get(REPORTS_KEY, {})
+    failed = code != 0 or any(r.failed for r in reports.values())
+    if not failed and not request.config.getoption("--firefly-keep"):
+        shutil.rmtree(evidence, ignore_errors=True)
+    if code != 0:
+        pytest.fail(f"firefly: the autopilot ended with status {code} (0 expected after SIGTERM): "
+                    f"{run.stderr_tail() or 'it said nothing'}", pytrace=False)
+
+
+@pytest.fixture
+def firefly(firefly_fleet):
+    """The test's simulated vehicle (system id 1): MAVSDK and pymavlink clients, its true state,
+    waits in vehicle time. Configure it with @pytest.mark.firefly(...)."""
+    return firefly_fleet[0]
