@@ -264,7 +264,7 @@ def watch_parent(parent: int, stop) -> None:
     import threading
 
     def watch():
-        while os.getppid() == parent:
+        while os.getppid() == parent and parent != 1:  # 1: orphaned before main() began
             time.sleep(PARENT_POLL_S)
         stop()
     threading.Thread(target=watch, name="exit-with-parent", daemon=True).start()
