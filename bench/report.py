@@ -94,6 +94,14 @@ def swarm_rows(sw: dict) -> list[str]:
 
 def flight_rows(r: dict) -> list[str]:
     rows = []
+    throughput = r.get("campaign_throughput", {})
+    for name, t in throughput.items():
+        rows.append(f"| campaign throughput, {name} (gig, default world{', speedup 50' if 'flown' in name else ''}) | "
+                    f"{t['episodes_per_s']:.2f} episodes/s ({t['episodes']} in {t['wall_s']:.1f} s, {t['failed']} failed) |")
+    for kind in ("decided", "flown"):
+        one, two = throughput.get(f"{kind}, local 1 worker"), throughput.get(f"{kind}, local 2 workers")
+        if one and two:
+            rows.append(f"| campaign {kind}: local 2 workers / 1 worker | {two['episodes_per_s'] / one['episodes_per_s']:.2f}x |")
     for speedup, figures in r.get("plugin_fixture", {}).items():
         rows.append(f"| pytest plugin at speedup {speedup}: `firefly` fixture request to a connected MAVSDK System "
                     f"(`await firefly.mavsdk()`) / to a pymavlink connection that saw a HEARTBEAT | "

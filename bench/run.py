@@ -170,6 +170,51 @@ def plugin_fixture(runs: int, speedups=("10", "inf")) -> dict:
     return out
 
 
+# ----- campaigns: episodes per wall second ----------------------------------------------------------
+CAMPAIGN_BENCH = """
+[campaign]
+scenario = "{scenario}"
+policies = ["gig"]
+episodes = {episodes}
+flown = {flown}
+speedup = 50
+seed = 5
+"""
+
+
+def campaign_throughput(decided: int = 60, flown: int = 8) -> dict:
+    """Episodes per wall second through the campaign backends (groundstation/campaign), decision-level
+    (gig on the default world) and flown (at speedup 50), with 1 and 2 local workers and on a local
+    Ray with 2 CPUs (its start-up included)."""
+    import tempfile
+    from groundstation.campaign.pool import run_local
+    from groundstation.campaign.ray_backend import run_ray
+    from groundstation.campaign.run import work
+    from groundstation.campaign.spec import load_campaign
+    out = {}
+    with tempfile.TemporaryDirectory() as tmp:
+        path = Path(tmp) / "bench.toml"
+        path.write_text(CAMPAIGN_BENCH.format(scenario=ROOT / "scenarios" / "default.toml", episodes=decided,
+                                              flown=flown))
+        campaign = load_campaign(path)
+        kinds = {"decided": [t for t in campaign.tasks() if not t.flown],
+                 "flown": [t for t in campaign.tasks() if t.flown]}
+        for kind, tasks in kinds.items():
+            jobs = [(t.id, (campaign, t)) for t in tasks]
+            for backend, run in (("local 1 worker", lambda j, d: run_local(j, work, d, 1)),
+                                 ("local 2 workers", lambda j, d: run_local(j, work, d, 2)),
+                                 ("ray 2 CPUs", lambda j, d: run_ray(j, work, d, workers=2))):
+                failed = []
+                t0 = time.monotonic()
+                run(jobs, lambda key, ok, value, attempts: failed.append(key) if not ok else None)
+                wall = time.monotonic() - t0
+                out[f"{kind}, {backend}"] = {"episodes": len(jobs), "wall_s": wall,
+                                             "episodes_per_s": len(jobs) / wall, "failed": len(failed)}
+                progress(f"campaign {kind}, {backend}: {len(jobs)} episodes in {wall:.1f} s = "
+                         f"{len(jobs) / wall:.2f}/s ({len(failed)} failed)")
+    return out
+
+
 # ----- the MAVSDK flight of the SITL tests -----------------------------------------------------------
 def mavsdk_flight(speedup: str) -> float | None:
     """Wall seconds for the flight at this speedup, or None if it failed."""
@@ -341,7 +386,7 @@ def main() -> int:
     ap.add_argument("--runs", type=int, default=5)
     ap.add_argument("--reference-runs", type=int, default=None, help="runs of the speedup-1 flight (default --runs)")
     ap.add_argument("--ladder", default="10,20,50,100,200,500,inf")
-    ap.add_argument("--skip", default="", help="comma list of: rtf,startup,plugin,mavsdk,mission,swarm")
+    ap.add_argument("--skip", default="", help="comma list of: rtf,startup,plugin,campaign,mavsdk,mission,swarm")
     ap.add_argument("--swarm", default="50,100,150,200,250",
                     help="vehicle counts tried, in order (MAVLink system ids stop at 255)")
     ap.add_argument("--batch", default="1,10,100,1000", help="vehicle counts of the batched step cost")
@@ -374,6 +419,10 @@ def main() -> int:
     if "plugin" not in skip:
         print("pytest plugin fixture start-up ...", flush=True)
         results["plugin_fixture"] = plugin_fixture(max(args.runs, 9))
+        save(results)
+    if "campaign" not in skip:
+        print("campaign throughput ...", flush=True)
+        results["campaign_throughput"] = campaign_throughput()
         save(results)
     if "mavsdk" not in skip:
         print("MAVSDK flight ...", flush=True)

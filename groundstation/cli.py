@@ -88,6 +88,17 @@ def build_parser() -> argparse.ArgumentParser:
     ev.add_argument("--flight-speedup", type=positive, default=20.0, help="speedup of the flown episodes (default 20)")
     ev.add_argument("--flight-plots", type=Path, default=None, metavar="DIR",
                     help="write each flown episode's track over its belief to DIR/flight_K.png")
+    camp = sub.add_parser("campaign", help="run a campaign file: episodes over a sweep of conditions, decided and "
+                                           "flown, on a local process pool or on Ray; resumable")
+    camp.add_argument("campaign", type=Path, help="campaign TOML file (see groundstation/campaign/spec.py)")
+    camp.add_argument("--out", type=Path, default=None,
+                      help="folder for results.jsonl, report.md/json and the PNGs (default out/campaign/NAME)")
+    camp.add_argument("--jobs", type=count, default=None, help="local worker processes (default: one per core)")
+    camp.add_argument("--resume", action="store_true", help="run only what the results file does not hold yet")
+    where = camp.add_mutually_exclusive_group()
+    where.add_argument("--ray", action="store_true", help="run on a Ray started here (pip install 'firefly-sitl[ray]')")
+    where.add_argument("--ray-address", default=None, metavar="ADDR",
+                       help="run on the Ray cluster at ADDR (HOST:PORT of its head, ray://HOST:PORT, or auto)")
     return p
 
 
@@ -148,7 +159,7 @@ def main(argv=None) -> int:
     except CliError as exc:
         print(f"groundstation: error: {exc}", file=sys.stderr)
         return 2
-    if args.command != "evaluate" or args.flight:
+    if args.command not in ("evaluate", "campaign") or getattr(args, "flight", None):
         quiet_mavsdk_logs()
     from .evaluation.evaluate import EvaluateError
     from .flight.autopilot_process import AutopilotExited
@@ -167,6 +178,9 @@ def main(argv=None) -> int:
 
 
 def run_command(args) -> int:
+    if args.command == "campaign":
+        from .campaign.run import run
+        return run(args)
     if args.command == "evaluate":
         from .evaluation.evaluate import evaluate
         return evaluate(args)

@@ -6,12 +6,13 @@ from pathlib import Path
 
 
 @contextmanager
-def png(path: Path, figsize: tuple[float, float]):
-    """A figure and its axes, written to `path` (its folder made) when the block ends without error."""
+def png(path: Path, figsize: tuple[float, float], ncols: int = 1):
+    """A figure and its axes (a row of `ncols` of them), written to `path` (its folder made) when
+    the block ends without error."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    fig, ax = plt.subplots(figsize=figsize)
+    fig, ax = plt.subplots(1, ncols, figsize=figsize)
     try:
         yield fig, ax
         fig.tight_layout()

@@ -1,0 +1,237 @@
+"""A campaign file (TOML): what to run, checked in full before anything runs.
+
+    [campaign]
+    scenario = "../scenarios/default.toml"   # relative to this file
+    policies = ["gig", "lawnmower"]
+    episodes = 50        # decision-level episodes per cell (condition x policy)
+    flown = 5            # of those, the first ones also flown through a real autopilot
+    speedup = 20         # of the flown episodes' autopilots
+    seed = 2             # default: the scenario's
+
+    [sweep.world]        # [world] keys of the scenario, each a list of values
+    noise_k = [1.0, 3.0]
+    [sweep.search]       # the search's settings (and how episodes are drawn)
+    start = ["corner"]
+    [sweep.wind]         # the scenario's [wind]: what the vehicle flies in and the search is told
+    speed_m_s = [0.0, 4.0]
+
+The conditions are every combination of the swept values; a cell is a condition and a policy; a
+task is one episode of a cell, decision-level or flown. Every mistake is one line naming the table
+and key.
+"""
+from __future__ import annotations
+
+import copy
+import dataclasses
+import hashlib
+import itertools
+import json
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+from sim.fire import WORLD_KEYS
+from sim.scenario import ScenarioError, read_toml, scenario_from_dict
+
+from ..evaluation.episodes import EpisodeConfig, episode_world
+from ..strategy.policies import POLICIES
+
+CAMPAIGN_KEYS = ("name", "scenario", "policies", "episodes", "flown", "speedup", "seed")
+# The search settings a campaign may sweep: EpisodeConfig's scalar fields, less the wind it is told
+# (that follows [sweep.wind]) and the ranges episodes are drawn from.
+SEARCH_KEYS = tuple(f.name for f in dataclasses.fields(EpisodeConfig)
+                    if f.name not in ("wind_ne_m_s", "strength_k", "ambient_c"))
+WIND_KEYS = ("speed_m_s", "from_direction_deg")
+SWEEP_TABLES = {"world": tuple(sorted(WORLD_KEYS)), "search": SEARCH_KEYS, "wind": WIND_KEYS}
+
+
+class CampaignError(ValueError):
+    """A campaign file that cannot be run, in one line naming the table and key."""
+
+
+@dataclass(frozen=True)
+class Condition:
+    """One combination of swept values: {"world.noise_k": 3.0, "search.start": "corner", ...}."""
+    values: tuple  # ((dotted key, value), ...) in the sweep's order
+
+    @property
+    def key(self) -> str:
+        return json.dumps(dict(self.values), sort_keys=True)
+
+    @property
+    def label(self) -> str:
+        return ", ".join(f"{k.split('.', 1)[1]}={v}" for k, v in self.values) or "as the scenario"
+
+
+@dataclass(frozen=True)
+class Task:
+    """One episode of one cell: what a worker needs to run it, and its identity in the results."""
+    condition: Condition
+    policy: str
+    episode: int
+    flown: bool
+
+    @property
+    def id(self) -> str:
+        return f"{self.condition.key}|{self.policy}|{self.episode}|{'flown' if self.flown else 'decided'}"
+
+
+@dataclass(frozen=True)
+class Campaign:
+    path: Path
+    name: str
+    scenario_path: Path
+    scenario_tables: dict
+    policies: tuple
+    episodes: int
+    flown: int
+    speedup: float
+    seed: int
+    sweep: tuple  # ((dotted key, (values...)), ...)
+    fingerprint: str  # what a results file must carry to be resumed with this campaign
+
+    def conditions(self) -> list[Condition]:
+        keys = [k for k, _ in self.sweep]
+        return [Condition(tuple(zip(keys, combo))) for combo in itertools.product(*(v for _, v in self.sweep))]
+
+    def tasks(self) -> list[Task]:
+        """Every task, decision-level first (they are quick and fill the table early), then flown."""
+        cells = [(c, p) for c in self.conditions() for p in self.policies]
+        decided = [Task(c, p, k, False) for c, p in cells for k in range(self.episodes)]
+        flown = [Task(c, p, k, True) for c, p in cells for k in range(self.flown)]
+        return decided + flown
+
+    def setup(self, condition: Condition):
+        """(scenario tables, world, EpisodeConfig) of a condition."""
+        return condition_setup(self.scenario_tables, condition, self.name)
+
+
+def condition_setup(scenario_tables: dict, condition: Condition, where: str):
+    tables = copy.deepcopy(scenario_tables)
+    search = {}
+    for dotted, value in condition.values:
+        table, key = dotted.split(".", 1)
+        if table == "world":
+            tables.setdefault("world", {})[key] = value
+        elif table == "wind":
+            tables.setdefault("wind", {})[key] = value
+        else:
+            search[key] = value
+    scenario = scenario_from_dict(tables, f"{where}: {condition.label}")
+    if "fires" in search and "max_fires" not in search:
+        search["max_fires"] = search["fires"]  # look for as many as there are, as evaluate --fires does
+    search["wind_ne_m_s"] = tuple(scenario.sim.wind.velocity_ned()[:2])
+    config = EpisodeConfig(**search)
+    return tables, scenario.world, config
+
+
+def _fail(where: str, text: str):
+    raise CampaignError(f"{where}: {text}")
+
+
+def _whole(where: str, value, low: int) -> int:
+    if isinstance(value, bool) or not isinstance(value, int) or value < low:
+        _fail(where, f"expected a whole number >= {low}, got {value!r}")
+    return value
+
+
+def load_campaign(path: Path) -> Campaign:
+    path = Path(path)
+    name = str(path)
+    try:
+        data = read_toml(path)
+    except ScenarioError as exc:  # no such file, unreadable, not TOML: the scenario reader's own lines
+        raise CampaignError(str(exc)) from None
+    for key in data:
+        if key not in ("campaign", "sweep"):
+            _fail(name, f"unknown table [{key}] (known: [campaign], [sweep.world], [sweep.search], [sweep.wind])")
+    head = data.get("campaign")
+    if not isinstance(head, dict):
+        _fail(name, "a [campaign] table is required (scenario, policies, episodes)")
+    where = f"{name}: [campaign]"
+    for key in head:
+        if key not in CAMPAIGN_KEYS:
+            _fail(where, f"unknown key '{key}' (known: {', '.join(CAMPAIGN_KEYS)})")
+    for key in ("scenario", "policies", "episodes"):
+        if key not in head:
+            _fail(where, f"'{key}' is required")
+    if not isinstance(head["scenario"], str):
+        _fail(f"{where} scenario", f"expected a path, got {head['scenario']!r}")
+    scenario_path = (path.parent / head["scenario"]).resolve()
+    try:
+        scenario_tables = read_toml(scenario_path)
+        scenario = scenario_from_dict(scenario_tables, str(scenario_path))
+    except ScenarioError as exc:
+        _fail(f"{where} scenario", str(exc))
+    policies = head["policies"]
+    if not isinstance(policies, list) or not policies:
+        _fail(f"{where} policies", f"expected a non-empty list of policy names, got {policies!r}")
+    for p in policies:
+        if p not in POLICIES:
+            _fail(f"{where} policies", f"unknown policy {p!r} (known: {', '.join(POLICIES)})")
+    if len(set(policies)) != len(policies):
+        _fail(f"{where} policies", "a policy is listed twice")
+    episodes = _whole(f"{where} episodes", head["episodes"], 1)
+    flown = _whole(f"{where} flown", head.get("flown", 0), 0)
+    if flown > episodes:
+        _fail(f"{where} flown", f"at most episodes ({episodes}) can be flown, got {flown}")
+    speedup = head.get("speedup", 20.0)
+    if isinstance(speedup, bool) or not isinstance(speedup, (int, float)) or not (speedup > 0):
+        _fail(f"{where} speedup", f"expected a positive number (inf allowed), got {speedup!r}")
+    seed = _whole(f"{where} seed", head.get("seed", scenario.seed), 0)
+    campaign_name = head.get("name", path.stem)
+    if not isinstance(campaign_name, str) or not campaign_name:
+        _fail(f"{where} name", f"expected a non-empty string, got {campaign_name!r}")
+    sweep = _sweep(data.get("sweep", {}), name)
+    campaign = Campaign(path, campaign_name, scenario_path, scenario_tables, tuple(policies), episodes, flown,
+                        float(speedup), seed, sweep, "")
+    _check_conditions(campaign, name)
+    return dataclasses.replace(campaign, fingerprint=fingerprint(campaign))
+
+
+def _sweep(sweep, name: str) -> tuple:
+    if not isinstance(sweep, dict):
+        _fail(name, "[sweep] must hold tables: [sweep.world], [sweep.search], [sweep.wind]")
+    out = []
+    for table, values in sweep.items():
+        where = f"{name}: [sweep.{table}]"
+        if table not in SWEEP_TABLES:
+            _fail(f"{name}: [sweep]", f"unknown table '{table}' (known: {', '.join(SWEEP_TABLES)})")
+        if not isinstance(values, dict):
+            _fail(where, "must be a table of lists")
+        for key, options in values.items():
+            if key not in SWEEP_TABLES[table]:
+                _fail(where, f"unknown key '{key}' (known: {', '.join(SWEEP_TABLES[table])})")
+            if not isinstance(options, list):
+                _fail(f"{where} {key}", f"expected a list of values, got {options!r}")
+            if not options:
+                _fail(f"{where} {key}", "an empty list sweeps nothing: give at least one value")
+            if len({json.dumps(o) for o in options}) != len(options):
+                _fail(f"{where} {key}", "a value is listed twice")
+            for o in options:
+                if not isinstance(o, (str, int, float)) or isinstance(o, float) and not math.isfinite(o):
+                    _fail(f"{where} {key}", f"values must be strings or finite numbers, got {o!r}")
+            out.append((f"{table}.{key}", tuple(options)))
+    return tuple(out)
+
+
+def _check_conditions(campaign: Campaign, name: str) -> None:
+    """Build every condition's world and settings once, so a bad value fails now, in one line."""
+    for condition in campaign.conditions():
+        try:
+            _, world, config = campaign.setup(condition)
+            episode_world(world, campaign.seed, 0, config)
+        except (ValueError, TypeError) as exc:
+            text = str(exc).removeprefix(f"{campaign.name}: {condition.label}: ")  # said once, below
+            _fail(f"{name}: [sweep] {condition.label}", text)
+        if campaign.flown and config.start != "corner":
+            _fail(f"{name}: [sweep.search] start", "flown episodes start at home, the area's corner: "
+                                                   "with flown > 0 sweep only start = [\"corner\"]")
+
+
+def fingerprint(campaign: Campaign) -> str:
+    """What identifies a campaign's results: everything that decides an episode's outcome."""
+    identity = {"scenario": campaign.scenario_tables, "policies": campaign.policies, "episodes": campaign.episodes,
+                "flown": campaign.flown, "speedup": campaign.speedup, "seed": campaign.seed,
+                "sweep": [[k, list(v)] for k, v in campaign.sweep]}
+    return hashlib.sha256(json.dumps(identity, sort_keys=True, default=str).encode()).hexdigest()[:16]
