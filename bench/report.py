@@ -20,14 +20,23 @@ def header(r: dict) -> list[str]:
     mode_hz = rates.get("mode_hz", rates["position_hz"])
     how = {"compiled": "compiled (C, autopilot/control/_cascade.c)",
            "python": "the Python reference (the extension was not built)"}.get(r.get("cascade"), "Python")
-    return ["# Firefly benchmarks", "",
+    lines = ["# Firefly benchmarks", "",
             f"Last run {r['date']} on {m['cpu']} ({m['cores']} cores, shared with other work: timings are noisy), "
             f"Python {m['python']}, {m['platform']}.", "",
             f"Loop rates: physics {rates['physics_hz']} Hz; position and altitude loops {rates['position_hz']} Hz, "
             f"attitude (angle) and rate loops {rates['attitude_hz']} Hz, allocation with them — the cascade runs "
             f"{how}; flight modes (setpoint generation) and the land detector {mode_hz} Hz; failsafe checks "
             f"{mode_hz // 10} Hz.", "",
-            "Timing figures: median (min–max, n = runs).", ""]
+            "Timing figures: median (min–max, n = runs)."]
+    if r.get("measured"):
+        when = {}
+        for section, stamp in r["measured"].items():
+            when.setdefault(stamp, []).append(section)
+        last = f"{r['date']} on {m['cpu']}"
+        older = [f"{', '.join(sections)}: {stamp}" for stamp, sections in when.items() if stamp != last]
+        if older:
+            lines += ["", "Sections measured in an earlier run: " + "; ".join(older) + "."]
+    return lines + [""]
 
 
 def control_rows(sr: dict) -> list[str]:

@@ -447,8 +447,12 @@ EARLIER = json.loads(RESULTS.read_text()) if RESULTS.exists() else {}  # as it w
 
 def save(results: dict) -> None:
     """Write results.json and BENCHMARKS.md; figures not measured this time keep their values from
-    an earlier run. Called after every section, so a section that crashes loses only itself."""
+    an earlier run, and `measured` says when and on what each section was last measured. Called
+    after every section, so a section that crashes loses only itself."""
+    stamp = f"{results['date']} on {results['machine']['cpu']}"
+    fresh = {k: stamp for k in results if k not in ("date", "machine", "rates", "cascade", "measured")}
     merged = EARLIER | results
+    merged["measured"] = EARLIER.get("measured", {}) | fresh
     RESULTS.write_text(json.dumps(merged, indent=1, default=str))
     write_markdown(merged, ROOT / "BENCHMARKS.md")
 
