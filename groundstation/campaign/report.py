@@ -28,6 +28,9 @@ def cells(campaign: Campaign, records: dict[str, dict]) -> list[dict]:
                     "errors": sorted({r["error"] for r in mine if r["status"] == "failed"})[:3]}
             if decided:
                 cell["decided"] = summarize(decided)
+                if "time_s" in decided[0]:  # team episodes: time to declaration and the team's distance
+                    cell["decided"]["time_mean_s"] = float(np.mean([r["time_s"] for r in decided]))
+                    cell["decided"]["team_path_mean_m"] = float(np.mean([r["team_path_m"] for r in decided]))
             if flown:
                 cell["flown"] = flown_episodes.summarize(flown)
                 same = {r["episode"]: r["path_m"] for r in decided}
@@ -46,16 +49,18 @@ def markdown(campaign: Campaign, summary: list[dict], done: int, total: int) -> 
              f"{campaign.path} on {campaign.scenario_path.name}, seed {campaign.seed}: {campaign.episodes} "
              f"decision-level episodes per cell, the first {campaign.flown} also flown at speedup "
              f"{campaign.speedup:g}. {done} of {total} tasks recorded. Success: every declared cell within one "
-             "cell of a fire. Path in metres; ms: decision time per decision.", "",
+             "cell of a fire. Path in metres (a team's: its slowest vehicle's); ms: decision time per decision.", "",
              "| condition | policy | episodes | failed | success | mean path | median | p90 | false decl. | ms/decision "
+             "| team: time to declaration s | team: distance m "
              "| flown | flown success | flown mean path | decided mean path, same episodes |",
-             "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
+             "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
     for c in summary:
         d, f = c.get("decided", {}), c.get("flown", {})
         lines.append(f"| {c['label']} | {c['policy']} | {c['episodes']} | {c['failed']} | "
                      f"{_f(d.get('success_rate'), 3)} | {_f(d.get('path_mean_m'))} | {_f(d.get('path_median_m'))} | "
                      f"{_f(d.get('path_p90_m'))} | {d.get('false_declarations', '–')} | "
-                     f"{_f(d.get('ms_per_decision_mean'), 1)} | {c['flown_episodes']} | {_f(f.get('success_rate'), 3)} | "
+                     f"{_f(d.get('ms_per_decision_mean'), 1)} | {_f(d.get('time_mean_s'), 1)} | "
+                     f"{_f(d.get('team_path_mean_m'))} | {c['flown_episodes']} | {_f(f.get('success_rate'), 3)} | "
                      f"{_f(f.get('path_mean_m'))} | {_f(c.get('decided_path_mean_m_of_flown_episodes'))} |")
     failed = [c for c in summary if c["errors"]]
     if failed:

@@ -14,6 +14,8 @@
     start = ["corner"]
     [sweep.wind]         # the scenario's [wind]: what the vehicle flies in and the search is told
     speed_m_s = [0.0, 4.0]
+    [sweep.team]         # several vehicles searching together (strategy/team.py): the policies are
+    vehicles = [1, 3]    # then team policies (joint, independent, strips); start: corner or spread
 
 The conditions are every combination of the swept values; a cell is a condition and a policy; a
 task is one episode of a cell, decision-level or flown. Every mistake is one line naming the table
@@ -35,6 +37,7 @@ from sim.scenario import ScenarioError, read_toml, scenario_from_dict
 
 from ..evaluation.episodes import EpisodeConfig, episode_world
 from ..strategy.policies import POLICIES
+from ..strategy.team import TEAM_POLICIES
 
 CAMPAIGN_KEYS = ("name", "scenario", "policies", "episodes", "flown", "speedup", "seed")
 # The search settings a campaign may sweep: EpisodeConfig's scalar fields, less the wind it is told
@@ -42,7 +45,9 @@ CAMPAIGN_KEYS = ("name", "scenario", "policies", "episodes", "flown", "speedup",
 SEARCH_KEYS = tuple(f.name for f in dataclasses.fields(EpisodeConfig)
                     if f.name not in ("wind_ne_m_s", "strength_k", "ambient_c"))
 WIND_KEYS = ("speed_m_s", "from_direction_deg")
-SWEEP_TABLES = {"world": tuple(sorted(WORLD_KEYS)), "search": SEARCH_KEYS, "wind": WIND_KEYS}
+TEAM_KEYS = ("vehicles", "start")
+MAX_VEHICLES = 8
+SWEEP_TABLES = {"world": tuple(sorted(WORLD_KEYS)), "search": SEARCH_KEYS, "wind": WIND_KEYS, "team": TEAM_KEYS}
 
 
 class CampaignError(ValueError):
@@ -61,6 +66,14 @@ class Condition:
     @property
     def label(self) -> str:
         return ", ".join(f"{k.split('.', 1)[1]}={v}" for k, v in self.values) or "as the scenario"
+
+    @property
+    def team(self) -> tuple[int, str] | None:
+        """(vehicles, start) when the condition sweeps a team, else None."""
+        values = dict(self.values)
+        if "team.vehicles" not in values and "team.start" not in values:
+            return None
+        return int(values.get("team.vehicles", 1)), str(values.get("team.start", "corner"))
 
 
 @dataclass(frozen=True)
@@ -115,8 +128,8 @@ def condition_setup(scenario_tables: dict, condition: Condition, where: str):
             tables.setdefault("world", {})[key] = value
         elif table == "wind":
             tables.setdefault("wind", {})[key] = value
-        else:
-            search[key] = value
+        elif table == "search":
+            search[key] = value  # team.* keys choose how the episode is run (tasks.py), not the world
     scenario = scenario_from_dict(tables, f"{where}: {condition.label}")
     if "fires" in search and "max_fires" not in search:
         search["max_fires"] = search["fires"]  # look for as many as there are, as evaluate --fires does
@@ -166,9 +179,12 @@ def load_campaign(path: Path) -> Campaign:
     policies = head["policies"]
     if not isinstance(policies, list) or not policies:
         _fail(f"{where} policies", f"expected a non-empty list of policy names, got {policies!r}")
+    team = "team" in data.get("sweep", {}) if isinstance(data.get("sweep"), dict) else False
+    known = TEAM_POLICIES if team else POLICIES
     for p in policies:
-        if p not in POLICIES:
-            _fail(f"{where} policies", f"unknown policy {p!r} (known: {', '.join(POLICIES)})")
+        if p not in known:
+            _fail(f"{where} policies", f"unknown {'team ' if team else ''}policy {p!r} (known: {', '.join(known)}"
+                                       + ("; [sweep.team] runs team policies" if team else "") + ")")
     if len(set(policies)) != len(policies):
         _fail(f"{where} policies", "a policy is listed twice")
     episodes = _whole(f"{where} episodes", head["episodes"], 1)
@@ -224,6 +240,17 @@ def _check_conditions(campaign: Campaign, name: str) -> None:
         except (ValueError, TypeError) as exc:
             text = str(exc).removeprefix(f"{campaign.name}: {condition.label}: ")  # said once, below
             _fail(f"{name}: [sweep] {condition.label}", text)
+        if condition.team is not None:
+            values = dict(condition.values)
+            vehicles, start = values.get("team.vehicles", 1), values.get("team.start", "corner")
+            if isinstance(vehicles, bool) or not isinstance(vehicles, int) or not 1 <= vehicles <= MAX_VEHICLES:
+                _fail(f"{name}: [sweep.team] vehicles", f"expected whole numbers 1..{MAX_VEHICLES}, got {vehicles!r}")
+            if start not in ("corner", "spread"):
+                _fail(f"{name}: [sweep.team] start", f"expected 'corner' or 'spread', got {start!r}")
+            if campaign.flown:
+                _fail(f"{name}: [campaign] flown", "team episodes are decided only for now: set flown = 0")
+            if config.max_fires != 1:
+                _fail(f"{name}: [sweep.search] max_fires", "a team searches for one fire")
         if campaign.flown and config.start != "corner":
             _fail(f"{name}: [sweep.search] start", "flown episodes start at home, the area's corner: "
                                                    "with flown > 0 sweep only start = [\"corner\"]")

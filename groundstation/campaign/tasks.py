@@ -19,7 +19,14 @@ def run_task(campaign: Campaign, task: Task) -> dict:
     from ..strategy.policies import make_policy
     tables, world, config = campaign.setup(task.condition)
     t0 = time.monotonic()
-    if not task.flown:
+    if task.condition.team is not None:
+        from ..evaluation.team_episodes import run_team_episode
+        from ..strategy.team import make_team_policy
+        warm_up()
+        vehicles, start = task.condition.team
+        result = run_team_episode(world, campaign.seed, task.episode, make_team_policy(task.policy), vehicles,
+                                  config, start)
+    elif not task.flown:
         warm_up()
         result = run_episode(world, campaign.seed, task.episode, make_policy(task.policy), config).to_dict()
     else:

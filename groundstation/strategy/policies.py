@@ -92,12 +92,14 @@ class Greedy(Policy):
         return self.geometry.centre_of(divmod(k, belief.size))
 
 
-def lanes(area_m: float, spacing_m: float, start) -> list[tuple[float, float]]:
+def lanes(area_m: float, spacing_m: float, start, east_m: tuple | None = None) -> list[tuple[float, float]]:
     """Boustrophedon waypoints: lanes along north, at most spacing_m apart, inset by half a spacing,
-    beginning at whichever of the four lane-end corners is nearest to start."""
-    count = max(1, math.ceil(area_m / spacing_m - 1e-9))
-    step = area_m / count
-    east = [(k + 0.5) * step for k in range(count)]
+    beginning at whichever of the four lane-end corners is nearest to start; over the whole area,
+    or over the strip east_m = (lo, hi) of it."""
+    east_lo, east_hi = east_m or (0.0, area_m)
+    count = max(1, math.ceil((east_hi - east_lo) / spacing_m - 1e-9))
+    step = (east_hi - east_lo) / count
+    east = [east_lo + (k + 0.5) * step for k in range(count)]
     lo, hi = min(step / 2, area_m / 2), max(area_m - step / 2, area_m / 2)
     best = None
     for east_order in (east, east[::-1]):

@@ -3,6 +3,7 @@ resumes and refuses another campaign's, and the local pool's retries when a work
 from __future__ import annotations
 
 import json
+import re
 import os
 import signal
 from pathlib import Path
@@ -130,3 +131,29 @@ def test_the_pool_reruns_what_a_dead_worker_held_and_records_twice_failed_tasks(
     assert not ok and attempts == 2 and error.startswith("RuntimeError: this task cannot succeed")
     ok, error, attempts = done[5][0]
     assert not ok and attempts == 2 and "worker running it died (exit code -9)" in error
+
+
+TEAM = f"""
+[campaign]
+scenario = "{SCENARIO}"
+policies = ["joint", "strips"]
+episodes = 2
+[sweep.team]
+vehicles = [1, 3]
+start = ["spread"]
+"""
+
+
+def test_a_team_sweep_runs_team_policies_decided_only(tmp_path):
+    c = load_campaign(campaign_file(tmp_path, TEAM))
+    assert [cond.team for cond in c.conditions()] == [(1, "spread"), (3, "spread")]
+    from groundstation.campaign.tasks import run_task
+    task = next(t for t in c.tasks() if t.condition.team == (3, "spread") and t.policy == "joint")
+    result = run_task(c, task)["result"]
+    assert result["vehicles"] == 3 and len(result["paths_m"]) == 3 and result["success"]
+    for change, says in [(('"joint", "strips"', '"gig"'), "unknown team policy 'gig'"),
+                         (("episodes = 2", "episodes = 2\nflown = 1"), "team episodes are decided only"),
+                         (("vehicles = [1, 3]", "vehicles = [0]"), "[sweep.team] vehicles: expected whole numbers"),
+                         (('start = ["spread"]', 'start = ["middle"]'), "[sweep.team] start")]:
+        with pytest.raises(CampaignError, match=re.escape(says)):
+            load_campaign(campaign_file(tmp_path, TEAM.replace(*change)))
