@@ -1,54 +1,93 @@
-"""Running pytest as a user runs it: a fresh directory holding test files and a pytest.ini, a
-separate `python -m pytest` process, and the installed plugin loaded from its entry point."""
+"""Running the plugin as a user runs it: pytester writes test files into a fresh directory and a
+separate `python -m pytest` process runs them (`runpytest_subprocess`), with the plugin loaded
+from the installed package's `pytest11` entry point and nothing of this suite's configuration.
+
+Every inner run is followed by a look at /proc: an autopilot process still running with a path
+of the inner run's directory on its command line is one the plugin failed to stop. (The plugin
+starts the autopilot with --exit-with-parent, so an orphan stops by itself within about 0.5 s of
+its pytest's exit; the look comes at once, inside that window. A test that must see a process
+stop for certain looks from inside the inner session, as test_failure_evidence.py does.)
+
+The modules that use these helpers say `pytest_plugins = ["pytester"]` themselves: in
+tests/plugin/conftest.py that line would stop `pytest` run from the repository root at collection
+("Defining 'pytest_plugins' in a non-top-level conftest is no longer supported").
+"""
 from __future__ import annotations
 
-import subprocess
-import sys
-from dataclasses import dataclass
+import re
 from pathlib import Path
 
-INI = """[pytest]
-asyncio_mode = {mode}
-asyncio_default_fixture_loop_scope = function
-"""
-INNER_WALL_S = 240
+import pytest
+
+INNER_WALL_S = 180  # one inner session; a hung vehicle fails the test instead of hanging the suite
 
 
-@dataclass
-class InnerRun:
-    returncode: int
-    output: str  # stdout and stderr together
-
-    def outcomes(self) -> dict[str, int]:
-        """{'passed': 3, 'failed': 1, ...} from pytest's last summary line."""
-        import re
-        summary = [line for line in self.output.splitlines() if re.search(r"\bin [\d.]+s\b", line)]
-        if not summary:
-            return {}
-        return {kind: int(n) for n, kind in re.findall(r"(\d+) (passed|failed|errors?|skipped)", summary[-1])}
-
-
-def run_pytest(directory: Path, files: dict[str, str], *args: str, asyncio_mode: str = "auto") -> InnerRun:
-    directory.mkdir(parents=True, exist_ok=True)
-    (directory / "pytest.ini").write_text(INI.format(mode=asyncio_mode))
-    for name, text in files.items():
-        (directory / name).write_text(text)
-    done = subprocess.run([sys.executable, "-m", "pytest", "-p", "no:cacheprovider", "-rA", *args],
-                          cwd=directory, capture_output=True, text=True, timeout=INNER_WALL_S)
-    return InnerRun(done.returncode, done.stdout + done.stderr)
+def run_inner(pytester: pytest.Pytester, *args: str, asyncio_mode: str = "auto") -> pytest.RunResult:
+    """pytest in its own process in pytester's directory, then the check that it left no
+    autopilot running."""
+    result = pytester.runpytest_subprocess(
+        "-p", "no:cacheprovider", "-o", f"asyncio_mode={asyncio_mode}",
+        "-o", "asyncio_default_fixture_loop_scope=function", *args, timeout=INNER_WALL_S)
+    assert_no_autopilot_left(pytester.path)
+    return result
 
 
 def autopilots_under(directory: Path) -> list[str]:
-    """Command lines of running `autopilot` processes whose files are under `directory`."""
+    """Each live `python -m autopilot` process whose command line names a path under `directory`
+    (its state directory, tlog, state log), as "pid: command line". A zombie has an empty
+    /proc/PID/cmdline and so is not listed: it has stopped."""
+    under = str(directory).rstrip("/") + "/"
     found = []
-    for proc in Path("/proc").iterdir():
-        if not proc.name.isdigit():
+    for entry in Path("/proc").iterdir():
+        if not entry.name.isdigit():
             continue
         try:
-            cmdline = (proc / "cmdline").read_bytes().replace(b"\0", b" ").decode(errors="replace")
-            state = (proc / "stat").read_text().rsplit(")", 1)[1].split()[0]
-        except OSError:
+            words = (entry / "cmdline").read_bytes().split(b"\0")
+        except OSError:  # it ended while we looked
             continue
-        if "-m autopilot" in cmdline and str(directory) in cmdline and state != "Z":
-            found.append(cmdline)
+        cmdline = " ".join(w.decode(errors="replace") for w in words if w)
+        if "-m autopilot" in cmdline and under in cmdline:
+            found.append(f"{entry.name}: {cmdline}")
     return found
+
+
+def assert_no_autopilot_left(directory: Path) -> None:
+    left = autopilots_under(directory)
+    assert left == [], "autopilot processes outlived their pytest session:\n" + "\n".join(left)
+
+
+HEADER = re.compile(r"^[_=-]{3,} .* [_=-]{3,}$")  # "____ test_x ____", "---- firefly ----", "==== ... ===="
+
+
+def _header_index(lines: list[str], title: str) -> int | None:
+    return next((i for i, line in enumerate(lines) if HEADER.match(line) and line.strip("_=- ") == title), None)
+
+
+def _body(lines: list[str], header: int) -> list[str]:
+    body = []
+    for line in lines[header + 1:]:
+        if HEADER.match(line):
+            break
+        body.append(line)
+    return body
+
+
+def block(result: pytest.RunResult, title: str) -> list[str]:
+    """The lines under the report header titled `title` ("test_x", "ERROR at setup of test_x"),
+    up to the next header of any kind."""
+    header = _header_index(result.outlines, title)
+    assert header is not None, f"no report header {title!r} in:\n" + result.stdout.str()
+    return _body(result.outlines, header)
+
+
+def firefly_section(result: pytest.RunResult, title: str) -> list[str]:
+    """The plugin's "firefly" section in the report of the test under header `title`."""
+    lines = result.outlines
+    header = _header_index(lines, title)
+    assert header is not None, f"no report header {title!r} in:\n" + result.stdout.str()
+    for i in range(header + 1, len(lines)):
+        if lines[i].startswith(("____", "====")):  # the next test's report: none in this one
+            break
+        if HEADER.match(lines[i]) and lines[i].strip("_=- ") == "firefly":
+            return _body(lines, i)
+    raise AssertionError(f"no firefly section in the report of {title!r}:\n" + result.stdout.str())
