@@ -64,7 +64,7 @@ def build_parser() -> argparse.ArgumentParser:
                    help="where parameters are kept per instance (default ~/.local/state/firefly)")
     p.add_argument("--startup", choices=("instant", "realistic"), default=None,
                    help="instant: armable at once (default); realistic: boot as ArduCopter does, "
-                        "about 41 s of vehicle time before a mode that needs a position can arm")
+                        "about 42 s of vehicle time before a mode that needs a position can arm")
     p.add_argument("--wipe", action="store_true", help="reset saved parameters to defaults (like SITL -w)")
     p.add_argument("--duration", type=float, default=math.inf, help="stop after this many sim seconds")
     p.add_argument("--tlog", default=None, metavar="FILE",
@@ -77,8 +77,10 @@ def build_parser() -> argparse.ArgumentParser:
                         "(CSV with a header line; for determinism checks and waits in vehicle time)")
     p.add_argument("--stats", default=None, metavar="FILE",
                    help="at exit, write a JSON report: ticks run, sim time, frames refused and dropped per vehicle")
-    p.add_argument("--exit-with-parent", action="store_true",
-                   help="stop when the process that started this one dies (for harnesses that start autopilots)")
+    p.add_argument("--exit-with-parent", nargs="?", const=0, default=None, type=positive_pid, metavar="PID",
+                   help="stop when the process that started this one dies, or process PID if given "
+                        "(for harnesses that start autopilots: giving their own PID also covers a "
+                        "harness that dies before this process has started)")
     p.add_argument("--quiet", action="store_true", help="print nothing but errors")
     return p
 
@@ -219,8 +221,8 @@ def main(argv=None) -> int:
     nodes = [node for node, _ in built]
     runner = Runner(nodes, speedup)
     signal.signal(signal.SIGTERM, lambda *_: runner.stop())
-    if args.exit_with_parent:
-        watch_parent(parent, runner.stop)
+    if args.exit_with_parent is not None:
+        watch_parent(parent, args.exit_with_parent, runner.stop)
     if not args.quiet:
         for node, outs in built[:10]:
             host, port = node.endpoint.address
@@ -257,15 +259,41 @@ def main(argv=None) -> int:
 PARENT_POLL_S = 0.5
 
 
-def watch_parent(parent: int, stop) -> None:
-    """Call stop() once the parent process has gone (this process is then re-parented), so that
-    a harness killed without its clean-up (a test worker, a campaign worker) leaves no vehicle
-    flying on. A daemon thread: the loop itself never waits on it."""
+def positive_pid(text: str) -> int:
+    try:
+        pid = int(text)
+    except ValueError:
+        pid = 0
+    if pid <= 0:
+        raise argparse.ArgumentTypeError(f"expected a process id (a positive integer), got {text!r}")
+    return pid
+
+
+def process_exists(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:  # somebody else's process: it exists
+        return True
+    return True
+
+
+def watch_parent(parent: int, pid: int, stop) -> None:
+    """Call stop() once the harness has gone, so that a harness killed without its clean-up (a
+    test worker, a campaign worker) leaves no vehicle flying on: process `pid` if given (0: not),
+    else the parent this process had at start (gone once this process is re-parented; a parent
+    that is PID 1, as in a container, counts as alive while it stays the parent). A daemon
+    thread: the loop itself never waits on it."""
     import threading
 
     def watch():
-        while os.getppid() == parent and parent != 1:  # 1: orphaned before main() began
-            time.sleep(PARENT_POLL_S)
+        if pid:
+            while process_exists(pid):
+                time.sleep(PARENT_POLL_S)
+        else:
+            while os.getppid() == parent:
+                time.sleep(PARENT_POLL_S)
         stop()
     threading.Thread(target=watch, name="exit-with-parent", daemon=True).start()
 

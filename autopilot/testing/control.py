@@ -20,6 +20,7 @@ MAV_RESULT = {0: "ACCEPTED", 1: "TEMPORARILY_REJECTED", 2: "DENIED", 3: "UNSUPPO
 REPLY_WALL_S = 2.0  # per attempt; loopback loses nothing unless the test asked for SIM_LINK_* faults
 ATTEMPTS = 3
 REASON_WALL_S = 0.5  # how long a refused PARAM_SET's STATUSTEXT is looked for
+STATUSTEXT_CHARS = 50
 
 
 class ControlError(FireflyError):
@@ -39,6 +40,8 @@ class ControlLink:
         self.conn.close()
 
     def _drain(self) -> None:
+        # pymavlink's udpin socket is non-blocking and must stay so: its recv_match(timeout=...)
+        # reads after a select and would wait forever on a blocking socket with nothing to read.
         sock = self.conn.port
         sock.setblocking(False)
         try:
@@ -46,8 +49,6 @@ class ControlLink:
                 sock.recv(65536)
         except (BlockingIOError, InterruptedError):
             pass
-        finally:
-            sock.setblocking(True)
 
     def _await(self, send, match, what: str):
         """send(), then the first message for which match(msg) is not None, retried ATTEMPTS times."""
@@ -75,12 +76,14 @@ class ControlLink:
         """Set `name` and return the value the vehicle now holds; ControlError with the vehicle's
         own reason when it refuses (an unknown name, a value out of range)."""
         reasons = []
+        # STATUSTEXT carries 50 characters: a 15- or 16-character name arrives cut short
+        unknown = f"Param set failed: unknown parameter {name}"[:STATUSTEXT_CHARS]
 
         def match(m):
             kind = m.get_type()
             if kind == "STATUSTEXT" and m.text.startswith("Param set failed"):
                 reasons.append(m.text)
-                if f"unknown parameter {name}" in m.text:  # no PARAM_VALUE follows this one
+                if m.text == unknown:  # no PARAM_VALUE follows this one
                     return math.nan
             elif kind == "PARAM_VALUE" and m.param_id == name:
                 return m.param_value

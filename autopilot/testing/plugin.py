@@ -71,11 +71,15 @@ def test_identity(item) -> str:
 
 def _settings(request) -> FireflySettings:
     defaults = FireflySettings(speedup=request.config.stash[SPEEDUP_KEY], seed=seed_for(test_identity(request.node)))
-    marker = request.node.get_closest_marker("firefly")
-    if marker is None:
+    markers = list(request.node.iter_markers("firefly"))  # the closest first: test, class, module
+    if not markers:
         return defaults
+    keys, args = {}, ()
+    for marker in reversed(markers):  # a module's marker sets keys a test's marker may override
+        keys.update(marker.kwargs)
+        args += marker.args
     try:
-        return settings(marker.kwargs, defaults, request.node.path.parent, marker.args)
+        return settings(keys, defaults, request.node.path.parent, args)
     except SettingsError as exc:
         problem = str(exc)
     pytest.fail(problem, pytrace=False)  # outside the except: one line, no chained traceback
@@ -85,7 +89,8 @@ def _evidence_dir(request, tmp_path_factory) -> Path:
     name = re.sub(r"[^A-Za-z0-9_.-]+", "_", request.node.name)[:60]
     root = request.config.getoption("--firefly-evidence")
     if root:
-        Path(root).mkdir(parents=True, exist_ok=True)
+        root = Path(request.config.invocation_params.dir, root)  # as the user typed it, not from a worker's cwd
+        root.mkdir(parents=True, exist_ok=True)
         return Path(tempfile.mkdtemp(prefix=f"{name}-", dir=root))
     return tmp_path_factory.mktemp(f"firefly-{name}", numbered=True)
 
@@ -97,16 +102,22 @@ def firefly_fleet(request, tmp_path_factory):
     from .errors import FireflyError
     settings = _settings(request)
     evidence = _evidence_dir(request, tmp_path_factory)
-    run = FireflyRun(settings, evidence)
-    request.node.stash[RUN_KEY] = run
+    run = None
     try:
+        run = FireflyRun(settings, evidence)
+        request.node.stash[RUN_KEY] = run
         run.start()
         run.prepare()
         problem = None
     except FireflyError as exc:
         problem = str(exc)  # the report's firefly section says the rest
+    except BaseException:  # a bug, or Ctrl-C during start-up: the process must not outlive the test
+        if run is not None:
+            run.stop()
+        raise
     if problem is not None:
-        run.stop()
+        if run is not None:
+            run.stop()
         pytest.fail(problem, pytrace=False)
     yield run.vehicles
     code = run.stop()

@@ -79,13 +79,13 @@ class FireflyRun:
                *[a for kind in PORT_KINDS for a in ("--out", f"udp:127.0.0.1:{ports[kind]}")],
                "--speedup", s.speedup_text, "--seed", str(s.seed), "--count", str(s.count),
                "--startup", s.startup, "--state-dir", str(self.evidence_dir / "state"), "--wipe", "--quiet",
-               "--exit-with-parent",
+               f"--exit-with-parent={os.getpid()}",
                "--tlog", str(self.evidence_dir / "vehicle.tlog"),
                "--state-log", str(self.evidence_dir / "state.csv")]
         if s.scenario is not None:
             cmd += ["--scenario", str(s.scenario)]
         if s.home is not None:
-            cmd += ["--home", s.home]
+            cmd.append(f"--home={s.home}")  # joined: argparse reads "-35.3,..." alone as an option
         return cmd
 
     # ----- life ----------------------------------------------------------------------------
@@ -156,11 +156,28 @@ class FireflyRun:
             lines.append(f"vehicle {v.system_id}: tlog {v.tlog_path}")
             lines.append(f"vehicle {v.system_id}: state log {v.state_log_path}")
             latest = v._state.latest_state() if v._state.path.exists() else None
+            v._state.close()  # the run may be over: read once, hold nothing open
             if latest is not None:
                 lines.append(f"vehicle {v.system_id}: last state {latest}")
         lines.append(f"autopilot stderr: {self.stderr_path}")
-        lines.append("reproduce: " + shlex.join(["autopilot", *self.command[3:]]))
+        lines.append("reproduce: " + shlex.join(self.reproduce_command()))
+        if s.params or s.faults:
+            lines.append("then set: " + ", ".join(f"{k}={v:g}" for k, v in {**s.params, **s.faults}.items()))
         return "\n".join(lines)
+
+    def reproduce_command(self) -> list[str]:
+        """The same vehicle for a person at a ground station: its seed, speed, scenario and home,
+        sending to the usual 14550, with a state directory of its own so that the test's
+        evidence is left as it is."""
+        s = self.settings
+        cmd = ["autopilot", "--out", "udp:127.0.0.1:14550", "--speedup", s.speedup_text, "--seed", str(s.seed),
+               "--count", str(s.count), "--startup", s.startup,
+               "--state-dir", str(self.evidence_dir / "reproduce-state"), "--wipe"]
+        if s.scenario is not None:
+            cmd += ["--scenario", str(s.scenario)]
+        if s.home is not None:
+            cmd.append(f"--home={s.home}")
+        return cmd
 
 
 def stop_all() -> None:

@@ -47,6 +47,8 @@ def parse_speedup(value, where: str) -> float:
     if isinstance(value, str) and value.strip().lower() == "inf":
         return math.inf
     try:
+        if isinstance(value, bool):  # float(True) is 1.0: a flag is not a speed
+            raise TypeError
         speedup = float(value)
     except (TypeError, ValueError):
         raise SettingsError(f"{where}: expected a positive number or 'inf', got {value!r}") from None

@@ -10,13 +10,14 @@ import asyncio
 import time
 from pathlib import Path
 
-from .control import ControlLink
+from .control import ControlError, ControlLink
 from .errors import FireflyError
 from .state import StateLogReader, VehicleState
 
 POLL_WALL_S = 0.005  # how often a wait looks at the state log
 STALL_WALL_S = 30.0  # a wait fails if vehicle time stands still this long (the process hung)
 CONNECT_WALL_S = 10.0
+ARMABLE_WITHIN_S = 90.0  # vehicle seconds from the ready-state request; a realistic start-up needs ~42
 
 
 class Wait:
@@ -93,13 +94,16 @@ class FireflyVehicle:
         if self._mavsdk is None:
             from mavsdk.asyncio import ComponentType, Configuration, Mavsdk
             instance = Mavsdk(Configuration.create_with_component_type(ComponentType.GROUND_STATION))
-            self._mavsdk = (instance, None)
-            await instance.add_any_connection(self.mavsdk_url)
-            system = await instance.first_autopilot(timeout_s=timeout_s)
-            if system is None:
-                self.check_alive()
-                raise FireflyError(f"firefly: vehicle {self.system_id} was not seen by MAVSDK on "
-                                   f"{self.mavsdk_url} within {timeout_s:g} s")
+            try:
+                await instance.add_any_connection(self.mavsdk_url)
+                system = await instance.first_autopilot(timeout_s=timeout_s)
+                if system is None:
+                    self.check_alive()
+                    raise FireflyError(f"firefly: vehicle {self.system_id} was not seen by MAVSDK on "
+                                       f"{self.mavsdk_url} within {timeout_s:g} s")
+            except BaseException:  # not kept: the next call tries afresh
+                instance.destroy()
+                raise
             self._mavsdk = (instance, system)
         return self._mavsdk[1]
 
@@ -108,13 +112,18 @@ class FireflyVehicle:
         vehicle's HEARTBEAT; the same one on every call, closed after the test."""
         if self._mavlink is None:
             from pymavlink import mavutil
-            self._mavlink = mavutil.mavlink_connection(self.mavlink_url, source_system=255, dialect="ardupilotmega")
-            deadline = time.monotonic() + timeout_s
-            while self._mavlink.recv_match(type="HEARTBEAT", blocking=True, timeout=0.1) is None:
-                self.check_alive()
-                if time.monotonic() > deadline:
-                    raise FireflyError(f"firefly: no HEARTBEAT from vehicle {self.system_id} on "
-                                       f"{self.mavlink_url} within {timeout_s:g} s")
+            connection = mavutil.mavlink_connection(self.mavlink_url, source_system=255, dialect="ardupilotmega")
+            try:
+                deadline = time.monotonic() + timeout_s
+                while connection.recv_match(type="HEARTBEAT", blocking=True, timeout=0.1) is None:
+                    self.check_alive()
+                    if time.monotonic() > deadline:
+                        raise FireflyError(f"firefly: no HEARTBEAT from vehicle {self.system_id} on "
+                                           f"{self.mavlink_url} within {timeout_s:g} s")
+            except BaseException:  # not kept: the next call tries afresh
+                connection.close()
+                raise
+            self._mavlink = connection
         return self._mavlink
 
     # ----- the true state and waits in vehicle time ----------------------------------------
@@ -158,15 +167,30 @@ class FireflyVehicle:
 
     def control(self) -> ControlLink:
         if self._control is None:
-            self._control = ControlLink(self.ports["control"], self.system_id, self.check_alive)
-            self._control.wait_heartbeat()
+            link = ControlLink(self.ports["control"], self.system_id, self.check_alive)
+            try:
+                link.wait_heartbeat()
+            except BaseException:
+                link.close()
+                raise
+            self._control = link
         return self._control
 
     def take_off(self, height_m: float, timeout: float = 120.0) -> VehicleState:
         """GUIDED, arm, take off to `height_m` and wait (in vehicle time) until it hovers there."""
         link = self.control()
-        link.command(176, 1, 4)  # DO_SET_MODE: custom mode GUIDED
-        link.command(400, 1)  # arm
+        # A realistic start-up refuses GUIDED and ARM until its position is good (ArduCopter's
+        # ~42 s): ask again each vehicle second until it is armable or ARMABLE_WITHIN_S has passed.
+        give_up_s = self.state().time_s + ARMABLE_WITHIN_S
+        while True:
+            try:
+                link.command(176, 1, 4)  # DO_SET_MODE: custom mode GUIDED
+                link.command(400, 1)  # arm
+                break
+            except ControlError:
+                if self.state().time_s >= give_up_s:
+                    raise
+                self.sleep(1.0)
         link.command(22, 0, 0, 0, 0, 0, 0, height_m)  # NAV_TAKEOFF
         return self.wait_until(lambda s: abs(s.altitude_m - height_m) < 0.3 and abs(s.velocity_ned_m_s[2]) < 0.2,
                                timeout, f"a hover at {height_m:g} m after takeoff")

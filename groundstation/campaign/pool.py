@@ -106,7 +106,7 @@ def run_local(jobs: list, work, on_done, workers: int) -> None:
                     pool[i] = _Worker(ctx, work)
                     failed(job, f"the worker running it died (exit code {code})")
         for w in pool:
-            w.conn.send(None)
+            w.give(None)  # the end; a worker that died idle since its last result has nothing to lose
     finally:
         for w in pool:
             w.stop()

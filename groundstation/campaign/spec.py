@@ -157,7 +157,7 @@ def load_campaign(path: Path) -> Campaign:
         raise CampaignError(str(exc)) from None
     for key in data:
         if key not in ("campaign", "sweep"):
-            _fail(name, f"unknown table [{key}] (known: [campaign], [sweep.world], [sweep.search], [sweep.wind])")
+            _fail(name, f"unknown table [{key}] (known: [campaign], [sweep.world], [sweep.search], [sweep.wind], [sweep.team])")
     head = data.get("campaign")
     if not isinstance(head, dict):
         _fail(name, "a [campaign] table is required (scenario, policies, episodes)")
@@ -207,7 +207,7 @@ def load_campaign(path: Path) -> Campaign:
 
 def _sweep(sweep, name: str) -> tuple:
     if not isinstance(sweep, dict):
-        _fail(name, "[sweep] must hold tables: [sweep.world], [sweep.search], [sweep.wind]")
+        _fail(name, "[sweep] must hold tables: [sweep.world], [sweep.search], [sweep.wind], [sweep.team]")
     out = []
     for table, values in sweep.items():
         where = f"{name}: [sweep.{table}]"
@@ -215,6 +215,8 @@ def _sweep(sweep, name: str) -> tuple:
             _fail(f"{name}: [sweep]", f"unknown table '{table}' (known: {', '.join(SWEEP_TABLES)})")
         if not isinstance(values, dict):
             _fail(where, "must be a table of lists")
+        if table == "team" and not values:  # it would turn the policies into team policies for no team
+            _fail(where, "sweeps nothing: give vehicles = [...] (and start = [...]), or leave the table out")
         for key, options in values.items():
             if key not in SWEEP_TABLES[table]:
                 _fail(where, f"unknown key '{key}' (known: {', '.join(SWEEP_TABLES[table])})")
@@ -251,6 +253,8 @@ def _check_conditions(campaign: Campaign, name: str) -> None:
                 _fail(f"{name}: [campaign] flown", "team episodes are decided only for now: set flown = 0")
             if config.max_fires != 1:
                 _fail(f"{name}: [sweep.search] max_fires", "a team searches for one fire")
+            if "search.start" in values:
+                _fail(f"{name}: [sweep.search] start", "a team's starts are [sweep.team] start (corner or spread)")
         if campaign.flown and config.start != "corner":
             _fail(f"{name}: [sweep.search] start", "flown episodes start at home, the area's corner: "
                                                    "with flown > 0 sweep only start = [\"corner\"]")

@@ -28,6 +28,13 @@ class ResultStore:
         self.path = Path(path)
         self.campaign = campaign
         self.records: dict[str, dict] = {}
+        try:
+            self._open(resume)
+        except OSError as exc:  # --out names a file, or a directory nobody may write
+            raise CampaignError(f"--out: cannot write {self.path}: {exc.strerror or exc}") from None
+
+    def _open(self, resume: bool) -> None:
+        campaign = self.campaign
         if resume:
             self._read()
             self._file = open(self.path, "a")
@@ -35,6 +42,8 @@ class ResultStore:
             if self.path.exists() and self.path.stat().st_size > 0:
                 raise CampaignError(f"{self.path} already holds results: --resume to go on with them, "
                                     "or give another --out")
+            if self.path.parent.exists() and not self.path.parent.is_dir():
+                raise CampaignError(f"--out: {self.path.parent} is a file, not a directory")
             self.path.parent.mkdir(parents=True, exist_ok=True)
             self._file = open(self.path, "w")
             self._write({"campaign": campaign.name, "fingerprint": campaign.fingerprint, "file": str(campaign.path),

@@ -119,7 +119,7 @@ def start_autopilot(state_dir: Path | None = None, speedup="10", extra: tuple = 
     port = port or free_udp_port()
     cmd = [sys.executable, "-m", "autopilot", "--listen", "udp:127.0.0.1:0",
            "--out", f"udp:127.0.0.1:{port}", "--speedup", str(speedup), "--state-dir", str(state_dir),
-           "--quiet", "--exit-with-parent", *extra]
+           "--quiet", f"--exit-with-parent={os.getpid()}", *extra]
     if wipe:
         cmd.append("--wipe")
     log = tempfile.TemporaryFile() if capture_stderr else None

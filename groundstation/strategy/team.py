@@ -8,8 +8,10 @@
 
 Every vehicle's readings, each with its own height, update the one belief; the stopping rule is the
 team's, and the active vehicle nearest the cell it is confident about flies over it to confirm.
-Vehicles fly at separated survey heights (ALTITUDE_STEP_M apart, so their tracks may cross) and
-are never sent to targets closer than SEPARATION_M to each other's.
+Vehicles fly at separated survey heights (ALTITUDE_STEP_M apart), which is what keeps them apart:
+their tracks may cross. The joint planner also never gives two vehicles targets closer than
+SEPARATION_M; the baselines do not look at each other's targets (independent planners may pick
+the same one).
 
 Team policies (the issue's planner and its two baselines):
   joint        sequential greedy allocation over the gig planner's candidates: one estimate of the
@@ -34,7 +36,7 @@ from .planner import Planner, PlannerConfig
 from .policies import GIG_REPLAN_EVERY, detection_radius, lanes
 from .stopping import Declaration, StoppingRule
 
-SEPARATION_M = 10.0    # no two vehicles' targets closer than this
+SEPARATION_M = 10.0    # the joint planner gives no two vehicles targets closer than this
 ALTITUDE_STEP_M = 5.0  # vehicle i surveys this much higher than vehicle i - 1
 FOOTPRINT_M = 25.0     # how far apart two readings still tell about the same cells (the plume's width)
 

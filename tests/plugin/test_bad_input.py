@@ -45,7 +45,7 @@ import pytest
 @pytest.mark.firefly(scenario="misspelt_wind.toml", speedup="inf")
 def test_a_scenario_the_autopilot_refuses(firefly): pass
 
-@pytest.mark.firefly(params={"NO_SUCH_PARAM": 1}, speedup="inf")
+@pytest.mark.firefly(params={"NO_SUCH_PARAM_16": 1}, speedup="inf")
 def test_an_unknown_parameter(firefly): pass
 
 @pytest.mark.firefly(params={"WPNAV_SPEED": 1e9}, speedup="inf")
@@ -59,7 +59,8 @@ def test_bad_markers_and_refused_settings_fail_at_setup_in_one_line(pytester):
     `@pytest.mark.firefly` and the key, and start no process (no evidence directory is made for
     them). Three settings only the vehicle can judge also error at setup: a scenario file the
     autopilot refuses (the report quotes the autopilot's own stderr line), an unknown parameter
-    and an out-of-range value (each named). No traceback anywhere."""
+    (16 characters long, so the vehicle's reason arrives cut to STATUSTEXT's 50) and an
+    out-of-range value (each named). No traceback anywhere."""
     pytester.makepyfile(test_bad_markers=BAD_MARKERS, test_refused=REFUSED)
     pytester.makefile(".toml", misspelt_wind="[wind]\nspeeed = 3\n")
     evidence = pytester.path / "evidence"
@@ -79,7 +80,7 @@ def test_bad_markers_and_refused_settings_fail_at_setup_in_one_line(pytester):
     assert "unknown key 'speeed'" in said and said in refused, refused
 
     unknown = "\n".join(block(result, "ERROR at setup of test_an_unknown_parameter"))
-    assert "NO_SUCH_PARAM = 1 refused" in unknown and "unknown parameter NO_SUCH_PARAM" in unknown, unknown
+    assert "NO_SUCH_PARAM_16 = 1 refused" in unknown and "unknown parameter NO_SUCH_PARAM" in unknown, unknown
     out_of_range = "\n".join(block(result, "ERROR at setup of test_a_parameter_out_of_range"))
     assert "WPNAV_SPEED = 1e+09 refused" in out_of_range and "out of range" in out_of_range, out_of_range
 

@@ -4,6 +4,9 @@ fails in vehicle time; a test that returns while its vehicle flies still stops t
 from __future__ import annotations
 
 import re
+import shlex
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
@@ -59,12 +62,31 @@ def test_the_flying_vehicles_process_has_stopped():
 '''
 
 
+def reproduce_runs_beside_the_evidence(section: list[str], *evidence: Path) -> None:
+    """The report's reproduce command starts a vehicle, and leaves the evidence files as they were."""
+    line = next(line for line in section if line.startswith("reproduce: "))
+    argv = shlex.split(line.removeprefix("reproduce: "))
+    assert argv[0] == "autopilot" and not {"--tlog", "--state-log", "--quiet"} & set(argv), argv
+    before = [path.read_bytes() for path in evidence]
+    state_dir = Path(argv[argv.index("--state-dir") + 1])
+    process = subprocess.Popen([sys.executable, "-m", "autopilot", *argv[1:]], stdout=subprocess.PIPE,
+                               stderr=subprocess.STDOUT, text=True)
+    try:
+        assert "autopilot" in process.stdout.readline()  # its first line: it runs
+        assert state_dir.is_dir()
+    finally:
+        process.terminate()
+        process.wait(timeout=10)
+    assert [path.read_bytes() for path in evidence] == before
+
+
 def test_a_failed_test_keeps_its_evidence_and_a_passing_one_deletes_it(pytester):
     """One inner run of four tests:
     - a wait_until whose condition never holds fails once its 3 s of *vehicle* time are up (not
       sooner, not much later), saying "timed out after ... of vehicle time";
     - that failure's report has a "firefly" section naming the seed, the tlog, the state log and
-      a reproduce command, and those files are on disk and hold the flight;
+      a reproduce command, and those files are on disk and hold the flight; the reproduce
+      command starts a vehicle and leaves them as they were;
     - only the failed test's evidence directory is left: the passing test's is gone, and so is
       that of a test that returned with its vehicle in the air, whose autopilot process had
       stopped before the next test began.
@@ -90,6 +112,7 @@ def test_a_failed_test_keeps_its_evidence_and_a_passing_one_deletes_it(pytester)
     assert state_log.is_file() and len(state_log.read_text().splitlines()) > 30  # > 3 s of 0.1 s lines
     (kept,) = evidence.iterdir()
     assert kept == tlog.parent and kept.name.startswith("test_a_wait_that_never_ends-")
+    reproduce_runs_beside_the_evidence(section, tlog, state_log)
 
     passed_dir = Path(re.search(r"EVIDENCE (\S+)", result.stdout.str()).group(1))
     assert passed_dir.parent == evidence and not passed_dir.exists()

@@ -139,6 +139,35 @@ def test_a_gps_fault_set_before_the_test_lands_the_flying_vehicle(firefly):
     assert not firefly.state().on_ground
     landed = firefly.wait_until(lambda s: s.landed, timeout=120, what="the GPS failsafe's landing")
     assert landed.mode == "LAND"
+
+
+@pytest.mark.firefly(startup="realistic", airborne=5, speedup="inf")
+def test_airborne_after_a_realistic_start_up(firefly):
+    state = firefly.state()
+    assert not state.on_ground and state.mode == "GUIDED"
+    assert state.time_s > 40, "GUIDED is not armable before the realistic start-up's position is good"
+
+
+@pytest.mark.firefly(home=(-33.8568, 151.2153, 10), speedup=50)
+def test_a_home_south_of_the_equator(firefly):
+    position = firefly.mavlink().recv_match(type="GLOBAL_POSITION_INT", blocking=True, timeout=5)
+    assert position is not None
+    assert abs(position.lat / 1e7 + 33.8568) < 1e-3 and abs(position.lon / 1e7 - 151.2153) < 1e-3
+'''
+
+MERGED = '''
+import pytest
+
+pytestmark = pytest.mark.firefly(speedup=50, seed=11)
+
+
+@pytest.mark.firefly(seed=12)
+def test_the_test_marker_wins_where_both_set_a_key(firefly):
+    assert firefly.seed == 12 and firefly.run.settings.speedup == 50
+
+
+def test_the_module_marker_alone(firefly):
+    assert firefly.seed == 11 and firefly.run.settings.speedup == 50
 '''
 
 
@@ -151,7 +180,12 @@ def test_fleets_waits_params_and_faults_are_ready_when_the_test_starts(pytester)
       sleep(10) advances it 10 s in much less than 10 s of wall time (vehicle time, not wall time);
     - params={"WPNAV_SPEED": 750} reads back 750 over the test's own pymavlink link;
     - faults={"SIM_GPS_DISABLE": 1} with airborne=10: the vehicle starts the test in the air and
-      the failsafe lands it in LAND mode."""
-    pytester.makepyfile(test_ready=READY)
+      the failsafe lands it in LAND mode;
+    - startup="realistic" with airborne=5: the takeoff waits for the vehicle to become armable
+      in GUIDED (after 40 s of vehicle time) and the test starts in the air;
+    - home=(-33.8568, 151.2153, 10): the vehicle reports its position there (a negative latitude
+      must reach the autopilot as a value, not be read as an option);
+    - a module's marker and a test's merge, key by key, the test's winning."""
+    pytester.makepyfile(test_ready=READY, test_merged=MERGED)
     result = run_inner(pytester)
-    result.assert_outcomes(passed=5)
+    result.assert_outcomes(passed=9)

@@ -158,3 +158,22 @@ def test_exit_with_parent_stops_a_vehicle_whose_starter_was_killed(tmp_path):
     while not gone():
         assert time.monotonic() < deadline, "the orphaned autopilot was still running 10 s after its starter died"
         time.sleep(0.05)
+
+
+def test_exit_with_parent_given_a_pid_that_has_already_gone_stops_at_once(tmp_path):
+    """A harness that dies between starting the autopilot and the autopilot's first line must not
+    leave it flying either: given the harness's PID, the autopilot stops when that process is
+    gone, even if it was gone before the watch began. A bad PID is one line, not a traceback."""
+    finished = subprocess.Popen([sys.executable, "-c", "pass"])
+    finished.wait()
+    started = time.monotonic()
+    ap = subprocess.run([sys.executable, "-m", "autopilot", "--listen", "udp:127.0.0.1:0",
+                         "--out", "udp:127.0.0.1:9", "--quiet", "--wipe", "--state-dir", str(tmp_path / "state"),
+                         f"--exit-with-parent={finished.pid}"], cwd=REPO, capture_output=True, text=True, timeout=20)
+    assert ap.returncode == 0, ap.stderr
+    assert time.monotonic() - started < 10
+
+    bad = subprocess.run([sys.executable, "-m", "autopilot", "--exit-with-parent=-3"], cwd=REPO,
+                         capture_output=True, text=True, timeout=20)
+    assert bad.returncode == 2 and "Traceback" not in bad.stderr
+    assert "--exit-with-parent: expected a process id (a positive integer), got '-3'" in bad.stderr, bad.stderr

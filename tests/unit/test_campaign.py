@@ -103,6 +103,10 @@ def test_results_resume_and_refuse_another_campaigns_file(tmp_path):
     other = load_campaign(campaign_file(tmp_path, GOOD.replace("episodes = 3", "episodes = 5")))
     with pytest.raises(CampaignError, match="holds campaign 'c' .*not this one"):
         ResultStore(path, other, resume=True)
+    a_file = tmp_path / "a-file"
+    a_file.write_text("not a directory")
+    with pytest.raises(CampaignError, match=re.escape(f"--out: {a_file} is a file, not a directory")):
+        ResultStore(a_file / "results.jsonl", c, resume=False)
 
 
 def _dies_once(payload):
@@ -154,6 +158,9 @@ def test_a_team_sweep_runs_team_policies_decided_only(tmp_path):
     for change, says in [(('"joint", "strips"', '"gig"'), "unknown team policy 'gig'"),
                          (("episodes = 2", "episodes = 2\nflown = 1"), "team episodes are decided only"),
                          (("vehicles = [1, 3]", "vehicles = [0]"), "[sweep.team] vehicles: expected whole numbers"),
-                         (('start = ["spread"]', 'start = ["middle"]'), "[sweep.team] start")]:
+                         (('start = ["spread"]', 'start = ["middle"]'), "[sweep.team] start"),
+                         (('vehicles = [1, 3]\nstart = ["spread"]', ''), "[sweep.team]: sweeps nothing"),
+                         (('[sweep.team]', '[sweep.search]\nstart = ["corner"]\n[sweep.team]'),
+                          "[sweep.search] start: a team's starts are [sweep.team] start")]:
         with pytest.raises(CampaignError, match=re.escape(says)):
             load_campaign(campaign_file(tmp_path, TEAM.replace(*change)))

@@ -51,6 +51,7 @@ def test_a_scenario_path_is_relative_to_the_test_file_unless_absolute(tmp_path):
     ({"speedup": 0}, (), "(speedup=...): expected a positive number or 'inf'"),
     ({"speedup": -1}, (), "(speedup=...): expected a positive number or 'inf', got -1"),
     ({"speedup": "fast"}, (), "(speedup=...): expected a positive number or 'inf', got 'fast'"),
+    ({"speedup": True}, (), "(speedup=...): expected a positive number or 'inf', got True"),
     ({"scenario": "nowhere.toml"}, (), "(scenario=...): no scenario file"),
     ({"scenario": 3}, (), "(scenario=...): expected a path"),
     ({"home": (91, 0, 0)}, (), "(home=...): latitude must be in -90..90"),
