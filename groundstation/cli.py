@@ -42,9 +42,15 @@ def build_parser() -> argparse.ArgumentParser:
     mission.add_argument("--speedup", type=positive, default=10.0, help="speedup of the autopilot it starts")
     mission.add_argument("--plot", type=Path, default=Path("out/mission_track.png"), help="PNG of planned vs flown")
     explore = sub.add_parser("explore", help="find the fire: fly the exploration strategy (starts its own autopilot unless --url)")
-    explore.add_argument("--url", help="MAVSDK connection URL of a running vehicle")
+    explore.add_argument("--url", help="MAVSDK connection URL of a running vehicle (with --vehicles K: K URLs, "
+                                       "comma-separated, the first vehicle's home being the area's origin)")
+    explore.add_argument("--vehicles", type=count, default=1, metavar="K",
+                         help="search with K vehicles together (default 1); without --url one autopilot process "
+                              "with K vehicles is started")
     explore.add_argument("--scenario", type=Path, default=None, help="scenario TOML (world geometry; truth for the report)")
-    explore.add_argument("--policy", default="gig", help="strategy policy (gig, infotaxis, greedy, lawnmower, ...)")
+    explore.add_argument("--policy", default=None,
+                         help="strategy policy (gig, infotaxis, greedy, lawnmower, ...; default gig) or, with "
+                              "--vehicles above 1, team policy (joint, independent, strips; default joint)")
     explore.add_argument("--speedup", type=positive, default=20.0, help="speedup of the autopilot it starts")
     explore.add_argument("--plot", type=Path, default=Path("out/explore.png"), help="PNG of track over final belief")
     explore.add_argument("--no-truth", action="store_true", help="do not mark the scenario's fire (unknown world)")
@@ -55,9 +61,14 @@ def build_parser() -> argparse.ArgumentParser:
     ev.add_argument("--scenario", type=Path, default=Path("scenarios/default.toml"), help="scenario TOML file")
     ev.add_argument("--episodes", type=count, default=200, help="episodes per policy (default 200)")
     ev.add_argument("--seed", type=integer, default=None, help="episode seed (default: the scenario's seed)")
-    ev.add_argument("--policies", default="gig,lawnmower,zigzag",
-                    help="comma-separated: gig, infotaxis, greedy, lawnmower, zigzag, random, gradient")
-    ev.add_argument("--start", choices=("corner", "centre"), default="corner", help="where the vehicle starts")
+    ev.add_argument("--policies", default=None,
+                    help="comma-separated: gig, infotaxis, greedy, lawnmower, zigzag, random, gradient (default "
+                         "gig,lawnmower,zigzag); with --vehicles above 1: joint, independent, strips (default all)")
+    ev.add_argument("--vehicles", type=count, default=1, metavar="K",
+                    help="K vehicles search each episode together (team policies); flown with --flight as one "
+                         "autopilot process with K vehicles")
+    ev.add_argument("--start", choices=("corner", "centre", "spread"), default="corner",
+                    help="where the vehicle starts (spread: a team's vehicles one per corner)")
     ev.add_argument("--kernel", choices=("R", "G"), default=None, help="override the scenario's kernel")
     ev.add_argument("--noise", type=non_negative, default=None, help="override the sensor noise [K]")
     ev.add_argument("--threshold", type=fraction, default=0.99, help="3x3 belief mass that declares (default 0.99)")
@@ -187,9 +198,13 @@ def run_command(args) -> int:
     if args.command == "demo":
         from .flight import demo
         return demo.run(args.url, args.speedup, args.side, args.alt, args.plot)
+    if args.command == "explore" and args.vehicles > 1:
+        from .flight import team_explore
+        return team_explore.run(args.url, args.scenario, args.policy or "joint", args.speedup, args.plot,
+                                not args.no_truth, args.vehicles, args.max_fires)
     if args.command == "explore":
         from .flight import explore
-        return explore.run(args.url, args.scenario, args.policy, args.speedup, args.plot, not args.no_truth,
+        return explore.run(args.url, args.scenario, args.policy or "gig", args.speedup, args.plot, not args.no_truth,
                            args.max_fires)
     from .flight import mission
     return mission.run(args.file, args.url, args.speedup, args.plot)

@@ -16,6 +16,7 @@ import numpy as np
 from ..plots import png
 from ..progress import Progress
 from ..strategy.policies import POLICIES, make_policy
+from ..strategy.team import TEAM_POLICIES, make_team_policy
 from .episodes import EpisodeConfig, episode_world, run_episode
 
 
@@ -23,13 +24,20 @@ class EvaluateError(ValueError):
     pass
 
 
-def parse_policies(text: str) -> list[str]:
+DEFAULT_POLICIES = "gig,lawnmower,zigzag"
+DEFAULT_TEAM_POLICIES = "joint,independent,strips"
+
+
+def parse_policies(text: str, team: bool = False) -> list[str]:
     names = [p.strip() for p in text.split(",") if p.strip()]
+    known = TEAM_POLICIES if team else POLICIES
     if not names:
         raise EvaluateError("--policies: give at least one policy")
     for name in names:
-        if name not in POLICIES:
-            raise EvaluateError(f"--policies: unknown policy {name!r} (known: {', '.join(POLICIES)})")
+        if name not in known:
+            raise EvaluateError(f"--policies: unknown {'team ' if team else ''}policy {name!r} (known: "
+                                f"{', '.join(known)}" + ("; --vehicles above 1 runs team policies" if team else "")
+                                + ")")
     if len(set(names)) != len(names):
         raise EvaluateError("--policies: a policy is listed twice")
     return names
@@ -82,16 +90,21 @@ def warm_up() -> None:
 
 
 def _one(job):
-    world, seed, index, name, config = job
+    world, seed, index, name, config, team = job
     warm_up()
+    if team is not None:  # (vehicles, start)
+        from .team_episodes import run_team_episode
+        vehicles, start = team
+        return run_team_episode(world, seed, index, make_team_policy(name), vehicles, config, start)
     return run_episode(world, seed, index, make_policy(name), config).to_dict()
 
 
 def run(world, policies: list[str], episodes: int, seed: int, config: EpisodeConfig, jobs: int = 1,
-        progress: EpisodeProgress | None = None) -> dict[str, list[dict]]:
-    """Per policy, the results of episodes 0..episodes-1 (the same worlds for every policy)."""
+        progress: EpisodeProgress | None = None, team: tuple | None = None) -> dict[str, list[dict]]:
+    """Per policy, the results of episodes 0..episodes-1 (the same worlds for every policy); with
+    `team` = (vehicles, start), team episodes of team policies."""
     results: dict[str, list[dict]] = {name: [] for name in policies}
-    work = [(world, seed, k, name, config) for name in policies for k in range(episodes)]
+    work = [(world, seed, k, name, config, team) for name in policies for k in range(episodes)]
     if jobs > 1:
         import multiprocessing
         with multiprocessing.get_context("fork").Pool(jobs) as pool:
@@ -197,7 +210,15 @@ def evaluate(args) -> int:
         raise EvaluateError("--flight: flown episodes start at home, the area's corner; use --start corner")
     if args.flight is not None and args.flight > args.episodes:
         raise EvaluateError(f"--flight {args.flight}: at most --episodes ({args.episodes}) episodes can be flown")
-    policies = parse_policies(args.policies)
+    vehicles = args.vehicles
+    team = (vehicles, args.start) if vehicles > 1 else None
+    if team is None and args.start == "spread":
+        raise EvaluateError("--start spread: one vehicle per corner needs --vehicles above 1")
+    if team is not None and args.start == "centre":
+        raise EvaluateError("--start centre: a team starts at the corner or spread over the corners")
+    if team is not None and (args.fires > 1 or (args.max_fires or 1) > 1):
+        raise EvaluateError("--fires/--max-fires: a team searches for one fire")
+    policies = parse_policies(args.policies or (DEFAULT_TEAM_POLICIES if team else DEFAULT_POLICIES), team is not None)
     try:
         scenario = load_scenario(args.scenario)
         if args.flight is not None:
@@ -211,7 +232,7 @@ def evaluate(args) -> int:
         raise EvaluateError(str(exc)) from None
     seed = scenario.seed if args.seed is None else args.seed
     try:
-        config = EpisodeConfig(start=args.start, threshold=args.threshold, budget_m=args.budget,
+        config = EpisodeConfig(start="corner" if team else args.start, threshold=args.threshold, budget_m=args.budget,
                                fixed_fire=args.fixed_fire, speed_m_s=args.speed, subcells=args.subcells,
                                confirm_m=None if args.no_confirm else args.confirm, outlier_rate=args.outlier_rate,
                                wind_ne_m_s=(0.0, 0.0) if args.ignore_wind else scenario.sim.wind.velocity_ned()[:2],
@@ -223,10 +244,11 @@ def evaluate(args) -> int:
     jobs = args.jobs or 1
     progress = EpisodeProgress(len(policies) * args.episodes)
     t0 = time.monotonic()
-    results = run(world, policies, args.episodes, seed, config, jobs, progress)
+    results = run(world, policies, args.episodes, seed, config, jobs, progress, team)
     progress.close()
     summary = {name: summarize(rows) for name, rows in results.items()}
-    title = (f"{args.scenario.name}: kernel {world.kernel}, noise {world.noise_k:g} K, {args.start} start, "
+    title = (f"{args.scenario.name}: kernel {world.kernel}, noise {world.noise_k:g} K, "
+             + (f"{vehicles} vehicles, " if team else "") + f"{args.start} start, "
              f"{args.episodes} episodes, seed {seed}" + (f", {args.fires} fires each" if args.fires > 1 else "")
              + (f" {args.fire_spacing:g} m apart" if args.fire_spacing else "")
              + (f", looking for up to {config.max_fires}" if config.max_fires > 1 else ""))
@@ -261,12 +283,14 @@ def fly(args, world, seed: int, config: EpisodeConfig, policy: str, decided: lis
     import tomllib
     from . import flown_episodes
     base = tomllib.loads(args.scenario.read_text())  # checked by load_scenario and the autopilot
-    print(f"flying episodes 0..{args.flight - 1} with {policy} through the autopilot at speedup "
+    print(f"flying episodes 0..{args.flight - 1} with {policy}"
+          + (f" ({args.vehicles} vehicles)" if args.vehicles > 1 else "") + " through the autopilot at speedup "
           f"{args.flight_speedup:g}", flush=True)
     flown = []
     for k in range(args.flight):
         plot = args.flight_plots / f"flight_{k}.png" if args.flight_plots else None
-        flown.append(flown_episodes.fly_episode(base, world, seed, k, policy, config, args.flight_speedup, plot))
+        flown.append(flown_episodes.fly_episode(base, world, seed, k, policy, config, args.flight_speedup, plot,
+                                                args.vehicles))
         r = flown[-1]
         state = (f"path {r['path_m']:.0f} m, error {r['error_m']:.1f} m, {r['survey_wall_s']:.1f} s wall"
                  if r["flown"] else f"not flown: {r['why']}")
@@ -275,5 +299,6 @@ def fly(args, world, seed: int, config: EpisodeConfig, policy: str, decided: lis
     summary = flown_episodes.summarize(flown)
     print(f"flown: success {summary['success_rate']:.2f}, mean path {summary['path_mean_m']:.0f} m, "
           f"landed at home {summary['landed_home_rate']:.2f} ({summary['flown']}/{summary['episodes']} flown; "
-          f"ok = declared cell within one cell of the fire, home m = landed distance from home)")
+          f"ok = declared cell within one cell of the fire, home m = landed distance from home"
+          + (", the farthest vehicle's; path = the slowest vehicle's" if args.vehicles > 1 else "") + ")")
     return {"policy": policy, "speedup": args.flight_speedup, "summary": summary, "episodes": flown}

@@ -19,8 +19,9 @@ from pathlib import Path
 
 from sim.fire import WORLD_KEYS, FireWorld
 
-from ..flight.autopilot_process import AutopilotExited, run_flight
+from ..flight.autopilot_process import AutopilotExited, run_flight, run_team_flight
 from ..flight.explore import explore
+from ..flight.team_explore import explore_team
 from ..flight.vehicle_link import LinkError
 from .episodes import EpisodeConfig, episode_world, fires_found, judge_all
 
@@ -51,20 +52,27 @@ def toml_text(tables: dict) -> str:
 
 
 def fly_episode(base: dict, world: FireWorld, seed: int, index: int, policy: str, config: EpisodeConfig,
-                speedup: float, plot: Path | None) -> dict:
+                speedup: float, plot: Path | None, vehicles: int = 1) -> dict:
     """Episode `index` of `world` flown on the scenario `base` (its TOML tables), by the search
-    controller with the episodes' own settings (threshold, confirmation, budget, sub-cells, speed)."""
+    controller with the episodes' own settings (threshold, confirmation, budget, sub-cells, speed);
+    with vehicles > 1 by that many vehicles of one autopilot process and the team controller."""
     world = episode_world(world, seed, index, config)
     row = {"episode": index, "policy": policy, "fire": [(f.n_m, f.e_m, f.strength_k) for f in world.fires]}
+    quiet = lambda text: None  # noqa: E731
     with tempfile.TemporaryDirectory(prefix="firefly-flight-") as tmp:
         path = Path(tmp) / f"episode_{index}.toml"
         path.write_text(scenario_text(base, seed + index, world))
         try:
-            result = run_flight(lambda url: explore(url, world, policy, plot, truth=True, config=config,
-                                                    say=lambda text: None),
-                                None, speedup, path, say=lambda text: None)
+            if vehicles > 1:
+                result = run_team_flight(lambda urls: explore_team(urls, world, policy, plot, True, config, say=quiet),
+                                         None, speedup, path, say=quiet, count=vehicles)
+            else:
+                result = run_flight(lambda url: explore(url, world, policy, plot, truth=True, config=config, say=quiet),
+                                    None, speedup, path, say=quiet)
         except (LinkError, AutopilotExited) as exc:
             return row | {"flown": False, "why": str(exc)}
+    if vehicles > 1:
+        return row | team_row(world, result)
     declared = [(f["n_m"], f["e_m"]) for f in result["fires"]]
     error, within, _ = judge_all(world, declared)
     return row | {"flown": True, "declared": (result["declared_n_m"], result["declared_e_m"]),
@@ -73,6 +81,20 @@ def fly_episode(base: dict, world: FireWorld, seed: int, index: int, policy: str
                   "forced": result["forced"], "landed_from_home_m": result["landed_from_home_m"],
                   "survey_vehicle_s": result["survey_vehicle_s"], "survey_wall_s": result["survey_wall_s"],
                   "plot": result.get("plot")}
+
+
+def team_row(world: FireWorld, result: dict) -> dict:
+    """A team flight's row: its path is the slowest vehicle's, and it landed at home only if every
+    vehicle did (a vehicle that left the search did not)."""
+    declared = (result["declared_n_m"], result["declared_e_m"])
+    error, within, _ = judge_all(world, [declared])
+    landed = [math.inf if d is None else d for d in result["landed_from_home_m"]]
+    return {"flown": True, "declared": declared, "declarations": [declared], "fires_found": int(bool(within)),
+            "path_m": result["path_m"], "paths_m": result["paths_m"], "team_path_m": result["team_path_m"],
+            "error_m": error, "success": within, "forced": result["forced"], "landed_from_home_m": max(landed),
+            "landed_each_m": result["landed_from_home_m"], "dropped": result["dropped"],
+            "survey_vehicle_s": result["survey_vehicle_s"], "survey_wall_s": result["survey_wall_s"],
+            "plot": result.get("plot")}
 
 
 def table(flown: list[dict], decided: list[dict]) -> str:

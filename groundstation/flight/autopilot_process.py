@@ -22,10 +22,29 @@ T = TypeVar("T")
 EXIT_POLL_S = 0.05  # how often guard() looks at the process while the flight runs
 
 
-def free_udp_port() -> int:
+INSTANCE_PORT_STEP = 10  # with --count, vehicle k sends to the --out port + 10k
+
+
+def free_udp_port(count: int = 1) -> int:
+    """A free UDP port that is also free + 10k for each further vehicle k < count."""
+    for _ in range(100):
+        with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:
+            s.bind(("127.0.0.1", 0))
+            port = s.getsockname()[1]
+        if all(_bindable(port + INSTANCE_PORT_STEP * k) for k in range(1, count)):
+            return port
+    raise OSError(f"found no free UDP ports for {count} vehicles")
+
+
+def _bindable(port: int) -> bool:
+    if port > 65535:
+        return False
     with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
+        try:
+            s.bind(("127.0.0.1", port))
+        except OSError:
+            return False
+    return True
 
 
 def stop_process(process: subprocess.Popen, timeout_s: float = 10.0) -> None:
@@ -56,6 +75,10 @@ class AutopilotProcess:
     @property
     def mavsdk_url(self) -> str:
         return f"udpin://127.0.0.1:{self.port}"
+
+    def mavsdk_urls(self, count: int) -> list[str]:
+        """Of each vehicle of a --count process."""
+        return [f"udpin://127.0.0.1:{self.port + INSTANCE_PORT_STEP * k}" for k in range(count)]
 
     @property
     def pymavlink_url(self) -> str:
@@ -116,7 +139,8 @@ def start_autopilot(state_dir: Path | None = None, speedup="10", extra: tuple = 
     if state_dir is None:
         owned.append(tempfile.TemporaryDirectory(prefix="firefly-"))
         state_dir = Path(owned[0].name)
-    port = port or free_udp_port()
+    count = int(extra[extra.index("--count") + 1]) if "--count" in extra else 1
+    port = port or free_udp_port(count)
     cmd = [sys.executable, "-m", "autopilot", "--listen", "udp:127.0.0.1:0",
            "--out", f"udp:127.0.0.1:{port}", "--speedup", str(speedup), "--state-dir", str(state_dir),
            "--quiet", f"--exit-with-parent={os.getpid()}", *extra]
@@ -147,10 +171,20 @@ def run_flight(flight: Callable[[str], Awaitable[T]], url: str | None, speedup: 
                scenario: Path | None = None, say=print) -> T:
     """`flight(url)` against the vehicle at `url`, or, without one, against an autopilot process
     started for it (at `speedup`, on `scenario`) and stopped after it."""
-    if url:
-        return asyncio.run(flight(url))
+    return run_team_flight(lambda urls: flight(urls[0]), [url] if url else None, speedup, scenario, say, 1)
+
+
+def run_team_flight(flight: Callable[[list], Awaitable[T]], urls: list | None, speedup: float,
+                    scenario: Path | None = None, say=print, count: int = 1) -> T:
+    """`flight(urls)` against the vehicles at `urls`, or, without them, against one autopilot
+    process with `count` vehicles started for it (at `speedup`, on `scenario`) and stopped after it."""
+    if urls:
+        return asyncio.run(flight(urls))
     extra = ("--scenario", str(scenario)) if scenario else ()
+    if count > 1:
+        extra += ("--count", str(count))
     with start_autopilot(speedup=speedup, extra=extra, capture_stderr=True) as ap:
-        say(f"started autopilot (speedup {speedup:g}{', scenario ' + str(scenario) if scenario else ''}), "
-            f"MAVSDK connecting on {ap.mavsdk_url}")
-        return asyncio.run(ap.guard(flight(ap.mavsdk_url)))
+        urls = ap.mavsdk_urls(count)
+        say(f"started autopilot ({count} vehicle{'s' if count > 1 else ''}, speedup {speedup:g}"
+            f"{', scenario ' + str(scenario) if scenario else ''}), MAVSDK connecting on {', '.join(urls)}")
+        return asyncio.run(ap.guard(flight(urls)))

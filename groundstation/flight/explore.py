@@ -212,11 +212,16 @@ async def explore(url: str, world: FireWorld, policy_name: str, plot: Path | Non
         if feed is not None:
             feed.cancel()
         link.close()
+    save_picture(plot, result, say, lambda path: write_plot(survey, world if truth else None, result, path))
+    return result
+
+
+def save_picture(plot: Path | None, result: dict, say, draw) -> None:
+    """draw(plot) if a picture is wanted, and say where it is."""
     if plot is not None:
-        write_plot(survey, world if truth else None, result, plot)
+        draw(plot)
         result["plot"] = str(plot)
         say(f"picture: {plot}")
-    return result
 
 
 def spread_m(p: np.ndarray, cell_m: float) -> float:
@@ -237,12 +242,12 @@ async def command(awaitable, what: str):
         raise CommandRefused(f"vehicle refused {what}: {exc}") from None
 
 
-async def make_safe(link: VehicleLink) -> None:
+async def make_safe(link: VehicleLink, say=print) -> None:
     """Leave the vehicle in RTL, or at least holding, when the companion gives up."""
     for action in (link.action.return_to_launch, link.action.hold):
         try:
             await asyncio.wait_for(action(), 5.0)
-            print("vehicle left in " + ("RTL" if action == link.action.return_to_launch else "hold"))
+            say("vehicle left in " + ("RTL" if action == link.action.return_to_launch else "hold"))
             return
         except Exception:  # noqa: BLE001
             continue
@@ -270,21 +275,28 @@ async def fly_survey(link: VehicleLink, survey: Survey, moved: asyncio.Event, fe
 
 
 def write_plot(survey: Survey, world: FireWorld | None, result: dict, path: Path) -> None:
-    g = survey.geometry
-    p = survey.controller.belief.probabilities()
     with png(path, (6.4, 5.6)) as (fig, ax):
-        img = ax.imshow(np.log10(np.maximum(p, 1e-12)), origin="lower", extent=(0, g.area_m, 0, g.area_m),
-                        cmap="inferno", vmin=-8, vmax=0)
-        fig.colorbar(img, ax=ax, label="log10 P(fire in cell)")
+        draw_belief(fig, ax, survey.controller.belief.probabilities(), survey.geometry)
         if survey.track:
             draw_track(ax, survey.track, color="cyan", lw=1.2, label="flown (readings)")
         for k, fire in enumerate(result["fires"]):
             ax.plot(fire["e_m"], fire["n_m"], "wx", ms=12, mew=2.5, label="declared" if k == 0 else None)
-        if world is not None:
-            for k, f in enumerate(world.fires):
-                ax.plot(f.e_m, f.n_m, "o", mfc="none", mec="lime", ms=14, mew=2, label="true fire" if k == 0 else None)
+        draw_fires(ax, world)
         label_map(ax, f"Fire search: {result['path_m']:.0f} m flown, {result['readings']} readings")
         ax.legend(loc="upper left", fontsize=8)
+
+
+def draw_belief(fig, ax, p: np.ndarray, g: Geometry) -> None:
+    """The belief's log probabilities over the area, with their colour bar."""
+    img = ax.imshow(np.log10(np.maximum(p, 1e-12)), origin="lower", extent=(0, g.area_m, 0, g.area_m),
+                    cmap="inferno", vmin=-8, vmax=0)
+    fig.colorbar(img, ax=ax, label="log10 P(fire in cell)")
+
+
+def draw_fires(ax, world: FireWorld | None) -> None:
+    """The true fires, when the picture may show them."""
+    for k, f in enumerate(world.fires if world is not None else ()):
+        ax.plot(f.e_m, f.n_m, "o", mfc="none", mec="lime", ms=14, mew=2, label="true fire" if k == 0 else None)
 
 
 def run(url: str | None, scenario: Path | None, policy: str, speedup: float, plot: Path | None,

@@ -339,6 +339,14 @@ def test_evaluate_writes_table_json_and_plot(tmp_path, capsys):
     (["evaluate", "--scenario", str(DEFAULT_SCENARIO), "--episodes", "2", "--flight", "3"], "at most --episodes"),
     (["evaluate", "--flight-speedup", "0"], "--flight-speedup"),
     (["evaluate", "--outlier-rate", "1"], "--outlier-rate"),
+    (["evaluate", "--scenario", str(DEFAULT_SCENARIO), "--start", "spread"], "--start spread: one vehicle per corner"),
+    (["evaluate", "--scenario", str(DEFAULT_SCENARIO), "--vehicles", "3", "--start", "centre"], "--start centre"),
+    (["evaluate", "--scenario", str(DEFAULT_SCENARIO), "--vehicles", "3", "--policies", "gig"], "unknown team policy 'gig'"),
+    (["evaluate", "--scenario", str(DEFAULT_SCENARIO), "--vehicles", "2", "--fires", "2"], "a team searches for one fire"),
+    (["explore", "--vehicles", "2", "--policy", "gig"], "--policy: 'gig' is not a team policy"),
+    (["explore", "--vehicles", "2", "--url", "udpin://127.0.0.1:14540"], "--url: 1 URL(s) for --vehicles 2"),
+    (["explore", "--vehicles", "7"], "--vehicles: at most 6"),
+    (["explore", "--vehicles", "2", "--max-fires", "2"], "--max-fires: a team searches for one fire"),
 ])
 def test_evaluate_errors_are_one_line_exit_2(argv, needle, capsys):
     assert cli.main(argv) == 2

@@ -66,3 +66,38 @@ def test_strips_cover_their_own_share_of_the_area():
     strip = lanes(400.0, 100.0, (0.0, 0.0), (200.0, 400.0))
     assert all(200.0 <= e <= 400.0 for _, e in strip) and len(strip) == 4
     assert lanes(400.0, 100.0, (0.0, 0.0)) == lanes(400.0, 100.0, (0.0, 0.0), (0.0, 400.0))
+
+
+def test_the_team_flight_feed_pairs_each_vehicles_readings_with_its_own_positions_and_heights():
+    """TeamSurvey (sans-IO): readings of each vehicle, paired with that vehicle's positions at
+    their timestamps, reach the one team controller with that vehicle's height; moves come for
+    every vehicle; a dropped vehicle's later readings count no more."""
+    from groundstation.flight.team_survey import TeamSurvey
+    geometry = Geometry.from_world(WORLD)
+    config = SearchConfig()
+    survey = TeamSurvey(geometry, config, 2)
+    team = TeamController(geometry, JointGig(), config, [(0.0, 0.0), (0.0, 5.0)], np.random.default_rng(0))
+    seen = []
+    observe = team.observe
+    team.observe = lambda i, n, e, z, h: (seen.append((i, round(n), round(e), h)), observe(i, n, e, z, h))
+    survey.start(team)
+    assert survey.next_moves() is None, "no reading yet: nothing to decide"
+    for t_ms in range(0, 2100, 100):  # both fly north at 5 m/s, vehicle 1 at 30 m, vehicle 2 at 35 m, 5 m east
+        survey.add_position(0, t_ms, t_ms / 200.0, 0.0, -30.0)
+        survey.add_position(1, t_ms, t_ms / 200.0, 5.0, -35.0)
+        survey.add_reading(0, t_ms, 22.0)
+        survey.add_reading(1, t_ms, 22.0)
+    assert {i for i, *_ in seen} == {0, 1}
+    assert all(h == (30.0 if i == 0 else 35.0) and e == (0 if i == 0 else 5) for i, n, e, h in seen), seen
+    moves = survey.next_moves()
+    assert [type(m) for m in moves] == [Goto, Goto]
+    assert survey.paths_m[0] == pytest.approx(10.0, abs=0.6) and survey.paths_m[1] == pytest.approx(10.0, abs=0.6)
+
+    survey.drop(1, "it disarmed")
+    counted = team.observations
+    for t_ms in range(2100, 3200, 100):
+        survey.add_position(1, t_ms, t_ms / 200.0, 5.0, -35.0)
+        survey.add_reading(1, t_ms, 22.0)
+    assert team.observations == counted, "a dropped vehicle's readings no longer count"
+    moves = survey.next_moves()
+    assert survey.out == {1: "it disarmed"} and (moves is None or moves[1] is None)
