@@ -38,7 +38,11 @@ from .stopping import Declaration, StoppingRule
 
 SEPARATION_M = 10.0    # the joint planner gives no two vehicles targets closer than this
 ALTITUDE_STEP_M = 5.0  # vehicle i surveys this much higher than vehicle i - 1
-FOOTPRINT_M = 25.0     # how far apart two readings still tell about the same cells (the plume's width)
+# How far apart two readings still tell about the same cells. The plume's width (25 m) was the
+# first guess; on the tuning seed (seed 1, 100 episodes, R, three vehicles from spread starts) it
+# cost time: 42.2 s to declaration at 25 m, 40.7 s at 10 m, 40.5 s at 5 m (independent planners:
+# 41.1 s). The shared belief already tells a vehicle what the others have read; a cell is 10 m.
+FOOTPRINT_M = 10.0
 
 
 def survey_heights(geometry: Geometry, k: int) -> list[float]:
@@ -87,11 +91,16 @@ class JointGig(TeamPolicy):
             others = [np.asarray(t) for j, t in (held | out).items() if j != i]
             pos = np.asarray(positions[i], dtype=float)
             dist = np.hypot(pts[:, 0] - pos[0], pts[:, 1] - pos[1])
-            score = planner.score(gains, dist)
+            discount = np.ones(len(pts))
+            too_close = np.zeros(len(pts), dtype=bool)
             for t in others:
                 d = np.hypot(pts[:, 0] - t[0], pts[:, 1] - t[1])
-                score = score * (1.0 - np.exp(-d * d / (2.0 * FOOTPRINT_M ** 2)))
-                score[d < SEPARATION_M] = -np.inf
+                discount *= 1.0 - np.exp(-d * d / (2.0 * FOOTPRINT_M ** 2))
+                too_close |= d < SEPARATION_M
+            # excluded after the discount: -inf times a candidate's zero discount is NaN, which
+            # would make the best score NaN and leave the vehicle standing
+            score = planner.score(gains, dist) * discount
+            score[too_close] = -np.inf
             best = score.max()
             if not np.isfinite(best):  # boxed in by the others: stay
                 out[i] = (float(pos[0]), float(pos[1]))

@@ -101,3 +101,22 @@ def test_the_team_flight_feed_pairs_each_vehicles_readings_with_its_own_position
     assert team.observations == counted, "a dropped vehicle's readings no longer count"
     moves = survey.next_moves()
     assert survey.out == {1: "it disarmed"} and (moves is None or moves[1] is None)
+
+
+def test_a_candidate_on_another_vehicles_target_does_not_leave_a_vehicle_standing():
+    """Two other vehicles' targets, one on a candidate: the excluded candidates must not turn the
+    best score into NaN (a vehicle 'boxed in' would stay where it is)."""
+    geometry = Geometry.from_world(WORLD)
+    policy = JointGig()
+    team = TeamController(geometry, policy, SearchConfig(), [(0.0, 0.0), (200.0, 200.0), (200.0, 205.0)],
+                          np.random.default_rng(0))
+    for n, e, z in [(0, 0, 22.0), (5, 0, 22.3), (10, 0, 22.1)]:
+        team.observe(0, n, e, z, 30.0)
+    candidates = policy.planners[0].candidates(team.belief, (0.0, 0.0))
+    on_one = tuple(float(x) for x in candidates[0])
+    with np.errstate(invalid="raise"):
+        # the first other target excludes the candidate, the second sits on it (discount 0)
+        chosen = policy.assign(team.belief, [(0.0, 0.0), (200.0, 200.0), (200.0, 205.0)],
+                               [None, (on_one[0] + 5.0, on_one[1]), on_one], [0])
+    assert chosen[0] != (0.0, 0.0), "the vehicle was left standing"
+    assert math.dist(chosen[0], on_one) >= SEPARATION_M
