@@ -56,6 +56,19 @@ def speed_rows(r: dict) -> list[str]:
     if "rtf_headless_python_reference" in r:
         rows.append(f"| rtf_headless with the Python reference cascade | "
                     f"{fmt(r['rtf_headless_python_reference'], '', 0)} |")
+    if "rtf_with_client" in r:
+        rows.append(f"| rtf_with_client (sim s per wall s, speedup inf, one client on --out, default streams, "
+                    f"from the sim-time stamps the client receives) | {fmt(r['rtf_with_client'], '', 0)} |")
+    if "telemetry_message_cost_us" in r:
+        m = r["telemetry_message_cost_us"]
+        rows.append(f"| telemetry cost per message sent (build + pack, the {m['kinds']} kinds of the default "
+                    f"streams, no socket) | {fmt(m, ' µs', 2)} |")
+    b = r.get("telemetry_before")
+    if b:
+        rows.append(f"| before the fast telemetry path (commit {b['commit']}): rtf_with_client / cost per message / "
+                    f"250 vehicles at 1x, CPU / MAVSDK flight at speedup inf | {fmt(b['rtf_with_client'], '', 0)} / "
+                    f"{fmt(b['telemetry_message_cost_us'], ' µs', 2)} / {b['swarm_250_cpu_core']:.2f} of a core / "
+                    f"{fmt(b['mavsdk_flight_inf_wall_s'], ' s', 2)} |")
     c = r.get("step_cost_us")
     if c and "cascade_step_us" in c:
         rows += [f"| step_cost_us, one vehicle: physics step (compiled) | {fmt(c['physics_step_us'], ' µs', 3)} |",

@@ -386,7 +386,7 @@ def main() -> int:
     ap.add_argument("--runs", type=int, default=5)
     ap.add_argument("--reference-runs", type=int, default=None, help="runs of the speedup-1 flight (default --runs)")
     ap.add_argument("--ladder", default="10,20,50,100,200,500,inf")
-    ap.add_argument("--skip", default="", help="comma list of: rtf,startup,plugin,campaign,mavsdk,mission,swarm")
+    ap.add_argument("--skip", default="", help="comma list of: rtf,telemetry,startup,plugin,campaign,mavsdk,mission,swarm")
     ap.add_argument("--swarm", default="50,100,150,200,250",
                     help="vehicle counts tried, in order (MAVLink system ids stop at 255)")
     ap.add_argument("--batch", default="1,10,100,1000", help="vehicle counts of the batched step cost")
@@ -411,6 +411,12 @@ def main() -> int:
             print("step cost ...", flush=True)
             results["step_cost_us"] = single(args.runs)
             results["step_cost_batched_us"] = batched([int(n) for n in args.batch.split(",")], args.runs)
+        save(results)
+    if "telemetry" not in skip:
+        from telemetry import message_cost_us, rtf_with_client
+        print("telemetry: real-time factor with a client, cost per message ...", flush=True)
+        results["rtf_with_client"] = rtf_with_client(args.runs, progress=progress)
+        results["telemetry_message_cost_us"] = message_cost_us(args.runs, progress=progress)
         save(results)
     if "startup" not in skip:
         print("start-up ...", flush=True)

@@ -18,6 +18,7 @@ from dataclasses import dataclass
 from .state_log import state_line
 
 MAX_LAG_WALL_S = 0.5  # if the sim falls further behind than this, pacing restarts from now
+IO_EVERY_WALL_S = 0.0002  # flat out, sockets are read and queued frames sent this often (wall)
 STATE_LOG_EVERY = 10  # ticks (0.1 s of sim time)
 
 
@@ -61,24 +62,26 @@ class Runner:
     def stop(self) -> None:
         self._stop = True
 
-    def _exchange(self) -> None:
-        unix_s = time.time()
+    def _exchange(self, readable=None) -> None:
+        """Every vehicle's MAVLink exchange; only the sockets in `readable` are read (None: all)."""
+        unix_s, link_s = time.time(), time.monotonic()  # one reading for every vehicle of this exchange
         for node in self.nodes:
             now = node.vehicle.time_s
-            link_s = time.monotonic()
             session, link, endpoint = node.session, node.link, node.endpoint
             link.advance(unix_s, link_s)
-            received, out = [], []
-            datagrams = endpoint.receive()
+            datagrams = endpoint.receive() if readable is None or endpoint in readable else ()
             if datagrams:  # most ticks have none
+                received, out = [], []
                 # each message is judged only after the one before it was handled
                 for msg in incoming(datagrams, link, endpoint.answer):
                     received.append(msg)
                     out.extend(session.receive(msg, now, link_s))
-            out.extend(session.poll(now, link_s))
+                out.extend(session.poll(now, link_s))
+            else:
+                received, out = (), session.poll(now, link_s)
             frames = link.pack(out) if out else out
             if frames:
-                endpoint.send(frames)
+                endpoint.queue(frames)  # sent at the next flush (see run())
             if node.tlog is not None:
                 self._log(node, received, frames)
 
@@ -103,13 +106,33 @@ class Runner:
                 if node.state_log is not None:
                     node.state_log.write(state_line(node.vehicle))
 
+    def _flush(self) -> None:
+        for node in self.nodes:
+            node.endpoint.flush()
+
     def run(self, duration_s: float = math.inf) -> None:
         wall0 = time.monotonic()
         sim0 = self.sim_time_s
         fds = [n.endpoint for n in self.nodes]
+        read = None  # the sockets the next exchange reads: None all, () none (known quiet)
+        last_read_wall = last_flush_wall = -math.inf
         while not self._stop and self.sim_time_s < duration_s - 1e-9:
-            self._exchange()
+            # Reading a socket that holds nothing and sending a datagram per tick cost more than
+            # the telemetry itself when ticks are microseconds of wall time apart: unless a wait
+            # on the sockets said what is readable, they are read at most every IO_EVERY_WALL_S,
+            # and frames go out at that pace too, or as soon as a datagram is full, or before a wait.
+            wall = time.monotonic()
+            if read is None:
+                if wall - last_read_wall < IO_EVERY_WALL_S:
+                    read = ()
+                else:
+                    last_read_wall = wall
+            self._exchange(read)
             self._advance()
+            read = None
+            if wall - last_flush_wall >= IO_EVERY_WALL_S:
+                self._flush()
+                last_flush_wall = wall
             if self.speedup == math.inf:
                 continue
             while not self._stop:
@@ -118,7 +141,12 @@ class Runner:
                     wall0, sim0 = time.monotonic(), self.sim_time_s
                 if wait <= 0:
                     break
+                self._flush()
                 readable, _, _ = select.select(fds, [], [], wait)
                 if readable:  # answer at once; sim time does not move until wall time allows
-                    self._exchange()
+                    self._exchange(set(readable))
+                    self._flush()
+                else:
+                    read = ()  # the wait ended with nothing to read
         self._exchange()
+        self._flush()

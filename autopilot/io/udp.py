@@ -31,6 +31,8 @@ class UdpEndpoint:
         self._outs = list(dict.fromkeys(outs))
         self._heard: OrderedDict = OrderedDict()  # senders the link let be answered, least recent first
         self.counters = {"datagrams": 0, "send_errors": 0, "peers_evicted": 0}
+        self._queued: list[bytes] = []  # frames waiting for a flush (runner.py says when)
+        self._queued_bytes = 0
 
     def totals(self) -> dict:
         """The counters, with the datagrams the kernel dropped for a full buffer (None if unknown)."""
@@ -86,24 +88,36 @@ class UdpEndpoint:
             self.counters["peers_evicted"] += 1
         heard[sender] = True
 
-    def send(self, frames: list[bytes]) -> None:
-        """Send packed frames to every peer, several frames per datagram."""
-        peers = self.peers
-        if not frames or not peers:
-            return
-        datagrams, current = [], b""
+    def queue(self, frames: list[bytes]) -> None:
+        """Keep packed frames for the next flush; a datagram's worth goes at once."""
         for frame in frames:
-            if current and len(current) + len(frame) > MAX_DATAGRAM:
-                datagrams.append(current)
-                current = b""
-            current += frame
-        datagrams.append(current)
-        for peer in peers:
-            for datagram in datagrams:
-                try:
-                    self.sock.sendto(datagram, peer)
-                except OSError:
-                    self.counters["send_errors"] += 1
+            if self._queued and self._queued_bytes + len(frame) > MAX_DATAGRAM:
+                self._send(b"".join(self._queued))
+                self._queued, self._queued_bytes = [], 0
+            self._queued.append(frame)
+            self._queued_bytes += len(frame)
+
+    @property
+    def queued(self) -> bool:
+        return bool(self._queued)
+
+    def flush(self) -> None:
+        """Send what is queued, several frames per datagram, to every peer."""
+        if self._queued:
+            self._send(b"".join(self._queued))
+            self._queued, self._queued_bytes = [], 0
+
+    def send(self, frames: list[bytes]) -> None:
+        """Send packed frames to every peer now, several frames per datagram."""
+        self.queue(frames)
+        self.flush()
+
+    def _send(self, datagram: bytes) -> None:
+        for peer in self.peers:
+            try:
+                self.sock.sendto(datagram, peer)
+            except OSError:
+                self.counters["send_errors"] += 1
 
     def close(self) -> None:
         self.sock.close()

@@ -17,8 +17,9 @@ session before drawing the next has every frame judged against the key as it is 
 before it, so the frames after a SETUP_SIGNING, in the same datagram or later, are judged under the
 key it set. (Drawing the whole datagram into a list first would judge them under the old key.)
 
-Sending, `pack(messages)`: the session's codec packs them and signs them when a key is set; then
-the link-fault stage may lose frames.
+Sending, `pack(messages)`: the session's codec packs them and signs them when a key is set, each
+frame with the next sequence number (a client counts the gaps as lost frames); then the
+link-fault stage may lose frames, which leaves gaps as a lossy radio would.
 
 Time: nothing here reads a clock. The I/O edge calls `advance(unix_s, link_s)` before each
 exchange with the wall clock it read: the signing timestamp follows that wall-clock time (Unix
@@ -104,7 +105,10 @@ class Link:
     def pack(self, messages: list) -> list:
         """The frames to send for `messages`, signed when a key is set, less what the link loses."""
         codec = self.codec
-        frames = [m.pack(codec) for m in messages]
+        frames = []
+        for m in messages:
+            frames.append(m.pack(codec))
+            codec.seq = (codec.seq + 1) & 0xFF  # as ArduPilot numbers a channel's frames
         faults = self.faults
         if frames and faults is not None and faults.active:
             return faults.pass_out(frames)

@@ -9,6 +9,7 @@ from __future__ import annotations
 from ..results import Result
 from .commands import Command, CommandService
 from .dialect import mavlink as mav
+from .fast_pack import FastCodec
 from .ftp import FtpServer
 from .guided_setpoints import handle_global_int, handle_local_ned
 from .mission_service import MissionService
@@ -24,6 +25,7 @@ class Session:
     def __init__(self, vehicle, codec):
         self.vehicle = vehicle
         self.codec = codec
+        self.telemetry_codec = FastCodec(codec)  # what the telemetry builders encode with
         self.signing = LinkSigning(codec)  # off until a key is set; the link layer admits frames
         self.system_id = codec.srcSystem
         self.streams = StreamScheduler(vehicle.params)
@@ -71,7 +73,7 @@ class Session:
 
     def build(self, msg_id: int):
         builder = BUILDERS.get(msg_id)
-        return builder(self.vehicle, self.codec) if builder else None
+        return builder(self.vehicle, self.telemetry_codec) if builder else None
 
     def _take(self) -> list:
         out, self._out = self._out, []
@@ -162,18 +164,28 @@ class Session:
 
     # ----- output -----------------------------------------------------------------------------
     def poll(self, now_s: float, link_s: float | None = None) -> list:
-        self.link_s = now_s if link_s is None else link_s
-        self._out.extend(self.missions.poll(self.link_s))
-        self._out.extend(self.params.poll(self.link_s))
+        link_s = self.link_s = now_s if link_s is None else link_s
+        out, vehicle = self._out, self.vehicle
+        out.extend(self.missions.poll(link_s))
+        out.extend(self.params.poll(link_s))
         last = self.gcs_last_heartbeat_s
-        if last is not None and self.link_s - last > self.vehicle.params["FS_GCS_TIMEOUT"]:
-            self.vehicle.failsafes.gcs_lost(self.vehicle)
-        reached = self.vehicle.mission_progress.drain_reached()
+        if last is not None and link_s - last > vehicle.params["FS_GCS_TIMEOUT"]:
+            vehicle.failsafes.gcs_lost(vehicle)
+        reached = vehicle.mission_progress.drain_reached()
         if reached:  # ArduPilot keeps one pending MISSION_ITEM_REACHED: items reached together
             # (a waypoint and the "do" item verified in the same step) report the last one only
-            self._out.append(self.codec.mission_item_reached_encode(reached[-1]))
-        for msg_id in self.streams.due(now_s):  # heartbeat first, then the rest
-            self.queue(self.build(msg_id))
-        for severity, text in self.vehicle.drain_events():
-            self._out.append(self.codec.statustext_encode(severity, text.encode()[:MAX_STATUSTEXT]))
-        return self._take()
+            out.append(self.codec.mission_item_reached_encode(reached[-1]))
+        due = self.streams.due(now_s)  # heartbeat first, then the rest; most ticks none
+        if due:
+            builders, codec = BUILDERS, self.telemetry_codec
+            for msg_id in due:
+                msg = builders[msg_id](vehicle, codec) if msg_id in builders else None
+                if msg is not None:
+                    out.append(msg)
+        if vehicle.events:
+            for severity, text in vehicle.drain_events():
+                out.append(self.codec.statustext_encode(severity, text.encode()[:MAX_STATUSTEXT]))
+        if not out:
+            return []
+        self._out = []
+        return out
