@@ -56,6 +56,8 @@ class Runner:
         self.speedup = speedup
         self.tick_s = tick_s
         self.sim_time_s = 0.0
+        self._fds = [n.endpoint.fileno() for n in nodes]  # raw descriptors: select need not ask each endpoint
+        self._endpoint_of = {n.endpoint.fileno(): n.endpoint for n in nodes}
         self._stop = False
         self.ticks = 0
 
@@ -65,11 +67,16 @@ class Runner:
     def _exchange(self, readable=None) -> None:
         """Every vehicle's MAVLink exchange; only the sockets in `readable` are read (None: all)."""
         unix_s, link_s = time.time(), time.monotonic()  # one reading for every vehicle of this exchange
+        if readable is None and len(self.nodes) > 1:  # one system call says which of them to read
+            readable = self._readable(0.0)
         for node in self.nodes:
             now = node.vehicle.time_s
             session, link, endpoint = node.session, node.link, node.endpoint
+            unread = readable is not None and endpoint not in readable
+            if unread and session.idle(now, link_s):  # most ticks, flat out or in a swarm
+                continue
             link.advance(unix_s, link_s)
-            datagrams = endpoint.receive() if readable is None or endpoint in readable else ()
+            datagrams = () if unread else endpoint.receive()
             if datagrams:  # most ticks have none
                 received, out = [], []
                 # each message is judged only after the one before it was handled
@@ -106,6 +113,12 @@ class Runner:
                 if node.state_log is not None:
                     node.state_log.write(state_line(node.vehicle))
 
+    def _readable(self, wait_s: float) -> set:
+        """The endpoints with something to read, waiting up to wait_s for one."""
+        ready, _, _ = select.select(self._fds, [], [], wait_s)
+        by_fd = self._endpoint_of
+        return {by_fd[fd] for fd in ready}
+
     def _flush(self) -> None:
         for node in self.nodes:
             node.endpoint.flush()
@@ -113,7 +126,6 @@ class Runner:
     def run(self, duration_s: float = math.inf) -> None:
         wall0 = time.monotonic()
         sim0 = self.sim_time_s
-        fds = [n.endpoint for n in self.nodes]
         read = None  # the sockets the next exchange reads: None all, () none (known quiet)
         last_read_wall = last_flush_wall = -math.inf
         while not self._stop and self.sim_time_s < duration_s - 1e-9:
@@ -142,9 +154,9 @@ class Runner:
                 if wait <= 0:
                     break
                 self._flush()
-                readable, _, _ = select.select(fds, [], [], wait)
+                readable = self._readable(wait)
                 if readable:  # answer at once; sim time does not move until wall time allows
-                    self._exchange(set(readable))
+                    self._exchange(readable)
                     self._flush()
                 else:
                     read = ()  # the wait ended with nothing to read

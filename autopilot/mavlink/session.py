@@ -163,6 +163,15 @@ class Session:
             self._out.append(self.codec.timesync_encode(int(now_s * 1e9), msg.ts1))
 
     # ----- output -----------------------------------------------------------------------------
+    def idle(self, now_s: float, link_s: float) -> bool:
+        """Whether poll(now_s, link_s) would send nothing and change nothing: no stream due yet,
+        no transfer, no status text or reached item waiting, no GCS silent for too long."""
+        last = self.gcs_last_heartbeat_s
+        return (now_s + 1e-9 < self.streams.next_due_s and not self.vehicle.events
+                and self.missions.upload is None and not self.params.streaming
+                and not self.vehicle.mission_progress.has_reached
+                and (last is None or link_s - last <= self.vehicle.params["FS_GCS_TIMEOUT"]))
+
     def poll(self, now_s: float, link_s: float | None = None) -> list:
         link_s = self.link_s = now_s if link_s is None else link_s
         out, vehicle = self._out, self.vehicle

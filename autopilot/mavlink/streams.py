@@ -15,7 +15,7 @@ class StreamScheduler:
     def __init__(self, params):
         self._interval_s: dict[int, float] = {}
         self._next_s: dict[int, float] = {}
-        self._earliest_s = -math.inf  # no stream is due before this; -inf: look at every one
+        self.next_due_s = -math.inf  # no stream is due before this sim time; -inf: look at every one
         self._default_s: dict[int, float] = {}
         # Heartbeat first: a client that has just started listening sees it before anything else.
         for msg_id, rate in FIXED_RATES_HZ.items():
@@ -48,7 +48,7 @@ class StreamScheduler:
         else:
             self._interval_s[msg_id] = _limited(msg_id, max(interval_us * 1e-6, 0.001))
         self._next_s.pop(msg_id, None)
-        self._earliest_s = -math.inf
+        self.next_due_s = -math.inf
         return True
 
     def set_group_rate(self, stream_id: int, rate_hz: float, start: bool) -> None:
@@ -60,10 +60,10 @@ class StreamScheduler:
                 interval = 1.0 / rate_hz if start and rate_hz > 0 else math.inf
                 self._interval_s[msg_id] = _limited(msg_id, interval)
                 self._next_s.pop(msg_id, None)
-        self._earliest_s = -math.inf
+        self.next_due_s = -math.inf
 
     def due(self, now_s: float) -> list[int]:
-        if now_s + 1e-9 < self._earliest_s:  # most ticks: nothing is due (checked once, not per message)
+        if now_s + 1e-9 < self.next_due_s:  # most ticks: nothing is due (checked once, not per message)
             return []
         out = []
         earliest = math.inf
@@ -77,5 +77,5 @@ class StreamScheduler:
                 base = now_s if nxt is None or now_s - nxt > interval else nxt
                 nxt = self._next_s[msg_id] = base + interval
             earliest = min(earliest, nxt)
-        self._earliest_s = earliest
+        self.next_due_s = earliest
         return out

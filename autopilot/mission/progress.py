@@ -279,6 +279,11 @@ class MissionProgress:
 
     # ----- reached items -----------------------------------------------------------------------
     @property
+    def has_reached(self) -> bool:
+        """Whether an item was reached and not yet reported."""
+        return bool(self._reached)
+
+    @property
     def reached(self) -> list[int]:
         """Seqs reached and not yet reported, oldest first."""
         return list(self._reached)
