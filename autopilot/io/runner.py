@@ -64,8 +64,10 @@ class Runner:
     def stop(self) -> None:
         self._stop = True
 
-    def _exchange(self, readable=None) -> None:
-        """Every vehicle's MAVLink exchange; only the sockets in `readable` are read (None: all)."""
+    def _exchange(self, readable=None) -> bool:
+        """Every vehicle's MAVLink exchange; only the sockets in `readable` are read (None: all).
+        Whether anything was read (its answers should leave at once)."""
+        heard = False
         unix_s, link_s = time.time(), time.monotonic()  # one reading for every vehicle of this exchange
         if readable is None and len(self.nodes) > 1:  # one system call says which of them to read
             readable = self._readable(0.0)
@@ -78,6 +80,7 @@ class Runner:
             link.advance(unix_s, link_s)
             datagrams = () if unread else endpoint.receive()
             if datagrams:  # most ticks have none
+                heard = True
                 received, out = [], []
                 # each message is judged only after the one before it was handled
                 for msg in incoming(datagrams, link, endpoint.answer):
@@ -91,6 +94,7 @@ class Runner:
                 endpoint.queue(frames)  # sent at the next flush (see run())
             if node.tlog is not None:
                 self._log(node, received, frames)
+        return heard
 
     @staticmethod
     def _log(node: Node, received: list, sent: list) -> None:
@@ -132,17 +136,18 @@ class Runner:
             # Reading a socket that holds nothing and sending a datagram per tick cost more than
             # the telemetry itself when ticks are microseconds of wall time apart: unless a wait
             # on the sockets said what is readable, they are read at most every IO_EVERY_WALL_S,
-            # and frames go out at that pace too, or as soon as a datagram is full, or before a wait.
+            # and frames go out at that pace too, or as soon as a datagram is full, or before a
+            # wait, or at once when a client has just been heard (its answer is among them).
             wall = time.monotonic()
             if read is None:
                 if wall - last_read_wall < IO_EVERY_WALL_S:
                     read = ()
                 else:
                     last_read_wall = wall
-            self._exchange(read)
+            heard = self._exchange(read)
             self._advance()
             read = None
-            if wall - last_flush_wall >= IO_EVERY_WALL_S:
+            if heard or wall - last_flush_wall >= IO_EVERY_WALL_S:  # a client waits for its answer
                 self._flush()
                 last_flush_wall = wall
             if self.speedup == math.inf:
