@@ -184,13 +184,10 @@ class Session:
         if reached:  # ArduPilot keeps one pending MISSION_ITEM_REACHED: items reached together
             # (a waypoint and the "do" item verified in the same step) report the last one only
             out.append(self.codec.mission_item_reached_encode(reached[-1]))
-        due = self.streams.due(now_s)  # heartbeat first, then the rest; most ticks none
-        if due:
-            builders, codec = BUILDERS, self.telemetry_codec
-            for msg_id in due:
-                msg = builders[msg_id](vehicle, codec) if msg_id in builders else None
-                if msg is not None:
-                    out.append(msg)
+        for msg_id in self.streams.due(now_s):  # heartbeat first, then the rest; most ticks none
+            msg = self.build(msg_id)
+            if msg is not None:
+                out.append(msg)
         if vehicle.events:
             for severity, text in vehicle.drain_events():
                 out.append(self.codec.statustext_encode(severity, text.encode()[:MAX_STATUSTEXT]))

@@ -204,28 +204,20 @@ def test_a_reader_from_the_end_skips_the_line_it_starts_in(tmp_path):
         assert times(reader.new_states()) == [0.3]
 
 
-def test_a_reader_from_the_end_at_a_line_end_takes_the_next_line(tmp_path):
+@pytest.mark.parametrize("before, then", [
+    (HEADER + state_line(0.1) + state_line(0.2), 0.3),  # at a line end: the next line
+    (HEADER, 0.1),  # a header-only log: the first state
+], ids=["at a line end", "after the header only"])
+def test_a_reader_from_the_end_takes_only_what_comes_after_it(tmp_path, before, then):
     path = tmp_path / "state.csv"
     with open(path, "w") as log:
-        log.write(HEADER + state_line(0.1) + state_line(0.2))
+        log.write(before)
         log.flush()
         reader = StateLogReader(path, from_end=True)
         assert reader.new_states() == []  # nothing older than the reader
-        log.write(state_line(0.3))
+        log.write(state_line(then))
         log.flush()
-        assert times(reader.new_states()) == [0.3]
-
-
-def test_a_reader_from_the_end_of_a_header_only_log_takes_the_first_state(tmp_path):
-    path = tmp_path / "state.csv"
-    with open(path, "w") as log:
-        log.write(HEADER)
-        log.flush()
-        reader = StateLogReader(path, from_end=True)
-        assert reader.new_states() == []
-        log.write(state_line(0.1))
-        log.flush()
-        assert times(reader.new_states()) == [0.1]
+        assert times(reader.new_states()) == [then]
 
 
 def test_the_latest_state_is_the_newest_whole_line(tmp_path):
