@@ -27,6 +27,16 @@ def sqrt_controller(error: float, p: float, accel_max: float) -> float:
     return math.copysign(math.sqrt(2.0 * accel_max * (abs(error) - linear / 2.0)), error)
 
 
+def stopping_distance(speed: float, p: float, accel_max: float) -> float:
+    """How far the square-root controller takes to bring `speed` to rest (its inverse): speed/p
+    up to the speed accel/p, then accel/(2p^2) + speed^2/(2 accel)."""
+    if p <= 0.0:
+        return speed * speed / (2.0 * accel_max) if accel_max > 0.0 else 0.0
+    if accel_max <= 0.0 or abs(speed) < accel_max / p:
+        return speed / p
+    return math.copysign(accel_max / (2.0 * p * p) + speed * speed / (2.0 * accel_max), speed)
+
+
 class PositionController:
     def __init__(self, airframe: Airframe, params):
         self.mass = airframe.mass_kg

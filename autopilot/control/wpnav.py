@@ -14,6 +14,11 @@ inside. The waypoint counts as reached at the mid point of the turn. Without a s
 with a hold time) the leg stops at the waypoint, which is reached once the leg is over and the
 vehicle is within the radius.
 
+A leg interrupted before its end (a new destination mid-leg) is left from the vehicle's stopping
+point as ArduCopter's position controller computes it: from the vehicle's own position and
+velocity (not the target's), by the square-root controller's stopping distance, which at low
+speed is a whole second of travel (v/P) rather than v^2/(2a).
+
 The clock runs slower when the vehicle falls behind its target (as ArduCopter's track time
 scaling does), so a lagging vehicle is not left chasing a target running away from it.
 """
@@ -23,16 +28,19 @@ import math
 
 from sim.airframe import GRAVITY_M_S2
 
+from .position import stopping_distance
 from .scurve import SCurve
 
 WPNAV_RADIUS_MIN_M = 0.05
 WPNAV_SPEED_MIN_M_S = 0.2
+STOPPING_UP_MAX_M = 3.0     # ArduCopter's cap on the vertical stopping distance, climbing
+STOPPING_DOWN_MAX_M = 2.0   # and descending
 
 
 class NavLimits:
     """The navigator's limits from the parameters (ArduCopter's names, SI units here)."""
     __slots__ = ("speed_xy", "speed_up", "speed_down", "accel_xy", "accel_z", "jerk", "radius",
-                 "corner_accel", "pos_p", "clock_tc")
+                 "corner_accel", "pos_p", "pos_z_p", "clock_tc")
 
     def __init__(self, params, speed_xy: float | None = None):
         wp_speed = params["WPNAV_SPEED"] / 100.0 if speed_xy is None else speed_xy
@@ -48,6 +56,7 @@ class NavLimits:
         corner = params["WPNAV_ACCEL_C"] / 100.0
         self.corner_accel = corner if corner > 0.0 else 2.0 * self.accel_xy
         self.pos_p = params["PSC_POSXY_P"]
+        self.pos_z_p = params["PSC_POSZ_P"]
         # The navigator's clock changes its rate over the time a change of acceleration takes.
         self.clock_tc = max(self.accel_xy / self.jerk, 0.01)
 
@@ -72,6 +81,7 @@ class WaypointNav:
         self._t_next = 0.0
         self._time_scale = 1.0
         self.pos, self.vel, self.accel = start, velocity, (0.0, 0.0, 0.0)
+        self._vehicle = (start, velocity)  # the vehicle's position and velocity, as last seen
         self.reached = False
 
     def set_destination(self, destination: tuple, next_destination: tuple | None = None) -> None:
@@ -84,7 +94,10 @@ class WaypointNav:
             self._this, self._t_this = self._next, self._t_next
         else:
             # From the old destination once it was reached, else from where the target can stop.
-            origin = old.destination if self.reached else self._stopping_point()
+            if self.reached:
+                origin = old.destination
+            else:  # interrupted: ArduCopter starts the navigator afresh, its clock at full rate
+                origin, self._time_scale = self._stopping_point(), 1.0
             self._prev = None
             self._this, self._t_this = self.limits.leg(origin, destination), 0.0
         self._next, self._t_next = None, 0.0
@@ -97,13 +110,19 @@ class WaypointNav:
         return self._this.destination
 
     def _stopping_point(self) -> tuple:
-        """Where the target comes to rest from its current motion at the acceleration limit."""
-        p, v = self.pos, self.vel
-        speed = math.sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2])
-        if speed < 1e-6:
-            return p
-        k = speed / (2.0 * self.limits.accel_xy)
-        return (p[0] + v[0] * k, p[1] + v[1] * k, p[2] + v[2] * k)
+        """Where the position controller brings the vehicle to rest from its present motion:
+        along its horizontal velocity (capped at the leg speed), and vertically within
+        ArduCopter's caps."""
+        lim = self.limits
+        (pn, pe, pd), (vn, ve, vd) = self._vehicle
+        speed = math.sqrt(vn * vn + ve * ve)
+        if speed > 1e-6:
+            k = stopping_distance(min(speed, lim.speed_xy), lim.pos_p, lim.accel_xy) / speed
+            pn, pe = pn + vn * k, pe + ve * k
+        if lim.pos_z_p > 0.0 and lim.accel_z > 0.0:
+            up = stopping_distance(-vd, lim.pos_z_p, lim.accel_z)
+            pd -= min(max(up, -STOPPING_DOWN_MAX_M), STOPPING_UP_MAX_M)
+        return (pn, pe, pd)
 
     def _scaled_dt(self, dt: float, pos: tuple, vel: tuple) -> float:
         """dt on the navigator's clock: slowed while the vehicle is behind its target."""
@@ -121,6 +140,7 @@ class WaypointNav:
 
     def update(self, dt: float, pos: tuple, vel: tuple) -> bool:
         """Advance by dt seconds given the vehicle's position and velocity; returns reached."""
+        self._vehicle = (pos, vel)
         step = self._scaled_dt(dt, pos, vel)
         this = self._this
         self._t_this = t = min(self._t_this + step, this.duration)

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import math
 
+from ..control.position import stopping_distance
 from .numbers import ModeNumber
 
 
@@ -120,15 +121,13 @@ def hold_here(ctx) -> tuple:
 def stopping_point(ctx) -> tuple:
     """Where the position controller brings the vehicle to rest from its present horizontal
     velocity, and its present height: the point GUIDED holds when it takes over at speed (as
-    ArduCopter's, which stops ahead instead of flying back to where the mode changed). The
-    distance is the square-root controller's: v/P up to the speed accel/P, then
-    accel/(2P^2) + v^2/(2 accel)."""
+    ArduCopter's, which stops ahead instead of flying back to where the mode changed)."""
     b = ctx.body
     speed = math.hypot(b.vn_m_s, b.ve_m_s)
     kp, accel = ctx.params["PSC_POSXY_P"], ctx.params["WPNAV_ACCEL"] / 100.0
     if speed < 1e-6 or kp <= 0 or accel <= 0:
         return hold_here(ctx)
-    dist = speed / kp if speed < accel / kp else accel / (2 * kp * kp) + speed * speed / (2 * accel)
+    dist = stopping_distance(speed, kp, accel)
     return (b.n_m + b.vn_m_s / speed * dist, b.e_m + b.ve_m_s / speed * dist), b.d_m
 
 

@@ -132,14 +132,26 @@ def test_the_clock_slows_while_the_vehicle_lags_behind():
     assert nav.pos[0] < 10.0
 
 
-def test_a_new_destination_mid_leg_starts_from_where_the_target_can_stop():
+def test_a_new_destination_mid_leg_starts_from_where_the_vehicle_can_stop():
+    """ArduCopter's stopping point: from the vehicle's position and velocity (not the target's),
+    by the square-root controller's distance: past the speed accel/P it is accel/(2P^2) +
+    v^2/(2 accel); below it a whole second of travel, v/P."""
     nav = WaypointNav(limits(), (0.0, 0.0, -10.0))
     nav.set_destination((40.0, 0.0, -10.0))
     perfect_follower(nav, 600)
     speed = nav.vel[0]
     assert speed > 4.0
-    before = nav.pos
+    vehicle_pos, vehicle_vel = (nav.pos[0] - 1.0, 0.5, -10.0), (speed, 0.0, 0.0)
+    nav.update(DT, vehicle_pos, vehicle_vel)
     nav.set_destination((40.0, 30.0, -10.0))
-    stop = before[0] + speed * speed / (2 * 2.5)
-    nav.update(DT, nav.pos, nav.vel)
-    assert nav.pos[0] == pytest.approx(stop) and nav.pos[1] < 0.01  # the new leg starts there, from rest
+    stop = vehicle_pos[0] + 2.5 / 2 + speed * speed / (2 * 2.5)
+    nav.update(DT, vehicle_pos, vehicle_vel)
+    assert nav.pos[0] == pytest.approx(stop) and nav.pos[1] == pytest.approx(0.5, abs=0.01)  # from rest there
+
+
+def test_a_slow_vehicle_stops_a_second_of_travel_ahead_and_within_the_vertical_caps():
+    nav = WaypointNav(limits(), (0.0, 0.0, -10.0), velocity=(1.0, 0.0, -4.0))  # 1 m/s on, climbing 4 m/s
+    nav.set_destination((0.0, 20.0, -10.0))
+    nav.update(DT, (0.0, 0.0, -10.0), (1.0, 0.0, -4.0))
+    assert nav.pos[0] == pytest.approx(1.0 / 1.0)            # v / PSC_POSXY_P
+    assert nav.pos[2] == pytest.approx(-10.0 - 3.0)          # climbing: at most 3 m higher
