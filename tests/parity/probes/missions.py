@@ -264,8 +264,11 @@ def set_current(s: Steps) -> None:
     s.wait_current(4)
     s.set_current(0)
     s.wait_current(2)
+    # Out of range while flying the 10 m leg to item 4, seconds from its end, so that what the
+    # window sees does not hang on when the previous waypoint happened to be reached.
+    s.wait_current(4)
     s.set_current(9)
-    s.drain(2)
+    s.drain(1)
     s.land()
 
 
