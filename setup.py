@@ -1,7 +1,9 @@
-"""Builds the compiled control cascade (autopilot/control/_cascade.c) at `pip install`.
+"""Builds the compiled control cascade (autopilot/control/_cascade.c) and battery step
+(sim/_battery.c) at `pip install`.
 
-Everything else is declared in pyproject.toml. The extension is optional: if it cannot be built,
-the install still succeeds and vehicles fly the Python reference (autopilot/control/cascade.py).
+Everything else is declared in pyproject.toml. The extensions are optional: if they cannot be built,
+the install still succeeds and vehicles fly the Python references (autopilot/control/cascade.py,
+sim/battery.py).
 Not in CI (CI=true): there a failed build fails the install, loudly, where otherwise the tests
 of the compiled twin would only be skipped.
 The flags keep IEEE double semantics exactly as CPython's floats have them, so the C twin
@@ -16,6 +18,7 @@ from setuptools import Extension, setup
 HEADERS = ["sim/pyfloat.h", "sim/physics.h", "autopilot/control/pid.h", "autopilot/control/attitude.h",
            "autopilot/control/position.h", "autopilot/control/allocation.h", "autopilot/control/cascade.h",
            "autopilot/control/by_name.h", "autopilot/control/pyvalues.h"]
+FLAGS = ["-O2", "-ffp-contract=off", "-fno-fast-math", "-fno-builtin"]
 BUILD_REQUIRED = os.environ.get("CI", "").lower() == "true"  # as autopilot.control.compiled.required()
 
 setup(ext_modules=[Extension(
@@ -23,6 +26,13 @@ setup(ext_modules=[Extension(
     sources=["autopilot/control/_cascade.c"],
     depends=HEADERS,
     include_dirs=["sim", "autopilot/control"],
-    extra_compile_args=["-O2", "-ffp-contract=off", "-fno-fast-math", "-fno-builtin"],
+    extra_compile_args=FLAGS,
+    optional=not BUILD_REQUIRED,
+), Extension(
+    "sim._battery",
+    sources=["sim/_battery.c"],
+    depends=["sim/pyfloat.h", "sim/battery.h"],
+    include_dirs=["sim"],
+    extra_compile_args=FLAGS,
     optional=not BUILD_REQUIRED,
 )])

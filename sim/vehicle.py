@@ -8,8 +8,8 @@ from dataclasses import dataclass, field
 
 from .airframe import Airframe
 from .fire import FireWorld, TemperatureSensor
-from .battery import (BatteryState, open_circuit_volts_per_cell, remaining_fraction,
-                      soc_at_open_circuit_volts, step_battery)
+from .battery import (STEP_AT, BatteryState, open_circuit_volts_per_cell, remaining_fraction,
+                      soc_at_open_circuit_volts)
 from .physics import PhysicsState, initial_state, make_fast_step
 from .rotors import HEALTHY, shaft_power_per_thrust_1p5
 from .sensors import Barometer, Gps, Gyro, NoiseConfig
@@ -48,9 +48,9 @@ class SimVehicle:
         self.time_s = 0.0
         self.steps = 0
         af = self.airframe
-        self._power_per_omega_cubed = shaft_power_per_thrust_1p5(af) * af.thrust_coeff_b ** 1.5 / af.motor_efficiency
-        self._battery_constants = (af.battery_cells, af.battery_capacity_mah, af.battery_internal_resistance_ohm,
-                                   af.avionics_current_a, self.dt * BATTERY_EVERY)
+        power_per_omega_cubed = shaft_power_per_thrust_1p5(af) * af.thrust_coeff_b ** 1.5 / af.motor_efficiency
+        self._battery_constants = (power_per_omega_cubed, af.battery_cells, af.battery_capacity_mah,
+                                   af.battery_internal_resistance_ohm, af.avionics_current_a, self.dt * BATTERY_EVERY)
 
     def step(self, omega_cmd: tuple) -> None:
         self.state = self._step(self.state, omega_cmd, self._wind_ned, self._speed_scale)
@@ -69,10 +69,7 @@ class SimVehicle:
         self.steps += n
         self.time_s = self.steps * self.dt
         if self.steps % BATTERY_EVERY == 0:  # the pack changes slowly: integrate it at a quarter rate
-            # Electrical power = sum of k F^1.5 / efficiency with F = b w^2, i.e. a constant times sum w^3.
-            o1, o2, o3, o4 = self.state.omega_rad_s
-            power = self._power_per_omega_cubed * (o1 * o1 * o1 + o2 * o2 * o2 + o3 * o3 * o3 + o4 * o4 * o4)
-            self.battery = step_battery(self.battery, power, *self._battery_constants)
+            self.battery = STEP_AT(self.battery, self.state.omega_rad_s, self._battery_constants)
             if self.wind.changing:
                 self._wind_ned = self.wind.advance(self.dt * BATTERY_EVERY)
                 self.conditions_version += 1
