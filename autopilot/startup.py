@@ -24,6 +24,8 @@ it is kept because it is what decides when the reference first arms in STABILIZE
 """
 from __future__ import annotations
 
+import math
+
 from dataclasses import dataclass
 
 from .results import Severity
@@ -62,6 +64,8 @@ class Startup:
     def __init__(self, timeline: StartupTimeline | None):
         self.timeline = timeline
         self._said = 0
+        self._due: tuple = ()  # (field elevation, its milestones), built at the first say_due
+        self._next_s = -math.inf if timeline is not None else math.inf  # the next milestone's time
 
     def _at_least(self, t_s: float, stage_s: float) -> bool:
         return self.timeline is None or t_s >= stage_s
@@ -120,10 +124,14 @@ class Startup:
                 *[(tl.gps_in_use_s, f"EKF3 {lane} is using GPS") for lane in lanes]]
 
     def say_due(self, t_s: float, field_elevation_m: float, notify) -> None:
-        """Say each start-up milestone once its time has come."""
-        if self.timeline is None:
+        """Say each start-up milestone once its time has come (called at the flight-mode rate:
+        nothing is built until the next one is due)."""
+        if t_s < self._next_s:
             return
-        due = self.milestones(field_elevation_m)
+        if not self._due or self._due[0] != field_elevation_m:
+            self._due = (field_elevation_m, self.milestones(field_elevation_m))
+        due = self._due[1]
         while self._said < len(due) and due[self._said][0] <= t_s:
             notify(due[self._said][1], Severity.INFO)
             self._said += 1
+        self._next_s = due[self._said][0] if self._said < len(due) else math.inf

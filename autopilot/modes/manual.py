@@ -7,13 +7,17 @@ from .base import Mode, Setpoint, stick_deadzone
 from .numbers import ModeNumber
 
 
-def pilot_lean_and_yaw(ctx, sp: Setpoint) -> None:
-    lean_max = math.radians(ctx.params["ANGLE_MAX"] / 100.0)
-    pilot = ctx.pilot
+def pilot_lean_and_yaw(ctx, sp: Setpoint, pilot=None) -> None:
+    """Lean from the roll and pitch sticks, yaw rate from the yaw stick (`pilot`: ctx.pilot, if
+    the caller has it already: it is read at 100 Hz per vehicle)."""
+    params = ctx.params
+    lean_max = math.radians(params["ANGLE_MAX"] / 100.0)
+    if pilot is None:
+        pilot = ctx.pilot
     # pilot.pitch positive = stick forward = nose down = negative pitch angle.
     sp.lean = (pilot.roll * lean_max, -pilot.pitch * lean_max)
     sp.yaw = None
-    sp.yaw_rate = stick_deadzone(pilot.yaw) * math.radians(ctx.params["PILOT_Y_RATE"])
+    sp.yaw_rate = stick_deadzone(pilot.yaw) * math.radians(params["PILOT_Y_RATE"])
 
 
 class Stabilize(Mode):
@@ -23,8 +27,9 @@ class Stabilize(Mode):
 
     def update(self, ctx, sp: Setpoint, dt: float) -> None:
         sp.clear()
-        pilot_lean_and_yaw(ctx, sp)
-        sp.throttle = ctx.pilot.throttle
+        pilot = ctx.pilot
+        pilot_lean_and_yaw(ctx, sp, pilot)
+        sp.throttle = pilot.throttle
 
 
 def pilot_climb_rate(ctx) -> float:
