@@ -65,7 +65,7 @@ class Startup:
         self.timeline = timeline
         self._said = 0
         self._due: tuple = ()  # (field elevation, its milestones), built at the first say_due
-        self._next_s = -math.inf if timeline is not None else math.inf  # the next milestone's time
+        self.next_due_s = -math.inf if timeline is not None else math.inf  # when the next milestone is
 
     def _at_least(self, t_s: float, stage_s: float) -> bool:
         return self.timeline is None or t_s >= stage_s
@@ -126,7 +126,7 @@ class Startup:
     def say_due(self, t_s: float, field_elevation_m: float, notify) -> None:
         """Say each start-up milestone once its time has come (called at the flight-mode rate:
         nothing is built until the next one is due)."""
-        if t_s < self._next_s:
+        if t_s < self.next_due_s:
             return
         if not self._due or self._due[0] != field_elevation_m:
             self._due = (field_elevation_m, self.milestones(field_elevation_m))
@@ -134,4 +134,4 @@ class Startup:
         while self._said < len(due) and due[self._said][0] <= t_s:
             notify(due[self._said][1], Severity.INFO)
             self._said += 1
-        self._next_s = due[self._said][0] if self._said < len(due) else math.inf
+        self.next_due_s = due[self._said][0] if self._said < len(due) else math.inf

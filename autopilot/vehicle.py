@@ -337,19 +337,24 @@ class Vehicle:
 
     def _mode_tick(self) -> None:
         dt, now = self._dt_mode, self.sim.time_s
-        self.estimate.track_barometer()
-        self.startup.say_due(now, self.origin.alt_m, self.notify)
+        estimate = self.estimate
+        estimate.track_barometer()
+        if now >= self.startup.next_due_s:
+            self.startup.say_due(now, self.origin.alt_m, self.notify)
         if self.script is not None:
             self.script.run_due(self)
         self.mode.update(self.ctx, self.setpoint, dt)
-        body, armed, detector = self.estimate.body, self.arming.armed, self.land_detector
-        home_d = (self.home_ned or (0, 0, 0))[2]
-        if detector.update(body, armed, home_d, self.cascade.thrust_t, now):
-            self.auto_disarm.restart(now)
-        landed = detector.landed
-        wants_climb = landed and self.setpoint.wants_climb(body.d_m)
-        if armed and self.auto_disarm.due(armed, landed, wants_climb, self.params["DISARM_DELAY"], now):
-            self.disarm("auto")
+        armed, detector = self.arming.armed, self.land_detector
+        if armed or not detector.landed:  # disarmed on the ground neither check has anything to do
+            body = estimate.body
+            home_d = (self.home_ned or (0, 0, 0))[2]
+            if detector.update(body, armed, home_d, self.cascade.thrust_t, now):
+                self.auto_disarm.restart(now)
+            if armed:
+                landed = detector.landed
+                wants_climb = landed and self.setpoint.wants_climb(body.d_m)
+                if self.auto_disarm.due(armed, landed, wants_climb, self.params["DISARM_DELAY"], now):
+                    self.disarm("auto")
         if self.sim.steps % (self._mode_every * FAILSAFE_EVERY) == 0:
             self.failsafes.check(self)
             self.thrust_loss.check(self, FAILSAFE_EVERY * dt)
