@@ -67,6 +67,11 @@ class Vehicle:
         self.mission_progress = MissionProgress(self.mission, self.notify)
         self.script = None  # a scenario's scripted commands (autopilot.cli.script.Script), if any
         n0, e0 = config.offset_ne_m
+        # Where this vehicle's EKF origin lies in the sim's frame (its start, where ArduCopter sets
+        # the origin at its first fix): MAVLink's local frame (LOCAL_POSITION_NED, HOME_POSITION's
+        # x/y/z, SET_POSITION_TARGET_LOCAL_NED) is relative to it, so each of several vehicles of
+        # a process has its own, as each ArduCopter has.
+        self.ekf_origin_ne = (n0, e0)
         self.origin = config.home
         self.sim = SimVehicle(config.sim, math.radians(config.home_yaw_deg), n0, e0)
         for name, value in {**world_values(config.sim), **config.faults}.items():

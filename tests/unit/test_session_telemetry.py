@@ -8,7 +8,9 @@ import pytest
 from autopilot.modes import Brake, Guided, Loiter
 
 from ._session_link import SYSTEM_ID, Link, gcs, link  # noqa: F401 - link is a fixture
-from ._util import hovering_vehicle, mav, of_type, ready_vehicle, statustexts, wire
+from autopilot.results import Result
+
+from ._util import fly_until, hovering_vehicle, mav, of_type, ready_vehicle, statustexts, wire
 
 
 # ----- requested messages and streams -----------------------------------------------------------
@@ -160,6 +162,28 @@ def test_position_target_with_nan_is_ignored_and_counted(link):
     assert out == []
     assert link.session.counters["refused"] == refused + 1
     assert guided.target_ne == (5.0, 6.0)  # unchanged
+
+
+def test_a_vehicle_started_off_the_shared_origin_has_its_own_local_frame():
+    """Vehicle k of a --count process starts 5 m from vehicle 0; as each ArduCopter sets its EKF
+    origin where it first has a fix, its local frame starts at its own start: LOCAL_POSITION_NED
+    and HOME_POSITION's x/y read 0 there, and a local target is relative to it."""
+    link = Link(ready_vehicle(offset_ne_m=(3.0, 5.0)))
+    v = link.vehicle
+    assert (v.body.n_m, v.body.e_m) == pytest.approx((3.0, 5.0), abs=0.01)  # the sim's shared frame
+    local = of_type(link.poll(1.0), "LOCAL_POSITION_NED")[0]
+    assert (local.x, local.y) == pytest.approx((0.0, 0.0), abs=0.01)
+    _, out = link.command(mav.MAV_CMD_REQUEST_MESSAGE, mav.MAVLINK_MSG_ID_HOME_POSITION)
+    home = of_type(out, "HOME_POSITION")[0]
+    assert (home.x, home.y) == pytest.approx((0.0, 0.0), abs=0.01)
+    link.command(mav.MAV_CMD_DO_SET_MODE, mav.MAV_MODE_FLAG_CUSTOM_MODE_ENABLED, Guided.number)
+    assert v.arm() == Result.ACCEPTED and v.takeoff(3.0) == Result.ACCEPTED
+    assert fly_until(v, lambda x: x.body.d_m < -2.8, 20.0)
+    assert link.send(_local_target(10.0, 0.0, -3.0)) == []
+    assert v.mode.target_ne == (13.0, 5.0)  # 10 m north of its own start
+    assert fly_until(v, lambda x: math.hypot(x.body.n_m - 13.0, x.body.e_m - 5.0) < 0.3, 40.0)
+    local = of_type(link.poll(v.time_s + 1.0), "LOCAL_POSITION_NED")[0]
+    assert (local.x, local.y) == pytest.approx((10.0, 0.0), abs=0.3)
 
 
 def test_position_target_outside_guided_is_refused(link):
