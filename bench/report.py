@@ -27,7 +27,8 @@ def header(r: dict) -> list[str]:
             f"attitude (angle) and rate loops {rates['attitude_hz']} Hz, allocation with them — the cascade runs "
             f"{how}; flight modes (setpoint generation) and the land detector {mode_hz} Hz; failsafe checks "
             f"{mode_hz // 10} Hz.", "",
-            "Timing figures: median (min–max, n = runs)."]
+            "Timing figures: median (min–max, n = runs). Where a vehicle's time goes, and what was done "
+            "about it: docs/performance.md."]
     if r.get("measured"):
         when = {}
         for section, stamp in r["measured"].items():

@@ -19,9 +19,10 @@ from .state_log import state_line
 
 MAX_LAG_WALL_S = 0.5  # if the sim falls further behind than this, pacing restarts from now
 READ_EVERY_WALL_S = 0.0002  # flat out, sockets are read this often (wall): a command waits no longer
-# Flat out, queued telemetry leaves this often (wall), answers to a client at once: datagrams are
-# then mostly full (MAX_DATAGRAM) instead of a few frames each, a tenth of the sends (about 12 %
-# of the loop's time at some 800x), and a client sees the stream 2 ms later at most.
+# Flat out, the rest of the queued telemetry leaves this often (wall); a full datagram
+# (MAX_DATAGRAM) leaves at once, and answers to a client too. Far fewer part-filled datagrams than
+# every 0.2 ms: a client saw 969x instead of 909x at 1 ms (medians of five, alternated), and a
+# MAVSDK flight flat out took 0.27 s against 0.28 s at 0.2 ms (medians of eight).
 FLUSH_EVERY_WALL_S = 0.002
 STATE_LOG_EVERY = 10  # ticks (0.1 s of sim time)
 
