@@ -30,23 +30,26 @@ static PyObject *step(PyObject *module, PyObject *const *args, Py_ssize_t nargs)
         return NULL;
     }
     double state[3], omega[4], k[6];
+    if (!PyTuple_Check(args[0]) || Py_TYPE(args[0]) == &PyTuple_Type) {
+        PyErr_SetString(PyExc_TypeError, "step: state must be a BatteryState");
+        return NULL;
+    }
     if (read_doubles(args[0], state, 3, "state") < 0 || read_doubles(args[1], omega, 4, "omega") < 0 ||
         read_doubles(args[2], k, 6, "constants") < 0)
         return NULL;
     BatteryConstants c = {k[0], k[1], k[2], k[3], k[4], k[5]};
     battery_step(state, omega, &c);
-    PyTypeObject *type = Py_TYPE(args[0]);
-    PyObject *out = type->tp_alloc(type, 3);
-    if (!out)
+    /* tuple.__new__(type(state), values): the state's own NamedTuple type, made as Python makes
+     * it (tuple subtypes need their construction, e.g. a cached hash, set up by tuple itself) */
+    PyObject *values = Py_BuildValue("(ddd)", state[0], state[1], state[2]);
+    if (!values)
         return NULL;
-    for (int i = 0; i < 3; i++) {
-        PyObject *x = PyFloat_FromDouble(state[i]);
-        if (!x) {
-            Py_DECREF(out);
-            return NULL;
-        }
-        PyTuple_SET_ITEM(out, i, x);
-    }
+    PyObject *ctor_args = PyTuple_Pack(1, values);
+    Py_DECREF(values);
+    if (!ctor_args)
+        return NULL;
+    PyObject *out = PyTuple_Type.tp_new(Py_TYPE(args[0]), ctor_args, NULL);
+    Py_DECREF(ctor_args);
     return out;
 }
 

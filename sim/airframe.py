@@ -59,12 +59,12 @@ class Airframe:
         for name in ("mass_kg", "arm_length_m", "ixx_kg_m2", "iyy_kg_m2", "izz_kg_m2",
                      "thrust_coeff_b", "drag_coeff_d", "motor_time_constant_s",
                      "omega_max_rad_s", "prop_radius_m", "figure_of_merit",
-                     "motor_efficiency", "battery_capacity_mah"):
+                     "motor_efficiency", "battery_capacity_mah",
+                     "battery_internal_resistance_ohm"):  # the sag model divides by it
             value = getattr(self, name)
             if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
                 raise ValueError(f"{name} must be a positive number, got {value!r}")
-        for name in ("linear_drag_n_per_m_s", "angular_drag_nm_per_rad_s", "battery_internal_resistance_ohm",
-                     "avionics_current_a"):
+        for name in ("linear_drag_n_per_m_s", "angular_drag_nm_per_rad_s", "avionics_current_a"):
             value = getattr(self, name)
             if not (math.isfinite(value) and value >= 0):
                 raise ValueError(f"{name} must be zero or positive, got {value!r}")

@@ -105,9 +105,11 @@ def test_table_that_is_not_a_table():
     assert "[wind]" in one_line_error({"wind": 5})
 
 
-def test_airframe_that_cannot_fly_names_the_field():
-    message = one_line_error({"airframe": {"mass_kg": -1.0}})
-    assert "mass_kg" in message and "[airframe]" in message
+@pytest.mark.parametrize("field, value", [("mass_kg", -1.0), ("battery_internal_resistance_ohm", 0.0)])
+def test_airframe_that_cannot_fly_names_the_field(field, value):
+    """A pack without internal resistance is refused too: the sag model divides by it."""
+    message = one_line_error({"airframe": {field: value}})
+    assert field in message and "[airframe]" in message
 
 
 @pytest.mark.parametrize("rate", [50, 150, 0, -400])
