@@ -26,6 +26,9 @@ GLOBAL_FRAMES = {mav.MAV_FRAME_GLOBAL, mav.MAV_FRAME_GLOBAL_RELATIVE_ALT, mav.MA
                  mav.MAV_FRAME_GLOBAL_RELATIVE_ALT_INT, mav.MAV_FRAME_GLOBAL_TERRAIN_ALT,
                  mav.MAV_FRAME_GLOBAL_TERRAIN_ALT_INT}
 ALLOWED_FRAMES = GLOBAL_FRAMES | {mav.MAV_FRAME_MISSION, mav.MAV_FRAME_LOCAL_NED}
+# An item with a position takes it as latitude/longitude/altitude: ArduCopter's AP_Mission refuses
+# any other frame for one (a local NED waypoint is MAV_MISSION_UNSUPPORTED_FRAME).
+LOCATION_FRAMES = GLOBAL_FRAMES | {mav.MAV_FRAME_MISSION}
 # Commands whose x/y are a latitude/longitude that must make sense.
 POSITIONAL = {mav.MAV_CMD_NAV_WAYPOINT, mav.MAV_CMD_NAV_LOITER_UNLIM, mav.MAV_CMD_NAV_LOITER_TURNS,
               mav.MAV_CMD_NAV_LOITER_TIME, mav.MAV_CMD_NAV_LAND, mav.MAV_CMD_NAV_TAKEOFF,
@@ -49,7 +52,7 @@ def item_from_message(msg) -> MissionItem:
 
 def check_item(item: MissionItem) -> int:
     """MAV_MISSION_RESULT for one item: ACCEPTED or the first problem found."""
-    if item.frame not in ALLOWED_FRAMES:
+    if item.frame not in ALLOWED_FRAMES or (item.command in POSITIONAL and item.frame not in LOCATION_FRAMES):
         return mav.MAV_MISSION_UNSUPPORTED_FRAME
     for n, value in enumerate((item.p1, item.p2, item.p3, item.p4), start=1):
         if math.isinf(value):  # NaN means "unchanged" for some params; infinity never makes sense

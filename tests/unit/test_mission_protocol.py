@@ -220,15 +220,28 @@ def test_a_cleared_mission_lists_nothing_until_home_is_set_again(setup):
     assert listed() == 1
 
 
-def test_bad_frame_is_refused(setup):
+@pytest.mark.parametrize("frame", [mav.MAV_FRAME_BODY_FRD, mav.MAV_FRAME_LOCAL_NED])
+def test_bad_frame_is_refused(setup, frame):
+    """A waypoint can only be a latitude/longitude: ArduCopter refuses a local NED one too."""
     v, session = setup
     gcs = GroundStation()
     items = plan(3)
-    items[1] = item(1, frame=mav.MAV_FRAME_BODY_FRD)
+    items[1] = item(1, frame=frame)
     gcs.start_upload(items, 0.0)
     run(session, gcs, LossyLink(0.0, 0))
     assert gcs.done == mav.MAV_MISSION_UNSUPPORTED_FRAME
     assert v.mission.items(0) == []
+
+
+def test_an_item_without_a_position_may_come_in_a_local_frame(setup):
+    v, session = setup
+    gcs = GroundStation()
+    items = plan(3)
+    items[2] = item(2, command=mav.MAV_CMD_DO_CHANGE_SPEED, lat=0.0, lon=0.0, alt=0.0, frame=mav.MAV_FRAME_LOCAL_NED)
+    gcs.start_upload(items, 0.0)
+    run(session, gcs, LossyLink(0.0, 0))
+    assert gcs.done == mav.MAV_MISSION_ACCEPTED
+    assert [i.command for i in v.mission.items(0)] == [mav.MAV_CMD_NAV_WAYPOINT, mav.MAV_CMD_DO_CHANGE_SPEED]
 
 
 def test_fence_and_rally_lists_are_separate(setup):
