@@ -56,6 +56,15 @@ def test_script_param_steps_set_a_parameter_at_their_time():
     assert (2.0, "param", 0) in v.script.results
 
 
+def test_script_goto_is_in_the_vehicles_own_local_frame():
+    """Vehicle k of a --count process runs the same script: its goto is from its own start."""
+    steps = parse_steps([[0.5, "mode", 4], [0.5, "arm"], [1.0, "takeoff", 5], [8.0, "goto", 10, 0, 5]], "test.toml")
+    v = Vehicle(VehicleConfig(offset_ne_m=(3.0, 5.0)))
+    v.script = Script(steps)
+    v.run_until(8.2)
+    assert v.mode.target_ne == (13.0, 5.0)
+
+
 @pytest.mark.parametrize("step,words", [
     ([1.0, "param", "NO_SUCH", 1], ["steps[0]", "unknown parameter NO_SUCH"]),
     ([1.0, "param", "SIM_ENGINE_MUL", 3], ["steps[0]", "out of range"]),
