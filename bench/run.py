@@ -275,11 +275,14 @@ def swarm_trial(count: int, window_s: float, segments: int = 6) -> dict:
     """Run `autopilot --count N` at 1x; sim time of vehicle 1 (SYSTEM_TIME) against wall time over
     the window, and over each of its `segments` equal parts (for median, min and max)."""
     from pymavlink import mavutil
-    from groundstation.flight.autopilot_process import free_udp_port
-    port = free_udp_port()
+    from autopilot.testing.run import free_port_bases
+    # Every vehicle's own listening and --out ports (each base + 10k), all free and apart: with
+    # ephemeral listening ports, one vehicle's --out could be another's socket, and the two
+    # would talk to each other.
+    listen, port = free_port_bases(2, count)
     conn = mavutil.mavlink_connection(f"udpin:127.0.0.1:{port}", source_system=255)
     proc = subprocess.Popen([sys.executable, "-m", "autopilot", "--count", str(count), "--speedup", "1",
-                             "--listen", "udp:127.0.0.1:0", "--out", f"udp:127.0.0.1:{port}", "--quiet",
+                             "--listen", f"udp:127.0.0.1:{listen}", "--out", f"udp:127.0.0.1:{port}", "--quiet",
                              "--wipe", "--state-dir", str(ROOT / "bench" / "tmp" / "swarm")], cwd=ROOT)
     try:
         def sample():
