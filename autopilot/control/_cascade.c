@@ -148,6 +148,7 @@ static PyObject *Loop_state(LoopObject *self, PyObject *unused)
         Py_XDECREF(omega);
         return NULL;
     }
+    tuple_hash_unset(state);
     PyTuple_SET_ITEM(state, 0, body);
     PyTuple_SET_ITEM(state, 1, omega);
     PyTuple_SET_ITEM(state, 2, PyBool_FromLong(ph->on_ground));

@@ -30,12 +30,25 @@ static int read_doubles(PyObject *seq, double *out[], Py_ssize_t n, const char *
     return 0;
 }
 
+/* For a tuple subtype's object made by tp_alloc: from Python 3.14 a tuple caches its hash, -1
+ * until computed, which tuple's own constructors set and tp_alloc's zeroed memory does not. */
+static inline void tuple_hash_unset(PyObject *t)
+{
+#if PY_VERSION_HEX >= 0x030E0000
+    ((PyTupleObject *)t)->ob_hash = -1;
+#else
+    (void)t;
+#endif
+}
+
 /* A tuple of `type` (a namedtuple class, or tuple) holding n floats. */
 static PyObject *float_tuple(PyTypeObject *type, const double *x[], Py_ssize_t n)
 {
     PyObject *t = type == &PyTuple_Type ? PyTuple_New(n) : type->tp_alloc(type, n);
     if (!t)
         return NULL;
+    if (type != &PyTuple_Type)
+        tuple_hash_unset(t);
     for (Py_ssize_t i = 0; i < n; i++) {
         PyObject *f = PyFloat_FromDouble(*x[i]);
         if (!f) {
