@@ -64,7 +64,7 @@ class Startup:
     def __init__(self, timeline: StartupTimeline | None):
         self.timeline = timeline
         self._said = 0
-        self._due: tuple = ()  # (field elevation, its milestones), built at the first say_due
+        self._due: list | None = None  # the milestones, built at the first say_due
         self.next_due_s = -math.inf if timeline is not None else math.inf  # when the next milestone is
 
     def _at_least(self, t_s: float, stage_s: float) -> bool:
@@ -128,9 +128,9 @@ class Startup:
         nothing is built until the next one is due)."""
         if t_s < self.next_due_s:
             return
-        if not self._due or self._due[0] != field_elevation_m:
-            self._due = (field_elevation_m, self.milestones(field_elevation_m))
-        due = self._due[1]
+        if self._due is None:  # the field elevation is the vehicle's origin's: it does not change
+            self._due = self.milestones(field_elevation_m)
+        due = self._due
         while self._said < len(due) and due[self._said][0] <= t_s:
             notify(due[self._said][1], Severity.INFO)
             self._said += 1

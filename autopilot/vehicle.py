@@ -152,6 +152,16 @@ class Vehicle:
     def ned_to_global(self, n: float, e: float, d: float) -> GeoPoint:
         return global_from_ned(self.origin, n, e, d)
 
+    def local_ne(self, n: float, e: float) -> tuple:
+        """MAVLink's local north/east (from this vehicle's EKF origin) of a point of the sim's frame."""
+        on, oe = self.ekf_origin_ne
+        return n - on, e - oe
+
+    def sim_ne(self, x: float, y: float) -> tuple:
+        """The sim's north/east of MAVLink's local x/y (local_ne's inverse)."""
+        on, oe = self.ekf_origin_ne
+        return x + on, y + oe
+
     def ned_of(self, lat: float, lon: float, alt_amsl: float) -> tuple:
         return ned_from_global(self.origin, lat, lon, alt_amsl)
 

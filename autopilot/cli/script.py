@@ -6,8 +6,8 @@ identically at any speedup (used for determinism checks and for headless benchma
              [25.0, "mode", 6]]
 
 Each step is [time_s, verb, args...]; verbs: mode N, arm, disarm, takeoff ALT, goto N E ALT
-(local metres from the vehicle's own start, as LOCAL_POSITION_NED; altitude above home), speed M_S, param NAME VALUE (any parameter, e.g. a fault:
-[20.0, "param", "SIM_GPS_DISABLE", 1]).
+(local metres from the vehicle's own start, as LOCAL_POSITION_NED; altitude above home),
+speed M_S, param NAME VALUE (any parameter, e.g. a fault: [20.0, "param", "SIM_GPS_DISABLE", 1]).
 """
 from __future__ import annotations
 
@@ -83,8 +83,7 @@ class Script:
             return v.takeoff(args[0])
         if verb == "goto":  # local metres from the vehicle's own EKF origin, as on the wire
             home = v.home_ned or (0.0, 0.0, 0.0)
-            on, oe = v.ekf_origin_ne
-            return v.guided_goto(args[0] + on, args[1] + oe, home[2] - args[2])
+            return v.guided_goto(*v.sim_ne(args[0], args[1]), home[2] - args[2])
         if verb == "param":
             try:
                 v.params.set(*args)

@@ -37,6 +37,18 @@ def stopping_distance(speed: float, p: float, accel_max: float) -> float:
     return math.copysign(accel_max / (2.0 * p * p) + speed * speed / (2.0 * accel_max), speed)
 
 
+def stopping_point_ne(n: float, e: float, vn: float, ve: float, p: float, accel_max: float,
+                      speed_max: float = math.inf) -> tuple:
+    """Where the position controller brings a vehicle at (n, e) moving at (vn, ve) to rest: the
+    stopping distance of its speed (at most speed_max) along its velocity, as ArduCopter's
+    AC_PosControl::get_stopping_point_NE."""
+    speed = math.sqrt(vn * vn + ve * ve)
+    if speed < 1e-6:
+        return n, e
+    k = stopping_distance(min(speed, speed_max), p, accel_max) / speed
+    return n + vn * k, e + ve * k
+
+
 class PositionController:
     def __init__(self, airframe: Airframe, params):
         self.mass = airframe.mass_kg

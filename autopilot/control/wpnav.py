@@ -28,7 +28,7 @@ import math
 
 from sim.airframe import GRAVITY_M_S2
 
-from .position import stopping_distance
+from .position import stopping_distance, stopping_point_ne
 from .scurve import SCurve
 
 WPNAV_RADIUS_MIN_M = 0.05
@@ -115,10 +115,7 @@ class WaypointNav:
         ArduCopter's caps."""
         lim = self.limits
         (pn, pe, pd), (vn, ve, vd) = self._vehicle
-        speed = math.sqrt(vn * vn + ve * ve)
-        if speed > 1e-6:
-            k = stopping_distance(min(speed, lim.speed_xy), lim.pos_p, lim.accel_xy) / speed
-            pn, pe = pn + vn * k, pe + ve * k
+        pn, pe = stopping_point_ne(pn, pe, vn, ve, lim.pos_p, lim.accel_xy, lim.speed_xy)
         if lim.pos_z_p > 0.0 and lim.accel_z > 0.0:
             up = stopping_distance(-vd, lim.pos_z_p, lim.accel_z)
             pd -= min(max(up, -STOPPING_DOWN_MAX_M), STOPPING_UP_MAX_M)

@@ -97,20 +97,11 @@ class UdpEndpoint:
             self._queued.append(frame)
             self._queued_bytes += len(frame)
 
-    @property
-    def queued(self) -> bool:
-        return bool(self._queued)
-
     def flush(self) -> None:
         """Send what is queued, several frames per datagram, to every peer."""
         if self._queued:
             self._send(b"".join(self._queued))
             self._queued, self._queued_bytes = [], 0
-
-    def send(self, frames: list[bytes]) -> None:
-        """Send packed frames to every peer now, several frames per datagram."""
-        self.queue(frames)
-        self.flush()
 
     def _send(self, datagram: bytes) -> None:
         for peer in self.peers:

@@ -69,8 +69,7 @@ def handle_local_ned(v, msg) -> bool:
     if frame != mav.MAV_FRAME_LOCAL_NED:
         pos = (b.n_m + pos[0], b.e_m + pos[1], b.d_m + pos[2])
     else:  # relative to the vehicle's EKF origin
-        on, oe = v.ekf_origin_ne
-        pos = (pos[0] + on, pos[1] + oe, pos[2])
+        pos = (*v.sim_ne(pos[0], pos[1]), pos[2])
     return _apply(v, mask, pos, vel, _yaw(msg))
 
 

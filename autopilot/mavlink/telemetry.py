@@ -108,8 +108,8 @@ def global_position_int(v, codec):
 
 def local_position_ned(v, codec):
     b = v.body
-    on, oe = v.ekf_origin_ne
-    return codec.local_position_ned_encode(_ms(v), b.n_m - on, b.e_m - oe, b.d_m, b.vn_m_s, b.ve_m_s, b.vd_m_s)
+    x, y = v.local_ne(b.n_m, b.e_m)
+    return codec.local_position_ned_encode(_ms(v), x, y, b.d_m, b.vn_m_s, b.ve_m_s, b.vd_m_s)
 
 
 def gps_raw_int(v, codec):
@@ -147,8 +147,7 @@ def home_position(v, codec):
     if home is None:
         return None
     n, e, d = v.home_ned
-    on, oe = v.ekf_origin_ne
-    n, e = n - on, e - oe  # relative to the EKF origin
+    n, e = v.local_ne(n, e)
     return codec.home_position_encode(_deg_e7(home.lat_deg), _deg_e7(home.lon_deg),
                                       int(home.alt_m * 1000), n, e, d, [1.0, 0.0, 0.0, 0.0],
                                       0.0, 0.0, 0.0, int(v.time_s * 1e6))

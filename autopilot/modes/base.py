@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import math
 
-from ..control.position import stopping_distance
+from ..control.position import stopping_point_ne
 from .numbers import ModeNumber
 
 
@@ -123,12 +123,10 @@ def stopping_point(ctx) -> tuple:
     velocity, and its present height: the point GUIDED holds when it takes over at speed (as
     ArduCopter's, which stops ahead instead of flying back to where the mode changed)."""
     b = ctx.body
-    speed = math.hypot(b.vn_m_s, b.ve_m_s)
     kp, accel = ctx.params["PSC_POSXY_P"], ctx.params["WPNAV_ACCEL"] / 100.0
-    if speed < 1e-6 or kp <= 0 or accel <= 0:
+    if kp <= 0 or accel <= 0:
         return hold_here(ctx)
-    dist = stopping_distance(speed, kp, accel)
-    return (b.n_m + b.vn_m_s / speed * dist, b.e_m + b.ve_m_s / speed * dist), b.d_m
+    return stopping_point_ne(b.n_m, b.e_m, b.vn_m_s, b.ve_m_s, kp, accel), b.d_m
 
 
 def stick_deadzone(value: float, zone: float = 0.05) -> float:
