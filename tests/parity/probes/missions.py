@@ -1,5 +1,6 @@
 """Mission progress as a client sees it: uploads, MISSION_START, AUTO entered and left, landing,
-re-uploads, MIS_RESTART 0 and 1, MISSION_SET_CURRENT, DO_JUMP and a mission without takeoff.
+re-uploads, MIS_RESTART 0 and 1, MISSION_SET_CURRENT, DO_JUMP, a mission without takeoff and items in a
+local frame.
 
 Each scenario starts on a fresh vehicle and is a list of steps. Per step the facts are the ACK or
 MISSION_ACK result where there is one, and what followed until the next step: the items reached
@@ -319,6 +320,17 @@ def clear_and_download(s: Steps) -> None:
     s.result(download_commands(s.c))
 
 
+def local_frame_items(s: Steps) -> None:
+    """An item with a position in MAV_FRAME_LOCAL_NED (refused: a position is a latitude and
+    longitude) and one without a position in that frame (taken)."""
+    s.step("upload local NED waypoint")
+    s.result(upload(s.c, [takeoff(), (mav.MAV_CMD_NAV_WAYPOINT, mav.MAV_FRAME_LOCAL_NED, 0, 0, 0, 0, 100_000, 0, -10)]))
+    s.step("upload local NED change speed")
+    s.result(upload(s.c, [takeoff(), (mav.MAV_CMD_DO_CHANGE_SPEED, mav.MAV_FRAME_LOCAL_NED, 1, 3, -1, 0, 0, 0, 0)]))
+    s.step("download after")
+    s.result(download_commands(s.c))
+
+
 def download_commands(client: Client, sim_s: float = 10.0) -> list[int] | None:
     """MISSION_REQUEST_LIST and each item by MISSION_REQUEST_INT: the items' commands, home
     included, or None if the download stalled."""
@@ -359,6 +371,7 @@ SCENARIOS = {
     "do_jump": do_jump,
     "no_takeoff": no_takeoff,
     "clear_and_download": clear_and_download,
+    "local_frame_items": local_frame_items,
 }
 
 
