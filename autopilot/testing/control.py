@@ -102,12 +102,43 @@ class ControlLink:
         reason = reasons[0] if reasons else f"the vehicle holds {held:g}"
         raise ControlError(f"firefly: {name} = {value:g} refused: {reason}")
 
+    def commands(self, *commands: tuple) -> dict[int, int]:
+        """Several COMMAND_LONGs ((command, *params) each, distinct commands) in one datagram, so the
+        vehicle handles them in the same tick, in order: each command's MAV_RESULT. Flat out, a
+        round trip between an arm and its takeoff is seconds of vehicle time, long enough for
+        the auto-disarm of a vehicle armed on the ground."""
+        mav = self.conn.mav
+        frames = []
+        for command, *params in commands:
+            msg = mav.command_long_encode(self.system_id, 1, command, 0, *(list(params) + [0.0] * 7)[:7])
+            frames.append(msg.pack(mav))
+            mav.seq = (mav.seq + 1) % 256
+        datagram = b"".join(frames)
+        wanted = {command for command, *_ in commands}
+        results: dict[int, int] = {}
+
+        def send():
+            results.clear()
+            self.conn.write(datagram)
+
+        def match(m):
+            if m.get_type() == "COMMAND_ACK" and m.command in wanted:
+                results.setdefault(m.command, m.result)
+                if len(results) == len(wanted):
+                    return dict(results)
+            return None
+        return self._await(send, match, "commands " + ", ".join(str(c) for c, *_ in commands))
+
     def command(self, command: int, *params: float) -> None:
         """COMMAND_LONG, which must be ACCEPTED."""
         args = (list(params) + [0.0] * 7)[:7]
         ack = self._await(lambda: self.conn.mav.command_long_send(self.system_id, 1, command, 0, *args),
                           lambda m: m if m.get_type() == "COMMAND_ACK" and m.command == command else None,
                           f"command {command}")
-        if ack.result != 0:
+        self.check_accepted(command, ack.result)
+
+    def check_accepted(self, command: int, result: int) -> None:
+        """ControlError unless `result` (a MAV_RESULT) is ACCEPTED."""
+        if result != 0:
             raise ControlError(f"firefly: vehicle {self.system_id} refused command {command}: "
-                               f"MAV_RESULT_{MAV_RESULT.get(ack.result, ack.result)}")
+                               f"MAV_RESULT_{MAV_RESULT.get(result, result)}")

@@ -10,7 +10,7 @@ import asyncio
 import time
 from pathlib import Path
 
-from .control import ControlError, ControlLink
+from .control import ControlLink
 from .errors import FireflyError
 from .state import StateLogReader, VehicleState
 
@@ -181,17 +181,17 @@ class FireflyVehicle:
         link = self.control()
         # A realistic start-up refuses GUIDED and ARM until its position is good (ArduCopter's
         # ~42 s): ask again each vehicle second until it is armable or ARMABLE_WITHIN_S has passed.
+        # The three go in one datagram: flat out, a round trip after the arm is long enough in
+        # vehicle time for the auto-disarm of a vehicle left on the ground.
         give_up_s = self.state().time_s + ARMABLE_WITHIN_S
         while True:
-            try:
-                link.command(176, 1, 4)  # DO_SET_MODE: custom mode GUIDED
-                link.command(400, 1)  # arm
+            # DO_SET_MODE custom mode GUIDED, arm, NAV_TAKEOFF
+            results = link.commands((176, 1, 4), (400, 1), (22, 0, 0, 0, 0, 0, 0, height_m))
+            if results[176] == 0 and results[400] == 0 or self.state().time_s >= give_up_s:
                 break
-            except ControlError:
-                if self.state().time_s >= give_up_s:
-                    raise
-                self.sleep(1.0)
-        link.command(22, 0, 0, 0, 0, 0, 0, height_m)  # NAV_TAKEOFF
+            self.sleep(1.0)
+        for command in (176, 400, 22):
+            link.check_accepted(command, results[command])
         return self.wait_until(lambda s: abs(s.altitude_m - height_m) < 0.3 and abs(s.velocity_ned_m_s[2]) < 0.2,
                                timeout, f"a hover at {height_m:g} m after takeoff")
 
