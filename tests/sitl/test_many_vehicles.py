@@ -39,3 +39,25 @@ def test_three_vehicles_one_process_each_its_own(autopilot_factory):
     finally:
         for g in links:
             g.close()
+
+
+def test_a_swarm_that_ticks_in_batches_answers_and_flies_each_vehicle(autopilot_factory):
+    """From ten vehicles up, a finite speedup ticks each vehicle several times in a row
+    (io/runner.py): a client of the last one is still answered and flies it, and the rest stay
+    put."""
+    count = 12
+    (base,) = free_port_bases(1, count)
+    autopilot_factory(speedup="2", extra=("--count", str(count)), port=base)
+    last = Gcs(f"udpin:127.0.0.1:{base + 10 * (count - 1)}")
+    first = Gcs(f"udpin:127.0.0.1:{base}")
+    try:
+        assert last.heartbeat.get_srcSystem() == count
+        assert last.command(mav.MAV_CMD_DO_SET_MODE, 1, 4) == 0
+        assert last.command(mav.MAV_CMD_COMPONENT_ARM_DISARM, 1) == 0
+        assert last.command(mav.MAV_CMD_NAV_TAKEOFF, 0, 0, 0, 0, 0, 0, 5) == 0
+        assert last.recv("GLOBAL_POSITION_INT", 20, lambda m: m.relative_alt > 4500) is not None
+        hb = first.recv("HEARTBEAT", 5)
+        assert hb.custom_mode == 0 and not hb.base_mode & mav.MAV_MODE_FLAG_SAFETY_ARMED
+    finally:
+        last.close()
+        first.close()
