@@ -1,9 +1,12 @@
 """Mission microservice, vehicle side: upload and download of mission, fence and rally lists.
 
 The vehicle drives an upload: it requests each item in turn and re-requests after a quiet spell
-(clients do not resend), so a lossy link still completes. Items are checked as they arrive; the
-stored list is replaced only when the last item is in and valid, so an interrupted or refused
-upload leaves the previous list untouched. ArduPilot's convention holds: mission seq 0 is home.
+(clients do not resend), so a lossy link still completes. Items are checked as they arrive. As
+ArduCopter does (measured on its SITL), a mission or rally upload writes as it goes: MISSION_COUNT
+shortens the stored list to the count, each valid item is written over the item at its seq or
+appended, and an upload refused or abandoned at item k leaves the list as far as it got; a fence
+is replaced only when its last item is in (ArduPilot collects a fence before it stores it).
+ArduPilot's convention holds: mission seq 0 is home, never written.
 
 Retry timers run on the link clock (`link_s`, wall time at the I/O edge), not on sim time: they
 are about packets in flight, which take wall time whatever the speedup.
@@ -102,7 +105,7 @@ class MissionService:
         items = self.store.items(kind)
         if kind != MISSION:
             return items
-        if self._cleared_at_home_set == self.vehicle.home_sets:
+        if self._cleared:
             return []  # ArduCopter: a cleared mission has no items, home either, until home is set again
         home = self.vehicle.home or self.vehicle.origin
         home_item = MissionItem(mav.MAV_CMD_NAV_WAYPOINT, mav.MAV_FRAME_GLOBAL, 0, 0, 0, 0,
@@ -129,7 +132,41 @@ class MissionService:
             return [self._ack(peer, mav.MAV_MISSION_ACCEPTED, kind)]
         self._completed = None
         self.upload = Upload(kind, msg.count, peer)
+        if kind == MISSION:
+            if not self._cleared:  # stored items are seq 1.. (home is seq 0)
+                self.store.truncate(kind, msg.count - 1)
+        elif kind == RALLY:
+            self.store.truncate(kind, msg.count)
         return [self._request(self.upload, link_s)]
+
+    @property
+    def _cleared(self) -> bool:
+        """The mission was cleared (ArduPilot's list then has no home either) and not yet rewritten."""
+        return self._cleared_at_home_set == self.vehicle.home_sets
+
+    def _write(self, kind: int, seq: int, item: MissionItem) -> int:
+        """Write one item of a mission or rally upload as it arrives, as AP_Mission and AP_Rally do:
+        MAV_MISSION_ACCEPTED or ERROR (a seq past the end of the list)."""
+        if kind == RALLY:
+            index = seq
+        elif self._cleared:  # AP_Mission::add_cmd writes home first, then the item after it
+            self._cleared_at_home_set = None
+            self.store.truncate(kind, 0)
+            index = 0
+        elif seq == 0:
+            return mav.MAV_MISSION_ACCEPTED  # home: AP_Mission::replace_cmd ignores index 0
+        else:
+            index = seq - 1
+        if index > len(self.store.items(kind)):
+            return mav.MAV_MISSION_ERROR
+        self.store.put(kind, index, item)
+        return mav.MAV_MISSION_ACCEPTED
+
+    def _end(self, up: Upload) -> None:
+        """The upload is over, complete or not: what it wrote counts as a change and is saved."""
+        self.upload = None
+        if up.kind != FENCE:
+            self.store.changed()
 
     def on_item(self, msg, link_s: float) -> list:
         up = self.upload
@@ -143,8 +180,10 @@ class MissionService:
             return [self._request(up, link_s)] if msg.seq > len(up.items) else []
         item = item_from_message(msg)
         result = check_item(item)
+        if result == mav.MAV_MISSION_ACCEPTED and up.kind != FENCE:
+            result = self._write(up.kind, msg.seq, item)
         if result != mav.MAV_MISSION_ACCEPTED:
-            self.upload = None
+            self._end(up)
             self.refused += 1
             self.vehicle.notify(f"Mission upload refused: item {msg.seq} invalid", Severity.WARNING)
             return [self._ack(peer, result, up.kind)]
@@ -152,12 +191,10 @@ class MissionService:
         up.retries = 0
         if len(up.items) < up.count:
             return [self._request(up, link_s)]
-        self.upload = None
+        self._end(up)
         self._completed = (peer, up.kind, up.count - 1)
-        items = up.items[1:] if up.kind == MISSION else up.items  # seq 0 is home: not stored
-        if up.kind == MISSION:
-            self._cleared_at_home_set = None
-        self.store.replace(up.kind, items)
+        if up.kind == FENCE:
+            self.store.replace(up.kind, up.items)
         if up.kind == MISSION:
             self.vehicle.notify("Flight plan received")
         return [self._ack(peer, mav.MAV_MISSION_ACCEPTED, up.kind)]
@@ -168,7 +205,7 @@ class MissionService:
             return []
         up.retries += 1
         if up.retries > MAX_RETRIES:
-            self.upload = None
+            self._end(up)
             return [self._ack(up.peer, mav.MAV_MISSION_OPERATION_CANCELLED, up.kind)]
         return [self._request(up, link_s)]
 

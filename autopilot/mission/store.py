@@ -1,4 +1,7 @@
-"""Stored mission, fence and rally lists, replaced whole or not at all, saved atomically.
+"""Stored mission, fence and rally lists, saved atomically.
+
+A list is replaced whole (`replace`), or item by item as an upload arrives (`truncate`, `put`,
+then `changed` when the transfer ends), as ArduPilot writes mission and rally items to storage.
 
 Items keep MAVLink's MISSION_ITEM_INT field meanings (command and frame numbers, x/y in 1e-7
 degrees) because that is the language of mission files and ground stations; the store itself
@@ -56,6 +59,23 @@ class MissionStore:
 
     def clear(self, kind: int) -> None:
         self.replace(kind, [])
+
+    def truncate(self, kind: int, length: int) -> None:
+        """Keep at most `length` items (unsaved until `changed`)."""
+        del self._lists[kind][length:]
+
+    def put(self, kind: int, index: int, item: MissionItem) -> None:
+        """Write `item` at `index`: over the item there, or at the end (unsaved until `changed`)."""
+        items = self._lists[kind]
+        if index == len(items):
+            items.append(item)
+        else:
+            items[index] = item
+
+    def changed(self) -> None:
+        """After truncate and put: count a change (AUTO looks for one) and save."""
+        self.version += 1
+        self._save()
 
     def _save(self) -> None:
         if self.path is not None:

@@ -1,6 +1,7 @@
 """The mission protocol over a lossy in-memory link: a scripted ground station against the
 vehicle's sans-IO session. Uploads and downloads complete despite loss or fail cleanly, and a
-failed upload never leaves half a mission in place."""
+failed upload leaves the mission as far as it got, as ArduCopter's does (measured on its SITL:
+tests/parity/probes/missions.py)."""
 from __future__ import annotations
 
 import random
@@ -29,6 +30,7 @@ class LossyLink:
         self.cut_after = None  # drop everything once this many frames have crossed
         self.crossed = 0
         self.decoders = {}
+        self.delivered = []  # (direction, message) of everything that got through
 
     def carry(self, msgs, codec, direction: str) -> list:
         out = []
@@ -38,6 +40,7 @@ class LossyLink:
             if (self.cut_after is not None and self.crossed > self.cut_after) or self.rng.random() < self.loss:
                 continue
             out.extend(m for m in decoder.parse_buffer(msg.pack(codec)) or [])
+        self.delivered += [(direction, m) for m in out]
         return out
 
 
@@ -152,8 +155,10 @@ def test_download_completes_over_a_lossy_link(setup, seed):
     assert gcs.downloaded[0].command == mav.MAV_CMD_NAV_WAYPOINT  # home
 
 
-@pytest.mark.parametrize("cut_after", [3, 8, 15])
-def test_interrupted_upload_leaves_previous_mission(setup, cut_after):
+@pytest.mark.parametrize("cut_after", [3, 8, 15, 40])
+def test_an_interrupted_upload_leaves_the_mission_as_far_as_it_got(setup, cut_after):
+    """The items that got through before the link died are written over the old ones; the old
+    ones after them stay."""
     v, session = setup
     first = GroundStation()
     first.start_upload(plan(5, lat0=-35.0), 0.0)
@@ -161,27 +166,33 @@ def test_interrupted_upload_leaves_previous_mission(setup, cut_after):
     before = stored_lats(v)
     assert len(before) == 4
     second = GroundStation()
-    second.start_upload(plan(20, lat0=-36.0), 0.0)
+    new = plan(20, lat0=-36.0)
+    second.start_upload(new, 0.0)
     link = LossyLink(0.0, 0)
     link.cut_after = cut_after
     run(session, second, link, max_s=30.0)
-    assert stored_lats(v) == before
+    written = len({m.seq for direction, m in link.delivered
+                   if direction == "up" and m.get_type() == "MISSION_ITEM_INT" and m.seq > 0})
+    assert written == {3: 0, 8: 1, 15: 3, 40: 12}[cut_after]  # none, one, three or all four of the old ones replaced
+    assert stored_lats(v) == [i.x for i in new[1:1 + written]] + before[written:]
     assert session.missions.upload is None, "the vehicle gave up on the dead transfer"
 
 
-def test_invalid_item_refuses_the_upload_and_keeps_the_old_one(setup):
+def test_an_invalid_item_refuses_the_upload_and_keeps_what_came_before_it(setup):
+    """MISSION_COUNT shortens the list to its count, item 1 is written, item 2 is refused: the
+    old items 2 and 3 stay."""
     v, session = setup
     good = GroundStation()
-    good.start_upload(plan(3), 0.0)
+    good.start_upload(plan(6), 0.0)
     run(session, good, LossyLink(0.0, 0))
     before = stored_lats(v)
     bad = GroundStation()
-    items = plan(4)
+    items = plan(4, lat0=-36.0)
     items[2] = item(2, lat=95.0)
     bad.start_upload(items, 0.0)
     run(session, bad, LossyLink(0.0, 0))
     assert bad.done == mav.MAV_MISSION_INVALID_PARAM5_X
-    assert stored_lats(v) == before
+    assert stored_lats(v) == [items[1].x] + before[1:3]
 
 
 @pytest.mark.parametrize("command, accepted", [(mav.MAV_CMD_DO_CHANGE_SPEED, True), (mav.MAV_CMD_NAV_WAYPOINT, False)])
@@ -195,7 +206,7 @@ def test_nan_altitude_is_refused_only_where_it_is_an_altitude(setup, command, ac
     gcs.start_upload(items, 0.0)
     run(session, gcs, LossyLink(0.0, 0))
     assert gcs.done == (mav.MAV_MISSION_ACCEPTED if accepted else mav.MAV_MISSION_INVALID_PARAM7)
-    assert len(v.mission.items(0)) == (2 if accepted else 0)
+    assert len(v.mission.items(0)) == (2 if accepted else 1)  # refused: item 1 was written
 
 
 def test_a_cleared_mission_lists_nothing_until_home_is_set_again(setup):
@@ -257,6 +268,30 @@ def test_fence_and_rally_lists_are_separate(setup):
         run(session, gcs, LossyLink(0.0, 0))
         assert gcs.done == 0
     assert len(v.mission.items(1)) == 4 and len(v.mission.items(2)) == 2 and v.mission.items(0) == []
+
+
+def test_a_refused_rally_upload_keeps_what_came_before_it_and_a_refused_fence_nothing(setup):
+    """Rally points are written as they arrive, like mission items; a fence is collected and
+    stored only when complete (ArduPilot's fence protocol keeps the old fence on a failure)."""
+    v, session = setup
+
+    def upload(kind: int, count: int, lat0: float, bad_seq: int | None = None) -> int:
+        gcs = GroundStation()
+        gcs.items = [mav.MAVLink_mission_item_int_message(
+            1, 1, s, mav.MAV_FRAME_GLOBAL_INT, 5001 if kind == 1 else 5100, 0, 1, 4, 0, 0, 0,
+            int((95.0 if s == bad_seq else lat0 + s * 1e-4) * 1e7), 1491600000, 0, kind) for s in range(count)]
+        gcs.send(gcs.codec.mission_count_encode(1, 1, count, kind), 0.0)
+        run(session, gcs, LossyLink(0.0, 0))
+        return gcs.done
+
+    for kind in (1, 2):
+        assert upload(kind, 4, -35.0) == mav.MAV_MISSION_ACCEPTED
+    old = {kind: [i.x for i in v.mission.items(kind)] for kind in (1, 2)}
+    for kind in (1, 2):
+        assert upload(kind, 3, -36.0, bad_seq=2) == mav.MAV_MISSION_INVALID_PARAM5_X
+    assert [i.x for i in v.mission.items(1)] == old[1]
+    new = [int((-36.0 + s * 1e-4) * 1e7) for s in range(2)]
+    assert [i.x for i in v.mission.items(2)] == new + old[2][2:3]  # shortened to 3, then 0 and 1 written
 
 
 def test_clear_all(setup):
