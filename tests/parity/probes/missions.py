@@ -1,6 +1,6 @@
 """Mission progress as a client sees it: uploads, MISSION_START, AUTO entered and left, landing,
-re-uploads, MIS_RESTART 0 and 1, MISSION_SET_CURRENT, DO_JUMP, a mission without takeoff and items in a
-local frame.
+re-uploads, MIS_RESTART 0 and 1, MISSION_SET_CURRENT, DO_JUMP, a mission without takeoff, items in a
+local frame and uploads refused part-way.
 
 Each scenario starts on a fresh vehicle and is a list of steps. Per step the facts are the ACK or
 MISSION_ACK result where there is one, and what followed until the next step: the items reached
@@ -331,6 +331,29 @@ def local_frame_items(s: Steps) -> None:
     s.result(download_commands(s.c))
 
 
+def partial_uploads(s: Steps) -> None:
+    """An upload refused part-way over a longer mission, a home-only upload after a clear, and an
+    upload refused part-way after a clear: what the list holds after each."""
+    bad = (mav.MAV_CMD_NAV_WAYPOINT, mav.MAV_FRAME_LOCAL_NED, 0, 0, 0, 0, 100_000, 0, -10)
+    s.upload([takeoff(), s.wp(10, 0, command=mav.MAV_CMD_NAV_LOITER_TIME), change_speed(3), s.wp(10, 10), rtl()])
+    s.step("upload refused at item 2 of 4")
+    s.result(upload(s.c, [s.wp(5, 0), bad, land_here()]))
+    s.step("download after the refusal")
+    s.result(download_commands(s.c))
+    s.step("clear")
+    s.result(clear(s.c))
+    s.step("upload home only")
+    s.result(upload(s.c, []))
+    s.step("download after home only")
+    s.result(download_commands(s.c))
+    s.step("clear again")
+    s.result(clear(s.c))
+    s.step("upload refused at item 2 after a clear")
+    s.result(upload(s.c, [takeoff(), bad]))
+    s.step("download at the end")
+    s.result(download_commands(s.c))
+
+
 def download_commands(client: Client, sim_s: float = 10.0) -> list[int] | None:
     """MISSION_REQUEST_LIST and each item by MISSION_REQUEST_INT: the items' commands, home
     included, or None if the download stalled."""
@@ -372,6 +395,7 @@ SCENARIOS = {
     "no_takeoff": no_takeoff,
     "clear_and_download": clear_and_download,
     "local_frame_items": local_frame_items,
+    "partial_uploads": partial_uploads,
 }
 
 
