@@ -76,42 +76,38 @@ class Runner:
     def stop(self) -> None:
         self._stop = True
 
-    def _exchange(self, readable=None) -> bool:
-        """Every vehicle's MAVLink exchange; only the sockets in `readable` are read (None: all).
-        Whether anything was read (its answers should leave at once)."""
+    def _exchange(self, readable=None, nodes=None) -> bool:
+        """The MAVLink exchange of every vehicle (or of `nodes`); only the sockets in `readable`
+        are read (None: all). Whether anything was read (its answers should leave at once)."""
         heard = False
+        nodes = self.nodes if nodes is None else nodes
         unix_s, link_s = time.time(), time.monotonic()  # one reading for every vehicle of this exchange
-        if readable is None and len(self.nodes) > 1:  # one system call says which of them to read
+        if readable is None and len(nodes) > 1:  # one system call says which of them to read
             readable = self._readable(0.0)
-        for node in self.nodes:
-            read = readable is None or node.endpoint in readable
-            heard |= self._exchange_node(node, read, unix_s, link_s)
+        for node in nodes:
+            now = node.vehicle.time_s
+            session, link, endpoint = node.session, node.link, node.endpoint
+            unread = readable is not None and endpoint not in readable
+            if unread and session.idle(now, link_s):  # most ticks, flat out or in a swarm
+                continue
+            link.advance(unix_s, link_s)
+            datagrams = () if unread else endpoint.receive()
+            if datagrams:  # most ticks have none
+                heard = True
+                received, out = [], []
+                # each message is judged only after the one before it was handled
+                for msg in incoming(datagrams, link, endpoint.answer):
+                    received.append(msg)
+                    out.extend(session.receive(msg, now, link_s))
+                out.extend(session.poll(now, link_s))
+            else:
+                received, out = (), session.poll(now, link_s)
+            frames = link.pack(out) if out else out
+            if frames:
+                endpoint.queue(frames)  # sent at the next flush (see run())
+            if node.tlog is not None:
+                self._log(node, received, frames)
         return heard
-
-    def _exchange_node(self, node: Node, read: bool, unix_s: float, link_s: float) -> bool:
-        """One vehicle's MAVLink exchange at its sim time, reading its socket if `read`.
-        Whether anything was read."""
-        now = node.vehicle.time_s
-        session, link, endpoint = node.session, node.link, node.endpoint
-        if not read and session.idle(now, link_s):  # most ticks, flat out or in a swarm
-            return False
-        link.advance(unix_s, link_s)
-        datagrams = endpoint.receive() if read else ()
-        if datagrams:  # most ticks have none
-            received, out = [], []
-            # each message is judged only after the one before it was handled
-            for msg in incoming(datagrams, link, endpoint.answer):
-                received.append(msg)
-                out.extend(session.receive(msg, now, link_s))
-            out.extend(session.poll(now, link_s))
-        else:
-            received, out = (), session.poll(now, link_s)
-        frames = link.pack(out) if out else out
-        if frames:
-            endpoint.queue(frames)  # sent at the next flush (see run())
-        if node.tlog is not None:
-            self._log(node, received, frames)
-        return bool(datagrams)
 
     @staticmethod
     def _log(node: Node, received: list, sent: list) -> None:
@@ -141,12 +137,9 @@ class Runner:
         readable = self._readable(0.0)
         first = self.ticks
         for node in self.nodes:
-            vehicle, state_log = node.vehicle, node.state_log
-            unix_s, link_s = time.time(), time.monotonic()
-            read = node.endpoint in readable
+            vehicle, state_log, one = node.vehicle, node.state_log, (node,)
             for tick in range(first + 1, first + ticks + 1):
-                self._exchange_node(node, read, unix_s, link_s)
-                read = False
+                self._exchange(readable if tick == first + 1 else (), one)
                 vehicle.run_until(tick * self.tick_s)
                 if state_log is not None and tick % STATE_LOG_EVERY == 0:
                     state_log.write(state_line(vehicle))
@@ -154,10 +147,7 @@ class Runner:
         self.sim_time_s = self.ticks * self.tick_s
 
     def _batch_ticks(self, duration_s: float) -> int:
-        """How many ticks the loop runs before it next paces: one, or for a swarm at a finite
-        speedup self.batch_ticks (never past duration_s)."""
-        if self.batch_ticks <= 1:
-            return 1
+        """How many ticks a swarm's batch runs: self.batch_ticks, never past duration_s."""
         left = round((duration_s - self.sim_time_s) / self.tick_s) if duration_s < math.inf else self.batch_ticks
         return max(1, min(self.batch_ticks, left))
 
@@ -188,9 +178,8 @@ class Runner:
                     read = ()
                 else:
                     last_read_wall = wall
-            batch = self._batch_ticks(duration_s)
-            if batch > 1:  # a swarm at a finite speedup
-                self._batch(batch)
+            if self.batch_ticks > 1:  # a swarm at a finite speedup
+                self._batch(self._batch_ticks(duration_s))
                 self._flush()
             else:
                 heard = self._exchange(read)
