@@ -3,17 +3,25 @@ from __future__ import annotations
 
 import math
 
+from ..pilot import CENTRED, CENTRED_MANUAL
 from .base import Mode, Setpoint, stick_deadzone
 from .numbers import ModeNumber
+
+# What the expressions below give for centred sticks, bit for bit (ANGLE_MAX and PILOT_Y_RATE
+# are positive): no lean, the pitch's zero negated, no yaw rate.
+CENTRED_LEAN = (0.0, -0.0)
 
 
 def pilot_lean_and_yaw(ctx, sp: Setpoint, pilot=None) -> None:
     """Lean from the roll and pitch sticks, yaw rate from the yaw stick (`pilot`: ctx.pilot, if
     the caller has it already: it is read at 100 Hz per vehicle)."""
-    params = ctx.params
-    lean_max = math.radians(params["ANGLE_MAX"] / 100.0)
     if pilot is None:
         pilot = ctx.pilot
+    if pilot is CENTRED_MANUAL or pilot is CENTRED:  # no pilot input, the usual case: no parameter to read
+        sp.lean, sp.yaw, sp.yaw_rate = CENTRED_LEAN, None, 0.0
+        return
+    params = ctx.params
+    lean_max = math.radians(params["ANGLE_MAX"] / 100.0)
     # pilot.pitch positive = stick forward = nose down = negative pitch angle.
     sp.lean = (pilot.roll * lean_max, -pilot.pitch * lean_max)
     sp.yaw = None

@@ -219,3 +219,24 @@ def test_alt_hold_holds_altitude_with_centred_stick():
     v.set_mode(AltHold.number)
     v.run_until(v.time_s + 5.0)
     assert abs(altitude(v) - 8.0) < 0.3
+
+
+@pytest.mark.parametrize("centred", ["CENTRED", "CENTRED_MANUAL"])
+@pytest.mark.parametrize("angle_max, yaw_rate", [(1000, 1), (3000, 202.5), (8000, 500)])
+def test_centred_sticks_give_the_very_setpoint_the_stick_expressions_give(centred, angle_max, yaw_rate):
+    """Without pilot input the lean and yaw rate are constants (no parameter is read): the same
+    bits, signed zeros included, as the sticks' expressions give for a copy of the centred input."""
+    import dataclasses
+
+    from autopilot import pilot as pilot_module
+    from autopilot.modes.manual import pilot_lean_and_yaw
+    params = ParamStore()
+    params.set("ANGLE_MAX", angle_max)
+    params.set("PILOT_Y_RATE", yaw_rate)
+    centred_input = getattr(pilot_module, centred)
+    fast, slow = Setpoint(), Setpoint()
+    pilot_lean_and_yaw(ctx(params=params), fast, centred_input)
+    pilot_lean_and_yaw(ctx(params=params), slow, dataclasses.replace(centred_input))  # not the constant
+    bits = lambda values: [math.copysign(1.0, v) for v in values] + list(values)  # noqa: E731
+    assert bits(fast.lean) == bits(slow.lean) and fast.lean == (0.0, -0.0)
+    assert bits([fast.yaw_rate]) == bits([slow.yaw_rate]) and fast.yaw is slow.yaw is None
