@@ -6,7 +6,10 @@ ArduCopter does (measured on its SITL), a mission or rally upload writes as it g
 shortens the stored list to the count, each valid item is written over the item at its seq or
 appended, and an upload refused or abandoned at item k leaves the list as far as it got; a fence
 is replaced only when its last item is in (ArduPilot collects a fence before it stores it).
-ArduPilot's convention holds: mission seq 0 is home, never written.
+While a list is being uploaded, a download of it is DENIED, as ArduPilot's is. Partial writes
+are saved when the transfer ends. ArduPilot's convention holds: mission seq 0 is home, and an
+upload's seq 0 is not written, except after a clear (AP_Mission::add_cmd then writes home first
+and the uploaded seq 0 after it, where seq 1 overwrites it).
 
 Retry timers run on the link clock (`link_s`, wall time at the I/O edge), not on sim time: they
 are about packets in flight, which take wall time whatever the speedup.
@@ -126,9 +129,13 @@ class MissionService:
         if refusal is not None:
             self.refused += 1
             return [self._ack(peer, refusal, kind)]
+        if self.upload is not None:  # the same client starts again: what it wrote stays
+            self._end(self.upload)
         if msg.count == 0:
-            self.upload = None
             self.store.clear(kind)
+            if kind == MISSION:  # AP_Mission::truncate(0) leaves no home either, as a clear
+                self._cleared_at_home_set = self.vehicle.home_sets
+                self.vehicle.notify("Flight plan received")
             return [self._ack(peer, mav.MAV_MISSION_ACCEPTED, kind)]
         self._completed = None
         self.upload = Upload(kind, msg.count, peer)
@@ -210,10 +217,16 @@ class MissionService:
         return [self._request(up, link_s)]
 
     # ----- download and the rest ----------------------------------------------------------------
+    def _receiving(self, kind: int) -> bool:
+        """A list of `kind` is being uploaded: ArduPilot DENIES reading it until the upload ends."""
+        return self.upload is not None and self.upload.kind == kind
+
     def on_request_list(self, msg) -> list:
         peer = (msg.get_srcSystem(), msg.get_srcComponent())
         if msg.mission_type not in MAX_ITEMS:
             return [self._ack(peer, mav.MAV_MISSION_UNSUPPORTED, msg.mission_type)]
+        if self._receiving(msg.mission_type):
+            return [self._ack(peer, mav.MAV_MISSION_DENIED, msg.mission_type)]
         return [self.codec.mission_count_encode(peer[0], peer[1], len(self.listed(msg.mission_type)),
                                                 msg.mission_type)]
 
@@ -221,6 +234,8 @@ class MissionService:
         peer = (msg.get_srcSystem(), msg.get_srcComponent())
         if msg.mission_type not in MAX_ITEMS:
             return [self._ack(peer, mav.MAV_MISSION_UNSUPPORTED, msg.mission_type)]
+        if self._receiving(msg.mission_type):
+            return [self._ack(peer, mav.MAV_MISSION_DENIED, msg.mission_type)]
         items = self.listed(msg.mission_type)
         if not 0 <= msg.seq < len(items):
             return [self._ack(peer, mav.MAV_MISSION_INVALID_SEQUENCE, msg.mission_type)]

@@ -61,19 +61,24 @@ class MissionStore:
         self.replace(kind, [])
 
     def truncate(self, kind: int, length: int) -> None:
-        """Keep at most `length` items (unsaved until `changed`)."""
-        del self._lists[kind][length:]
+        """Keep at most `length` items; a change AUTO sees at once, saved at `changed`."""
+        if len(self._lists[kind]) > length:
+            del self._lists[kind][length:]
+            self.version += 1
 
     def put(self, kind: int, index: int, item: MissionItem) -> None:
-        """Write `item` at `index`: over the item there, or at the end (unsaved until `changed`)."""
+        """Write `item` at `index`, over the item there or at the end; a change AUTO sees at
+        once (as AP_Mission's change time moves with every write), saved at `changed`."""
         items = self._lists[kind]
         if index == len(items):
             items.append(item)
         else:
             items[index] = item
+        self.version += 1
 
     def changed(self) -> None:
-        """After truncate and put: count a change (AUTO looks for one) and save."""
+        """After truncate and put, when the transfer ends: save (a process stopped mid-upload
+        keeps the list it had)."""
         self.version += 1
         self._save()
 

@@ -318,3 +318,15 @@ def test_a_resent_last_item_after_a_lost_ack_is_acked_again_and_stored_once(setu
     assert v.mission.version == version  # nothing stored twice
     other = session.receive(new_codec(0, 0).parse_buffer(items[1].pack(gcs.codec))[0], 0.0, 1.0)
     assert other == []  # only the last item is answered
+
+
+def test_a_list_being_uploaded_cannot_be_downloaded_until_the_upload_ends(setup):
+    """ArduPilot DENIES MISSION_REQUEST_LIST and MISSION_REQUEST_INT of a list it is receiving."""
+    v, session = setup
+    gcs = GroundStation()
+    session.receive(gcs.codec.mission_count_encode(1, 1, 3, 0), 0.0, 0.0)
+    for ask in (gcs.codec.mission_request_list_encode(1, 1, 0), gcs.codec.mission_request_int_encode(1, 1, 0, 0)):
+        replies = session.receive(ask, 0.0, 0.0)
+        assert [(r.get_type(), r.type) for r in replies] == [("MISSION_ACK", mav.MAV_MISSION_DENIED)]
+    rally = session.receive(gcs.codec.mission_request_list_encode(1, 1, 2), 0.0, 0.0)
+    assert [r.get_type() for r in rally] == ["MISSION_COUNT"]  # another list is read as ever

@@ -149,9 +149,11 @@ class Steps:
         return (command, REL, 0, 0, 0, 0, lat + int(dlat * 1e7), lon + int(dlon * 1e7), alt)
 
 
-def upload(client: Client, items: list, sim_s: float = 20.0) -> int | None:
-    """Upload items after a home item (seq 0) by MISSION_ITEM_INT; the MISSION_ACK type."""
-    full = [(mav.MAV_CMD_NAV_WAYPOINT, mav.MAV_FRAME_GLOBAL_INT, 0, 0, 0, 0, 0, 0, 0)] + list(items)
+def upload(client: Client, items: list | None, sim_s: float = 20.0) -> int | None:
+    """Upload items after a home item (seq 0) by MISSION_ITEM_INT (None: MISSION_COUNT 0, no
+    home either); the MISSION_ACK type."""
+    home = (mav.MAV_CMD_NAV_WAYPOINT, mav.MAV_FRAME_GLOBAL_INT, 0, 0, 0, 0, 0, 0, 0)
+    full = [] if items is None else [home] + list(items)
     answered: list = []
 
     def answer(msg):
@@ -332,8 +334,8 @@ def local_frame_items(s: Steps) -> None:
 
 
 def partial_uploads(s: Steps) -> None:
-    """An upload refused part-way over a longer mission, a home-only upload after a clear, and an
-    upload refused part-way after a clear: what the list holds after each."""
+    """An upload refused part-way over a longer mission, a home-only upload after a clear, an
+    upload refused part-way after a clear, and MISSION_COUNT 0: what the list holds after each."""
     bad = (mav.MAV_CMD_NAV_WAYPOINT, mav.MAV_FRAME_LOCAL_NED, 0, 0, 0, 0, 100_000, 0, -10)
     s.upload([takeoff(), s.wp(10, 0, command=mav.MAV_CMD_NAV_LOITER_TIME), change_speed(3), s.wp(10, 10), rtl()])
     s.step("upload refused at item 2 of 4")
@@ -350,6 +352,14 @@ def partial_uploads(s: Steps) -> None:
     s.result(clear(s.c))
     s.step("upload refused at item 2 after a clear")
     s.result(upload(s.c, [takeoff(), bad]))
+    s.step("download after the refusal after a clear")
+    s.result(download_commands(s.c))
+    s.step("upload count 0")
+    s.result(upload(s.c, None))
+    s.step("download after count 0")
+    s.result(download_commands(s.c))
+    s.step("upload home only after count 0")
+    s.result(upload(s.c, []))
     s.step("download at the end")
     s.result(download_commands(s.c))
 
