@@ -18,6 +18,9 @@ from .land import Rtl, descend_and_disarm
 from .numbers import ModeNumber
 from .waypoint_legs import NAV_BY_LEGS, WaypointLegs, flies_through, next_nav_index
 
+# AP_Mission_ChangeDetector compares the current navigation item and the next two: a change
+# further on (or an upload writing the same items again) restarts nothing.
+CHANGE_WINDOW = 3
 NAV_COMMANDS = {CMD_WAYPOINT, CMD_LOITER_UNLIM, CMD_LOITER_TIME, CMD_RTL, CMD_LAND, CMD_TAKEOFF}
 GLOBAL_AMSL_FRAMES = {0, 5}  # MAV_FRAME_GLOBAL, MAV_FRAME_GLOBAL_INT: altitude above sea level
 
@@ -134,7 +137,7 @@ class Auto(Mode):
         if self._waiting_to_start:
             mission.start_or_resume(self._restart(ctx))
             self._waiting_to_start = False
-            self._seen = (mission.store.version, mission.items())
+            self._seen = (mission.store.version, mission.nav_index, self._upcoming(mission))
         else:
             self._check_for_new_list(ctx, mission)
             mission.update()
@@ -165,19 +168,36 @@ class Auto(Mode):
             self._nav_done = True
 
     def _check_for_new_list(self, ctx, mission) -> None:
-        """A list uploaded while the mission runs: a waypoint being flown starts again, as
-        ArduCopter's mission change detector does."""
-        version = mission.store.version
-        if version == self._seen[0]:
+        """The list changed while the mission runs (an upload writes item by item): if the
+        current navigation item or the next ones differ while the current index stayed, a
+        waypoint being flown starts again, as ArduCopter's mission change detector does."""
+        version, index = mission.store.version, mission.nav_index
+        if version == self._seen[0] and index == self._seen[1]:
             return
-        items = mission.items()
-        changed = items != self._seen[1]
-        self._seen = (version, items)
-        if changed and mission.running and self._index is not None and self._item.command == CMD_WAYPOINT:
+        upcoming = self._upcoming(mission)
+        changed, moved_on = upcoming != self._seen[2], index != self._seen[1]
+        self._seen = (version, index, upcoming)
+        if changed and not moved_on and mission.running and self._index is not None \
+                and self._item.command == CMD_WAYPOINT:
             if mission.restart_current_nav():
                 ctx.notify("Auto mission changed, restarted command", Severity.CRITICAL)
             else:
                 ctx.notify("Auto mission changed but failed to restart command", Severity.CRITICAL)
+
+    @staticmethod
+    def _upcoming(mission) -> tuple:
+        """(index, item) of the navigation items from the current one on, CHANGE_WINDOW at most,
+        following DO_JUMPs as the mission will."""
+        items, index = mission.items(), mission.nav_index
+        if index is None or index >= len(items):
+            return ()
+        if not is_nav(items[index].command):
+            index = next_nav_index(items, index, mission.jumps_followed())
+        upcoming = []
+        while index is not None and len(upcoming) < CHANGE_WINDOW:
+            upcoming.append((index, items[index]))
+            index = next_nav_index(items, index, mission.jumps_followed())
+        return tuple(upcoming)
 
     def _land(self, ctx, sp: Setpoint, item) -> None:
         n, e, _ = self._target

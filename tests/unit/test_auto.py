@@ -200,3 +200,49 @@ def test_a_mission_ending_in_the_air_completes_and_auto_again_starts_over():
     v.set_mode(3)
     v.run_until(v.time_s + 0.01)
     assert v.mission_progress.running and [t for _, t in v.drain_events()] == ["Mission: 1 Takeoff"]
+
+
+def _flying_the_first_waypoint(v):
+    """AUTO over [wp 30 m north, wp 30 m north 30 east, wp 0 30 east, wp 0 0, RTL], the first
+    waypoint being flown; the texts so far drained."""
+    items = [wp_at(v, 30, 0), wp_at(v, 30, 30), wp_at(v, 0, 30), wp_at(v, 0, 0), MissionItem(20, REL)]
+    v.mission.replace(0, items)
+    assert v.set_mode(3) == Result.ACCEPTED
+    v.run_until(v.time_s + 2.0)
+    assert v.mission_progress.current_seq() == 1
+    v.drain_events()
+    return items
+
+
+def _upload_item_by_item(v, items):
+    """As an upload writes them: the count shortens the list, then one item per tick."""
+    v.mission.truncate(0, len(items))
+    for index, item in enumerate(items):
+        v.mission.put(0, index, item)
+        v.run_until(v.time_s + 0.01)
+    v.mission.changed()
+    v.run_until(v.time_s + 0.5)
+    return [t for _, t in v.drain_events() if t.startswith("Auto mission changed")]
+
+
+def test_an_upload_of_the_same_mission_during_auto_restarts_nothing():
+    v = hovering_vehicle()
+    items = _flying_the_first_waypoint(v)
+    assert _upload_item_by_item(v, items) == []
+    assert v.mission_progress.current_seq() == 1
+
+
+def test_an_upload_changing_only_items_past_the_next_two_restarts_nothing():
+    """ArduCopter's change detector looks at the current navigation item and the next two."""
+    v = hovering_vehicle()
+    items = _flying_the_first_waypoint(v)
+    changed = items[:3] + [wp_at(v, -10, -10)] + items[4:]
+    assert _upload_item_by_item(v, changed) == []
+
+
+def test_an_upload_changing_the_next_waypoint_restarts_the_current_one_once():
+    v = hovering_vehicle()
+    items = _flying_the_first_waypoint(v)
+    changed = items[:1] + [wp_at(v, 40, 40)] + items[2:]
+    assert _upload_item_by_item(v, changed) == ["Auto mission changed, restarted command"]
+    assert v.mission_progress.current_seq() == 1
