@@ -106,25 +106,25 @@ class ControlLink:
         """Several COMMAND_LONGs ((command, *params) each, distinct commands) in one datagram, so the
         vehicle handles them in the same tick, in order: each command's MAV_RESULT. Flat out, a
         round trip between an arm and its takeoff is seconds of vehicle time, long enough for
-        the auto-disarm of a vehicle armed on the ground."""
+        the auto-disarm of a vehicle armed on the ground. A retry resends only the commands
+        still unanswered (a takeoff sent again to a vehicle in the air would be refused)."""
         mav = self.conn.mav
-        frames = []
-        for command, *params in commands:
-            msg = mav.command_long_encode(self.system_id, 1, command, 0, *(list(params) + [0.0] * 7)[:7])
-            frames.append(msg.pack(mav))
-            mav.seq = (mav.seq + 1) % 256
-        datagram = b"".join(frames)
-        wanted = {command for command, *_ in commands}
         results: dict[int, int] = {}
 
         def send():
-            results.clear()
-            self.conn.write(datagram)
+            frames = []
+            for command, *params in commands:
+                if command in results:
+                    continue
+                msg = mav.command_long_encode(self.system_id, 1, command, 0, *(list(params) + [0.0] * 7)[:7])
+                frames.append(msg.pack(mav))
+                mav.seq = (mav.seq + 1) % 256
+            self.conn.write(b"".join(frames))
 
         def match(m):
-            if m.get_type() == "COMMAND_ACK" and m.command in wanted:
+            if m.get_type() == "COMMAND_ACK" and any(m.command == c for c, *_ in commands):
                 results.setdefault(m.command, m.result)
-                if len(results) == len(wanted):
+                if len(results) == len(commands):
                     return dict(results)
             return None
         return self._await(send, match, "commands " + ", ".join(str(c) for c, *_ in commands))

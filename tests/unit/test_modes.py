@@ -235,7 +235,10 @@ def test_centred_sticks_give_the_very_setpoint_the_stick_expressions_give(centre
     params.set("PILOT_Y_RATE", yaw_rate)
     centred_input = getattr(pilot_module, centred)
     fast, slow = Setpoint(), Setpoint()
-    pilot_lean_and_yaw(ctx(params=params), fast, centred_input)
+    class Unread:  # the centred sticks must not read a parameter
+        def __getitem__(self, name):
+            raise AssertionError(f"{name} read for centred sticks")
+    pilot_lean_and_yaw(SimpleNamespace(params=Unread()), fast, centred_input)
     pilot_lean_and_yaw(ctx(params=params), slow, dataclasses.replace(centred_input))  # not the constant
     bits = lambda values: [math.copysign(1.0, v) for v in values] + list(values)  # noqa: E731
     assert bits(fast.lean) == bits(slow.lean) and fast.lean == (0.0, -0.0)
