@@ -70,6 +70,12 @@ def speed_rows(r: dict) -> list[str]:
                     f"250 vehicles at 1x, CPU / MAVSDK flight at speedup inf | {fmt(b['rtf_with_client'], '', 0)} / "
                     f"{fmt(b['telemetry_message_cost_us'], ' µs', 2)} / {b['swarm_250_cpu_core']:.2f} of a core / "
                     f"{fmt(b['mavsdk_flight_inf_wall_s'], ' s', 2)} |")
+    b = r.get("telemetry_before_this_machine")
+    if b:
+        rows.append(f"| the same, alternated on this machine ({b['how'].split(', ')[-1]}): commit {b['commit']} against "
+                    f"this tree: rtf_with_client / 250 vehicles at 1x, CPU (20 s trials) | "
+                    f"{fmt(b['rtf_with_client'], '', 0)} against {fmt(b['rtf_with_client_now'], '', 0)} / "
+                    f"{fmt(b['swarm_250_cpu_core'], '', 2)} against {fmt(b['swarm_250_cpu_core_now'], '', 2)} of a core |")
     c = r.get("step_cost_us")
     if c and "cascade_step_us" in c:
         rows += [f"| step_cost_us, one vehicle: physics step (compiled) | {fmt(c['physics_step_us'], ' µs', 3)} |",
