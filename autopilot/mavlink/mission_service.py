@@ -56,8 +56,53 @@ def item_from_message(msg) -> MissionItem:
                        msg.z, msg.autocontinue)
 
 
-def check_item(item: MissionItem) -> int:
-    """MAV_MISSION_RESULT for one item: ACCEPTED or the first problem found."""
+FENCE_COMMANDS = {mav.MAV_CMD_NAV_FENCE_POLYGON_VERTEX_INCLUSION, mav.MAV_CMD_NAV_FENCE_POLYGON_VERTEX_EXCLUSION,
+                  mav.MAV_CMD_NAV_FENCE_RETURN_POINT, mav.MAV_CMD_NAV_FENCE_CIRCLE_EXCLUSION,
+                  mav.MAV_CMD_NAV_FENCE_CIRCLE_INCLUSION}
+VERTEX_COMMANDS = {mav.MAV_CMD_NAV_FENCE_POLYGON_VERTEX_INCLUSION, mav.MAV_CMD_NAV_FENCE_POLYGON_VERTEX_EXCLUSION}
+
+
+def position_result(item: MissionItem) -> int:
+    """A latitude and longitude (1e-7 degrees) on the globe, or which of them is not."""
+    if not -900_000_000 <= item.x <= 900_000_000:
+        return mav.MAV_MISSION_INVALID_PARAM5_X
+    if not -1_800_000_000 <= item.y <= 1_800_000_000:
+        return mav.MAV_MISSION_INVALID_PARAM6_Y
+    return mav.MAV_MISSION_ACCEPTED
+
+
+def check_fence_item(item: MissionItem) -> int:
+    """As ArduPilot's fence protocol converts an item: a global frame, a fence command, a vertex
+    count a byte holds."""
+    if item.frame not in GLOBAL_FRAMES:
+        return mav.MAV_MISSION_UNSUPPORTED_FRAME
+    if item.command not in FENCE_COMMANDS:
+        return mav.MAV_MISSION_UNSUPPORTED
+    if item.command in VERTEX_COMMANDS and item.p1 > 255:
+        return mav.MAV_MISSION_INVALID_PARAM1
+    return mav.MAV_MISSION_ACCEPTED
+
+
+def check_rally_item(item: MissionItem) -> int:
+    """As ArduPilot's rally protocol converts an item: a rally point, on the globe, at an altitude
+    a 16-bit integer holds, in a global frame."""
+    if item.command != mav.MAV_CMD_NAV_RALLY_POINT:
+        return mav.MAV_MISSION_UNSUPPORTED
+    if (result := position_result(item)) != mav.MAV_MISSION_ACCEPTED:
+        return result
+    if not -32768 <= item.z <= 32767:  # NaN fails this too
+        return mav.MAV_MISSION_INVALID_PARAM7
+    if item.frame not in GLOBAL_FRAMES:
+        return mav.MAV_MISSION_UNSUPPORTED_FRAME
+    return mav.MAV_MISSION_ACCEPTED
+
+
+def check_item(item: MissionItem, kind: int = MISSION) -> int:
+    """MAV_MISSION_RESULT for one item of a list of `kind`: ACCEPTED or the first problem found."""
+    if kind == FENCE:
+        return check_fence_item(item)
+    if kind == RALLY:
+        return check_rally_item(item)
     if item.frame not in ALLOWED_FRAMES or (item.command in POSITIONAL and item.frame not in LOCATION_FRAMES):
         return mav.MAV_MISSION_UNSUPPORTED_FRAME
     for n, value in enumerate((item.p1, item.p2, item.p3, item.p4), start=1):
@@ -68,10 +113,7 @@ def check_item(item: MissionItem) -> int:
     if math.isinf(item.z) or abs(item.z) > 100_000 or (math.isnan(item.z) and item.command in POSITIONAL):
         return mav.MAV_MISSION_INVALID_PARAM7
     if item.command in POSITIONAL and item.frame in GLOBAL_FRAMES:
-        if not -900_000_000 <= item.x <= 900_000_000:
-            return mav.MAV_MISSION_INVALID_PARAM5_X
-        if not -1_800_000_000 <= item.y <= 1_800_000_000:
-            return mav.MAV_MISSION_INVALID_PARAM6_Y
+        return position_result(item)
     return mav.MAV_MISSION_ACCEPTED
 
 
@@ -186,7 +228,7 @@ class MissionService:
         if msg.seq != len(up.items):  # a duplicate or out-of-order item: ask again for the one we need
             return [self._request(up, link_s)] if msg.seq > len(up.items) else []
         item = item_from_message(msg)
-        result = check_item(item)
+        result = check_item(item, up.kind)
         if result == mav.MAV_MISSION_ACCEPTED and up.kind != FENCE:
             result = self._write(up.kind, msg.seq, item)
         if result != mav.MAV_MISSION_ACCEPTED:

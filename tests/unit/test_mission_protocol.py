@@ -277,9 +277,10 @@ def test_a_refused_rally_upload_keeps_what_came_before_it_and_a_refused_fence_no
 
     def upload(kind: int, count: int, lat0: float, bad_seq: int | None = None) -> int:
         gcs = GroundStation()
+        command = 5001 if kind == 1 else 5100  # a polygon vertex, a rally point
         gcs.items = [mav.MAVLink_mission_item_int_message(
-            1, 1, s, mav.MAV_FRAME_GLOBAL_INT, 5001 if kind == 1 else 5100, 0, 1, 4, 0, 0, 0,
-            int((95.0 if s == bad_seq else lat0 + s * 1e-4) * 1e7), 1491600000, 0, kind) for s in range(count)]
+            1, 1, s, mav.MAV_FRAME_GLOBAL_INT, mav.MAV_CMD_NAV_WAYPOINT if s == bad_seq else command, 0, 1, 4,
+            0, 0, 0, int((lat0 + s * 1e-4) * 1e7), 1491600000, 0, kind) for s in range(count)]
         gcs.send(gcs.codec.mission_count_encode(1, 1, count, kind), 0.0)
         run(session, gcs, LossyLink(0.0, 0))
         return gcs.done
@@ -288,7 +289,7 @@ def test_a_refused_rally_upload_keeps_what_came_before_it_and_a_refused_fence_no
         assert upload(kind, 4, -35.0) == mav.MAV_MISSION_ACCEPTED
     old = {kind: [i.x for i in v.mission.items(kind)] for kind in (1, 2)}
     for kind in (1, 2):
-        assert upload(kind, 3, -36.0, bad_seq=2) == mav.MAV_MISSION_INVALID_PARAM5_X
+        assert upload(kind, 3, -36.0, bad_seq=2) == mav.MAV_MISSION_UNSUPPORTED  # a waypoint in either
     assert [i.x for i in v.mission.items(1)] == old[1]
     new = [int((-36.0 + s * 1e-4) * 1e7) for s in range(2)]
     assert [i.x for i in v.mission.items(2)] == new + old[2][2:3]  # shortened to 3, then 0 and 1 written
@@ -330,3 +331,25 @@ def test_a_list_being_uploaded_cannot_be_downloaded_until_the_upload_ends(setup)
         assert [(r.get_type(), r.type) for r in replies] == [("MISSION_ACK", mav.MAV_MISSION_DENIED)]
     rally = session.receive(gcs.codec.mission_request_list_encode(1, 1, 2), 0.0, 0.0)
     assert [r.get_type() for r in rally] == ["MISSION_COUNT"]  # another list is read as ever
+
+
+@pytest.mark.parametrize("kind, command, frame, p1, z, result", [
+    (1, mav.MAV_CMD_NAV_FENCE_CIRCLE_INCLUSION, mav.MAV_FRAME_GLOBAL_INT, 100, 0, mav.MAV_MISSION_ACCEPTED),
+    (1, mav.MAV_CMD_NAV_FENCE_CIRCLE_INCLUSION, mav.MAV_FRAME_MISSION, 100, 0, mav.MAV_MISSION_UNSUPPORTED_FRAME),
+    (1, mav.MAV_CMD_NAV_WAYPOINT, mav.MAV_FRAME_GLOBAL_INT, 0, 0, mav.MAV_MISSION_UNSUPPORTED),
+    (1, mav.MAV_CMD_NAV_FENCE_POLYGON_VERTEX_INCLUSION, mav.MAV_FRAME_GLOBAL_INT, 300, 0, mav.MAV_MISSION_INVALID_PARAM1),
+    (2, mav.MAV_CMD_NAV_RALLY_POINT, mav.MAV_FRAME_GLOBAL_RELATIVE_ALT_INT, 0, 40, mav.MAV_MISSION_ACCEPTED),
+    (2, mav.MAV_CMD_NAV_WAYPOINT, mav.MAV_FRAME_GLOBAL_RELATIVE_ALT_INT, 0, 40, mav.MAV_MISSION_UNSUPPORTED),
+    (2, mav.MAV_CMD_NAV_RALLY_POINT, mav.MAV_FRAME_GLOBAL_RELATIVE_ALT_INT, 0, 40_000, mav.MAV_MISSION_INVALID_PARAM7),
+    (2, mav.MAV_CMD_NAV_RALLY_POINT, mav.MAV_FRAME_LOCAL_NED, 0, 40, mav.MAV_MISSION_UNSUPPORTED_FRAME),
+])
+def test_fence_and_rally_items_are_checked_as_their_own_lists_check_them(setup, kind, command, frame, p1, z, result):
+    """ArduPilot's fence and rally protocols convert items by their own rules (the fence's frame
+    first, then its command; the rally's command, position and altitude, then its frame)."""
+    v, session = setup
+    gcs = GroundStation()
+    gcs.items = [mav.MAVLink_mission_item_int_message(1, 1, 0, frame, command, 0, 1, p1, 0, 0, 0,
+                                                      -353600000, 1491600000, z, kind)]
+    gcs.send(gcs.codec.mission_count_encode(1, 1, 1, kind), 0.0)
+    run(session, gcs, LossyLink(0.0, 0))
+    assert gcs.done == result

@@ -1,6 +1,6 @@
 """Mission progress as a client sees it: uploads, MISSION_START, AUTO entered and left, landing,
 re-uploads, MIS_RESTART 0 and 1, MISSION_SET_CURRENT, DO_JUMP, a mission without takeoff, items in a
-local frame and uploads refused part-way.
+local frame, uploads refused part-way and fence and rally items.
 
 Each scenario starts on a fresh vehicle and is a list of steps. Per step the facts are the ACK or
 MISSION_ACK result where there is one, and what followed until the next step: the items reached
@@ -149,24 +149,24 @@ class Steps:
         return (command, REL, 0, 0, 0, 0, lat + int(dlat * 1e7), lon + int(dlon * 1e7), alt)
 
 
-def upload(client: Client, items: list | None, sim_s: float = 20.0) -> int | None:
-    """Upload items after a home item (seq 0) by MISSION_ITEM_INT (None: MISSION_COUNT 0, no
-    home either); the MISSION_ACK type."""
+def upload(client: Client, items: list | None, sim_s: float = 20.0,
+           kind: int = mav.MAV_MISSION_TYPE_MISSION) -> int | None:
+    """Upload items by MISSION_ITEM_INT, a mission's after a home item (seq 0) (None: MISSION_COUNT
+    0, no home either); the MISSION_ACK type."""
     home = (mav.MAV_CMD_NAV_WAYPOINT, mav.MAV_FRAME_GLOBAL_INT, 0, 0, 0, 0, 0, 0, 0)
-    full = [] if items is None else [home] + list(items)
+    full = [] if items is None else ([home] if kind == mav.MAV_MISSION_TYPE_MISSION else []) + list(items)
     answered: list = []
 
     def answer(msg):
-        kind = msg.get_type()
-        if kind in ("MISSION_REQUEST", "MISSION_REQUEST_INT") and msg.seq < len(full):
+        msg_kind = msg.get_type()
+        if msg_kind in ("MISSION_REQUEST", "MISSION_REQUEST_INT") and msg.seq < len(full):
             c, f, p1, p2, p3, p4, x, y, z = full[msg.seq]
-            client.conn.mav.mission_item_int_send(1, 1, msg.seq, f, c, 0, 1, p1, p2, p3, p4, x, y, z,
-                                                  mav.MAV_MISSION_TYPE_MISSION)
-        elif kind == "MISSION_ACK":
+            client.conn.mav.mission_item_int_send(1, 1, msg.seq, f, c, 0, 1, p1, p2, p3, p4, x, y, z, kind)
+        elif msg_kind == "MISSION_ACK":
             answered.append(msg.type)
 
     with client.listening(answer):
-        client.conn.mav.mission_count_send(1, 1, len(full), mav.MAV_MISSION_TYPE_MISSION)
+        client.conn.mav.mission_count_send(1, 1, len(full), kind)
         return answered[0] if client.try_wait(lambda: bool(answered), sim_s) else None
 
 
@@ -364,26 +364,52 @@ def partial_uploads(s: Steps) -> None:
     s.result(download_commands(s.c))
 
 
-def download_commands(client: Client, sim_s: float = 10.0) -> list[int] | None:
-    """MISSION_REQUEST_LIST and each item by MISSION_REQUEST_INT: the items' commands, home
-    included, or None if the download stalled."""
+def fence_and_rally_items(s: Steps) -> None:
+    """One-item fence and rally uploads, each list checking items by its own rules: the result of
+    each, and the lists' lengths at the end."""
+    lat, lon = s.home
+    F, R = mav.MAV_MISSION_TYPE_FENCE, mav.MAV_MISSION_TYPE_RALLY
+    G, REL_INT = mav.MAV_FRAME_GLOBAL_INT, mav.MAV_FRAME_GLOBAL_RELATIVE_ALT_INT
+    cases = [
+        ("fence circle", F, (mav.MAV_CMD_NAV_FENCE_CIRCLE_INCLUSION, G, 100, 0, 0, 0, lat, lon, 0)),
+        ("fence circle in MISSION frame", F, (mav.MAV_CMD_NAV_FENCE_CIRCLE_INCLUSION, mav.MAV_FRAME_MISSION, 100, 0, 0, 0, lat, lon, 0)),
+        ("fence waypoint", F, (mav.MAV_CMD_NAV_WAYPOINT, G, 0, 0, 0, 0, lat, lon, 0)),
+        ("fence vertex count 300", F, (mav.MAV_CMD_NAV_FENCE_POLYGON_VERTEX_INCLUSION, G, 300, 0, 0, 0, lat, lon, 0)),
+        ("rally point", R, (mav.MAV_CMD_NAV_RALLY_POINT, REL_INT, 0, 0, 0, 0, lat, lon, 40)),
+        ("rally waypoint", R, (mav.MAV_CMD_NAV_WAYPOINT, REL_INT, 0, 0, 0, 0, lat, lon, 40)),
+        ("rally at 40000 m", R, (mav.MAV_CMD_NAV_RALLY_POINT, REL_INT, 0, 0, 0, 0, lat, lon, 40_000)),
+        ("rally in local NED", R, (mav.MAV_CMD_NAV_RALLY_POINT, mav.MAV_FRAME_LOCAL_NED, 0, 0, 0, 0, lat, lon, 40)),
+        ("rally at latitude 95", R, (mav.MAV_CMD_NAV_RALLY_POINT, REL_INT, 0, 0, 0, 0, 950_000_000, lon, 40)),
+    ]
+    for name, kind, item in cases:
+        s.step(f"upload {name}")
+        s.result(upload(s.c, [item], kind=kind))
+    for name, kind in (("fence", F), ("rally", R)):
+        s.step(f"download {name}")
+        s.result(download_commands(s.c, kind=kind))
+
+
+def download_commands(client: Client, sim_s: float = 10.0,
+                      kind: int = mav.MAV_MISSION_TYPE_MISSION) -> list[int] | None:
+    """MISSION_REQUEST_LIST and each item by MISSION_REQUEST_INT: the items' commands (a
+    mission's home included), or None if the download stalled."""
     count: list = []
     items: dict[int, int] = {}
 
     def answer(msg):
-        if msg.get_type() == "MISSION_COUNT":
+        if msg.get_type() == "MISSION_COUNT" and msg.mission_type == kind:
             count.append(msg.count)
             if msg.count:
-                client.conn.mav.mission_request_int_send(1, 1, 0, mav.MAV_MISSION_TYPE_MISSION)
-        elif msg.get_type() == "MISSION_ITEM_INT" and count and msg.seq not in items:
+                client.conn.mav.mission_request_int_send(1, 1, 0, kind)
+        elif msg.get_type() == "MISSION_ITEM_INT" and msg.mission_type == kind and count and msg.seq not in items:
             items[msg.seq] = msg.command
             if msg.seq + 1 < count[0]:
-                client.conn.mav.mission_request_int_send(1, 1, msg.seq + 1, mav.MAV_MISSION_TYPE_MISSION)
+                client.conn.mav.mission_request_int_send(1, 1, msg.seq + 1, kind)
             else:
-                client.conn.mav.mission_ack_send(1, 1, mav.MAV_MISSION_ACCEPTED, mav.MAV_MISSION_TYPE_MISSION)
+                client.conn.mav.mission_ack_send(1, 1, mav.MAV_MISSION_ACCEPTED, kind)
 
     with client.listening(answer):
-        client.conn.mav.mission_request_list_send(1, 1, mav.MAV_MISSION_TYPE_MISSION)
+        client.conn.mav.mission_request_list_send(1, 1, kind)
         done = client.try_wait(lambda: bool(count) and len(items) == count[0], sim_s)
         return [items[i] for i in sorted(items)] if done else None
 
@@ -406,6 +432,7 @@ SCENARIOS = {
     "clear_and_download": clear_and_download,
     "local_frame_items": local_frame_items,
     "partial_uploads": partial_uploads,
+    "fence_and_rally_items": fence_and_rally_items,
 }
 
 
