@@ -70,7 +70,7 @@ class Runner:
         # At a finite speedup a swarm's loop sleeps between ticks, and each tick then finds its
         # vehicles' memory cold: ticking each vehicle several times in a row, then sleeping
         # longer, costs far less (docs/performance.md). Sim time then leads wall time by up to
-        # the batch; messages are still answered as they arrive.
+        # the batch; a message is handled and answered within a batch's work (a few ms).
         self.batch_ticks = SWARM_BATCH_TICKS if (speedup != math.inf and len(nodes) >= SWARM_MIN_VEHICLES) else 1
 
     def stop(self) -> None:
