@@ -68,9 +68,10 @@ class Runner:
         self._stop = False
         self.ticks = 0
         # At a finite speedup a swarm's loop sleeps between ticks, and each tick then finds its
-        # vehicles' memory cold: ticking each vehicle several times in a row, then sleeping
-        # longer, costs far less (docs/performance.md). Sim time then leads wall time by up to
-        # the batch; a message is handled and answered within a batch's work (a few ms).
+        # vehicles' memory colder: ticking each vehicle several times in a row, then sleeping
+        # longer, costs less (3-5 % on one machine, a quarter or more on another with colder
+        # caches: docs/performance.md). Sim time then leads wall time by up to the batch; a
+        # message is handled and answered within a batch's work (a few ms).
         self.batch_ticks = SWARM_BATCH_TICKS if (speedup != math.inf and len(nodes) >= SWARM_MIN_VEHICLES) else 1
 
     def stop(self) -> None:
