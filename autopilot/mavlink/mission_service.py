@@ -6,7 +6,8 @@ ArduCopter does (measured on its SITL), a mission or rally upload writes as it g
 shortens the stored list to the count, each valid item is written over the item at its seq or
 appended, and an upload refused or abandoned at item k leaves the list as far as it got; a fence
 is replaced only when its last item is in (ArduPilot collects a fence before it stores it).
-While a list is being uploaded, a download of it is DENIED, as ArduPilot's is. Partial writes
+Each list has its own transfer, as in ArduPilot (a fence may be uploaded while a mission is);
+while a list is being uploaded, a download of it is DENIED, as ArduPilot's is. Partial writes
 are saved when the transfer ends. ArduPilot's convention holds: mission seq 0 is home, and an
 upload's seq 0 is not written, except after a clear (AP_Mission::add_cmd then writes home first
 and the uploaded seq 0 after it, where seq 1 overwrites it).
@@ -132,7 +133,7 @@ class MissionService:
         self.store = store
         self.vehicle = vehicle
         self.codec = codec
-        self.upload: Upload | None = None
+        self.uploads: dict[int, Upload] = {}  # by list: ArduPilot runs one transfer per list at a time
         self._completed = None  # (peer, kind, last seq) of the upload just stored, to re-ACK a resend
         self.refused = 0  # uploads refused: unsupported list, no space, busy, an invalid item
         self._cleared_at_home_set: int | None = None  # the vehicle's home_sets when the mission was cleared
@@ -164,15 +165,15 @@ class MissionService:
         refusal = None
         if kind not in MAX_ITEMS:
             refusal = mav.MAV_MISSION_UNSUPPORTED
-        elif self.upload is not None and self.upload.peer != peer:
-            refusal = mav.MAV_MISSION_DENIED  # someone else is uploading
+        elif kind in self.uploads and self.uploads[kind].peer != peer:
+            refusal = mav.MAV_MISSION_DENIED  # someone else is uploading this list
         elif msg.count > MAX_ITEMS[kind] + (1 if kind == MISSION else 0):
             refusal = mav.MAV_MISSION_NO_SPACE
         if refusal is not None:
             self.refused += 1
             return [self._ack(peer, refusal, kind)]
-        if self.upload is not None:  # the same client starts again: what it wrote stays
-            self._end(self.upload)
+        if kind in self.uploads:  # the same client starts again: what it wrote stays
+            self._end(self.uploads[kind])
         if msg.count == 0:
             self.store.clear(kind)
             if kind == MISSION:  # AP_Mission::truncate(0) leaves no home either, as a clear
@@ -180,13 +181,13 @@ class MissionService:
                 self.vehicle.notify("Flight plan received")
             return [self._ack(peer, mav.MAV_MISSION_ACCEPTED, kind)]
         self._completed = None
-        self.upload = Upload(kind, msg.count, peer)
+        up = self.uploads[kind] = Upload(kind, msg.count, peer)
         if kind == MISSION:
             if not self._cleared:  # stored items are seq 1.. (home is seq 0)
                 self.store.truncate(kind, msg.count - 1)
         elif kind == RALLY:
             self.store.truncate(kind, msg.count)
-        return [self._request(self.upload, link_s)]
+        return [self._request(up, link_s)]
 
     @property
     def _cleared(self) -> bool:
@@ -213,17 +214,17 @@ class MissionService:
 
     def _end(self, up: Upload) -> None:
         """The upload is over, complete or not: what it wrote counts as a change and is saved."""
-        self.upload = None
+        del self.uploads[up.kind]
         if up.kind != FENCE:
             self.store.changed()
 
     def on_item(self, msg, link_s: float) -> list:
-        up = self.upload
+        up = self.uploads.get(msg.mission_type)
         peer = (msg.get_srcSystem(), msg.get_srcComponent())
         if up is None and self._completed == (peer, msg.mission_type, msg.seq):
             # Our ACK was lost and the client resends its last item: tell it again, store nothing.
             return [self._ack(peer, mav.MAV_MISSION_ACCEPTED, msg.mission_type)]
-        if up is None or peer != up.peer or msg.mission_type != up.kind:
+        if up is None or peer != up.peer:
             return []
         if msg.seq != len(up.items):  # a duplicate or out-of-order item: ask again for the one we need
             return [self._request(up, link_s)] if msg.seq > len(up.items) else []
@@ -248,20 +249,28 @@ class MissionService:
             self.vehicle.notify("Flight plan received")
         return [self._ack(peer, mav.MAV_MISSION_ACCEPTED, up.kind)]
 
+    @property
+    def upload(self) -> Upload | None:
+        """A transfer in progress (the first of them), or None."""
+        return next(iter(self.uploads.values()), None)
+
     def poll(self, link_s: float) -> list:
-        up = self.upload
-        if up is None or link_s - up.last_request_s < RETRY_S:
-            return []
-        up.retries += 1
-        if up.retries > MAX_RETRIES:
-            self._end(up)
-            return [self._ack(up.peer, mav.MAV_MISSION_OPERATION_CANCELLED, up.kind)]
-        return [self._request(up, link_s)]
+        out = []
+        for up in list(self.uploads.values()):
+            if link_s - up.last_request_s < RETRY_S:
+                continue
+            up.retries += 1
+            if up.retries > MAX_RETRIES:
+                self._end(up)
+                out.append(self._ack(up.peer, mav.MAV_MISSION_OPERATION_CANCELLED, up.kind))
+            else:
+                out.append(self._request(up, link_s))
+        return out
 
     # ----- download and the rest ----------------------------------------------------------------
     def _receiving(self, kind: int) -> bool:
         """A list of `kind` is being uploaded: ArduPilot DENIES reading it until the upload ends."""
-        return self.upload is not None and self.upload.kind == kind
+        return kind in self.uploads
 
     def on_request_list(self, msg) -> list:
         peer = (msg.get_srcSystem(), msg.get_srcComponent())
@@ -296,8 +305,7 @@ class MissionService:
         peer = (msg.get_srcSystem(), msg.get_srcComponent())
         if msg.mission_type not in MAX_ITEMS:
             return [self._ack(peer, mav.MAV_MISSION_UNSUPPORTED, msg.mission_type)]
-        if self.upload is not None and self.upload.kind == msg.mission_type:
-            self.upload = None
+        self.uploads.pop(msg.mission_type, None)
         self.store.clear(msg.mission_type)
         if msg.mission_type == MISSION:
             self._cleared_at_home_set = self.vehicle.home_sets

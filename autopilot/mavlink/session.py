@@ -168,7 +168,7 @@ class Session:
         no transfer, no status text or reached item waiting, no GCS silent for too long."""
         last = self.gcs_last_heartbeat_s
         return (now_s + 1e-9 < self.streams.next_due_s and not self.vehicle.events
-                and self.missions.upload is None and not self.params.streaming
+                and not self.missions.uploads and not self.params.streaming
                 and not self.vehicle.mission_progress.has_reached
                 and (last is None or link_s - last <= self.vehicle.params["FS_GCS_TIMEOUT"]))
 

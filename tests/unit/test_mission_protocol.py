@@ -353,3 +353,26 @@ def test_fence_and_rally_items_are_checked_as_their_own_lists_check_them(setup, 
     gcs.send(gcs.codec.mission_count_encode(1, 1, 1, kind), 0.0)
     run(session, gcs, LossyLink(0.0, 0))
     assert gcs.done == result
+
+
+def test_a_fence_uploads_while_a_mission_upload_is_under_way(setup):
+    """Each list has its own transfer, as ArduPilot's: a fence uploaded in the middle of a mission
+    upload leaves the mission upload going on."""
+    v, session = setup
+    gcs = GroundStation()
+    mission = plan(3)
+    requests = session.receive(gcs.codec.mission_count_encode(1, 1, 3, 0), 0.0, 0.0)
+    assert [(r.get_type(), r.seq, r.mission_type) for r in requests] == [("MISSION_REQUEST_INT", 0, 0)]
+    requests = session.receive(mission[0], 0.0, 0.0)
+    fence = GroundStation()
+    fence.items = [mav.MAVLink_mission_item_int_message(1, 1, 0, mav.MAV_FRAME_GLOBAL_INT,
+                                                        mav.MAV_CMD_NAV_FENCE_CIRCLE_INCLUSION, 0, 1, 100, 0, 0, 0,
+                                                        -353600000, 1491600000, 0, 1)]
+    fence.send(fence.codec.mission_count_encode(1, 1, 1, 1), 0.0)
+    run(session, fence, LossyLink(0.0, 0))
+    assert fence.done == mav.MAV_MISSION_ACCEPTED and len(v.mission.items(1)) == 1
+    for item in mission[1:]:  # the mission's transfer goes on where it was
+        assert [(r.get_type(), r.seq) for r in requests] == [("MISSION_REQUEST_INT", item.seq)]
+        requests = session.receive(item, 0.0, 0.0)
+    assert [(r.get_type(), r.type) for r in requests] == [("MISSION_ACK", mav.MAV_MISSION_ACCEPTED)]
+    assert stored_lats(v) == [i.x for i in mission[1:]]
