@@ -389,6 +389,45 @@ def fence_and_rally_items(s: Steps) -> None:
         s.result(download_commands(s.c, kind=kind))
 
 
+def fence_during_mission_upload(s: Steps) -> None:
+    """A fence uploaded while a mission upload is under way (after its item 0, before item 1):
+    each list's MISSION_ACK, and both lists after."""
+    lat, lon = s.home
+    lists = {
+        mav.MAV_MISSION_TYPE_MISSION: [(mav.MAV_CMD_NAV_WAYPOINT, mav.MAV_FRAME_GLOBAL_INT, 0, 0, 0, 0, 0, 0, 0),
+                                       takeoff(), s.wp(10, 0)],
+        mav.MAV_MISSION_TYPE_FENCE: [(mav.MAV_CMD_NAV_FENCE_CIRCLE_INCLUSION, mav.MAV_FRAME_GLOBAL_INT,
+                                      100, 0, 0, 0, lat, lon, 0)],
+    }
+    acks: dict = {}
+    fence_started: list = []
+
+    def answer(msg):
+        kind = msg.get_type()
+        if kind in ("MISSION_REQUEST", "MISSION_REQUEST_INT") and msg.mission_type in lists:
+            items = lists[msg.mission_type]
+            if msg.mission_type == mav.MAV_MISSION_TYPE_MISSION and msg.seq == 1 and not fence_started:
+                fence_started.append(True)  # the mission waits for item 1 while the fence goes up
+                s.c.conn.mav.mission_count_send(1, 1, 1, mav.MAV_MISSION_TYPE_FENCE)
+                return
+            if msg.seq < len(items):
+                c, f, p1, p2, p3, p4, x, y, z = items[msg.seq]
+                s.c.conn.mav.mission_item_int_send(1, 1, msg.seq, f, c, 0, 1, p1, p2, p3, p4, x, y, z,
+                                                   msg.mission_type)
+        elif kind == "MISSION_ACK":
+            acks.setdefault(msg.mission_type, msg.type)
+
+    s.step("upload a fence during a mission upload")
+    with s.c.listening(answer):
+        s.c.conn.mav.mission_count_send(1, 1, len(lists[0]), mav.MAV_MISSION_TYPE_MISSION)
+        s.c.try_wait(lambda: len(acks) == 2, 20)
+    s.result({"mission": acks.get(mav.MAV_MISSION_TYPE_MISSION), "fence": acks.get(mav.MAV_MISSION_TYPE_FENCE)})
+    s.step("download mission")
+    s.result(download_commands(s.c))
+    s.step("download fence")
+    s.result(download_commands(s.c, kind=mav.MAV_MISSION_TYPE_FENCE))
+
+
 def download_commands(client: Client, sim_s: float = 10.0,
                       kind: int = mav.MAV_MISSION_TYPE_MISSION) -> list[int] | None:
     """MISSION_REQUEST_LIST and each item by MISSION_REQUEST_INT: the items' commands (a
@@ -433,6 +472,7 @@ SCENARIOS = {
     "local_frame_items": local_frame_items,
     "partial_uploads": partial_uploads,
     "fence_and_rally_items": fence_and_rally_items,
+    "fence_during_mission_upload": fence_during_mission_upload,
 }
 
 
