@@ -249,11 +249,6 @@ class MissionService:
             self.vehicle.notify("Flight plan received")
         return [self._ack(peer, mav.MAV_MISSION_ACCEPTED, up.kind)]
 
-    @property
-    def upload(self) -> Upload | None:
-        """A transfer in progress (the first of them), or None."""
-        return next(iter(self.uploads.values()), None)
-
     def poll(self, link_s: float) -> list:
         out = []
         for up in list(self.uploads.values()):

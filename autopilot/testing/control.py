@@ -131,11 +131,7 @@ class ControlLink:
 
     def command(self, command: int, *params: float) -> None:
         """COMMAND_LONG, which must be ACCEPTED."""
-        args = (list(params) + [0.0] * 7)[:7]
-        ack = self._await(lambda: self.conn.mav.command_long_send(self.system_id, 1, command, 0, *args),
-                          lambda m: m if m.get_type() == "COMMAND_ACK" and m.command == command else None,
-                          f"command {command}")
-        self.check_accepted(command, ack.result)
+        self.check_accepted(command, self.commands((command, *params))[command])
 
     def check_accepted(self, command: int, result: int) -> None:
         """ControlError unless `result` (a MAV_RESULT) is ACCEPTED."""

@@ -175,7 +175,7 @@ def test_an_interrupted_upload_leaves_the_mission_as_far_as_it_got(setup, cut_af
                    if direction == "up" and m.get_type() == "MISSION_ITEM_INT" and m.seq > 0})
     assert written == {3: 0, 8: 1, 15: 3, 40: 12}[cut_after]  # none, one, three or all four of the old ones replaced
     assert stored_lats(v) == [i.x for i in new[1:1 + written]] + before[written:]
-    assert session.missions.upload is None, "the vehicle gave up on the dead transfer"
+    assert not session.missions.uploads, "the vehicle gave up on the dead transfer"
 
 
 def test_an_invalid_item_refuses_the_upload_and_keeps_what_came_before_it(setup):

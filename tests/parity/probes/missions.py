@@ -149,19 +149,26 @@ class Steps:
         return (command, REL, 0, 0, 0, 0, lat + int(dlat * 1e7), lon + int(dlon * 1e7), alt)
 
 
+HOME_ITEM = (mav.MAV_CMD_NAV_WAYPOINT, mav.MAV_FRAME_GLOBAL_INT, 0, 0, 0, 0, 0, 0, 0)  # a mission's seq 0
+
+
+def send_item(client: Client, seq: int, item: tuple, kind: int) -> None:
+    """MISSION_ITEM_INT `seq` of a list of `kind`, from (command, frame, p1..p4, x, y, z)."""
+    c, f, p1, p2, p3, p4, x, y, z = item
+    client.conn.mav.mission_item_int_send(1, 1, seq, f, c, 0, 1, p1, p2, p3, p4, x, y, z, kind)
+
+
 def upload(client: Client, items: list | None, sim_s: float = 20.0,
            kind: int = mav.MAV_MISSION_TYPE_MISSION) -> int | None:
     """Upload items by MISSION_ITEM_INT, a mission's after a home item (seq 0) (None: MISSION_COUNT
     0, no home either); the MISSION_ACK type."""
-    home = (mav.MAV_CMD_NAV_WAYPOINT, mav.MAV_FRAME_GLOBAL_INT, 0, 0, 0, 0, 0, 0, 0)
-    full = [] if items is None else ([home] if kind == mav.MAV_MISSION_TYPE_MISSION else []) + list(items)
+    full = [] if items is None else ([HOME_ITEM] if kind == mav.MAV_MISSION_TYPE_MISSION else []) + list(items)
     answered: list = []
 
     def answer(msg):
         msg_kind = msg.get_type()
         if msg_kind in ("MISSION_REQUEST", "MISSION_REQUEST_INT") and msg.seq < len(full):
-            c, f, p1, p2, p3, p4, x, y, z = full[msg.seq]
-            client.conn.mav.mission_item_int_send(1, 1, msg.seq, f, c, 0, 1, p1, p2, p3, p4, x, y, z, kind)
+            send_item(client, msg.seq, full[msg.seq], kind)
         elif msg_kind == "MISSION_ACK":
             answered.append(msg.type)
 
@@ -338,30 +345,21 @@ def partial_uploads(s: Steps) -> None:
     upload refused part-way after a clear, and MISSION_COUNT 0: what the list holds after each."""
     bad = (mav.MAV_CMD_NAV_WAYPOINT, mav.MAV_FRAME_LOCAL_NED, 0, 0, 0, 0, 100_000, 0, -10)
     s.upload([takeoff(), s.wp(10, 0, command=mav.MAV_CMD_NAV_LOITER_TIME), change_speed(3), s.wp(10, 10), rtl()])
-    s.step("upload refused at item 2 of 4")
-    s.result(upload(s.c, [s.wp(5, 0), bad, land_here()]))
-    s.step("download after the refusal")
-    s.result(download_commands(s.c))
-    s.step("clear")
-    s.result(clear(s.c))
-    s.step("upload home only")
-    s.result(upload(s.c, []))
-    s.step("download after home only")
-    s.result(download_commands(s.c))
-    s.step("clear again")
-    s.result(clear(s.c))
-    s.step("upload refused at item 2 after a clear")
-    s.result(upload(s.c, [takeoff(), bad]))
-    s.step("download after the refusal after a clear")
-    s.result(download_commands(s.c))
-    s.step("upload count 0")
-    s.result(upload(s.c, None))
-    s.step("download after count 0")
-    s.result(download_commands(s.c))
-    s.step("upload home only after count 0")
-    s.result(upload(s.c, []))
-    s.step("download at the end")
-    s.result(download_commands(s.c))
+    for name, action in (
+            ("upload refused at item 2 of 4", lambda: upload(s.c, [s.wp(5, 0), bad, land_here()])),
+            ("download after the refusal", lambda: download_commands(s.c)),
+            ("clear", lambda: clear(s.c)),
+            ("upload home only", lambda: upload(s.c, [])),
+            ("download after home only", lambda: download_commands(s.c)),
+            ("clear again", lambda: clear(s.c)),
+            ("upload refused at item 2 after a clear", lambda: upload(s.c, [takeoff(), bad])),
+            ("download after the refusal after a clear", lambda: download_commands(s.c)),
+            ("upload count 0", lambda: upload(s.c, None)),
+            ("download after count 0", lambda: download_commands(s.c)),
+            ("upload home only after count 0", lambda: upload(s.c, [])),
+            ("download at the end", lambda: download_commands(s.c))):
+        s.step(name)
+        s.result(action())
 
 
 def fence_and_rally_items(s: Steps) -> None:
@@ -394,8 +392,7 @@ def fence_during_mission_upload(s: Steps) -> None:
     each list's MISSION_ACK, and both lists after."""
     lat, lon = s.home
     lists = {
-        mav.MAV_MISSION_TYPE_MISSION: [(mav.MAV_CMD_NAV_WAYPOINT, mav.MAV_FRAME_GLOBAL_INT, 0, 0, 0, 0, 0, 0, 0),
-                                       takeoff(), s.wp(10, 0)],
+        mav.MAV_MISSION_TYPE_MISSION: [HOME_ITEM, takeoff(), s.wp(10, 0)],
         mav.MAV_MISSION_TYPE_FENCE: [(mav.MAV_CMD_NAV_FENCE_CIRCLE_INCLUSION, mav.MAV_FRAME_GLOBAL_INT,
                                       100, 0, 0, 0, lat, lon, 0)],
     }
@@ -411,9 +408,7 @@ def fence_during_mission_upload(s: Steps) -> None:
                 s.c.conn.mav.mission_count_send(1, 1, 1, mav.MAV_MISSION_TYPE_FENCE)
                 return
             if msg.seq < len(items):
-                c, f, p1, p2, p3, p4, x, y, z = items[msg.seq]
-                s.c.conn.mav.mission_item_int_send(1, 1, msg.seq, f, c, 0, 1, p1, p2, p3, p4, x, y, z,
-                                                   msg.mission_type)
+                send_item(s.c, msg.seq, items[msg.seq], msg.mission_type)
         elif kind == "MISSION_ACK":
             acks.setdefault(msg.mission_type, msg.type)
 
