@@ -32,11 +32,13 @@ from .rates import LoopRates
 from .results import Result, Severity
 from .safety.arming import Arming, arm_refusals, prearm_failure
 from .safety.failsafe import Failsafes
+from .safety.internal_error import InternalErrors
 from .safety.land_detector import AutoDisarm, LandDetector
 from .safety.thrust_loss import ThrustLossCheck
 
 FAILSAFE_EVERY = 10  # flight-mode ticks between failsafe checks (10 Hz at the default 100 Hz)
 HOME_RANGE_M = 50_000  # DO_SET_HOME farther than this from the origin is refused
+HOME_ALT_RANGE_M = 83_000  # ... or higher or lower than ArduPilot's Location holds (LOCATION_ALT_MAX_M)
 SPEED_MAX_WPNAV = 5.0  # DO_CHANGE_SPEED is capped at this multiple of WPNAV_SPEED
 
 
@@ -83,6 +85,7 @@ class Vehicle:
         self.thrust_max_n = 4.0 * airframe.max_rotor_thrust_n
         self.omega_max_rad_s = airframe.omega_max_rad_s
         self.arming = Arming()
+        self.internal_errors = InternalErrors()
         self.land_detector = LandDetector(airframe.weight_n)
         self.auto_disarm = AutoDisarm()
         self.failsafes = Failsafes()
@@ -92,6 +95,9 @@ class Vehicle:
         self.ctx = ModeContext(self)
         self.modes = {number: cls() for number, cls in MODE_BY_NUMBER.items()}
         self.mode = self.modes[ModeNumber.STABILIZE]
+        # A mode entered before what it needs is there (disarmed before home, as ArduCopter
+        # allows) is entered for real, its enter() run, once it is: until then it flies nothing.
+        self._mode_entered = True
         self.setpoint = Setpoint()
         self.home_ned: tuple | None = None
         self.home_sets = 0  # times home was set: a cleared mission lists home again after the next
@@ -238,15 +244,29 @@ class Vehicle:
             return Result.ACCEPTED
         # As ArduCopter, a disarmed vehicle may enter any mode: the checks guard flight only.
         reason = "requires position" if self.armed and new.requires_position and not self.has_position() else None
-        if reason is None:
+        ready = self._needs_met(new)
+        if reason is None and not ready and self.armed:
+            reason = "requires home"
+        if reason is None and ready:
             reason = new.enter(self.ctx)
         if reason is not None:
             self.notify(f"Mode change to {new.name} failed: {reason}", Severity.WARNING)
             return Result.FAILED
-        self.mode.exit(self.ctx)
+        if self._mode_entered:
+            self.mode.exit(self.ctx)
         self.mode = new
+        self._mode_entered = ready
         self.cascade.reset_position()
         return Result.ACCEPTED
+
+    def _needs_met(self, mode) -> bool:
+        """Whether the vehicle has what `mode` declares it needs to fly (Mode.requires_home)."""
+        return self.home_ned is not None or not mode.requires_home
+
+    @property
+    def mode_flying(self) -> bool:
+        """Whether the current mode has been entered for real (not waiting for what it needs)."""
+        return self._mode_entered
 
     def takeoff(self, alt_m: float) -> Result:
         """User takeoff to alt_m above home: only armed, landed, in a mode with user takeoff."""
@@ -283,7 +303,8 @@ class Vehicle:
         if ned is None:
             self._set_home_here()
             return Result.ACCEPTED
-        if math.hypot(ned[0], ned[1]) > HOME_RANGE_M:
+        if not all(math.isfinite(x) for x in ned) or math.hypot(ned[0], ned[1]) > HOME_RANGE_M \
+                or abs(ned[2]) > HOME_ALT_RANGE_M:
             return Result.DENIED
         self.home_ned = tuple(ned)
         self.home_sets += 1
@@ -351,6 +372,12 @@ class Vehicle:
         self.cascade.run(min(most, self._chunk - steps % self._chunk))
 
     def _mode_tick(self) -> None:
+        try:
+            self._mode_work()
+        except Exception as exc:  # noqa: BLE001 - a bug is an internal error, never an exit
+            self.internal_error(exc, f"{self.mode.name} tick")
+
+    def _mode_work(self) -> None:
         dt, now = self._dt_mode, self.sim.time_s
         estimate = self.estimate
         estimate.track_barometer()
@@ -358,7 +385,11 @@ class Vehicle:
             self.startup.say_due(now, self.origin.alt_m, self.notify)
         if self.script is not None:
             self.script.run_due(self)
-        self.mode.update(self.ctx, self.setpoint, dt)
+        if self._mode_entered or self._enter_when_ready():
+            try:
+                self.mode.update(self.ctx, self.setpoint, dt)
+            except Exception as exc:  # noqa: BLE001 - the checks below must still run
+                self.internal_error(exc, f"{self.mode.name} update")
         armed, detector = self.arming.armed, self.land_detector
         if armed or not detector.landed:  # disarmed on the ground neither check has anything to do
             body = estimate.body
@@ -373,6 +404,51 @@ class Vehicle:
         if self.sim.steps % (self._mode_every * FAILSAFE_EVERY) == 0:
             self.failsafes.check(self)
             self.thrust_loss.check(self, FAILSAFE_EVERY * dt)
+
+
+    def _enter_when_ready(self) -> bool:
+        """A mode chosen before what it needs was there is entered once it is; until then the
+        setpoint asks for nothing (the vehicle is disarmed: only a disarmed vehicle waits)."""
+        if not self._needs_met(self.mode):
+            self.setpoint.clear()
+            return False
+        reason = self.mode.enter(self.ctx)
+        if reason is not None:  # refused now: as a refused mode change, the mode before it stays
+            self.notify(f"Mode change to {self.mode.name} failed: {reason}", Severity.WARNING)
+            self.mode = self.modes[ModeNumber.STABILIZE]
+            reason = self.mode.enter(self.ctx)
+        self._mode_entered = True
+        return True
+
+    # ----- internal errors -----------------------------------------------------------------------
+    def internal_error(self, exc: BaseException, where: str, in_flight_code: bool = True) -> None:
+        """A bug raised inside the vehicle: counted and reported as ArduPilot reports its internal
+        errors (SYS_STATUS, HEARTBEAT CRITICAL, a pre-arm failure that refuses arming). When the
+        code that failed flies the vehicle (in_flight_code), it flies on in a mode that needs
+        nothing from that code: an armed vehicle lands where it is; if LAND itself failed, it
+        comes down level at LAND_SPEED. (A failed message handler changes no mode.)"""
+        if self.internal_errors.record(exc, where):
+            self.notify(self.internal_errors.prearm_text() or "Internal error", Severity.CRITICAL)
+        if not (in_flight_code and self.armed):
+            return
+        land = self.modes[ModeNumber.LAND]
+        if self.mode is not land:
+            try:
+                self.mode.exit(self.ctx)
+                self.mode, self._mode_entered = land, True
+                land.enter(self.ctx)
+                return
+            except Exception as again:  # noqa: BLE001
+                self.internal_errors.record(again, "LAND entry")
+        self.mode, self._mode_entered = land, True
+        self._descend_level()
+
+    def _descend_level(self) -> None:
+        """The last resort when LAND itself raised: level, straight down at LAND_SPEED."""
+        sp = self.setpoint
+        sp.clear()
+        sp.lean = (0.0, 0.0)
+        sp.vel_d = sp.speed_dn = self.params["LAND_SPEED"] / 100.0
 
 
 def in_true_height(sp: Setpoint, alt_error_m: float) -> Setpoint:

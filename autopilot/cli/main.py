@@ -173,6 +173,8 @@ def build_vehicle(args, scenario, k: int, outs, listen, epoch_us: int):
                            rates=LoopRates(rate, min(400, rate), 100), system_id=n + 1,
                            epoch_unix_us=epoch_us, faults=scenario.faults, startup=scenario.startup)
     vehicle = Vehicle(config, params, mission)
+    vehicle.internal_errors.report = lambda text, n=n: print(
+        f"autopilot: system {n + 1}: internal error: {text}", file=sys.stderr, flush=True)
     if scenario.script:
         from .script import Script
         vehicle.script = Script(scenario.script)

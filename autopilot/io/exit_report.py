@@ -21,6 +21,7 @@ def report(runner, nodes, exception: BaseException | None, wall_s: float) -> dic
         counters.update({f"udp_{k}": n for k, n in (endpoint.totals() | node.link.counters).items()})
         counters["param_sets_refused"] = session.params.refused
         counters["param_save_errors"] = v.params.save_errors
+        counters["mission_save_errors"] = v.mission.save_errors.save_errors
         counters["mission_uploads_refused"] = session.missions.refused
         if node.link_faults is not None:
             counters.update({f"link_dropped_{way}": n for way, n in node.link_faults.dropped.items()})
@@ -30,6 +31,8 @@ def report(runner, nodes, exception: BaseException | None, wall_s: float) -> dic
             "armed": v.armed, "mode": v.mode.number,
             "state_finite": all(math.isfinite(x) for x in v.body),
             "counters": counters, "last_handler_error": session.last_handler_error,
+            "internal_errors": v.internal_errors.count, "internal_error_bits": v.internal_errors.bits,
+            "last_internal_error": v.internal_errors.last,
         })
     return {"ticks": runner.ticks, "sim_s": runner.sim_time_s, "wall_s": wall_s,
             "exception": None if exception is None else f"{type(exception).__name__}: {exception}",

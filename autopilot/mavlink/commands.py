@@ -8,6 +8,7 @@ of acting twice.
 from __future__ import annotations
 
 import math
+import struct
 from typing import NamedTuple
 
 from ..modes.numbers import ModeNumber
@@ -15,7 +16,12 @@ from ..results import Result
 from ..safety.arming import FORCE_ARM_MAGIC, FORCE_DISARM_MAGIC
 from .dialect import mavlink as mav
 
-RETRY_WINDOW_S = 1.5
+RETRY_WINDOW_S = 1.5  # on the link clock (wall seconds): clients resend after 0.5-1.5 s of wall time
+ALT_MAX_M = 83_000  # the largest altitude ArduPilot's Location holds (LOCATION_ALT_MAX_M)
+ABSOLUTE_ALT_FRAMES = {mav.MAV_FRAME_GLOBAL, mav.MAV_FRAME_GLOBAL_INT}
+# Altitude above home (ArduPilot's terrain frames fall back to home over flat ground, as here).
+RELATIVE_ALT_FRAMES = {mav.MAV_FRAME_GLOBAL_RELATIVE_ALT, mav.MAV_FRAME_GLOBAL_RELATIVE_ALT_INT,
+                       mav.MAV_FRAME_GLOBAL_TERRAIN_ALT, mav.MAV_FRAME_GLOBAL_TERRAIN_ALT_INT}
 
 
 class Command(NamedTuple):
@@ -91,17 +97,21 @@ def do_change_speed(s, c: Command) -> Result:
 
 
 def target_ned(s, c: Command):
-    """Position from a command's lat/lon/alt in its frame -> local NED, or None if invalid."""
+    """Position from a command's lat/lon/alt in its frame -> local NED, or None if invalid. As
+    ArduPilot converts a command to a Location: a latitude and longitude on the globe, an altitude
+    that is a number within ALT_MAX_M, a frame it knows; above home only once home is set."""
     lat, lon, alt = c.p5, c.p6, c.p7
     if not (_finite(lat, lon) and -90 <= lat <= 90 and -180 <= lon <= 180):
         return None
+    if not (math.isfinite(alt) and abs(alt) <= ALT_MAX_M):
+        return None
     v = s.vehicle
-    if not math.isfinite(alt):
-        d = v.body.d_m
-    elif c.frame in (mav.MAV_FRAME_GLOBAL, mav.MAV_FRAME_GLOBAL_INT):
+    if c.frame in ABSOLUTE_ALT_FRAMES:
         d = v.ned_of(lat, lon, alt)[2]
-    else:  # relative-altitude and terrain frames: above home
+    elif c.frame in RELATIVE_ALT_FRAMES and v.home_ned is not None:
         d = v.home_ned[2] - alt
+    else:
+        return None
     n, e, _ = v.ned_of(lat, lon, v.origin.alt_m)
     return n, e, d
 
@@ -114,7 +124,7 @@ def do_reposition(s, c: Command) -> Result:
     if v.mode.number != ModeNumber.GUIDED and not (change_mode and change_mode & mav.MAV_DO_REPOSITION_FLAGS_CHANGE_MODE):
         return Result.DENIED
     target = target_ned(s, c)
-    if target is None or v.home_ned is None:
+    if target is None:
         return Result.DENIED
     if v.mode.number != ModeNumber.GUIDED and v.set_mode(ModeNumber.GUIDED) != Result.ACCEPTED:
         return Result.FAILED
@@ -209,17 +219,36 @@ QUERIES = {mav.MAV_CMD_GET_HOME_POSITION, mav.MAV_CMD_REQUEST_AUTOPILOT_CAPABILI
            mav.MAV_CMD_GET_MESSAGE_INTERVAL}
 
 
-class CommandService:
-    def __init__(self):
-        self._last = None  # (key, result, time)
+_PARAMS = struct.Struct("<7d")
 
-    def handle(self, session, c: Command, now_s: float):
-        key = (c.src, c.command, c.p1, c.p2, c.p3, c.p4, c.p5, c.p6, c.p7, c.is_int)
-        if c.command not in QUERIES and self._last is not None and self._last[0] == key and \
-                (c.confirmation > 0 or now_s - self._last[2] <= RETRY_WINDOW_S):
-            result = self._last[1]
+
+def retry_key(c: Command) -> tuple:
+    """What makes a command the same command again: sender, id, frame and the parameters' bits
+    (so a retry carrying NaN matches its original, which NaN's own == never does)."""
+    return (c.src, c.command, c.frame, c.is_int,
+            _PARAMS.pack(c.p1, c.p2, c.p3, c.p4, c.p5, c.p6, c.p7))
+
+
+class CommandService:
+    """Runs each command once: an exact retry (the same key within RETRY_WINDOW_S of link time,
+    the wall time clients retry in, or any resend with confirmation > 0) is answered with the
+    first one's result. Every command gets its COMMAND_ACK, also when its handler fails."""
+
+    def __init__(self):
+        self._last: tuple | None = None  # (key, result, link time)
+
+    def handle(self, session, c: Command, link_s: float):
+        key = retry_key(c)
+        last = self._last
+        if c.command not in QUERIES and last is not None and last[0] == key and \
+                (c.confirmation > 0 or link_s - last[2] <= RETRY_WINDOW_S):
+            result = last[1]
         else:
             handler = HANDLERS.get(c.command)
-            result = Result.UNSUPPORTED if handler is None else handler(session, c)
-            self._last = (key, result, now_s)
+            try:
+                result = Result.UNSUPPORTED if handler is None else handler(session, c)
+            except Exception as exc:  # noqa: BLE001 - a bug: counted, and the command still answered
+                session.handler_failed(f"command {c.command}", exc)
+                result = Result.FAILED
+            self._last = (key, result, link_s)
         return session.codec.command_ack_encode(c.command, int(result), 0, 0, c.src[0], c.src[1])

@@ -72,8 +72,16 @@ class Session:
             self._out.append(msg)
 
     def build(self, msg_id: int):
+        """The message `msg_id` as the vehicle's state makes it now, or None if not built here.
+        A builder that fails (a bug) is an internal error: that message is not sent, the rest are."""
         builder = BUILDERS.get(msg_id)
-        return builder(self.vehicle, self.telemetry_codec) if builder else None
+        if builder is None:
+            return None
+        try:
+            return builder(self.vehicle, self.telemetry_codec)
+        except Exception as exc:  # noqa: BLE001 - telemetry must never stop the loop
+            self.handler_failed(f"telemetry {msg_id}", exc)
+            return None
 
     def _take(self) -> list:
         out, self._out = self._out, []
@@ -99,10 +107,15 @@ class Session:
             try:
                 handler(msg, now_s)
             except Exception as exc:  # noqa: BLE001 - a bug must not stop the vehicle loop
-                # Counted and kept for the exit report; the property tests require zero of these.
-                self.counters["handler_errors"] += 1
-                self.last_handler_error = f"{msg.get_type()}: {type(exc).__name__}: {exc}"
+                self.handler_failed(msg.get_type(), exc)
         return self._take()
+
+    def handler_failed(self, where: str, exc: BaseException) -> None:
+        """A bug in a message handler: counted and kept for the exit report (the tests require zero
+        of these), and an internal error of the vehicle, reported as ArduPilot reports one."""
+        self.counters["handler_errors"] += 1
+        self.last_handler_error = f"{where}: {type(exc).__name__}: {exc}"
+        self.vehicle.internal_error(exc, where, in_flight_code=False)
 
     def _on_heartbeat(self, msg, now_s):
         if msg.type == mav.MAV_TYPE_GCS:
@@ -110,7 +123,7 @@ class Session:
             self.vehicle.failsafes.gcs_regained(self.vehicle)
 
     def _on_command(self, c: Command, now_s):
-        ack = self.commands.handle(self, c, now_s)
+        ack = self.commands.handle(self, c, self.link_s)
         if ack.result != Result.ACCEPTED:
             self.counters["refused"] += 1
         self._out.append(ack)

@@ -48,8 +48,9 @@ def heartbeat(v, codec):
         base |= mav.MAV_MODE_FLAG_GUIDED_ENABLED
     if v.armed:
         base |= mav.MAV_MODE_FLAG_SAFETY_ARMED
-    # As ArduCopter: any failsafe makes it CRITICAL, on the ground (armed or not) it is STANDBY.
-    if v.failsafes.active:
+    # As ArduCopter: any failsafe or internal error makes it CRITICAL, on the ground (armed or
+    # not) it is STANDBY.
+    if v.failsafes.active or v.internal_errors.bits:
         status = mav.MAV_STATE_CRITICAL
     elif v.landed:
         status = mav.MAV_STATE_STANDBY
@@ -82,9 +83,10 @@ def sys_status(v, codec):
         healthy |= mav.MAV_SYS_STATUS_GEOFENCE
     est = v.estimate
     batt = est.battery
+    errors1, errors2, errors4 = v.internal_errors.sys_status_fields()
     return codec.sys_status_encode(present, enabled, healthy, 100,
                                    int(batt.voltage_v * 1000), int(batt.current_a * 100),
-                                   int(round(est.battery_remaining * 100)), 0, 0, 0, 0, 0, 0)
+                                   int(round(est.battery_remaining * 100)), 0, 0, errors1, errors2, 0, errors4)
 
 
 def battery_status(v, codec):

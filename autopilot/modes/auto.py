@@ -29,6 +29,7 @@ class Auto(Mode):
     takes_speed_change = True
     number = ModeNumber.AUTO
     requires_position = True
+    requires_home = True  # items at heights above home, RTL and land items
 
     def enter(self, ctx) -> str | None:
         mission = ctx.mission_progress
@@ -102,7 +103,7 @@ class Auto(Mode):
         if item.frame in GLOBAL_AMSL_FRAMES:
             d = ctx.ned_of(item.x * 1e-7, item.y * 1e-7, item.z)[2]
         else:
-            d = ctx.home_ned[2] - item.z
+            d = ctx.require_home()[2] - item.z
         return n, e, d
 
     def _begin_nav(self, ctx, item) -> None:

@@ -54,13 +54,15 @@ class Mode:
     of the vehicle and do to it.
 
     Declared capabilities, read by the vehicle: requires_position (refused without a 3D fix),
-    allows_arming, has_user_takeoff (NAV_TAKEOFF while armed on the ground: the mode implements
+    requires_home (measures from home: refused armed without it; entered disarmed, it waits, its
+    enter() deferred until home is set, as ArduCopter lets a disarmed vehicle choose it), allows_arming, has_user_takeoff (NAV_TAKEOFF while armed on the ground: the mode implements
     user_takeoff), manual_throttle (the pilot's throttle stick is the thrust). Ground-station
     targets (goto, velocity, heading) are refused unless the mode flies them (GUIDED).
     """
     number: ModeNumber  # set by each mode; its name is the table's
     name: str = "?"
     requires_position = False
+    requires_home = False
     allows_arming = False
     takes_speed_change = False  # DO_CHANGE_SPEED accepted (ArduCopter: GUIDED, AUTO, RTL)
     has_user_takeoff = False

@@ -61,3 +61,15 @@ class ModeContext:
 
     def has_position(self) -> bool:
         return self._estimate.has_position()
+
+    def require_home(self) -> tuple:
+        """Home (local NED), for a mode that declares requires_home: the vehicle runs such a
+        mode only once home is set, so a None here is a bug, raised as one (an internal error)."""
+        home = self._v.home_ned
+        if home is None:
+            raise MissingRequirement("home read by a mode that does not declare requires_home")
+        return home
+
+
+class MissingRequirement(RuntimeError):
+    """A mode read what the vehicle does not have and the mode did not declare it needs."""

@@ -12,7 +12,7 @@ GROUND_DISARM_S = 0.9  # LAND entered on the ground disarms this long after
 def descent_rate_m_s(ctx) -> float:
     """ArduCopter's two-stage descent: fast high up, LAND_SPEED below LAND_ALT_LOW."""
     params = ctx.params
-    alt = ctx.home_ned[2] - ctx.body.d_m
+    alt = ctx.require_home()[2] - ctx.body.d_m
     if alt > params["LAND_ALT_LOW"] / 100.0:
         return (params["LAND_SPEED_HIGH"] or params["WPNAV_SPEED_DN"]) / 100.0
     return params["LAND_SPEED"] / 100.0
@@ -41,6 +41,7 @@ class Land(Mode):
     it comes down level instead, for the rest of the landing, as ArduCopter's LAND without GPS."""
     number = ModeNumber.LAND
     requires_position = False
+    requires_home = True  # its descent speed depends on the height above home
 
     def enter(self, ctx) -> str | None:
         self._hold_ne = hold_here(ctx)[0] if ctx.has_position() else None
@@ -76,13 +77,14 @@ class Rtl(Mode):
     takes_speed_change = True
     number = ModeNumber.RTL
     requires_position = True
+    requires_home = True
 
     def __init__(self, disarm_on_land: bool = True):
         self.disarm_on_land = disarm_on_land  # AUTO's RTL item leaves the disarm to the mission's end
 
     def enter(self, ctx) -> str | None:
         params = ctx.params
-        home_d = ctx.home_ned[2]
+        home_d = ctx.require_home()[2]
         current_alt = home_d - ctx.body.d_m
         rtl_alt = max(params["RTL_ALT"] / 100.0, current_alt + params["RTL_CLIMB_MIN"] / 100.0)
         self._return_d = home_d - rtl_alt
@@ -96,7 +98,7 @@ class Rtl(Mode):
 
     def update(self, ctx, sp: Setpoint, dt: float) -> None:
         sp.clear()
-        home_ne = ctx.home_ned[:2]
+        home_ne = ctx.require_home()[:2]
         sp.speed_xy = (ctx.params["RTL_SPEED"] / 100.0) or ctx.nav_speed_m_s
         if self._stage in ("CLIMB", "RETURN"):
             self._fly_home(ctx, sp, dt, home_ne, sp.speed_xy)

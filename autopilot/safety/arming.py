@@ -31,6 +31,10 @@ def _need_position(v):
     return "Need 3D Fix" if v.gps.fix_type < 3 else "Need Position Estimate"
 
 
+def _internal_errors(v):
+    return v.internal_errors.prearm_text()
+
+
 def _gps_glitching(v):
     return "GPS glitching" if v.failsafes.ekf.gps_glitching else None
 
@@ -46,7 +50,7 @@ def _battery_low(v):
 
 
 # In ArduCopter's order; a check gives its words, a list of them, or None when it passes.
-PREARM_CHECKS = (_starting_up, _need_position, _gps_glitching, _leaning, _battery_low)
+PREARM_CHECKS = (_starting_up, _internal_errors, _need_position, _gps_glitching, _leaning, _battery_low)
 
 
 def prearm_failures(v) -> list[str]:

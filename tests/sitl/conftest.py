@@ -5,6 +5,7 @@ on that port (udpin), exactly as a user's MAVSDK or pymavlink script listens on 
 """
 from __future__ import annotations
 
+import json
 import time
 from pathlib import Path
 
@@ -24,16 +25,39 @@ def start_autopilot(tmp_path: Path, speedup: str = "10", extra: tuple = (), port
 
 @pytest.fixture
 def autopilot_factory(tmp_path):
+    """Starts autopilots; each is stopped after the test, and the test fails if any vehicle of
+    one had an internal error or a handler error (its --stats exit report says)."""
     started = []
 
     def factory(speedup: str = "10", extra: tuple = (), **kw) -> AutopilotProcess:
+        stats = None
+        if "--stats" not in extra:
+            stats = tmp_path / f"exit-report-{len(started)}.json"
+            extra = (*extra, "--stats", str(stats))
         ap = start_autopilot(tmp_path, speedup, extra, **kw)
-        started.append(ap)
+        started.append((ap, stats))
         return ap
 
     yield factory
-    for ap in started:
+    problems = []
+    for ap, stats in started:
         ap.stop()
+        problems.extend(exit_report_problems(stats))
+    assert not problems, "\n".join(problems)
+
+
+def exit_report_problems(stats: Path | None) -> list[str]:
+    """Internal and handler errors in an exit report (none when there is no report to read)."""
+    if stats is None or not stats.exists():
+        return []
+    problems = []
+    for v in json.loads(stats.read_text())["vehicles"]:
+        if v.get("internal_errors"):
+            problems.append(f"system {v['system_id']}: {v['internal_errors']} internal errors, "
+                            f"last: {v['last_internal_error']}")
+        if v["counters"].get("handler_errors"):
+            problems.append(f"system {v['system_id']}: handler errors, last: {v['last_handler_error']}")
+    return problems
 
 
 @pytest.fixture

@@ -28,6 +28,7 @@ def ctx(d_m=0.0, landed=False, armed=True, pilot=None, params=None, **body):
     c.disarm = lambda reason="": disarms.append(reason)
     c.notify = lambda *a: None
     c.has_position = lambda: True
+    c.require_home = lambda: c.home_ned
     return c
 
 

@@ -1,0 +1,64 @@
+"""Internal errors: a bug that raised inside the vehicle loop, handled as ArduPilot handles its own.
+
+ArduPilot keeps a bitmask of internal error kinds (AP_InternalError) and a count, reports them in
+SYS_STATUS (errors_count1/2: the mask's low and high halves, errors_count4: the count), marks the
+HEARTBEAT's system_status CRITICAL, and refuses to arm with "Internal errors 0x<mask> l:<line>
+<names>" — and keeps flying. Firefly records an exception the same way, under the kind
+flow_of_control (ArduPilot's "we should never get here"), with the line of the Python code that
+raised as the line, and says it once in a STATUSTEXT, so that a test or a user sees it at once.
+
+Nothing here raises: recording an error must never be a second error.
+"""
+from __future__ import annotations
+
+import traceback
+from collections.abc import Callable
+
+FLOW_OF_CONTROL = 1 << 20  # AP_InternalError::error_t::flow_of_control
+REPORT_FIRST = 5  # errors passed to `report` (a process prints them); the rest are only counted
+BIT_NAMES = {FLOW_OF_CONTROL: "flow_of_control"}
+
+
+class InternalErrors:
+    """What has gone wrong inside this vehicle since boot: ArduPilot's mask, count and last line,
+    and (for the exit report and a failing test) the last exception in words."""
+
+    def __init__(self) -> None:
+        self.bits = 0
+        self.count = 0
+        self.line = 0
+        self.last = ""  # "where: ExceptionType: message (file:line)"
+        self.report: Callable[[str], None] | None = None  # told of the first REPORT_FIRST errors
+
+    def __bool__(self) -> bool:
+        return self.bits != 0
+
+    def record(self, exc: BaseException, where: str, bit: int = FLOW_OF_CONTROL) -> bool:
+        """Count `exc`, raised in `where`; True the first time this kind of error is seen."""
+        new = not self.bits & bit
+        self.bits |= bit
+        self.count += 1
+        frames = traceback.extract_tb(exc.__traceback__)
+        origin = frames[-1] if frames else None
+        self.line = origin.lineno or 0 if origin is not None else 0
+        place = f" ({origin.filename.rsplit('/', 1)[-1]}:{origin.lineno})" if origin is not None else ""
+        self.last = f"{where}: {type(exc).__name__}: {exc}{place}"
+        if self.report is not None and self.count <= REPORT_FIRST:
+            try:
+                self.report(self.last)
+            except Exception:  # noqa: BLE001 - reporting must never be a second error
+                pass
+        return new
+
+    def names(self) -> str:
+        return ",".join(name for bit, name in BIT_NAMES.items() if self.bits & bit)
+
+    def prearm_text(self) -> str | None:
+        """The pre-arm failure ArduPilot reports while any internal error is set, or None."""
+        if not self.bits:
+            return None
+        return f"Internal errors 0x{self.bits:x} l:{self.line} {self.names()}"
+
+    def sys_status_fields(self) -> tuple[int, int, int]:
+        """SYS_STATUS's (errors_count1, errors_count2, errors_count4), as ArduPilot fills them."""
+        return self.bits & 0xFFFF, (self.bits >> 16) & 0xFFFF, self.count & 0xFFFF

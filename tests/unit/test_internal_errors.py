@@ -1,0 +1,157 @@
+"""Never down: modes chosen before home, and a bug in the loop handled as an ArduPilot internal
+error (counted, reported in SYS_STATUS / HEARTBEAT / a pre-arm failure, the vehicle landing)
+instead of an exit; commands answered once, also when their handler fails, retries recognised
+on the link clock."""
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from autopilot.mavlink.commands import HANDLERS, Command, CommandService
+from autopilot.mavlink.dialect import new_codec
+from autopilot.mavlink.session import Session
+from autopilot.modes import Guided, Land, ModeNumber
+from autopilot.results import Result
+from autopilot.safety.internal_error import FLOW_OF_CONTROL
+from autopilot.startup import StartupTimeline
+from autopilot.vehicle import Vehicle, VehicleConfig
+
+from ._util import client_codec, fly_until, hovering_vehicle, mav, wire
+
+NOT_YET = [ModeNumber.LAND, ModeNumber.RTL, ModeNumber.AUTO]
+
+
+def booting_vehicle() -> Vehicle:
+    """A vehicle booting as ArduCopter does: no GPS fix and no home for its first seconds."""
+    v = Vehicle(VehicleConfig(startup=StartupTimeline()))
+    v.run_until(1.0)
+    assert v.home_ned is None
+    return v
+
+
+@pytest.mark.parametrize("mode", NOT_YET)
+def test_a_mode_that_measures_from_home_is_entered_before_home_and_waits(mode):
+    v = booting_vehicle()
+    assert v.set_mode(mode) == Result.ACCEPTED  # ArduCopter lets a disarmed vehicle choose it
+    assert v.mode.number == mode and not v.mode_flying
+    v.run_until(5.0)  # still no home: the mode flies nothing, and nothing raises
+    assert v.home_ned is None and not v.internal_errors
+    assert fly_until(v, lambda x: x.home_ned is not None, 120.0)
+    v.run_until(v.time_s + 1.0)
+    assert v.mode_flying and not v.internal_errors and not v.armed
+
+
+def test_commands_before_home_are_answered_and_change_nothing_they_should_not():
+    v = booting_vehicle()
+    s = Session(v, new_codec(1))
+    c = client_codec()
+    for msg in (c.command_long_encode(1, 1, mav.MAV_CMD_NAV_LAND, 0, 0, 0, 0, 0, 0, 0, 0),
+                c.command_long_encode(1, 1, mav.MAV_CMD_NAV_RETURN_TO_LAUNCH, 0, 0, 0, 0, 0, 0, 0, 0),
+                c.command_int_encode(1, 1, mav.MAV_FRAME_GLOBAL_RELATIVE_ALT_INT, mav.MAV_CMD_DO_REPOSITION, 0, 0,
+                                     -1, 1, 0, 0, -353632610, 1491652300, 10.0),
+                c.command_long_encode(1, 1, mav.MAV_CMD_MISSION_START, 0, 0, 0, 0, 0, 0, 0, 0)):
+        acks = [m for m in s.receive(wire(msg), v.time_s) if m.get_type() == "COMMAND_ACK"]
+        assert len(acks) == 1 and acks[0].command == msg.command
+        v.run_until(v.time_s + 0.5)
+    assert v.home_ned is None and not v.armed
+    assert s.counters["handler_errors"] == 0 and not v.internal_errors
+
+
+def break_update(monkeypatch, *modes) -> None:
+    """Give each of `modes` an update() with a bug in it."""
+    def broken(self, ctx, sp, dt):
+        raise ZeroDivisionError("a bug")
+    for mode in modes:
+        monkeypatch.setattr(mode, "update", broken)
+
+
+@pytest.mark.internal_errors
+def test_a_mode_that_raises_in_flight_is_an_internal_error_and_the_vehicle_lands(monkeypatch):
+    v = hovering_vehicle(10.0)
+    break_update(monkeypatch, Guided)
+    v.run_until(v.time_s + 0.05)
+    errors = v.internal_errors
+    assert errors.bits == FLOW_OF_CONTROL and errors.count >= 1 and "ZeroDivisionError" in errors.last
+    assert v.mode.number == ModeNumber.LAND
+    said = [text for _, text in v.drain_events()]
+    assert any(text.startswith(f"Internal errors 0x{FLOW_OF_CONTROL:x} l:") for text in said)
+    assert fly_until(v, lambda x: not x.armed, 60.0), "landed and disarmed"
+    # As ArduPilot: reported until reboot, and no arming with it
+    assert v.prearm_failure().startswith("Internal errors 0x100000")
+    assert v.set_mode(Guided.number) == Result.ACCEPTED
+    assert v.arm() == Result.FAILED
+    s = Session(v, new_codec(1))
+    status = s.build(mav.MAVLINK_MSG_ID_SYS_STATUS)
+    assert (status.errors_count1, status.errors_count2, status.errors_count4) == (0, 0x10, errors.count & 0xFFFF)
+    assert s.build(mav.MAVLINK_MSG_ID_HEARTBEAT).system_status == mav.MAV_STATE_CRITICAL
+
+
+@pytest.mark.internal_errors
+def test_when_land_itself_raises_the_vehicle_comes_down_level(monkeypatch):
+    v = hovering_vehicle(10.0)
+    break_update(monkeypatch, Guided, Land)
+    fly_until(v, lambda x: x.landed, 60.0)
+    assert v.landed and v.mode.number == ModeNumber.LAND
+    assert all(math.isfinite(x) for x in v.body)
+    assert fly_until(v, lambda x: not x.armed, 30.0), "disarmed once down"
+
+
+@pytest.mark.internal_errors
+def test_a_command_whose_handler_raises_is_still_answered_once(monkeypatch):
+    v = hovering_vehicle(10.0)
+    s = Session(v, new_codec(1))
+
+    def broken(session, c):
+        raise KeyError("bug")
+    monkeypatch.setitem(HANDLERS, mav.MAV_CMD_CONDITION_YAW, broken)
+    msg = client_codec().command_long_encode(1, 1, mav.MAV_CMD_CONDITION_YAW, 0, 90, 10, 1, 0, 0, 0, 0)
+    acks = [m for m in s.receive(wire(msg), v.time_s) if m.get_type() == "COMMAND_ACK"]
+    assert [(a.command, a.result) for a in acks] == [(mav.MAV_CMD_CONDITION_YAW, Result.FAILED)]
+    assert s.counters["handler_errors"] == 1 and v.internal_errors.count == 1
+    assert v.mode.number == Guided.number  # a failed handler is reported, it changes no mode
+
+
+class Counting:
+    """A session stand-in for CommandService: counts how often the handler ran."""
+
+    def __init__(self):
+        self.codec = client_codec()
+        self.runs = 0
+
+    def handler_failed(self, where, exc):
+        raise AssertionError(f"{where}: {exc}")
+
+
+def _count_runs(session, c):
+    session.runs += 1
+    return Result.ACCEPTED
+
+
+def _takeoff(p7: float) -> Command:
+    return Command(mav.MAV_CMD_NAV_TAKEOFF, 0, 0, 0, math.nan, 0, 0, p7, 0, False, 0, (255, 190))
+
+
+def test_a_retry_is_recognised_on_the_link_clock_and_with_nan(monkeypatch):
+    monkeypatch.setitem(HANDLERS, mav.MAV_CMD_NAV_TAKEOFF, _count_runs)
+    service, session = CommandService(), Counting()
+    service.handle(session, _takeoff(10.0), link_s=100.0)
+    # 0.5 s of wall time later, however much sim time has passed: the same command, again (its
+    # NaN yaw included); answered, not run again
+    ack = service.handle(session, _takeoff(10.0), link_s=100.5)
+    assert session.runs == 1 and ack.result == Result.ACCEPTED
+    service.handle(session, _takeoff(10.0), link_s=102.5)  # a new command, well after the window
+    service.handle(session, _takeoff(12.0), link_s=102.6)  # different parameters
+    assert session.runs == 3
+
+
+@pytest.mark.parametrize("alt_m", [3_000_000.0, 1e30, math.inf, math.nan, -90_000.0])
+def test_set_home_altitude_outside_what_a_location_holds_is_denied(alt_m):
+    v = hovering_vehicle(5.0)
+    s = Session(v, new_codec(1))
+    home = v.home
+    msg = client_codec().command_long_encode(1, 1, mav.MAV_CMD_DO_SET_HOME, 0, 0, 0, 0, 0,
+                                             home.lat_deg, home.lon_deg, alt_m)
+    acks = [m for m in s.receive(wire(msg), v.time_s) if m.get_type() == "COMMAND_ACK"]
+    assert acks[0].result == Result.DENIED and v.home == home
+    assert s.build(mav.MAVLINK_MSG_ID_HOME_POSITION) is not None
