@@ -20,7 +20,7 @@ import math
 from dataclasses import dataclass, replace
 from pathlib import Path
 
-from .io.persist import read_json, write_json_atomic
+from .io.persist import SaveErrors, read_json
 from .params_differences import RENAMED
 from .reference_params import reference_params
 
@@ -119,7 +119,8 @@ PARAM_TABLE: tuple[ParamSpec, ...] = (
     _i("ARMING_CHECK", 1, 0, 0x7FFFF, "pre-arm checks bitmask, 0 = none"),
     # Failsafes
     _i("FS_THR_ENABLE", 0, 0, 7), _i("FS_GCS_ENABLE", 0, 0, 7), _f("FS_GCS_TIMEOUT", 5, 2, 120),
-    _i("FS_BATT_ENABLE", 0, 0, 6), _f("BATT_LOW_VOLT", 10.5, 0, 120), _f("BATT_CRT_VOLT", 0, 0, 120),
+    _i("FS_BATT_ENABLE", 0, 0, 6), _i("BATT_FS_CRT_ACT", 0, 0, 7, "critical battery action (as BATT_FS_LOW_ACT)"),
+    _f("BATT_LOW_VOLT", 10.5, 0, 120), _f("BATT_CRT_VOLT", 0, 0, 120),
     _f("BATT_LOW_MAH", 0, 0, 500000), _f("BATT_CRT_MAH", 0, 0, 500000),
     _f("BATT_CAPACITY", 5000, 0, 500000, "battery capacity [mAh]"),
     _i("FENCE_ENABLE", 0, 0, 1), _i("FENCE_TYPE", 7, 0, 15), _i("FENCE_ACTION", 1, 0, 5),
@@ -219,8 +220,7 @@ class ParamStore:
         self.path = path
         self._values = dict(DEFAULTS)
         self._listeners = []
-        self.save_errors = 0
-        self.last_save_error = ""
+        self._save_errors = SaveErrors()
         if path is not None and path.exists() and not wipe:
             self._load(path)
 
@@ -280,14 +280,18 @@ class ParamStore:
     def save_all(self) -> None:
         self._save()
 
-    def _save(self) -> None:
-        """Persist; a disk that refuses (full, read-only, directory gone) is counted, and the value
-        still takes effect in flight: the vehicle must not stop or half-apply a change for it."""
+    @property
+    def save_errors(self) -> int:
+        return self._save_errors.save_errors
+
+    @property
+    def last_save_error(self) -> str:
+        return self._save_errors.last_save_error
+
+    def _save(self) -> bool:
+        """Persist; a disk that refuses is counted (persist.SaveErrors), and the value still takes
+        effect in flight: the vehicle must not stop or half-apply a change for it."""
         if self.path is None:
-            return
-        try:
-            write_json_atomic(self.path, {n: v for n, v in self._values.items()
-                                          if v != DEFAULTS[n] and is_saved(n)})
-        except OSError as exc:
-            self.save_errors += 1
-            self.last_save_error = f"{self.path}: {exc.strerror or exc}"
+            return True
+        return self._save_errors.save_json(self.path, {n: v for n, v in self._values.items()
+                                                       if v != DEFAULTS[n] and is_saved(n)})

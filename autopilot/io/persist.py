@@ -24,6 +24,26 @@ def write_json_atomic(path: Path, data) -> None:
         raise
 
 
+class SaveErrors:
+    """How every store (parameters, missions, fence and rally) meets a disk that refuses a save
+    (full, read-only, its directory gone): the error is counted and kept for the exit report, the
+    change still takes effect in flight, and the caller learns it failed (a mission transfer then
+    answers MAV_MISSION_ERROR, as ArduPilot does when its storage refuses a write)."""
+
+    def __init__(self) -> None:
+        self.save_errors = 0
+        self.last_save_error = ""
+
+    def save_json(self, path: Path, data) -> bool:
+        try:
+            write_json_atomic(path, data)
+        except OSError as exc:
+            self.save_errors += 1
+            self.last_save_error = f"{path}: {exc.strerror or exc}"
+            return False
+        return True
+
+
 def _fsync_dir(directory: Path) -> None:
     fd = os.open(directory, os.O_RDONLY)
     try:

@@ -45,6 +45,13 @@ POSITIONAL = {mav.MAV_CMD_NAV_WAYPOINT, mav.MAV_CMD_NAV_LOITER_UNLIM, mav.MAV_CM
               mav.MAV_CMD_NAV_FENCE_RETURN_POINT}
 
 
+# As AP_Mission checks an item's params: infinity never, NaN only where it means "unchanged"
+# (a yaw left as it is); commands 0 and 1 are reserved (MAV_MISSION_INVALID).
+NAN_ALLOWED = {mav.MAV_CMD_NAV_WAYPOINT: (4,), mav.MAV_CMD_NAV_LOITER_UNLIM: (4,), mav.MAV_CMD_NAV_LAND: (4,),
+               mav.MAV_CMD_NAV_TAKEOFF: (4,), mav.MAV_CMD_NAV_VTOL_TAKEOFF: (4,), mav.MAV_CMD_NAV_VTOL_LAND: (3, 4)}
+RESERVED_COMMANDS = {0, 1}
+
+
 def item_from_message(msg) -> MissionItem:
     """MISSION_ITEM_INT as is; MISSION_ITEM (float degrees) scaled to the INT convention."""
     if msg.get_type() == "MISSION_ITEM_INT":
@@ -106,8 +113,11 @@ def check_item(item: MissionItem, kind: int = MISSION) -> int:
         return check_rally_item(item)
     if item.frame not in ALLOWED_FRAMES or (item.command in POSITIONAL and item.frame not in LOCATION_FRAMES):
         return mav.MAV_MISSION_UNSUPPORTED_FRAME
+    if item.command in RESERVED_COMMANDS:
+        return mav.MAV_MISSION_INVALID
+    nan_allowed = NAN_ALLOWED.get(item.command, ())
     for n, value in enumerate((item.p1, item.p2, item.p3, item.p4), start=1):
-        if math.isinf(value):  # NaN means "unchanged" for some params; infinity never makes sense
+        if math.isinf(value) or (math.isnan(value) and n not in nan_allowed):
             return getattr(mav, f"MAV_MISSION_INVALID_PARAM{n}")
     # z is an altitude only for positional items; elsewhere ArduCopter ignores it, NaN included
     # (MAVSDK's mission plugin sends DO_CHANGE_SPEED with z = NaN).
@@ -116,6 +126,12 @@ def check_item(item: MissionItem, kind: int = MISSION) -> int:
     if item.command in POSITIONAL and item.frame in GLOBAL_FRAMES:
         return position_result(item)
     return mav.MAV_MISSION_ACCEPTED
+
+
+def saved_result(saved: bool) -> int:
+    """A transfer's MISSION_ACK: ACCEPTED, or MAV_MISSION_ERROR when storage refused the change
+    (as ArduPilot answers a failed write; the list flies as received, persist.SaveErrors)."""
+    return mav.MAV_MISSION_ACCEPTED if saved else mav.MAV_MISSION_ERROR
 
 
 @dataclass
@@ -175,11 +191,11 @@ class MissionService:
         if kind in self.uploads:  # the same client starts again: what it wrote stays
             self._end(self.uploads[kind])
         if msg.count == 0:
-            self.store.clear(kind)
+            saved = self.store.clear(kind)
             if kind == MISSION:  # AP_Mission::truncate(0) leaves no home either, as a clear
                 self._cleared_at_home_set = self.vehicle.home_sets
                 self.vehicle.notify("Flight plan received")
-            return [self._ack(peer, mav.MAV_MISSION_ACCEPTED, kind)]
+            return [self._ack(peer, saved_result(saved), kind)]
         self._completed = None
         up = self.uploads[kind] = Upload(kind, msg.count, peer)
         if kind == MISSION:
@@ -212,11 +228,11 @@ class MissionService:
         self.store.put(kind, index, item)
         return mav.MAV_MISSION_ACCEPTED
 
-    def _end(self, up: Upload) -> None:
-        """The upload is over, complete or not: what it wrote counts as a change and is saved."""
+    def _end(self, up: Upload) -> bool:
+        """The upload is over, complete or not: what it wrote counts as a change and is saved;
+        whether the save worked."""
         del self.uploads[up.kind]
-        if up.kind != FENCE:
-            self.store.changed()
+        return self.store.changed() if up.kind != FENCE else True
 
     def on_item(self, msg, link_s: float) -> list:
         up = self.uploads.get(msg.mission_type)
@@ -241,13 +257,13 @@ class MissionService:
         up.retries = 0
         if len(up.items) < up.count:
             return [self._request(up, link_s)]
-        self._end(up)
+        saved = self._end(up)
         self._completed = (peer, up.kind, up.count - 1)
         if up.kind == FENCE:
-            self.store.replace(up.kind, up.items)
+            saved = self.store.replace(up.kind, up.items)
         if up.kind == MISSION:
             self.vehicle.notify("Flight plan received")
-        return [self._ack(peer, mav.MAV_MISSION_ACCEPTED, up.kind)]
+        return [self._ack(peer, saved_result(saved), up.kind)]
 
     def poll(self, link_s: float) -> list:
         out = []
@@ -301,10 +317,10 @@ class MissionService:
         if msg.mission_type not in MAX_ITEMS:
             return [self._ack(peer, mav.MAV_MISSION_UNSUPPORTED, msg.mission_type)]
         self.uploads.pop(msg.mission_type, None)
-        self.store.clear(msg.mission_type)
+        saved = self.store.clear(msg.mission_type)
         if msg.mission_type == MISSION:
             self._cleared_at_home_set = self.vehicle.home_sets
-        return [self._ack(peer, mav.MAV_MISSION_ACCEPTED, msg.mission_type)]
+        return [self._ack(peer, saved_result(saved), msg.mission_type)]
 
     def on_set_current(self, msg) -> list:
         """Accepted: MISSION_CURRENT echoing the seq asked for (ground stations take it as the

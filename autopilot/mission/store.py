@@ -13,7 +13,7 @@ from __future__ import annotations
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
-from ..io.persist import read_json, write_json_atomic
+from ..io.persist import SaveErrors, read_json
 
 MISSION, FENCE, RALLY = 0, 1, 2
 
@@ -37,6 +37,7 @@ class MissionStore:
         self.path = path
         self._lists: dict[int, list[MissionItem]] = {MISSION: [], FENCE: [], RALLY: []}
         self.version = 0  # bumped on every change, so AUTO can notice a new mission
+        self.save_errors = SaveErrors()  # a refused save: counted, the lists still hold the change
         if path is not None and path.exists():
             self._load(path)
 
@@ -52,13 +53,14 @@ class MissionStore:
         """Stored items. For MISSION these are seq 1..n (seq 0 is home)."""
         return list(self._lists[kind])
 
-    def replace(self, kind: int, items: list[MissionItem]) -> None:
+    def replace(self, kind: int, items: list[MissionItem]) -> bool:
+        """Replace a whole list; whether it was saved."""
         self._lists[kind] = list(items)
         self.version += 1
-        self._save()
+        return self._save()
 
-    def clear(self, kind: int) -> None:
-        self.replace(kind, [])
+    def clear(self, kind: int) -> bool:
+        return self.replace(kind, [])
 
     def truncate(self, kind: int, length: int) -> None:
         """Keep at most `length` items; a change AUTO sees at once, saved at `changed`."""
@@ -76,12 +78,13 @@ class MissionStore:
             items[index] = item
         self.version += 1
 
-    def changed(self) -> None:
+    def changed(self) -> bool:
         """After truncate and put, when the transfer ends: save (a process stopped mid-upload
-        keeps the list it had)."""
+        keeps the list it had); whether it was saved."""
         self.version += 1
-        self._save()
+        return self._save()
 
-    def _save(self) -> None:
-        if self.path is not None:
-            write_json_atomic(self.path, {str(k): [asdict(i) for i in v] for k, v in self._lists.items()})
+    def _save(self) -> bool:
+        if self.path is None:
+            return True
+        return self.save_errors.save_json(self.path, {str(k): [asdict(i) for i in v] for k, v in self._lists.items()})

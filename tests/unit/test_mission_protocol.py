@@ -4,6 +4,7 @@ failed upload leaves the mission as far as it got, as ArduCopter's does (measure
 tests/parity/probes/missions.py)."""
 from __future__ import annotations
 
+import math
 import random
 
 import pytest
@@ -13,7 +14,7 @@ from autopilot.results import Result
 from autopilot.mavlink.dialect import mavlink as mav
 from autopilot.mavlink.dialect import new_codec
 from autopilot.mavlink.session import Session
-from autopilot.mission import MissionItem
+from autopilot.mission import MissionItem, MissionStore
 from autopilot.results import Result
 from autopilot.vehicle import Vehicle, VehicleConfig
 
@@ -376,3 +377,40 @@ def test_a_fence_uploads_while_a_mission_upload_is_under_way(setup):
         requests = session.receive(item, 0.0, 0.0)
     assert [(r.get_type(), r.type) for r in requests] == [("MISSION_ACK", mav.MAV_MISSION_ACCEPTED)]
     assert stored_lats(v) == [i.x for i in mission[1:]]
+
+
+def test_a_refusing_disk_answers_mission_error_and_the_list_still_flies(tmp_path):
+    """Storage that refuses the save (its directory replaced by a file): counted, answered with
+    MAV_MISSION_ERROR as ArduPilot answers a failed write, and the vehicle keeps the list."""
+    gone = tmp_path / "gone"
+    gone.mkdir()
+    v = Vehicle(VehicleConfig(), mission=MissionStore(gone / "missions.json"))
+    session = Session(v, new_codec(1))
+    gone.rmdir()
+    gone.write_text("a file where the state directory was")
+    gcs = GroundStation()
+    items = plan(4)
+    gcs.start_upload(items, 0.0)
+    run(session, gcs, LossyLink(0.0, 0))
+    assert gcs.done == mav.MAV_MISSION_ERROR
+    assert stored_lats(v) == [i.x for i in items[1:]]
+    assert v.mission.save_errors.save_errors >= 1 and "missions.json" in v.mission.save_errors.last_save_error
+
+
+@pytest.mark.parametrize("command, params, result", [
+    (mav.MAV_CMD_DO_JUMP, (math.nan, math.nan, 0, 0), mav.MAV_MISSION_INVALID_PARAM1),
+    (mav.MAV_CMD_DO_JUMP, (2, math.nan, 0, 0), mav.MAV_MISSION_INVALID_PARAM2),
+    (mav.MAV_CMD_NAV_WAYPOINT, (0, 0, 0, math.nan), mav.MAV_MISSION_ACCEPTED),  # NaN yaw: unchanged
+    (mav.MAV_CMD_NAV_LOITER_TIME, (5, 0, 0, math.nan), mav.MAV_MISSION_INVALID_PARAM4),
+    (0, (0, 0, 0, 0), mav.MAV_MISSION_INVALID),  # reserved command ids
+    (1, (0, 0, 0, 0), mav.MAV_MISSION_INVALID),
+])
+def test_nan_params_are_refused_where_ap_mission_refuses_them(setup, command, params, result):
+    v, session = setup
+    items = plan(2)
+    items.append(mav.MAVLink_mission_item_int_message(1, 1, 2, mav.MAV_FRAME_GLOBAL_RELATIVE_ALT_INT, command,
+                                                      0, 1, *params, int(-35.36 * 1e7), int(149.16 * 1e7), 10.0, 0))
+    gcs = GroundStation()
+    gcs.start_upload(items, 0.0)
+    run(session, gcs, LossyLink(0.0, 0))
+    assert gcs.done == result
