@@ -14,8 +14,9 @@ from ..results import Result, Severity
 from .ekf_check import EkfCheck
 
 RTL, LAND, AUTO = ModeNumber.RTL, ModeNumber.LAND, ModeNumber.AUTO
-# FS_BATT_ENABLE / FS_GCS_ENABLE values -> mode to switch to (SmartRTL is flown as RTL here).
-BATT_ACTIONS = {1: LAND, 2: RTL, 3: RTL, 4: RTL}
+# BATT_FS_LOW_ACT (stored as FS_BATT_ENABLE) and BATT_FS_CRT_ACT / FS_GCS_ENABLE values -> mode to
+# switch to (SmartRTL and AUTO's DO_LAND_START are flown as RTL here, Brake-then-Land as LAND).
+BATT_ACTIONS = {1: LAND, 2: RTL, 3: RTL, 4: RTL, 6: RTL, 7: LAND}
 GCS_ACTIONS = {1: RTL, 2: RTL, 3: RTL, 4: RTL, 5: LAND}
 FENCE_ACTIONS = {1: RTL, 2: LAND, 3: RTL, 4: RTL, 5: RTL}
 GCS_CONTINUE_IN_AUTO = 2  # FS_GCS_ENABLE: a mission in AUTO flies on
@@ -68,8 +69,9 @@ class Failsafes:
         self.battery_level = level
         word = "critical" if level == 2 else "low"
         v.notify(f"Battery 1 is {word} {volts:.2f}V used {used:.0f} mAh", Severity.CRITICAL)
-        action = p["FS_BATT_ENABLE"]
-        self._act(v, LAND if level == 2 and action else BATT_ACTIONS.get(int(action)), "battery")
+        # As ArduCopter: each level has its own action (AP_BattMonitor's low and critical)
+        action = p["BATT_FS_CRT_ACT"] if level == 2 else p["FS_BATT_ENABLE"]
+        self._act(v, BATT_ACTIONS.get(int(action)), "battery")
 
     # ----- ground station -----------------------------------------------------------------------
     def gcs_lost(self, v) -> None:

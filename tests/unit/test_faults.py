@@ -238,6 +238,18 @@ def test_a_battery_that_suddenly_rests_low_triggers_the_battery_failsafe():
     assert status.battery_remaining < 10
 
 
+@pytest.mark.parametrize("critical_action, mode", [(0, "GUIDED"), (1, "LAND"), (2, "RTL")])
+def test_the_critical_battery_failsafe_takes_its_own_action(critical_action, mode):
+    """BATT_FS_CRT_ACT, not the low action (which is RTL here), decides what a critical battery does."""
+    v, _ = hovering_with(("BATT_CRT_VOLT", 14.0), ("FS_BATT_ENABLE", 2), ("BATT_FS_CRT_ACT", critical_action))
+    v.run_until(v.time_s + 1.0)
+    v.params.set("SIM_BATT_VOLTAGE", 13.6)
+    assert fly_until(v, lambda x: x.failsafes.battery_level == 2, 1.0)
+    assert said(v, "Battery 1 is critical")
+    v.run_until(v.time_s + 0.5)
+    assert v.mode.name == mode
+
+
 # ----- where faults come from -------------------------------------------------------------------
 def test_faults_in_the_vehicle_config_apply_from_the_start():
     v = Vehicle(VehicleConfig(faults={"SIM_GPS_DISABLE": 1, "SIM_ENGINE_MUL": 0.5}))
