@@ -2,8 +2,10 @@
 
 The list (some 1,400 PARAM_VALUEs) is streamed over link time at LIST_RATE_PER_S, as ArduPilot
 streams it bandwidth-limited: sent in one burst it can overflow a client's socket buffer, and the
-client then has to ask again for each parameter it lost. A new PARAM_REQUEST_LIST starts the
-stream again from index 0; reads and sets are answered at once.
+client then has to ask again for each parameter it lost. There is one stream for the link, as
+ArduPilot has one per link: a new PARAM_REQUEST_LIST starts it again from index 0 but at the pace
+it already had, so asking again does not buy another burst (a flood of requests gets no more
+PARAM_VALUEs than one request does). Reads and sets are answered at once, one PARAM_VALUE each.
 """
 from __future__ import annotations
 
@@ -27,7 +29,7 @@ class ParamService:
         self._names = params.names()
         self.refused = 0  # PARAM_SETs refused: unknown name, not finite, out of the table's range
         self._next_index: int | None = None  # the list stream's next index, None when not streaming
-        self._allowance = 0.0  # PARAM_VALUEs the stream may send now
+        self._allowance = float(LIST_BURST)  # PARAM_VALUEs the stream may send now
         self._last_s = 0.0
 
     @property
@@ -40,8 +42,13 @@ class ParamService:
                                              len(self._names), index)
 
     def request_list(self, msg, link_s: float) -> list:
-        """Start (or restart) streaming the whole list; the first burst goes at once."""
-        self._next_index, self._allowance, self._last_s = 0, float(LIST_BURST), link_s
+        """Start (or restart) streaming the whole list from index 0, at the stream's pace: what
+        is due goes at once (after a quiet spell, a burst of LIST_BURST)."""
+        if self._next_index is None:  # not streaming: the allowance has grown since the last poll
+            self._allowance = min(float(LIST_BURST),
+                                  self._allowance + max(0.0, link_s - self._last_s) * LIST_RATE_PER_S)
+            self._last_s = link_s
+        self._next_index = 0
         return self.poll(link_s)
 
     def poll(self, link_s: float) -> list:
