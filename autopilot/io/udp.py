@@ -6,10 +6,14 @@ frames pass signing and whether its sender may be answered is the vehicle's sans
 ArduPilot SITL) and to every address the link found may be answered (`answer`), so whoever talks
 to the vehicle is answered.
 
-Floods: one receive reads at most MAX_DATAGRAMS_PER_RECEIVE datagrams, so a sender faster than the
-vehicle cannot stall its loop; the rest wait in the kernel, which drops what overflows its buffer
-(Linux counts those per socket in /proc/net/udp; totals() reads it). Answered peers are bounded
-too: a flood from many source ports evicts the longest silent, never the configured outputs.
+Floods: what one receive hands the loop is bounded, so that no sender can stall it: at most
+MAX_DATAGRAMS_PER_RECEIVE datagrams and, past the first, MAX_BYTES_PER_RECEIVE bytes (decoding
+costs up to about 1 µs a byte of junk in pymavlink's parser, handling a message some 25-50 µs);
+a datagram larger than MAX_DATAGRAM_IN is read but dropped unseen and counted. The loop reads
+again as soon as its tick's work is done, so a bounded receive costs a legitimate client nothing
+but a turn; the rest waits in the kernel, which drops what overflows its buffer (Linux counts
+those per socket in /proc/net/udp; totals() reads it). Answered peers are bounded too: a flood
+from many source ports evicts the longest silent, never the configured outputs.
 """
 from __future__ import annotations
 
@@ -18,7 +22,15 @@ import socket
 from collections import OrderedDict
 
 MAX_DATAGRAM = 1400  # bytes per datagram sent: several frames, under a typical MTU
-MAX_DATAGRAMS_PER_RECEIVE = 512  # per loop tick: 51,200 a second at 1x, five times a 10 kHz flood
+# Per receive, so that one exchange costs at most a few milliseconds (a 10 ms tick at 1x): 64
+# messages are 2-3 ms of decoding and handling, 2 KB of the costliest junk about 2 ms. The loop
+# reads again whenever its tick leaves time (at 1x it waits on the socket), so a legitimate
+# burst is read in several turns of the same tick.
+MAX_DATAGRAMS_PER_RECEIVE = 64
+MAX_BYTES_PER_RECEIVE = 2048
+# Larger than a MAVLink sender makes: a frame is at most 280 bytes, clients send one a datagram and
+# radio bridges at most an MTU's worth (ArduPilot's SITL likewise reads a datagram into a fixed buffer).
+MAX_DATAGRAM_IN = 2048
 MAX_PEERS = 32  # answered addresses besides the configured outputs
 
 
@@ -30,7 +42,7 @@ class UdpEndpoint:
         self.sock.bind(bind)
         self._outs = list(dict.fromkeys(outs))
         self._heard: OrderedDict = OrderedDict()  # senders the link let be answered, least recent first
-        self.counters = {"datagrams": 0, "send_errors": 0, "peers_evicted": 0}
+        self.counters = {"datagrams": 0, "oversize_dropped": 0, "send_errors": 0, "peers_evicted": 0}
         self._queued: list[bytes] = []  # frames waiting for a flush (runner.py says when)
         self._queued_bytes = 0
 
@@ -63,18 +75,29 @@ class UdpEndpoint:
         return self.sock.fileno()
 
     def receive(self) -> list[tuple]:
-        """(datagram, sender) for each datagram waiting, at most MAX_DATAGRAMS_PER_RECEIVE (the
-        kernel's receive buffer bounds the bytes they hold)."""
+        """(datagram, sender) for datagrams waiting: at most MAX_DATAGRAMS_PER_RECEIVE, and no
+        more once they hold MAX_BYTES_PER_RECEIVE bytes; oversize ones are dropped and counted."""
         datagrams = []
         recvfrom = self.sock.recvfrom
+        size = oversize = 0
         for _ in range(MAX_DATAGRAMS_PER_RECEIVE):
+            if size >= MAX_BYTES_PER_RECEIVE:
+                break
             try:
-                datagrams.append(recvfrom(65535))
+                data, sender = recvfrom(65535)
             except (BlockingIOError, InterruptedError):
                 break
             except OSError:  # e.g. ICMP port unreachable reported on some systems; it uses a read
                 continue
-        self.counters["datagrams"] += len(datagrams)
+            if len(data) > MAX_DATAGRAM_IN:
+                oversize += 1
+                size += MAX_DATAGRAM_IN
+                continue
+            size += len(data)
+            datagrams.append((data, sender))
+        counters = self.counters
+        counters["datagrams"] += len(datagrams) + oversize
+        counters["oversize_dropped"] += oversize
         return datagrams
 
     def answer(self, sender: tuple) -> None:

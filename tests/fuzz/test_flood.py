@@ -1,10 +1,12 @@
-"""Floods at the socket, with real loopback sockets: the endpoint reads a bounded number of datagrams
-per tick, counts what the kernel dropped, bounds the peers (and the link its parsers) a flood of
-source ports creates, and the real process keeps flying a legitimate client's commands through a
-10,000-datagram-per-second flood."""
+"""Floods at the socket, with real loopback sockets: one receive reads a bounded number of datagrams
+and bytes, drops oversize datagrams unparsed, counts what the kernel dropped, bounds the peers (and
+the link its parsers) a flood of source ports creates, and the real process keeps flying a
+legitimate client's commands through a 10,000-datagram-per-second flood. (tests/sitl/test_floods.py
+times the heartbeat through floods of each kind of costly request.)"""
 from __future__ import annotations
 
 import json
+import select
 import socket
 import threading
 import time
@@ -49,6 +51,41 @@ def test_one_receive_reads_a_bounded_batch_and_kernel_drops_are_counted():
     dropped = endpoint.totals()["kernel_dropped"]
     assert dropped > 0
     assert total + dropped == sent  # every datagram read or counted
+    endpoint.close()
+
+
+def _receive_all(endpoint) -> list[list]:
+    """Each receive's datagrams until the socket has nothing left (a receive that only dropped an
+    oversize datagram returns none, with more waiting)."""
+    batches = []
+    while select.select([endpoint.sock], [], [], 0)[0]:
+        batches.append(endpoint.receive())
+    return batches
+
+
+def test_one_receive_stops_at_a_bounded_number_of_bytes():
+    endpoint = udp.UdpEndpoint(("127.0.0.1", 0), [])
+    big = bytes(udp.MAX_DATAGRAM_IN)  # the largest datagram still read
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as client:
+        for _ in range(8):
+            client.sendto(big, endpoint.address)
+        client.sendto(_heartbeat(), endpoint.address)
+        sizes = [sum(len(d) for d, _ in batch) for batch in _receive_all(endpoint)]
+    assert sum(sizes) == 8 * len(big) + len(_heartbeat())  # all of it, in several receives ...
+    assert max(sizes) < udp.MAX_BYTES_PER_RECEIVE + udp.MAX_DATAGRAM_IN  # ... each bounded
+    assert len(sizes) >= 8 * len(big) // (udp.MAX_BYTES_PER_RECEIVE + udp.MAX_DATAGRAM_IN)
+    endpoint.close()
+
+
+def test_an_oversize_datagram_is_dropped_unread_and_counted_and_the_next_one_read():
+    endpoint = udp.UdpEndpoint(("127.0.0.1", 0), [])
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as client:
+        client.sendto(b"\xfd" * 65507, endpoint.address)  # the largest UDP datagram
+        client.sendto(bytes(udp.MAX_DATAGRAM_IN + 1), endpoint.address)
+        client.sendto(_heartbeat(), endpoint.address)
+        received = [d for batch in _receive_all(endpoint) for d, _ in batch]
+    assert received == [_heartbeat()]
+    assert endpoint.counters["oversize_dropped"] == 2 and endpoint.counters["datagrams"] == 3
     endpoint.close()
 
 
