@@ -1,10 +1,17 @@
 """MAVLink FTP (FILE_TRANSFER_PROTOCOL), sans-IO, answering as ArduCopter's GCS_FTP does.
 
-One FTP state per vehicle, as in ArduPilot (one open file over all clients): a request names a
-session number; while a file is open, a request for another session is refused (InvalidSession)
-unless the open one has been silent for SESSION_TIMEOUT_S, after which it is closed. Replies go to
-the requesting system/component with seq = request seq + 1; a request that repeats the last
-answered seq gets the last reply again (a lost reply, not a new operation).
+One FTP state per vehicle, as in the reference ArduPilot (one open file over all clients). The
+session belongs to the client that opened it, as ArduPilot's GCS_FTP now keys each session by the
+sysid, compid (and channel) of its client besides the session number: while a file is open, a
+request that is not its owner's for that session number (another number, or another client with
+any number) is refused (InvalidSession) unless the session has been silent for SESSION_TIMEOUT_S,
+after which it is closed and the request served. TerminateSession and ResetSessions close the
+session only when they are its owner's for its number; otherwise they are acknowledged and close
+nothing (ArduPilot acknowledges another client's ResetSessions and closes only that client's own
+sessions; the reference does the same for another session number of the same client). Only the
+owner's exchanges keep the session alive. Replies go to the requesting system/component with
+seq = request seq + 1; a request that repeats its client's last answered seq gets that reply again
+(a lost reply, not a new operation).
 
 Served: `@PARAM/param.pck` (param_files.py) read by ReadFile and BurstReadFile, written by
 CreateFile/OpenFileWO + WriteFile (applied at TerminateSession or ResetSessions). The rest answers
@@ -89,8 +96,14 @@ class FtpServer:
         self.notify = notify
         self.file = None  # ParamFile (read) or ParamUpload (write)
         self.session = NO_SESSION
-        self.last_send_s = float("-inf")
+        self.owner: tuple | None = None  # (system, component) that opened the session
+        self.last_send_s = float("-inf")  # the open session's last reply
         self._last: tuple | None = None  # (sender, last reply) for a repeated request
+        self.counters = {"refused_not_owner": 0}
+
+    def _owns(self, sender: tuple, session: int) -> bool:
+        """Whether (sender, session) is the open session: its client and its number."""
+        return self.file is not None and sender == self.owner and session == self.session
 
     def handle(self, payload, sender: tuple, now_s: float) -> list[Packet]:
         """Replies to one request from `sender` = (system, component), in order."""
@@ -103,34 +116,38 @@ class FtpServer:
                     and request.seq + 1 == last.seq):
                 return self._sent([last], sender, now_s)
         reply = Packet((request.seq + 1) & 0xFFFF, request.session, NONE, req_opcode=request.opcode)
+        mine = self._owns(sender, request.session)
         if request.size > DATA_SIZE:
             replies = [_nak(reply, INVALID_DATA_SIZE)]
-        elif request.session != self.session and request.opcode in (TERMINATE_SESSION, RESET_SESSIONS):
-            replies = [replace(reply, opcode=ACK)]  # another session's end: nothing of ours to close
-        elif (self.file is not None and request.session != self.session
-              and now_s - self.last_send_s < SESSION_TIMEOUT_S):
+        elif not mine and request.opcode in (TERMINATE_SESSION, RESET_SESSIONS):
+            replies = [replace(reply, opcode=ACK)]  # another session's end: nothing of its own to close
+        elif self.file is not None and not mine and now_s - self.last_send_s < SESSION_TIMEOUT_S:
+            if sender != self.owner:
+                self.counters["refused_not_owner"] += 1
             replies = [_nak(reply, INVALID_SESSION)]
         else:
-            if self.file is not None and request.session != self.session:
+            if self.file is not None and not mine:
                 self._close()  # the open session went silent: a new client takes over
-            replies = self._dispatch(request, reply, now_s)
+            replies = self._dispatch(request, reply, sender, now_s)
         return self._sent(replies, sender, now_s)
 
     def _sent(self, replies: list[Packet], sender: tuple, now_s: float) -> list[Packet]:
         if replies:
-            self.last_send_s = now_s
+            if self._owns(sender, replies[-1].session):
+                self.last_send_s = now_s  # only the owner's exchanges keep its session alive
             self._last = (sender, replies[-1])
-            if replies[-1].req_opcode == TERMINATE_SESSION:
+            if replies[-1].req_opcode == TERMINATE_SESSION and self.file is None:
                 self.last_send_s = float("-inf")
         return replies
 
     def _close(self) -> None:
-        file, self.file, self.session = self.file, None, NO_SESSION
+        file, self.file, self.session, self.owner = self.file, None, NO_SESSION, None
         if isinstance(file, param_files.ParamUpload):
             file.close()
 
     # ----- opcodes ----------------------------------------------------------------------------
-    def _dispatch(self, request: Packet, reply: Packet, now_s: float) -> list[Packet]:
+    def _dispatch(self, request: Packet, reply: Packet, sender: tuple, now_s: float) -> list[Packet]:
+        """The replies to a request the open session (if any) may serve."""
         op = request.opcode
         if op == NONE:
             return [replace(reply, opcode=ACK)]
@@ -138,7 +155,7 @@ class FtpServer:
             self._close()
             return [replace(reply, opcode=ACK)]
         if op == OPEN_FILE_RO:
-            return [self._open_read(request, reply, now_s)]
+            return [self._open_read(request, reply, sender, now_s)]
         if op in (READ_FILE, BURST_READ_FILE, WRITE_FILE):
             if self.file is None:
                 return [_nak(reply, FILE_NOT_FOUND)]
@@ -151,7 +168,7 @@ class FtpServer:
                 return self._burst(request, reply)
             return [self._write(request, reply)]
         if op in (CREATE_FILE, OPEN_FILE_WO):
-            return [self._open_write(request, reply)]
+            return [self._open_write(request, reply, sender)]
         if op in (LIST_DIRECTORY, REMOVE_FILE, CREATE_DIRECTORY, REMOVE_DIRECTORY, CALC_FILE_CRC32):
             return [self._by_path(request, reply)]
         if op == RENAME:
@@ -159,20 +176,21 @@ class FtpServer:
         self.notify(f"Unsupported FTP: {op}", Severity.DEBUG)
         return [_nak(reply, FAIL)]
 
-    def _open_read(self, request: Packet, reply: Packet, now_s: float) -> Packet:
+    def _open_read(self, request: Packet, reply: Packet, sender: tuple, now_s: float) -> Packet:
         if self.file is not None and now_s - self.last_send_s > SESSION_TIMEOUT_S:
             self._close()  # its client never saw our open reply and gave up
-        refused = self._open(request, reply, lambda path: param_files.open_read(self.params, path))
+        refused = self._open(request, reply, sender, lambda path: param_files.open_read(self.params, path))
         return refused or replace(reply, opcode=ACK, size=4,
                                   data=struct.pack("<I", self.file.size_estimate))
 
-    def _open_write(self, request: Packet, reply: Packet) -> Packet:
-        refused = self._open(request, reply,
+    def _open_write(self, request: Packet, reply: Packet, sender: tuple) -> Packet:
+        refused = self._open(request, reply, sender,
                              lambda path: param_files.open_write(self.params, path, self.notify))
         return refused or replace(reply, opcode=ACK)
 
-    def _open(self, request: Packet, reply: Packet, open_path) -> Packet | None:
-        """Open the file the request names for its session; the NAK when that fails."""
+    def _open(self, request: Packet, reply: Packet, sender: tuple, open_path) -> Packet | None:
+        """Open the file the request names for its session, owned by `sender`; the NAK when
+        that fails."""
         if self.file is not None:
             return _nak(reply, FAIL)  # one open file at a time
         path = _path(request)
@@ -182,7 +200,7 @@ class FtpServer:
             self.file = open_path(path)
         except FsError as exc:
             return _nak(reply, FAIL_ERRNO, exc.errno)
-        self.session = request.session
+        self.session, self.owner = request.session, sender
         return None
 
     def _read(self, request: Packet, reply: Packet) -> Packet:

@@ -9,6 +9,7 @@ import pytest
 from pymavlink.mavftp import MAVFTP
 
 from autopilot.mavlink import ftp
+from autopilot.mavlink.dialect import new_codec
 from autopilot.params import SPEC_BY_NAME
 
 from ._session_link import SYSTEM_ID, Link, gcs, link  # noqa: F401 - link is a fixture
@@ -182,6 +183,54 @@ def test_one_open_file_across_sessions_until_the_holder_goes_silent(link):
     other.now = holder.now + ftp.SESSION_TIMEOUT_S + 0.1
     assert other.one(ftp.OPEN_FILE_RO, session=2, data=PARAMS).opcode == ftp.ACK
     assert nak(holder.one(ftp.READ_FILE, session=1, size=239)) == bytes([ftp.INVALID_SESSION])
+
+
+# ----- a session belongs to the client that opened it --------------------------------------------
+def _owner_and_stranger(link, stranger_ids):
+    owner, stranger = Client(link), Client(link, new_codec(*stranger_ids))
+    assert owner.one(ftp.OPEN_FILE_RO, session=1, data=PARAMS).opcode == ftp.ACK
+    return owner, stranger
+
+
+@pytest.mark.parametrize("stranger_ids", [(255, 191), (254, 190)])  # another component, another system
+def test_another_client_cannot_use_the_owners_session_number(link, stranger_ids):
+    owner, stranger = _owner_and_stranger(link, stranger_ids)
+    for opcode, kw in ((ftp.READ_FILE, dict(size=239)), (ftp.BURST_READ_FILE, dict(size=239)),
+                       (ftp.OPEN_FILE_RO, dict(data=PARAMS)), (ftp.WRITE_FILE, dict(data=b"x"))):
+        reply = stranger.one(opcode, session=1, **kw)
+        assert nak(reply) == bytes([ftp.INVALID_SESSION]) and reply.session == 1
+    assert link.session.ftp.counters["refused_not_owner"] == 4
+    first = owner.one(ftp.READ_FILE, session=1, size=239)
+    assert first.opcode == ftp.ACK and first.offset == 0
+
+
+@pytest.mark.parametrize("opcode", [ftp.TERMINATE_SESSION, ftp.RESET_SESSIONS])
+def test_another_clients_terminate_or_reset_is_acked_and_closes_nothing(link, opcode):
+    owner, stranger = _owner_and_stranger(link, (255, 191))
+    assert stranger.one(opcode, session=1).opcode == ftp.ACK  # as ArduPilot: always acknowledged
+    assert owner.one(ftp.READ_FILE, session=1, size=239).opcode == ftp.ACK  # still open
+    assert owner.one(opcode, session=1).opcode == ftp.ACK  # the owner's own closes it
+    assert nak(owner.one(ftp.READ_FILE, session=1, size=239)) == bytes([ftp.FILE_NOT_FOUND])
+
+
+def test_another_clients_requests_do_not_keep_a_silent_owners_session_alive(link):
+    owner, stranger = _owner_and_stranger(link, (255, 191))
+    while stranger.now < owner.now + ftp.SESSION_TIMEOUT_S:  # refused all along ...
+        assert nak(stranger.one(ftp.OPEN_FILE_RO, session=1, data=PARAMS)) == bytes([ftp.INVALID_SESSION])
+        stranger.now += 0.5
+    # ... and once the owner has been silent for the timeout, the session is the stranger's
+    assert stranger.one(ftp.OPEN_FILE_RO, session=1, data=PARAMS).opcode == ftp.ACK
+    owner.now = stranger.now
+    assert nak(owner.one(ftp.READ_FILE, session=1, size=239)) == bytes([ftp.INVALID_SESSION])
+    assert stranger.one(ftp.READ_FILE, session=1, size=239).opcode == ftp.ACK
+
+
+def test_a_repeated_seq_from_another_client_does_not_get_the_owners_last_reply(link):
+    owner, stranger = _owner_and_stranger(link, (255, 191))
+    data = owner.one(ftp.READ_FILE, session=1, size=239)
+    assert data.opcode == ftp.ACK
+    again = stranger.one(ftp.READ_FILE, session=1, size=239, seq=data.seq - 1)
+    assert nak(again) == bytes([ftp.INVALID_SESSION])  # a refusal, not the owner's data
 
 
 def test_ftp_addressed_to_another_system_is_ignored_and_replies_are_never_answered(client):
