@@ -47,9 +47,12 @@ clean:
 bench: install
 	$(PY) bench/run.py
 
-# A million hostile datagrams through the sans-IO link layer and session (CI runs 20,000).
+# A million hostile datagrams through the sans-IO link layer and session (CI runs 20,000); then a
+# million steps of the state-space walk: every start-up stage, mode, flight phase, failsafe and
+# half-done transfer, attacked with hostile messages (CI runs 10,000 and hypothesis rules).
 fuzz: install
 	$(PY) -m tests.fuzz.receive_fuzz --frames 1000000 --json out/fuzz.json
+	$(PY) -m tests.fuzz.state_walk --steps 1000000 --seed 1 --json out/state_walk.json
 
 # A simulated hour at 60x with a pilot and three noisy clients; checks every tick ran, memory flat.
 soak: install
