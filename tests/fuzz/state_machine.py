@@ -343,7 +343,7 @@ class Walk:
     # ----- invariants ---------------------------------------------------------------------------------
     def _snapshot(self) -> tuple:
         v = self.vehicle
-        return v.armed, v.mode.number, repr(v.home_ned)
+        return v.armed, int(v.mode.number), repr(v.home_ned)
 
     def _error_counts(self) -> tuple:
         """(handler errors, internal errors, tracebacks kept): what _check_errors compares."""

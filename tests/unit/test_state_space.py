@@ -183,3 +183,35 @@ def test_a_failure_names_state_message_traceback_and_reproduction(monkeypatch):
     with pytest.raises(WalkFailure) as again:
         exec(code, {})
     assert again.value.failure.signature() == f.signature()
+
+
+def test_a_refused_command_that_changed_the_mode_is_caught(monkeypatch):
+    from autopilot.mavlink import commands
+    from autopilot.results import Result
+
+    def half_done(session, command):
+        session.vehicle.set_mode(4)  # GUIDED, then refused
+        return Result.FAILED
+    monkeypatch.setitem(commands.HANDLERS, commands.mav.MAV_CMD_GET_HOME_POSITION, half_done)
+    walk = Walk("instant")
+    with pytest.raises(WalkFailure) as caught:
+        walk.command(commands.mav.MAV_CMD_GET_HOME_POSITION)
+    assert caught.value.failure.kind == "refused_changed"
+    assert "(False, 0, " in caught.value.failure.detail and "(False, 4, " in caught.value.failure.detail
+
+
+def test_a_heartbeat_that_stops_unasked_is_caught():
+    walk = Walk("instant")
+    walk.advance(1.0)
+    walk.session.streams.set_interval_us(hostile.mav.MAVLINK_MSG_ID_HEARTBEAT, -1)  # not asked over MAVLink
+    with pytest.raises(WalkFailure) as caught:
+        walk.advance(3.0)
+    assert caught.value.failure.kind == "heartbeat" and "no HEARTBEAT for 1.5" in caught.value.failure.detail
+
+
+def test_a_heartbeat_a_ground_station_slowed_down_is_not_a_failure():
+    walk = Walk("instant")
+    walk.command(hostile.mav.MAV_CMD_SET_MESSAGE_INTERVAL, hostile.mav.MAVLINK_MSG_ID_HEARTBEAT, 4e6)
+    walk.advance(10.0)  # one every 4 s, as asked
+    walk.command(hostile.mav.MAV_CMD_SET_MESSAGE_INTERVAL, hostile.mav.MAVLINK_MSG_ID_HEARTBEAT, -1)
+    walk.advance(5.0)  # none, as asked
