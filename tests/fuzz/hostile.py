@@ -232,4 +232,10 @@ def known_reproductions(c, origin) -> list:
         c.command_long_encode(SYSTEM_ID, 1, mav.MAV_CMD_NAV_TAKEOFF, 0, 0, 0, 0, 0, 0, 0, 3e6),
         c.set_position_target_global_int_encode(0, SYSTEM_ID, 1, mav.MAV_FRAME_GLOBAL_RELATIVE_ALT_INT, 0b110111111000,
                                                 lat, lon, 3e6, 0, 0, 0, 0, 0, 0, 0, 0),
+        # found by the walk: an answer whose message id does not fit MESSAGE_INTERVAL's u16 ...
+        c.command_long_encode(SYSTEM_ID, 1, mav.MAV_CMD_GET_MESSAGE_INTERVAL, 0, 3e6, 0, 0, 0, 0, 0, 0),
+        # ... and a yaw of 1000 rad held as is, which NAV_CONTROLLER_OUTPUT (EXTRA stream) cannot carry
+        c.request_data_stream_encode(SYSTEM_ID, 1, mav.MAV_DATA_STREAM_ALL, 4, 1),
+        c.set_position_target_local_ned_encode(0, SYSTEM_ID, 1, mav.MAV_FRAME_BODY_OFFSET_NED, 0b100111111000,
+                                               0, 0, 0, 0, 0, 0, 0, 0, 0, 1000.0, 0),
     ]
