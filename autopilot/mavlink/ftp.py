@@ -13,6 +13,18 @@ owner's exchanges keep the session alive. Replies go to the requesting system/co
 seq = request seq + 1; a request that repeats its client's last answered seq gets that reply again
 (a lost reply, not a new operation).
 
+Work is bounded, as ArduPilot's one FTP worker thread bounds it: it serves requests one at a
+time at the link's pace, and requests that find its five-slot queue full are dropped as lost
+data. Every reply, and each snapshot or packing of the parameter file (an open, its first read, a
+CRC, applying an upload), is work counted in replies' worth. One exchange (the messages the loop
+reads at once, handled at one link time) does at most EXCHANGE_WORK of it, and all exchanges
+together draw on an allowance that refills at WORK_PER_S over link time, up to WORK_ALLOWANCE. A
+request that what is left cannot cover is dropped unanswered (its client asks again) and
+counted; a BurstReadFile sends as many blocks as is left for and flags the last burst_complete,
+as ArduPilot does at its burst size, so the client asks for the next burst. A flood thus costs at
+most a few milliseconds an exchange and a fraction of the loop's time, while a client that waits
+for each answer (one request an exchange) is served: the allowance holds several downloads.
+
 Served: `@PARAM/param.pck` (param_files.py) read by ReadFile and BurstReadFile, written by
 CreateFile/OpenFileWO + WriteFile (applied at TerminateSession or ResetSessions). The rest answers
 what the reference answers for a vehicle with no files: ListDirectory ends at once (EndOfFile for
@@ -20,7 +32,8 @@ the root, FileNotFound otherwise), remove/rename/mkdir find nothing, TruncateFil
 opcodes fail (with ArduPilot's "Unsupported FTP" debug text).
 
 Time: the session timeout runs on the link clock (wall seconds) handed in, as every link timeout
-in Firefly does; ArduPilot's SITL counts it in sim milliseconds.
+in Firefly does; ArduPilot's SITL counts it in sim milliseconds. The I/O edge reads that clock
+once per exchange, so a request at a later link time is in a later exchange.
 """
 from __future__ import annotations
 
@@ -46,6 +59,11 @@ DATA_SIZE = PAYLOAD_SIZE - HEADER.size  # 239
 SESSION_TIMEOUT_S = 3.0
 MAX_BURST = 500  # replies to one BurstReadFile (ArduPilot's: enough for a full parameter file)
 NO_SESSION = -1
+# Work in replies' worth (a reply: 30-40 µs of encoding and packing).
+FILE_WORK = 50  # snapshotting or packing the parameter file, 1.5-2 ms
+EXCHANGE_WORK = 150  # ~5 ms: the costliest request (a CRC), or an open and a whole first burst
+WORK_PER_S = 6000.0  # ~20 % of the loop's time at most, under any flood
+WORK_ALLOWANCE = 1000.0  # some five downloads of the parameter file back to back
 
 
 @dataclass(frozen=True)
@@ -99,17 +117,24 @@ class FtpServer:
         self.owner: tuple | None = None  # (system, component) that opened the session
         self.last_send_s = float("-inf")  # the open session's last reply
         self._last: tuple | None = None  # (sender, last reply) for a repeated request
-        self.counters = {"refused_not_owner": 0}
+        self._allowance = WORK_ALLOWANCE  # refilled over link time
+        self._allowance_s = float("-inf")
+        self._exchange_left = EXCHANGE_WORK  # what is left for the exchange at link time _exchange_s
+        self._exchange_s = float("nan")
+        self.counters = {"dropped_busy": 0, "refused_not_owner": 0}
 
     def _owns(self, sender: tuple, session: int) -> bool:
         """Whether (sender, session) is the open session: its client and its number."""
         return self.file is not None and sender == self.owner and session == self.session
 
     def handle(self, payload, sender: tuple, now_s: float) -> list[Packet]:
-        """Replies to one request from `sender` = (system, component), in order."""
+        """Replies to one request from `sender` = (system, component), in order; none for a
+        request the work allowance cannot cover (dropped, as a full request queue drops it)."""
         request = Packet.parse(payload)
         if request.opcode in (ACK, NAK):
             return []  # someone else's reply: never answered
+        if not self._afford(1, now_s):
+            return []
         if self._last is not None:
             last_sender, last = self._last
             if (last_sender == sender and last.session == request.session
@@ -117,6 +142,7 @@ class FtpServer:
                 return self._sent([last], sender, now_s)
         reply = Packet((request.seq + 1) & 0xFFFF, request.session, NONE, req_opcode=request.opcode)
         mine = self._owns(sender, request.session)
+        work = 0
         if request.size > DATA_SIZE:
             replies = [_nak(reply, INVALID_DATA_SIZE)]
         elif not mine and request.opcode in (TERMINATE_SESSION, RESET_SESSIONS):
@@ -126,12 +152,49 @@ class FtpServer:
                 self.counters["refused_not_owner"] += 1
             replies = [_nak(reply, INVALID_SESSION)]
         else:
+            work = self._work(request, mine)
+            if not self._afford(work + 1, now_s):
+                return []
             if self.file is not None and not mine:
                 self._close()  # the open session went silent: a new client takes over
-            replies = self._dispatch(request, reply, sender, now_s)
-        return self._sent(replies, sender, now_s)
+            replies = self._dispatch(request, reply, sender, now_s, max(1, int(self._left(now_s)) - work))
+        return self._sent(replies, sender, now_s, work)
 
-    def _sent(self, replies: list[Packet], sender: tuple, now_s: float) -> list[Packet]:
+    def _work(self, request: Packet, mine: bool) -> int:
+        """The file work (beyond one reply each) that serving `request` may cost, in replies'
+        worth; `mine`: it is for the open session."""
+        op = request.opcode
+        if op == OPEN_FILE_RO:
+            return FILE_WORK  # the snapshot
+        if op == CALC_FILE_CRC32:
+            return 2 * FILE_WORK  # a snapshot, packed
+        if not mine:
+            return 0
+        if op in (READ_FILE, BURST_READ_FILE):
+            return FILE_WORK if getattr(self.file, "read_size", 1) == 0 else 0  # packed at the first read
+        if op in (TERMINATE_SESSION, RESET_SESSIONS) and isinstance(self.file, param_files.ParamUpload):
+            return FILE_WORK  # the upload is applied
+        return 0
+
+    def _left(self, now_s: float) -> float:
+        """The work that may still be done at link time `now_s`."""
+        if now_s != self._exchange_s:  # a later exchange
+            self._exchange_s, self._exchange_left = now_s, EXCHANGE_WORK
+            refill = max(0.0, now_s - self._allowance_s) * WORK_PER_S
+            self._allowance, self._allowance_s = min(WORK_ALLOWANCE, self._allowance + refill), now_s
+        return min(self._allowance, self._exchange_left)
+
+    def _afford(self, work: int, now_s: float) -> bool:
+        """Whether `work` may be done now; a request it may not is counted as dropped."""
+        if self._left(now_s) >= work:
+            return True
+        self.counters["dropped_busy"] += 1
+        return False
+
+    def _sent(self, replies: list[Packet], sender: tuple, now_s: float, work: int = 0) -> list[Packet]:
+        spent = work + len(replies)
+        self._allowance -= spent
+        self._exchange_left -= spent
         if replies:
             if self._owns(sender, replies[-1].session):
                 self.last_send_s = now_s  # only the owner's exchanges keep its session alive
@@ -146,8 +209,10 @@ class FtpServer:
             file.close()
 
     # ----- opcodes ----------------------------------------------------------------------------
-    def _dispatch(self, request: Packet, reply: Packet, sender: tuple, now_s: float) -> list[Packet]:
-        """The replies to a request the open session (if any) may serve."""
+    def _dispatch(self, request: Packet, reply: Packet, sender: tuple, now_s: float,
+                  budget: int) -> list[Packet]:
+        """The replies to a request the open session (if any) may serve; `budget`: the replies
+        the allowance covers (at least one)."""
         op = request.opcode
         if op == NONE:
             return [replace(reply, opcode=ACK)]
@@ -165,7 +230,7 @@ class FtpServer:
             if op == READ_FILE:
                 return [self._read(request, reply)]
             if op == BURST_READ_FILE:
-                return self._burst(request, reply)
+                return self._burst(request, reply, min(MAX_BURST, budget))
             return [self._write(request, reply)]
         if op in (CREATE_FILE, OPEN_FILE_WO):
             return [self._open_write(request, reply, sender)]
@@ -212,13 +277,13 @@ class FtpServer:
             return _nak(reply, END_OF_FILE)
         return replace(reply, opcode=ACK, offset=request.offset, size=len(data), data=data)
 
-    def _burst(self, request: Packet, reply: Packet) -> list[Packet]:
-        """Blocks from the requested offset to the end of the file (at most MAX_BURST), then the
+    def _burst(self, request: Packet, reply: Packet, limit: int) -> list[Packet]:
+        """Blocks from the requested offset to the end of the file (at most `limit`), then the
         EndOfFile NAK; the last block is flagged burst_complete. The NAK keeps the last block's
         flag and the offset after it, as ArduPilot's reuse of one reply buffer gives."""
         block = request.size or DATA_SIZE
         out = []
-        for i in range(MAX_BURST):
+        for i in range(limit):
             try:
                 data = self.file.read(request.offset + i * block, block)
             except FsError as exc:
@@ -229,7 +294,7 @@ class FtpServer:
                 break
             short = len(data) < block
             reply = replace(reply, opcode=ACK, offset=request.offset + i * block, size=len(data),
-                            data=data, burst_complete=int(short or i == MAX_BURST - 1))
+                            data=data, burst_complete=int(short or i == limit - 1))
             out.append(reply)
             reply = replace(reply, seq=(reply.seq + 1) & 0xFFFF,
                             offset=reply.offset + (len(data) if short else 0))

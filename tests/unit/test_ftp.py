@@ -18,8 +18,13 @@ from ._util import wire
 PARAMS = b"@PARAM/param.pck"
 
 
+ROUND_TRIP_S = 0.01  # link time between a client's requests
+
+
 class Client:
-    """A ground station's FTP side: numbered requests, replies decoded."""
+    """A ground station's FTP side: numbered requests, replies decoded; each request ROUND_TRIP_S
+    of link time after the one before, so in an exchange of its own, as a client that waits for
+    each answer sends them."""
 
     def __init__(self, link, codec=None):
         self.link = link
@@ -28,6 +33,7 @@ class Client:
         self.now = 0.0
 
     def request(self, opcode, session=1, data=b"", size=None, offset=0, seq=None, target=SYSTEM_ID):
+        self.now += ROUND_TRIP_S
         seq = self.seq if seq is None else seq
         self.seq = (seq + 1) & 0xFFFF
         size = len(data) if size is None else size
@@ -55,11 +61,12 @@ def client(link):
     return Client(link)
 
 
-def _assemble(replies) -> bytes:
+def _assemble(replies, start: int = 0) -> bytes:
+    """The data of a burst's ACKs, which must follow each other from offset `start`."""
     data = bytearray()
     for r in replies:
         if r.opcode == ftp.ACK:
-            assert r.offset == len(data)
+            assert r.offset == start + len(data)
             data += r.data[:r.size]
     return bytes(data)
 
@@ -94,9 +101,24 @@ def test_burst_download_of_every_parameter(client, link):
     assert client.one(ftp.TERMINATE_SESSION).opcode == ftp.ACK
 
 
+def _burst_all(client, size: int, session: int = 1, start: int = 0) -> bytes:
+    """The open file from `start` by bursts, each from where the last ended, until EndOfFile (as
+    MAVFTP and QGroundControl ask again after a burst_complete that is not the end)."""
+    data = bytearray()
+    for _ in range(20):
+        replies = client.request(ftp.BURST_READ_FILE, session=session, size=size, offset=start + len(data))
+        assert replies
+        data += _assemble(replies, start + len(data))
+        if replies[-1].opcode == ftp.NAK:
+            assert nak(replies[-1]) == bytes([ftp.END_OF_FILE])
+            return bytes(data)
+        assert replies[-1].burst_complete == 1
+    raise AssertionError("no EndOfFile after 20 bursts")
+
+
 def test_sequential_reads_give_the_burst_bytes_and_end_in_eof(client):
     client.one(ftp.OPEN_FILE_RO, data=PARAMS)
-    burst = _assemble(client.request(ftp.BURST_READ_FILE, size=80))
+    burst = _burst_all(client, 80)
     data = bytearray()
     while True:
         r = client.one(ftp.READ_FILE, size=80, offset=len(data))
@@ -231,6 +253,40 @@ def test_a_repeated_seq_from_another_client_does_not_get_the_owners_last_reply(l
     assert data.opcode == ftp.ACK
     again = stranger.one(ftp.READ_FILE, session=1, size=239, seq=data.seq - 1)
     assert nak(again) == bytes([ftp.INVALID_SESSION])  # a refusal, not the owner's data
+
+
+# ----- bounded work -------------------------------------------------------------------------------
+def test_requests_read_together_are_answered_within_one_exchanges_allowance_the_rest_dropped(link):
+    client = Client(link)
+    answered = 0
+    for _ in range(50):  # fifty CRCs of the parameter file (each packs it) in one exchange
+        client.now -= ROUND_TRIP_S  # the same link time: read together
+        answered += len(client.request(ftp.CALC_FILE_CRC32, data=PARAMS))
+    assert answered == ftp.EXCHANGE_WORK // (2 * ftp.FILE_WORK + 1) < 50
+    assert link.session.ftp.counters["dropped_busy"] == 50 - answered
+    # a client that waits for each answer (each request in a later exchange) is always answered
+    assert all(client.one(ftp.CALC_FILE_CRC32, data=PARAMS).opcode == ftp.ACK for _ in range(5))
+
+
+def test_over_time_the_work_is_bounded_by_the_rate_whatever_the_exchanges(link):
+    client = Client(link)
+    served, per_crc, exchanges, dt = 0, 2 * ftp.FILE_WORK + 1, 400, 1e-4
+    for _ in range(exchanges):  # one CRC an exchange, ten thousand exchanges a second
+        client.now += dt - ROUND_TRIP_S
+        served += len(client.request(ftp.CALC_FILE_CRC32, data=PARAMS))
+    bound = (ftp.WORK_ALLOWANCE + ftp.WORK_PER_S * exchanges * dt) / per_crc
+    assert bound - 2 <= served <= bound + 1  # all the allowance and the rate allow, no more
+
+
+def test_a_burst_the_allowance_cannot_cover_ends_early_and_the_client_asks_for_the_rest(link):
+    client = Client(link)
+    client.one(ftp.OPEN_FILE_RO, data=PARAMS)
+    first = client.request(ftp.BURST_READ_FILE, size=80)  # 80-byte blocks: some 190 of them
+    covered = ftp.EXCHANGE_WORK - ftp.FILE_WORK  # what the packing leaves of the allowance
+    assert len(first) == covered and all(r.opcode == ftp.ACK for r in first)
+    assert first[-1].burst_complete == 1 and not any(r.burst_complete for r in first[:-1])
+    data = _assemble(first) + _burst_all(client, 80, start=covered * 80)
+    assert len(data) > covered * 80 and list(_decoded(data)) == link.vehicle.params.names()
 
 
 def test_ftp_addressed_to_another_system_is_ignored_and_replies_are_never_answered(client):
