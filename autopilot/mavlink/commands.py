@@ -16,7 +16,7 @@ from ..results import Result
 from ..safety.arming import FORCE_ARM_MAGIC, FORCE_DISARM_MAGIC
 from .dialect import mavlink as mav
 
-RETRY_WINDOW_S = 1.5  # on the link clock (wall seconds): clients resend after 0.5-1.5 s of wall time
+RETRY_WINDOW_S = 1.5  # an unconfirmed repeat this close, in wall and in sim time, is a retry
 ALT_MAX_M = 83_000  # the largest altitude ArduPilot's Location holds (LOCATION_ALT_MAX_M)
 ABSOLUTE_ALT_FRAMES = {mav.MAV_FRAME_GLOBAL, mav.MAV_FRAME_GLOBAL_INT}
 # Altitude above home (ArduPilot's terrain frames fall back to home over flat ground, as here).
@@ -230,19 +230,27 @@ def retry_key(c: Command) -> tuple:
 
 
 class CommandService:
-    """Runs each command once: an exact retry (the same key within RETRY_WINDOW_S of link time,
-    the wall time clients retry in, or any resend with confirmation > 0) is answered with the
-    first one's result. Every command gets its COMMAND_ACK, also when its handler fails."""
+    """Runs each command once: a retry of the last command is answered with its result. A retry
+    is the same command (retry_key) sent again with confirmation > 0 (MAVSDK and QGroundControl
+    count their resends there), whatever the speedup; or, with confirmation 0, within
+    RETRY_WINDOW_S of both the link clock (the wall time a client's retry timer runs in) and sim
+    time. ArduCopter runs every command it receives; a deliberate repeat, seconds of vehicle time
+    later, is run again here too (at speedup 20 a script's repeat 0.1 s of wall time later is 2 s
+    of flight). Every command gets its COMMAND_ACK, also when its handler fails."""
 
     def __init__(self):
-        self._last: tuple | None = None  # (key, result, link time)
+        self._last: tuple | None = None  # (key, result, sim time, link time)
 
-    def handle(self, session, c: Command, link_s: float):
-        key = retry_key(c)
+    def _is_retry(self, c: Command, key: tuple, now_s: float, link_s: float) -> bool:
         last = self._last
-        if c.command not in QUERIES and last is not None and last[0] == key and \
-                (c.confirmation > 0 or link_s - last[2] <= RETRY_WINDOW_S):
-            result = last[1]
+        if c.command in QUERIES or last is None or last[0] != key:
+            return False
+        return c.confirmation > 0 or (now_s - last[2] <= RETRY_WINDOW_S and link_s - last[3] <= RETRY_WINDOW_S)
+
+    def handle(self, session, c: Command, now_s: float, link_s: float):
+        key = retry_key(c)
+        if self._is_retry(c, key, now_s, link_s):
+            result = self._last[1]
         else:
             handler = HANDLERS.get(c.command)
             try:
@@ -250,5 +258,5 @@ class CommandService:
             except Exception as exc:  # noqa: BLE001 - a bug: counted, and the command still answered
                 session.handler_failed(f"command {c.command}", exc)
                 result = Result.FAILED
-            self._last = (key, result, link_s)
+            self._last = (key, result, now_s, link_s)
         return session.codec.command_ack_encode(c.command, int(result), 0, 0, c.src[0], c.src[1])

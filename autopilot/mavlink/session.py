@@ -123,7 +123,7 @@ class Session:
             self.vehicle.failsafes.gcs_regained(self.vehicle)
 
     def _on_command(self, c: Command, now_s):
-        ack = self.commands.handle(self, c, self.link_s)
+        ack = self.commands.handle(self, c, now_s, self.link_s)
         if ack.result != Result.ACCEPTED:
             self.counters["refused"] += 1
         self._out.append(ack)

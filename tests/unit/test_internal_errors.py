@@ -132,16 +132,27 @@ def _takeoff(p7: float) -> Command:
     return Command(mav.MAV_CMD_NAV_TAKEOFF, 0, 0, 0, math.nan, 0, 0, p7, 0, False, 0, (255, 190))
 
 
-def test_a_retry_is_recognised_on_the_link_clock_and_with_nan(monkeypatch):
+def test_a_confirmed_retry_is_recognised_at_any_speedup_and_with_nan(monkeypatch):
     monkeypatch.setitem(HANDLERS, mav.MAV_CMD_NAV_TAKEOFF, _count_runs)
     service, session = CommandService(), Counting()
-    service.handle(session, _takeoff(10.0), link_s=100.0)
-    # 0.5 s of wall time later, however much sim time has passed: the same command, again (its
-    # NaN yaw included); answered, not run again
-    ack = service.handle(session, _takeoff(10.0), link_s=100.5)
+    service.handle(session, _takeoff(10.0), now_s=5.0, link_s=100.0)
+    # MAVSDK's resend 0.5 s of wall time later at speedup 20 (10 s of flight), its confirmation
+    # counted up and its NaN yaw included: answered, not run again
+    ack = service.handle(session, _takeoff(10.0)._replace(confirmation=1), now_s=15.0, link_s=100.5)
     assert session.runs == 1 and ack.result == Result.ACCEPTED
-    service.handle(session, _takeoff(10.0), link_s=102.5)  # a new command, well after the window
-    service.handle(session, _takeoff(12.0), link_s=102.6)  # different parameters
+    service.handle(session, _takeoff(12.0)._replace(confirmation=1), now_s=15.1, link_s=100.6)  # another
+    assert session.runs == 2
+
+
+def test_an_unconfirmed_repeat_is_a_retry_only_when_close_in_wall_and_sim_time(monkeypatch):
+    monkeypatch.setitem(HANDLERS, mav.MAV_CMD_NAV_TAKEOFF, _count_runs)
+    service, session = CommandService(), Counting()
+    service.handle(session, _takeoff(10.0), now_s=5.0, link_s=100.0)
+    service.handle(session, _takeoff(10.0), now_s=5.5, link_s=100.5)  # a retry at speedup 1
+    assert session.runs == 1
+    service.handle(session, _takeoff(10.0), now_s=8.0, link_s=100.6)  # 2.5 s of flight later: again
+    assert session.runs == 2
+    service.handle(session, _takeoff(10.0), now_s=8.1, link_s=103.0)  # 2.4 s of wall time later: again
     assert session.runs == 3
 
 
