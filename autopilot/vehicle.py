@@ -282,9 +282,11 @@ class Vehicle:
 
     def guided_goto(self, n: float, e: float, d: float | None, yaw: float | None = None,
                     vel_ff: tuple = (0.0, 0.0, 0.0)) -> Result:
+        yaw = None if yaw is None else wrap_pi(yaw)  # as ArduPilot wraps a heading it is given
         return Result.ACCEPTED if self.mode.goto(self.ctx, n, e, d, yaw, vel_ff) else Result.DENIED
 
     def guided_velocity(self, vn: float, ve: float, vd: float, yaw: float | None = None) -> Result:
+        yaw = None if yaw is None else wrap_pi(yaw)
         return Result.ACCEPTED if self.mode.set_velocity(self.ctx, vn, ve, vd, yaw) else Result.DENIED
 
     def set_yaw(self, angle_deg: float, relative: bool, direction: int) -> Result:

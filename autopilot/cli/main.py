@@ -204,6 +204,7 @@ def build_vehicle(args, scenario, k: int, outs, listen, epoch_us: int):
             endpoint.close()
             raise CliError(f"--state-log: cannot open {path}: {exc.strerror}") from None
     link = Link(session.codec, session.signing, LinkFaults(params, sim.seed))
+    link.on_unpackable = lambda exc, what: vehicle.internal_error(exc, f"packing {what}", in_flight_code=False)
     return Node(vehicle, session, endpoint, link, tlog, state_log), vehicle_outs
 
 

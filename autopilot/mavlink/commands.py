@@ -17,6 +17,7 @@ from ..safety.arming import FORCE_ARM_MAGIC, FORCE_DISARM_MAGIC
 from .dialect import mavlink as mav
 
 RETRY_WINDOW_S = 1.5  # an unconfirmed repeat this close, in wall and in sim time, is a retry
+INT32_MAX = 2**31 - 1
 ALT_MAX_M = 83_000  # the largest altitude ArduPilot's Location holds (LOCATION_ALT_MAX_M)
 ABSOLUTE_ALT_FRAMES = {mav.MAV_FRAME_GLOBAL, mav.MAV_FRAME_GLOBAL_INT}
 # Altitude above home (ArduPilot's terrain frames fall back to home over flat ground, as here).
@@ -176,11 +177,12 @@ def set_message_interval(s, c: Command) -> Result:
 
 
 def get_message_interval(s, c: Command) -> Result:
-    msg_id = _int_param(c.p1, 0, 2**24)
+    msg_id = _int_param(c.p1, 0, 65535)  # MESSAGE_INTERVAL's message_id is 16 bits
     if msg_id is None:
         return Result.DENIED
     interval = s.streams.interval_s(msg_id)
-    s.queue(s.codec.message_interval_encode(msg_id, -1 if interval == math.inf else round(interval * 1e6)))
+    interval_us = -1 if interval == math.inf else min(round(interval * 1e6), INT32_MAX)  # an int32 field
+    s.queue(s.codec.message_interval_encode(msg_id, interval_us))
     return Result.ACCEPTED
 
 

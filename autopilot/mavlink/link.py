@@ -45,7 +45,10 @@ class Link:
         self.faults = faults
         self._system_id = codec.srcSystem
         self._parsers: OrderedDict = OrderedDict()  # sender -> its parser, least recently heard first
-        self.counters = {"decode_errors": 0, "parsers_evicted": 0}
+        self.counters = {"decode_errors": 0, "parsers_evicted": 0, "unpackable": 0}
+        # told (exception, message type) of a message that would not pack: the vehicle's internal
+        # error (cli/main.py wires it), so that a test fails on it
+        self.on_unpackable = None
         self.sender_answerable = False  # whether the last datagram's sender may be answered
 
     def advance(self, unix_s: float, link_s: float) -> None:
@@ -107,7 +110,13 @@ class Link:
         codec = self.codec
         frames = []
         for m in messages:
-            frames.append(m.pack(codec))
+            try:  # costs nothing until a message carries a value its field cannot hold (a bug)
+                frames.append(m.pack(codec))
+            except Exception as exc:  # noqa: BLE001 - the rest of the batch (a COMMAND_ACK) still goes
+                self.counters["unpackable"] += 1
+                if self.on_unpackable is not None:
+                    self.on_unpackable(exc, m.get_type())
+                continue
             codec.seq = (codec.seq + 1) & 0xFF  # as ArduPilot numbers a channel's frames
         faults = self.faults
         if frames and faults is not None and faults.active:

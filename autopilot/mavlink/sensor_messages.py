@@ -11,6 +11,7 @@ import math
 from sim.airframe import GRAVITY_M_S2
 from sim.rigid_body import euler_from_quaternion
 
+from ..control.attitude import wrap_pi
 from .dialect import mavlink as mav
 from .encoding import deg_e7, time_boot_ms
 
@@ -168,7 +169,7 @@ def nav_controller_output(v, codec):
         bearing = int(round(math.degrees(math.atan2(de, dn))))
         if dest[2] is not None:
             alt_error = b.d_m - dest[2]
-    nav_bearing = int(round(math.degrees(v.cascade.yaw_t)))
+    nav_bearing = int(round(math.degrees(wrap_pi(v.cascade.yaw_t))))  # an int16 field
     return codec.nav_controller_output_encode(math.degrees(roll_t), math.degrees(pitch_t), nav_bearing, bearing,
                                               dist, alt_error, 0.0, 0.0)
 

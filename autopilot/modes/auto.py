@@ -31,6 +31,11 @@ class Auto(Mode):
     requires_position = True
     requires_home = True  # items at heights above home, RTL and land items
 
+    def __init__(self) -> None:
+        # Until enter() (which may wait for home): no item flown, no destination.
+        self._index: int | None = None
+        self._rtl: Rtl | None = None
+
     def enter(self, ctx) -> str | None:
         mission = ctx.mission_progress
         # ArduCopter gives one reason for both refusals ("Mode change to AUTO failed: init failed").

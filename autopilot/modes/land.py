@@ -81,6 +81,9 @@ class Rtl(Mode):
 
     def __init__(self, disarm_on_land: bool = True):
         self.disarm_on_land = disarm_on_land  # AUTO's RTL item leaves the disarm to the mission's end
+        # Until enter() (which may wait for home): nothing to fly to, as if still on the ground.
+        self._stage = "GROUND"
+        self._legs: WaypointLegs | None = None
 
     def enter(self, ctx) -> str | None:
         params = ctx.params

@@ -34,6 +34,11 @@ def point_in_polygon(p: tuple, poly: list[tuple]) -> bool:
     return inside
 
 
+def vertex_count(p1: float) -> int:
+    """A polygon vertex's count of vertices (param 1), as a byte holds it: anything else is 0."""
+    return int(p1) if math.isfinite(p1) and 0 <= p1 <= 255 else 0
+
+
 class Failsafes:
     def __init__(self):
         self.battery_level = 0  # 0 ok, 1 low, 2 critical
@@ -99,7 +104,7 @@ class Failsafes:
             n, e, _ = v.ned_of(item.x * 1e-7, item.y * 1e-7, v.origin.alt_m)
             if item.command in (CMD_POLY_INCLUSION, CMD_POLY_EXCLUSION):
                 vertices.append((n, e))
-                if len(vertices) >= max(int(item.p1), 3):
+                if len(vertices) >= max(vertex_count(item.p1), 3):
                     zones.append(("poly", item.command == CMD_POLY_INCLUSION, vertices))
                     vertices = []
             elif item.command in (CMD_CIRCLE_INCLUSION, CMD_CIRCLE_EXCLUSION):

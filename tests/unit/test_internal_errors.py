@@ -166,3 +166,35 @@ def test_set_home_altitude_outside_what_a_location_holds_is_denied(alt_m):
     acks = [m for m in s.receive(wire(msg), v.time_s) if m.get_type() == "COMMAND_ACK"]
     assert acks[0].result == Result.DENIED and v.home == home
     assert s.build(mav.MAVLINK_MSG_ID_HOME_POSITION) is not None
+
+
+def test_a_message_that_cannot_pack_is_reported_and_the_rest_of_the_batch_goes():
+    from autopilot.mavlink.link import Link
+    from autopilot.mavlink.signing import LinkSigning
+    codec = new_codec(1)
+    link = Link(codec, LinkSigning(codec))
+    seen = []
+    link.on_unpackable = lambda exc, what: seen.append(what)
+    bad = codec.message_interval_encode(70_000, 1000)  # message_id is 16 bits
+    ack = codec.command_ack_encode(mav.MAV_CMD_GET_MESSAGE_INTERVAL, 0, 0, 0, 255, 190)
+    frames = link.pack([bad, ack])
+    assert len(frames) == 1 and seen == ["MESSAGE_INTERVAL"] and link.counters["unpackable"] == 1
+
+
+@pytest.mark.parametrize("msg_id", [3e6, 65536, -1, math.nan])
+def test_get_message_interval_of_an_id_that_message_cannot_hold_is_denied(msg_id):
+    v = hovering_vehicle(5.0)
+    s = Session(v, new_codec(1))
+    msg = client_codec().command_long_encode(1, 1, mav.MAV_CMD_GET_MESSAGE_INTERVAL, 0, msg_id, 0, 0, 0, 0, 0, 0)
+    out = s.receive(wire(msg), v.time_s)
+    assert [(m.get_type(), m.result) for m in out] == [("COMMAND_ACK", Result.DENIED)]
+
+
+def test_a_heading_of_any_size_is_wrapped_before_it_is_flown_or_reported():
+    v = hovering_vehicle(5.0)
+    assert v.guided_goto(v.body.n_m, v.body.e_m, v.body.d_m, yaw=1000.0) == Result.ACCEPTED
+    v.run_until(v.time_s + 0.5)
+    s = Session(v, new_codec(1))
+    nav = s.build(mav.MAVLINK_MSG_ID_NAV_CONTROLLER_OUTPUT)
+    assert -180 <= nav.nav_bearing <= 180
+    assert nav.pack(new_codec(1))
