@@ -121,13 +121,17 @@ def firefly_fleet(request, tmp_path_factory):
         pytest.fail(problem, pytrace=False)
     yield run.vehicles
     code = run.stop()
+    internal = run.internal_errors()
     reports = request.node.stash.get(REPORTS_KEY, {})
-    failed = code != 0 or any(r.failed for r in reports.values())
+    failed = code != 0 or bool(internal) or any(r.failed for r in reports.values())
     if not failed and not request.config.getoption("--firefly-keep"):
         shutil.rmtree(evidence, ignore_errors=True)
     if code != 0:
         pytest.fail(f"firefly: the autopilot ended with status {code} (0 expected after SIGTERM): "
                     f"{run.stderr_tail() or 'it said nothing'}", pytrace=False)
+    if internal:  # Firefly's own bug: what the test saw may not be what ArduCopter would do
+        pytest.fail(f"firefly: the vehicle had an internal error (a Firefly bug, please report it): "
+                    f"{internal[0]}", pytrace=False)
 
 
 @pytest.fixture

@@ -124,6 +124,14 @@ class FireflyRun:
         raise FireflyError(f"firefly: the autopilot exited with status {self.process.returncode}"
                            + (f": {self.stderr_tail()}" if self.stderr_tail() else ""))
 
+    def internal_errors(self) -> list[str]:
+        """The internal errors the process reported (the lines it writes to stderr for each)."""
+        try:
+            said = self.stderr_path.read_text(errors="replace").splitlines()
+        except OSError:
+            return []
+        return [line for line in said if ": internal error: " in line]
+
     def stderr_tail(self, lines: int = 20) -> str:
         try:
             said = [line for line in self.stderr_path.read_text(errors="replace").splitlines() if line.strip()]
