@@ -7,7 +7,10 @@ A key is given as one line of text (a `--signing-key` file, or `[signing] key` i
 
 The key set over the wire by SETUP_SIGNING and the signing timestamp live in the instance's state
 directory (signing.json, written atomically, readable only by its owner), like ArduPilot's
-storage: the key survives a restart and the timestamp never goes back.
+storage: the key survives a restart and the timestamp never goes back. The timestamp kept is a
+high-water mark saved before any frame stamped above it is let in (autopilot/mavlink/signing.py),
+so a restart, even after kill -9, refuses what was accepted before it and starts from the larger
+of that mark and the clock.
 """
 from __future__ import annotations
 

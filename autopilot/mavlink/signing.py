@@ -7,14 +7,40 @@ codec: this object owns that codec's signing state (key, link id, timestamp), so
 packs is signed exactly when a key is set, as ArduPilot does. Nothing here reads a clock: the
 wall-clock time comes in through `advance`, from the I/O edge by way of the link.
 
-The rules, from mavlink.io "Message Signing" and ArduPilot's GCS_Signing.cpp:
+The rules, from mavlink.io "Message Signing" and ArduPilot's GCS_Signing.cpp (and the C
+library's mavlink_signature_check, which ArduPilot uses):
 - signature = first 6 bytes of SHA-256(key + frame up to and including link id and timestamp);
 - unsigned or wrongly signed frames are dropped, except RADIO_STATUS and RADIO (ArduPilot's
   accept list: a telemetry radio cannot sign what it injects);
 - per stream (system id, component id, link id) a timestamp must exceed the last one accepted;
-  a new stream must not be more than a minute behind the local timestamp;
+  a new stream must not be more than a minute behind the local timestamp (and here, new since a
+  restart, must be above the saved mark: see below);
+- (here) no timestamp may be more than a minute ahead of the vehicle's clock: see below;
 - the local timestamp (10 µs units since 2015-01-01) never goes back: it is the larger of the
-  wall clock handed in, every accepted timestamp and, after a restart, the saved one plus a minute.
+  wall clock handed in (ArduPilot takes GPS time), every accepted timestamp and, after a
+  restart, the saved one.
+
+Across a restart. ArduPilot saves the timestamp every 30 s and boots a minute past the saved one
+("prevents a window for replay attacks", says its comment). Each restart thus moves it up to a
+minute ahead of the clock, a minute more at each quick restart; and since a stream new to the
+rebooted vehicle may be a minute behind, a frame accepted in the up to 30 s since the last save
+is accepted again after a crash. Here the saved timestamp is a high-water mark that covers every
+timestamp accepted before the process ended, however it ended: before a frame stamped above the
+saved mark is let in, the mark is saved RESERVE past it (so a save every RESERVE of timestamps
+while signed frames arrive, besides ArduPilot's one every 30 s; a disk that refuses it is
+counted, and the frame let in all the same). At boot the local timestamp is the larger of that
+mark and the clock, at most RESERVE ahead of the clock however many restarts, and a stream new
+since the boot must be stamped above the mark: a frame captured before the restart is refused
+after it (a client with a correct clock is past the mark once the restart has taken RESERVE).
+
+Frames from the future. ArduPilot lets a correctly signed frame move its timestamp forward
+without limit, and keeps it: one frame stamped a year ahead (a key holder with a wrong clock)
+moves the vehicle a year ahead for good, and a client that starts a stream with a correct clock
+is refused as more than a minute behind, across restarts too. Here, as a deliberate difference,
+a frame stamped more than FUTURE_WINDOW (a minute, ArduPilot's own tolerance the other way) ahead
+of the vehicle's clock is dropped ("future"), and SETUP_SIGNING's initial timestamp is taken up
+to that window. No frame moves the vehicle more than a minute ahead of its clock, so a correct
+clock is never refused as behind, and after a restart for a minute at most.
 
 Unlike pymavlink's own verifier, a stream's timestamp is recorded only once the signature is
 good, so a forged frame with a huge timestamp cannot lock a real client out.
@@ -29,8 +55,9 @@ from .dialect import mavlink as mav
 SIGNING_EPOCH_UNIX_S = 1420070400  # 2015-01-01 00:00:00 UTC
 TICKS_PER_S = 100_000  # the signing timestamp counts 10 µs units
 NEW_STREAM_WINDOW = 60 * TICKS_PER_S
-SAVE_EVERY = 30 * TICKS_PER_S  # ArduPilot saves the timestamp every 30 s ...
-RESTART_MARGIN = 60 * TICKS_PER_S  # ... and restarts a minute past the saved one
+FUTURE_WINDOW = 60 * TICKS_PER_S  # how far ahead of the vehicle's clock a frame may be stamped
+SAVE_EVERY = 30 * TICKS_PER_S  # the local timestamp is saved this often, as ArduPilot does
+RESERVE = TICKS_PER_S // 2  # the saved high-water mark runs this far past the accepted timestamps
 MAX_STREAMS = 256  # streams only a key holder can create; stale ones are forgotten when full
 KEY_LEN = 32
 MAX_TIMESTAMP = (1 << 48) - 1  # 48 bits on the wire
@@ -40,7 +67,7 @@ _V1_MAGIC, _V2_MAGIC = 0xFE, 0xFD
 _V2_HEADER_LEN, _CRC_LEN, _SIGNATURE_BLOCK_LEN, _SIGNATURE_LEN = 10, 2, 13, 6
 _IFLAG_SIGNED = 0x01
 
-DROP_REASONS = ("unsigned", "bad_signature", "replay", "stream_table_full")
+DROP_REASONS = ("unsigned", "bad_signature", "replay", "future", "stream_table_full")
 
 
 def signing_time(unix_s: float) -> int:
@@ -71,7 +98,9 @@ class LinkSigning:
         self.last_verified = False  # whether admit() last let a frame in for a good signature
         self.setup_key: bytes | None = None  # the key set by SETUP_SIGNING, which is persisted
         self.persist = None  # callable(record) -> bool that saves record() durably, or None
-        self._saved_timestamp = 0
+        self._saved_timestamp = 0  # the high-water mark saved last
+        self._boot_mark = 0  # the mark saved before this boot: a new stream must be above it
+        self._clock = 0  # the wall clock last handed in, as a signing timestamp (0: none yet)
         self.counters = {"accepted_signed": 0, "accepted_unsigned": 0, "setup_applied": 0,
                          "setup_refused_armed": 0, "save_failed": 0}
         self.counters.update({f"dropped_{r}": 0 for r in DROP_REASONS})
@@ -89,6 +118,11 @@ class LinkSigning:
     def timestamp(self) -> int:
         return self._out.timestamp
 
+    @property
+    def saved_timestamp(self) -> int:
+        """The high-water mark saved last: above every timestamp accepted so far."""
+        return self._saved_timestamp
+
     def set_key(self, key: bytes | None) -> None:
         """Sign and require signatures with `key`; None turns signing off."""
         if key is not None and (len(key) != KEY_LEN or not any(key)):
@@ -97,25 +131,39 @@ class LinkSigning:
         self._out.secret_key = key
         self._out.sign_outgoing = key is not None
 
-    def advance(self, timestamp: int) -> None:
-        """Move the local timestamp forward to `timestamp` (never back); save it now and then."""
-        if self._out.timestamp < timestamp <= MAX_TIMESTAMP:
-            self._out.timestamp = timestamp
+    def advance(self, clock: int) -> None:
+        """The wall clock now, as a signing timestamp: the local timestamp moves forward to it
+        (never back), and is saved now and then."""
+        self._clock = clock
+        self._forward(clock)
         if self.enabled and self._out.timestamp - self._saved_timestamp >= SAVE_EVERY:
             self.save()
 
+    def _forward(self, timestamp: int) -> None:
+        if self._out.timestamp < timestamp <= MAX_TIMESTAMP:
+            self._out.timestamp = timestamp
+
+    def _latest_allowed(self) -> int:
+        """The latest timestamp a frame may carry: FUTURE_WINDOW past the vehicle's own time (its
+        clock, or the mark it booted with if the clock is behind it). Before any clock is handed
+        in there is nothing to judge by, and no limit (as ArduPilot before its GPS time)."""
+        if not self._clock:
+            return MAX_TIMESTAMP
+        return max(self._clock, self._boot_mark) + FUTURE_WINDOW
+
     def record(self) -> dict:
-        """What survives a restart: the SETUP_SIGNING key and the local timestamp."""
+        """What survives a restart: the SETUP_SIGNING key and the high-water mark."""
         return {"setup_key": self.setup_key.hex() if self.setup_key else None,
-                "timestamp": self._out.timestamp}
+                "timestamp": self._saved_timestamp}
 
     def restore(self, record) -> None:
         """Take back record() after a restart; a malformed record is ignored."""
         if not isinstance(record, dict):
             return
         stamp = record.get("timestamp")
-        if isinstance(stamp, int) and not isinstance(stamp, bool) and stamp > 0:
-            self.advance(stamp + RESTART_MARGIN)
+        if isinstance(stamp, int) and not isinstance(stamp, bool) and 0 < stamp <= MAX_TIMESTAMP:
+            self._boot_mark = self._saved_timestamp = stamp
+            self._forward(stamp)
         try:
             key = bytes.fromhex(record.get("setup_key") or "")
         except (TypeError, ValueError):
@@ -124,8 +172,9 @@ class LinkSigning:
             self.setup_key = key
             self.set_key(key)
 
-    def save(self) -> None:
-        self._saved_timestamp = self._out.timestamp
+    def save(self, mark: int = 0) -> None:
+        """Save the high-water mark: at least `mark`, the local timestamp and the last mark."""
+        self._saved_timestamp = max(self._saved_timestamp, self._out.timestamp, mark)
         if self.persist is not None and not self.persist(self.record()):
             self.counters["save_failed"] += 1
 
@@ -167,12 +216,18 @@ class LinkSigning:
         if last is not None and stamp <= last:
             return "replay"
         if last is None:
-            if stamp + NEW_STREAM_WINDOW < self._out.timestamp:
+            # a new stream: not more than a minute old (ArduPilot), and, new since the boot,
+            # above every timestamp accepted before it (the saved mark)
+            if stamp + NEW_STREAM_WINDOW < self._out.timestamp or stamp <= self._boot_mark:
                 return "replay"
-            if len(self.streams) >= MAX_STREAMS and not self._forget_stale_streams():
-                return "stream_table_full"
+        if stamp > self._latest_allowed():
+            return "future"
+        if last is None and len(self.streams) >= MAX_STREAMS and not self._forget_stale_streams():
+            return "stream_table_full"
+        if stamp > self._saved_timestamp:  # kept before it is let in: a kill cannot lose it
+            self.save(stamp + RESERVE)
         self.streams[stream] = stamp
-        self.advance(stamp)
+        self._forward(stamp)
         return None
 
     def _forget_stale_streams(self) -> bool:
@@ -195,7 +250,7 @@ class LinkSigning:
         key = bytes(msg.secret_key)
         self.setup_key = key if len(key) == KEY_LEN and any(key) else None
         self.set_key(self.setup_key)
-        self.advance(msg.initial_timestamp)
+        self._forward(min(msg.initial_timestamp, self._latest_allowed()))  # see "Frames from the future"
         self.counters["setup_applied"] += 1
         self.save()
 

@@ -12,8 +12,8 @@ from hypothesis import strategies as st
 
 from autopilot.mavlink.dialect import new_codec
 from autopilot.mavlink.session import Session
-from autopilot.mavlink.signing import (MAX_STREAMS, NEW_STREAM_WINDOW, RESTART_MARGIN, TICKS_PER_S,
-                                       LinkSigning, frame_signature, signing_time)
+from autopilot.mavlink.signing import (FUTURE_WINDOW, MAX_STREAMS, NEW_STREAM_WINDOW, RESERVE, SAVE_EVERY,
+                                       TICKS_PER_S, LinkSigning, frame_signature, signing_time)
 
 from ._util import GCS_COMPONENT, GCS_SYSTEM, mav, ready_vehicle, wire
 
@@ -224,13 +224,113 @@ def test_setup_signing_for_another_system_is_ignored():
     assert not session.signing.enabled
 
 
-def test_restart_continues_a_minute_past_the_saved_timestamp_with_the_setup_key(link):
+# ----- across restarts: the saved high-water mark ------------------------------------------------
+class Disk:
+    """What a persist callback wrote last: what a process killed at any instant leaves behind."""
+
+    def __init__(self):
+        self.records = []
+
+    def __call__(self, record) -> bool:
+        self.records.append(dict(record))
+        return True
+
+    @property
+    def last(self) -> dict:
+        return self.records[-1]
+
+
+def attached(clock: int, record=None, key=KEY) -> tuple[LinkSigning, Disk]:
+    """A link booted at wall clock `clock` from `record`, saving to a Disk (as attach_state does)."""
+    signing, disk = LinkSigning(new_codec(1)), Disk()
+    signing.restore(record)
+    signing.set_key(key)
+    signing.persist = disk
+    signing.advance(clock)
+    return signing, disk
+
+
+def test_an_accepted_timestamp_is_saved_before_its_frame_is_let_in():
+    signing, disk = attached(NOW)
+    client = signing_client()
+    for n in range(50):  # a client at 10 frames a second, for 5 s
+        client.signing.timestamp = NOW + n * TICKS_PER_S // 10
+        signing.advance(client.signing.timestamp)
+        frame = arm_frame(client)
+        saved = len(disk.records)
+        assert signing.admit(frame)
+        stamp = int.from_bytes(frame[-12:-6], "little")
+        assert disk.last["timestamp"] >= stamp  # on disk before admit() returned
+        assert len(disk.records) - saved <= 1
+    # a save every RESERVE of timestamps, not one a frame
+    assert len(disk.records) <= 2 + 5 * TICKS_PER_S // RESERVE
+
+
+def test_restarts_do_not_move_the_timestamp_ahead_of_the_clock():
+    clock, record = NOW, None
+    for _ in range(3):  # three restarts a few seconds apart, each after a client's frame
+        signing, disk = attached(clock, record)
+        assert clock <= signing.timestamp <= clock + RESERVE
+        client = signing_client(timestamp=clock + TICKS_PER_S // 2)
+        assert signing.admit(arm_frame(client))
+        record = disk.last  # killed: what is on disk stays
+        clock += 3 * TICKS_PER_S
+    # ArduPilot's rule (a minute past the saved timestamp at each boot) would be three minutes ahead
+
+
+def test_a_frame_accepted_before_a_kill_is_refused_after_the_restart():
+    signing, disk = attached(NOW)
+    client = signing_client(timestamp=NOW + TICKS_PER_S // 10)
+    captured = [arm_frame(client) for _ in range(3)]
+    assert all(signing.admit(f) for f in captured)
+    after, _ = attached(NOW + 2 * TICKS_PER_S, disk.last)  # killed, restarted two seconds later
+    assert not any(after.admit(f) for f in captured)
+    assert after.counters["dropped_replay"] == 3
+    # the same client, its clock right, is welcome; so is one that adopts the vehicle's timestamp
+    assert after.admit(arm_frame(signing_client(timestamp=NOW + 2 * TICKS_PER_S)))
+    assert after.admit(arm_frame(signing_client(timestamp=after.timestamp + 1, link_id=3)))
+
+
+def test_a_restart_keeps_the_setup_key_and_the_mark_as_its_timestamp(link):
     link.setup_key = KEY
-    record = link.record()
+    link.save()
     after = LinkSigning(new_codec(1))
-    after.restore(record)
+    after.restore(link.record())
     assert after.key == KEY
-    assert after.timestamp == NOW + RESTART_MARGIN
+    assert after.timestamp == link.saved_timestamp == link.timestamp  # not a minute past it
+
+
+def test_the_timestamp_is_saved_every_30_s_of_clock_as_ardupilot_saves_it():
+    signing, disk = attached(NOW)
+    saves = len(disk.records)
+    signing.advance(NOW + SAVE_EVERY - 1)
+    assert len(disk.records) == saves
+    signing.advance(NOW + SAVE_EVERY + 1)
+    assert len(disk.records) == saves + 1 and disk.last["timestamp"] == NOW + SAVE_EVERY + 1
+
+
+# ----- frames from the future ---------------------------------------------------------------------
+def test_a_frame_more_than_a_minute_ahead_of_the_clock_is_dropped_and_moves_nothing(link):
+    assert not link.admit(arm_frame(signing_client(timestamp=NOW + FUTURE_WINDOW + TICKS_PER_S)))
+    assert link.counters["dropped_future"] == 1 and link.timestamp == NOW and not link.streams
+    assert link.admit(arm_frame(signing_client(timestamp=NOW + FUTURE_WINDOW - TICKS_PER_S)))
+
+
+def test_a_key_holder_a_year_ahead_locks_no_one_out_not_even_across_a_restart():
+    year = 365 * 24 * 3600 * TICKS_PER_S
+    signing, disk = attached(NOW)
+    assert not signing.admit(arm_frame(signing_client(timestamp=NOW + year, system=77)))
+    assert signing.admit(arm_frame(signing_client(timestamp=NOW + 1)))  # a correct clock
+    after, _ = attached(NOW + 5 * TICKS_PER_S, disk.last)
+    assert after.timestamp < NOW + 5 * TICKS_PER_S + RESERVE
+    assert after.admit(arm_frame(signing_client(timestamp=NOW + 5 * TICKS_PER_S, link_id=1)))
+
+
+def test_setup_signing_takes_its_initial_timestamp_up_to_a_minute_ahead():
+    session = Session(ready_vehicle(), new_codec(1))
+    session.signing.advance(NOW)
+    session.receive(setup_signing(KEY, NOW + 10 ** 12), 0.0)
+    assert session.signing.key == KEY and session.signing.timestamp == NOW + FUTURE_WINDOW
 
 
 @pytest.mark.parametrize("record", [None, [], {"setup_key": "zz", "timestamp": "x"},
@@ -243,5 +343,5 @@ def test_malformed_saved_state_is_ignored(record):
 
 def test_summary_names_each_drop_reason(link):
     link.admit(arm_frame(new_codec(GCS_SYSTEM, GCS_COMPONENT)))
-    assert link.summary() == ("signing on: dropped 1 unsigned, 0 bad signature, 0 replay, "
+    assert link.summary() == ("signing on: dropped 1 unsigned, 0 bad signature, 0 replay, 0 future, "
                               "0 stream table full")
