@@ -23,6 +23,10 @@ class ProbeTimeout(RuntimeError):
     pass
 
 
+class VehicleSilent(ProbeTimeout):
+    """The vehicle's clock stopped: it died or stopped sending (see Client.stall_s)."""
+
+
 class Client:
     def __init__(self, url: str, streams_hz: int | None = 10):
         self.url = url
@@ -41,6 +45,10 @@ class Client:
         self.received: dict[str, int] = {}  # messages of each type so far, to wait for one sent after a moment
         self.listeners: list = []  # callables given every message from the vehicle (protocol exchanges)
         self._last_hb_sent = 0.0
+        # With stall_s set (a probe that expects a vehicle may die), a wait ends with
+        # VehicleSilent once vehicle time has not moved for that many wall seconds.
+        self.stall_s: float | None = None
+        self._clock_moved_wall = time.monotonic()
         self.wait(lambda: self.mode is not None, 60, what="first HEARTBEAT")
         if streams_hz:  # ArduCopter streams nothing on a link until asked, as MAVProxy asks
             self.request_streams(streams_hz)
@@ -64,6 +72,7 @@ class Client:
         stamp = getattr(msg, "time_boot_ms", None)
         if stamp is not None and stamp > self.now_ms and kind != "TIMESYNC":
             self.now_ms = stamp
+            self._clock_moved_wall = time.monotonic()
         self.last[kind] = msg
         self.received[kind] = self.received.get(kind, 0) + 1
         if self.logging:
@@ -97,6 +106,8 @@ class Client:
         while not condition():
             if self.now_ms - start_ms > sim_s * 1000 or time.monotonic() - wall0 > WALL_LIMIT_S:
                 raise ProbeTimeout(f"no {what} within {sim_s:g} s of vehicle time")
+            if self.stall_s is not None and time.monotonic() - self._clock_moved_wall > self.stall_s:
+                raise VehicleSilent(f"no {what}: vehicle time stood still for {self.stall_s:g} s of wall time")
             self.pump()
         return (self.now_ms - start_ms) / 1000.0
 

@@ -8,6 +8,7 @@ from __future__ import annotations
 import os
 import shutil
 import subprocess
+import tempfile
 from pathlib import Path
 
 from groundstation.flight.autopilot_process import free_udp_port, start_autopilot, stop_process
@@ -54,19 +55,36 @@ class FireflyTarget:
     def __init__(self, speedup: str = "20"):
         self.speedup = speedup
         self.process = None
+        self.scenario_dir = None
 
-    def boot(self, streams_hz: int | None = 10, realistic_startup: bool = False) -> Client:
+    def boot(self, streams_hz: int | None = 10, realistic_startup: bool = False,
+             params: dict | None = None) -> Client:
         """A fresh vehicle; with streams_hz, streams requested and ready to arm; with
-        realistic_startup, booting as ArduCopter does instead of armable at once."""
+        realistic_startup, booting as ArduCopter does instead of armable at once; with params,
+        those parameters in force from power-on (SIM_* faults only: a scenario's [faults])."""
         self.close()
         extra = (f"--home={HOME}",) + (("--startup", "realistic") if realistic_startup else ())
+        if params:
+            extra += ("--scenario", str(self._faults_scenario(params)))
         self.process = start_autopilot(speedup=self.speedup, extra=extra, capture_stderr=True)
         return ready(Client(self.process.pymavlink_url, streams_hz), streams_hz)
+
+    def _faults_scenario(self, params: dict) -> Path:
+        unsupported = [name for name in params if not name.startswith("SIM_")]
+        if unsupported:
+            raise ValueError(f"Firefly takes only SIM_* parameters at boot (a scenario's [faults]), not {unsupported}")
+        self.scenario_dir = tempfile.TemporaryDirectory(prefix="firefly-parity-")
+        path = Path(self.scenario_dir.name) / "faults.toml"
+        path.write_text("[faults]\n" + "".join(f"{name} = {float(value)!r}\n" for name, value in params.items()))
+        return path
 
     def close(self) -> None:
         if self.process is not None:
             self.process.stop()
             self.process = None
+        if self.scenario_dir is not None:
+            self.scenario_dir.cleanup()
+            self.scenario_dir = None
 
 
 class ArduCopterTarget:
@@ -78,14 +96,24 @@ class ArduCopterTarget:
         self.out_dir, self.instance, self.speedup, self.runner = Path(out_dir), instance, speedup, runner
         self.process = None
 
-    def boot(self, streams_hz: int | None = 10, realistic_startup: bool = True) -> Client:
-        """A fresh vehicle (its start-up is always ArduCopter's own)."""
+    def boot(self, streams_hz: int | None = 10, realistic_startup: bool = True,
+             params: dict | None = None) -> Client:
+        """A fresh vehicle (its start-up is always ArduCopter's own); with params, those
+        parameters in force from power-on: a defaults file after the runner's own (SITL takes the
+        last --defaults, so the runner's files are named again before it)."""
         self.close()
-        shutil.rmtree(self.out_dir / f"run-{self.instance}", ignore_errors=True)
+        run_dir = self.out_dir / f"run-{self.instance}"
+        shutil.rmtree(run_dir, ignore_errors=True)
         port = free_udp_port()
+        extra = []
+        if params:
+            run_dir.mkdir(parents=True)
+            (run_dir / "boot.parm").write_text("".join(f"{name} {value:g}\n" for name, value in params.items()))
+            copter = (self.out_dir / "ardupilot/Tools/autotest/default_params/copter.parm").resolve()
+            extra = ["--defaults", f"{copter},nofpe.parm,boot.parm"]  # relative: the runner works in run_dir
         self.process = subprocess.Popen(
             [str(self.runner), str(self.out_dir), str(self.instance), str(port), str(self.speedup),
-             "--home", HOME], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
+             "--home", HOME, *extra], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
         return ready(Client(f"udpin:127.0.0.1:{port}", streams_hz), streams_hz)
 
     def close(self) -> None:

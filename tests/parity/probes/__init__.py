@@ -1,4 +1,5 @@
 """Probes by area. Each module has AREA and run(target) -> {probe name: Trace}."""
-from . import commands, flight, ftp, mavsdk_client, missions, modes, params, startup, telemetry
+from . import commands, flight, ftp, mavsdk_client, missions, modes, params, refusals, startup, telemetry
 
-AREAS = {m.AREA: m for m in (commands, modes, telemetry, flight, missions, mavsdk_client, params, ftp, startup)}
+AREAS = {m.AREA: m for m in (commands, modes, telemetry, flight, missions, mavsdk_client, params, ftp, startup,
+                             refusals)}
