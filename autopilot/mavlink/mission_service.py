@@ -17,116 +17,17 @@ are about packets in flight, which take wall time whatever the speedup.
 """
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 
 from ..mission import FENCE, MISSION, RALLY, MissionItem
 from ..results import Severity
 from .dialect import mavlink as mav
+from .mission_checks import GLOBAL_FRAMES, check_item, check_list_item, fence_problem, item_from_message
 from .telemetry import mission_current
 
 RETRY_S = 0.4
 MAX_RETRIES = 10
 MAX_ITEMS = {MISSION: 700, FENCE: 200, RALLY: 50}
-
-GLOBAL_FRAMES = {mav.MAV_FRAME_GLOBAL, mav.MAV_FRAME_GLOBAL_RELATIVE_ALT, mav.MAV_FRAME_GLOBAL_INT,
-                 mav.MAV_FRAME_GLOBAL_RELATIVE_ALT_INT, mav.MAV_FRAME_GLOBAL_TERRAIN_ALT,
-                 mav.MAV_FRAME_GLOBAL_TERRAIN_ALT_INT}
-ALLOWED_FRAMES = GLOBAL_FRAMES | {mav.MAV_FRAME_MISSION, mav.MAV_FRAME_LOCAL_NED}
-# An item with a position takes it as latitude/longitude/altitude: ArduCopter's AP_Mission refuses
-# any other frame for one (a local NED waypoint is MAV_MISSION_UNSUPPORTED_FRAME).
-LOCATION_FRAMES = GLOBAL_FRAMES | {mav.MAV_FRAME_MISSION}
-# Commands whose x/y are a latitude/longitude that must make sense.
-POSITIONAL = {mav.MAV_CMD_NAV_WAYPOINT, mav.MAV_CMD_NAV_LOITER_UNLIM, mav.MAV_CMD_NAV_LOITER_TURNS,
-              mav.MAV_CMD_NAV_LOITER_TIME, mav.MAV_CMD_NAV_LAND, mav.MAV_CMD_NAV_TAKEOFF,
-              mav.MAV_CMD_NAV_SPLINE_WAYPOINT, mav.MAV_CMD_NAV_FENCE_POLYGON_VERTEX_INCLUSION,
-              mav.MAV_CMD_NAV_FENCE_POLYGON_VERTEX_EXCLUSION, mav.MAV_CMD_NAV_FENCE_CIRCLE_INCLUSION,
-              mav.MAV_CMD_NAV_FENCE_CIRCLE_EXCLUSION, mav.MAV_CMD_NAV_RALLY_POINT,
-              mav.MAV_CMD_NAV_FENCE_RETURN_POINT}
-
-
-# As AP_Mission checks an item's params: infinity never, NaN only where it means "unchanged"
-# (a yaw left as it is); commands 0 and 1 are reserved (MAV_MISSION_INVALID).
-NAN_ALLOWED = {mav.MAV_CMD_NAV_WAYPOINT: (4,), mav.MAV_CMD_NAV_LOITER_UNLIM: (4,), mav.MAV_CMD_NAV_LAND: (4,),
-               mav.MAV_CMD_NAV_TAKEOFF: (4,), mav.MAV_CMD_NAV_VTOL_TAKEOFF: (4,), mav.MAV_CMD_NAV_VTOL_LAND: (3, 4)}
-RESERVED_COMMANDS = {0, 1}
-
-
-def item_from_message(msg) -> MissionItem:
-    """MISSION_ITEM_INT as is; MISSION_ITEM (float degrees) scaled to the INT convention."""
-    if msg.get_type() == "MISSION_ITEM_INT":
-        x, y = msg.x, msg.y
-    elif msg.frame in GLOBAL_FRAMES and math.isfinite(msg.x) and math.isfinite(msg.y):
-        x, y = int(round(msg.x * 1e7)), int(round(msg.y * 1e7))
-    else:
-        x, y = (int(msg.x) if math.isfinite(msg.x) else 2**31), (int(msg.y) if math.isfinite(msg.y) else 2**31)
-    return MissionItem(msg.command, msg.frame, msg.param1, msg.param2, msg.param3, msg.param4, x, y,
-                       msg.z, msg.autocontinue)
-
-
-FENCE_COMMANDS = {mav.MAV_CMD_NAV_FENCE_POLYGON_VERTEX_INCLUSION, mav.MAV_CMD_NAV_FENCE_POLYGON_VERTEX_EXCLUSION,
-                  mav.MAV_CMD_NAV_FENCE_RETURN_POINT, mav.MAV_CMD_NAV_FENCE_CIRCLE_EXCLUSION,
-                  mav.MAV_CMD_NAV_FENCE_CIRCLE_INCLUSION}
-VERTEX_COMMANDS = {mav.MAV_CMD_NAV_FENCE_POLYGON_VERTEX_INCLUSION, mav.MAV_CMD_NAV_FENCE_POLYGON_VERTEX_EXCLUSION}
-
-
-def position_result(item: MissionItem) -> int:
-    """A latitude and longitude (1e-7 degrees) on the globe, or which of them is not."""
-    if not -900_000_000 <= item.x <= 900_000_000:
-        return mav.MAV_MISSION_INVALID_PARAM5_X
-    if not -1_800_000_000 <= item.y <= 1_800_000_000:
-        return mav.MAV_MISSION_INVALID_PARAM6_Y
-    return mav.MAV_MISSION_ACCEPTED
-
-
-def check_fence_item(item: MissionItem) -> int:
-    """As ArduPilot's fence protocol converts an item: a global frame, a fence command, a vertex
-    count a byte holds."""
-    if item.frame not in GLOBAL_FRAMES:
-        return mav.MAV_MISSION_UNSUPPORTED_FRAME
-    if item.command not in FENCE_COMMANDS:
-        return mav.MAV_MISSION_UNSUPPORTED
-    if item.command in VERTEX_COMMANDS and item.p1 > 255:
-        return mav.MAV_MISSION_INVALID_PARAM1
-    return mav.MAV_MISSION_ACCEPTED
-
-
-def check_rally_item(item: MissionItem) -> int:
-    """As ArduPilot's rally protocol converts an item: a rally point, on the globe, at an altitude
-    a 16-bit integer holds, in a global frame."""
-    if item.command != mav.MAV_CMD_NAV_RALLY_POINT:
-        return mav.MAV_MISSION_UNSUPPORTED
-    if (result := position_result(item)) != mav.MAV_MISSION_ACCEPTED:
-        return result
-    if not -32768 <= item.z <= 32767:  # NaN fails this too
-        return mav.MAV_MISSION_INVALID_PARAM7
-    if item.frame not in GLOBAL_FRAMES:
-        return mav.MAV_MISSION_UNSUPPORTED_FRAME
-    return mav.MAV_MISSION_ACCEPTED
-
-
-def check_item(item: MissionItem, kind: int = MISSION) -> int:
-    """MAV_MISSION_RESULT for one item of a list of `kind`: ACCEPTED or the first problem found."""
-    if kind == FENCE:
-        return check_fence_item(item)
-    if kind == RALLY:
-        return check_rally_item(item)
-    if item.frame not in ALLOWED_FRAMES or (item.command in POSITIONAL and item.frame not in LOCATION_FRAMES):
-        return mav.MAV_MISSION_UNSUPPORTED_FRAME
-    if item.command in RESERVED_COMMANDS:
-        return mav.MAV_MISSION_INVALID
-    nan_allowed = NAN_ALLOWED.get(item.command, ())
-    for n, value in enumerate((item.p1, item.p2, item.p3, item.p4), start=1):
-        if math.isinf(value) or (math.isnan(value) and n not in nan_allowed):
-            return getattr(mav, f"MAV_MISSION_INVALID_PARAM{n}")
-    # z is an altitude only for positional items; elsewhere ArduCopter ignores it, NaN included
-    # (MAVSDK's mission plugin sends DO_CHANGE_SPEED with z = NaN).
-    if math.isinf(item.z) or abs(item.z) > 100_000 or (math.isnan(item.z) and item.command in POSITIONAL):
-        return mav.MAV_MISSION_INVALID_PARAM7
-    if item.command in POSITIONAL and item.frame in GLOBAL_FRAMES:
-        return position_result(item)
-    return mav.MAV_MISSION_ACCEPTED
-
 
 def saved_result(saved: bool) -> int:
     """A transfer's MISSION_ACK: ACCEPTED, or MAV_MISSION_ERROR when storage refused the change
@@ -246,12 +147,13 @@ class MissionService:
             return [self._request(up, link_s)] if msg.seq > len(up.items) else []
         item = item_from_message(msg)
         result = check_item(item, up.kind)
+        if result == mav.MAV_MISSION_ACCEPTED:
+            result = check_list_item(item, up.kind, msg.seq, up.count, len(self.store.items(MISSION)) + 1)
         if result == mav.MAV_MISSION_ACCEPTED and up.kind != FENCE:
             result = self._write(up.kind, msg.seq, item)
-        if result != mav.MAV_MISSION_ACCEPTED:
+        if result != mav.MAV_MISSION_ACCEPTED:  # refused in silence, as ArduCopter refuses
             self._end(up)
             self.refused += 1
-            self.vehicle.notify(f"Mission upload refused: item {msg.seq} invalid", Severity.WARNING)
             return [self._ack(peer, result, up.kind)]
         up.items.append(item)
         up.retries = 0
@@ -260,6 +162,12 @@ class MissionService:
         saved = self._end(up)
         self._completed = (peer, up.kind, up.count - 1)
         if up.kind == FENCE:
+            problem = fence_problem(up.items)
+            if problem is not None:  # AC_PolyFence_loader keeps the fence it had
+                self.refused += 1
+                self.vehicle.notify(problem, Severity.WARNING)
+                self.vehicle.notify("Fence validation failed", Severity.WARNING)
+                return [self._ack(peer, mav.MAV_MISSION_ERROR, up.kind)]
             saved = self.store.replace(up.kind, up.items)
         if up.kind == MISSION:
             self.vehicle.notify("Flight plan received")
