@@ -100,6 +100,9 @@ class Vehicle:
         self._mode_entered = True
         self.setpoint = Setpoint()
         self.home_ned: tuple | None = None
+        # Where heights are measured from until home is set: the ground the vehicle boots on (its
+        # barometer's zero, as ArduCopter's altitude without a GPS origin)
+        self.boot_ground_d = self.sim.state.body.d_m
         self.home_sets = 0  # times home was set: a cleared mission lists home again after the next
         self.pilot_input = PilotInput()
         self.events: list[tuple[int, str]] = []
@@ -125,6 +128,13 @@ class Vehicle:
 
     def has_position(self) -> bool:
         return self.estimate.has_position()
+
+    @property
+    def height_ref_d(self) -> float:
+        """The down coordinate heights are measured from: home's, or before home the ground the
+        vehicle booted on."""
+        home = self.home_ned
+        return self.boot_ground_d if home is None else home[2]
 
     @property
     def pilot(self) -> PilotInput:
@@ -210,7 +220,7 @@ class Vehicle:
             for text in refusals:
                 self.notify(text, Severity.CRITICAL)
             return Result.FAILED
-        if self.home_ned is None:
+        if self.home_ned is None and self.estimate.origin_known():  # without a fix it stays unset
             self._set_home_here()
         self.arming.arm()
         self.land_detector.set_landed()
@@ -273,7 +283,7 @@ class Vehicle:
         if not (self.armed and self.landed and self.mode.has_user_takeoff) or not math.isfinite(alt_m):
             return Result.FAILED
         alt_m = max(alt_m, self.params["PILOT_TKOFF_ALT"] / 100.0)
-        if alt_m <= self.home_ned[2] - self.body.d_m:
+        if alt_m <= self.height_ref_d - self.body.d_m:
             return Result.FAILED
         self.mode.user_takeoff(self.ctx, alt_m)
         self.arming.auto_armed = True
@@ -301,7 +311,10 @@ class Vehicle:
         return Result.ACCEPTED
 
     def set_home(self, ned: tuple | None) -> Result:
-        """DO_SET_HOME: here (None) or at a local NED point within HOME_RANGE_M."""
+        """DO_SET_HOME: here (None) or at a local NED point within HOME_RANGE_M; FAILED before the
+        EKF has an origin (a GPS fix), as ArduCopter's."""
+        if not self.estimate.origin_known():
+            return Result.FAILED
         if ned is None:
             self._set_home_here()
             return Result.ACCEPTED
@@ -314,7 +327,7 @@ class Vehicle:
 
     def set_speed(self, speed_m_s: float) -> Result:
         """DO_CHANGE_SPEED: only the modes that fly at a set speed take it (ArduCopter: FAILED else)."""
-        if not self.mode.takes_speed_change or not (math.isfinite(speed_m_s) and speed_m_s > 0):
+        if not self.mode.takes_speed_change or not speed_m_s > 0:  # infinity: the cap
             return Result.FAILED
         self.nav_speed_m_s = min(speed_m_s, self.params["WPNAV_SPEED"] / 100.0 * SPEED_MAX_WPNAV)
         return Result.ACCEPTED

@@ -12,7 +12,7 @@ import struct
 from typing import NamedTuple
 
 from ..modes.numbers import ModeNumber
-from ..results import Result
+from ..results import Result, Severity
 from ..safety.arming import FORCE_ARM_MAGIC, FORCE_DISARM_MAGIC
 from .dialect import mavlink as mav
 
@@ -94,22 +94,45 @@ def do_set_mode(s, c: Command) -> Result:
 
 
 def do_change_speed(s, c: Command) -> Result:
+    """As ArduCopter: a speed that is not positive (NaN included) DENIED, speed type 4 (the
+    enum's end) DENIED; the mode takes it or FAILED. Firefly's modes take a ground speed (types 0
+    and 1, any positive speed, capped); they fly no set climb or descent speed (2, 3: FAILED,
+    where ArduCopter's GUIDED and AUTO take one)."""
+    if not c.p2 > 0:
+        return Result.DENIED
+    speed_type = math.floor(c.p1) if math.isfinite(c.p1) else -1
+    if speed_type == 4:  # SPEED_TYPE_ENUM_END
+        return Result.DENIED
+    if not 0 <= speed_type <= 1:
+        return Result.FAILED
     return s.vehicle.set_speed(c.p2)
 
 
-def target_ned(s, c: Command):
-    """Position from a command's lat/lon/alt in its frame -> local NED, or None if invalid. As
-    ArduPilot converts a command to a Location: a latitude and longitude on the globe, an altitude
-    that is a number within ALT_MAX_M, a frame it knows; above home only once home is set."""
+def is_location(s, c: Command) -> bool:
+    """Whether a command's lat/lon/alt make a location, as ArduPilot converts a command to one: a
+    latitude and longitude on the globe, an altitude that is a number within ALT_MAX_M, a frame it
+    knows (an unknown one is named in a STATUSTEXT, as ArduPilot's SITL names it). False: DENIED."""
     lat, lon, alt = c.p5, c.p6, c.p7
     if not (_finite(lat, lon) and -90 <= lat <= 90 and -180 <= lon <= 180):
-        return None
+        return False
     if not (math.isfinite(alt) and abs(alt) <= ALT_MAX_M):
-        return None
+        return False
+    if c.frame not in ABSOLUTE_ALT_FRAMES and c.frame not in RELATIVE_ALT_FRAMES:
+        s.vehicle.notify(f"Unknown mavlink coordinate frame {c.frame}", Severity.INFO)
+        return False
+    return True
+
+
+def target_ned(s, c: Command):
+    """A location (is_location) in local NED, or None while the vehicle cannot place it: a height
+    above home needs home, and any point the EKF's origin (a position)."""
     v = s.vehicle
+    lat, lon, alt = c.p5, c.p6, c.p7
+    if not v.has_position() and v.home_ned is None:
+        return None
     if c.frame in ABSOLUTE_ALT_FRAMES:
         d = v.ned_of(lat, lon, alt)[2]
-    elif c.frame in RELATIVE_ALT_FRAMES and v.home_ned is not None:
+    elif v.home_ned is not None:
         d = v.home_ned[2] - alt
     else:
         return None
@@ -124,9 +147,11 @@ def do_reposition(s, c: Command) -> Result:
     change_mode = _int_param(c.p2, 0, 255) if math.isfinite(c.p2) else 0
     if v.mode.number != ModeNumber.GUIDED and not (change_mode and change_mode & mav.MAV_DO_REPOSITION_FLAGS_CHANGE_MODE):
         return Result.DENIED
-    target = target_ned(s, c)
-    if target is None:
+    if not is_location(s, c):
         return Result.DENIED
+    target = target_ned(s, c)
+    if target is None:  # ArduCopter: GUIDED cannot take the destination yet
+        return Result.FAILED
     if v.mode.number != ModeNumber.GUIDED and v.set_mode(ModeNumber.GUIDED) != Result.ACCEPTED:
         return Result.FAILED
     if math.isfinite(c.p1) and c.p1 > 0:
@@ -136,13 +161,20 @@ def do_reposition(s, c: Command) -> Result:
 
 
 def do_set_home(s, c: Command) -> Result:
+    """As ArduPilot: param 1 = 1 (or latitude and longitude 0) is here, once the EKF has an
+    origin; any other param 1 but 0 FAILED; a point that is no location DENIED. A COMMAND_LONG's
+    altitude is above sea level (ArduPilot converts it in MAV_FRAME_GLOBAL)."""
     v = s.vehicle
-    if not math.isfinite(c.p1):
-        return Result.DENIED
-    if c.p1 == 1:
+    if c.p1 == 1 or (c.p5 == 0 and c.p6 == 0):
         return v.set_home(None)
-    target = target_ned(s, c._replace(frame=mav.MAV_FRAME_GLOBAL))
-    return Result.DENIED if target is None else v.set_home(target)
+    if c.p1 != 0:  # NaN included
+        return Result.FAILED
+    if not c.is_int:
+        c = c._replace(frame=mav.MAV_FRAME_GLOBAL)
+    if not is_location(s, c):
+        return Result.DENIED
+    target = target_ned(s, c)
+    return Result.FAILED if target is None else v.set_home(target)
 
 
 def get_home_position(s, c: Command) -> Result:
@@ -187,9 +219,11 @@ def get_message_interval(s, c: Command) -> Result:
 
 
 def condition_yaw(s, c: Command) -> Result:
-    if not _finite(c.p1, c.p3, c.p4):
-        return Result.DENIED
-    return s.vehicle.set_yaw(c.p1, relative=c.p4 != 0, direction=int(c.p3))
+    """As ArduCopter: an angle of 0-360 degrees, absolute (param 4 = 0) or relative (1), else
+    FAILED; any rate (even NaN) and direction (-1 counter-clockwise, else clockwise)."""
+    if not (0 <= c.p1 <= 360 and c.p4 in (0, 1)):  # NaN fails too
+        return Result.FAILED
+    return s.vehicle.set_yaw(c.p1, relative=c.p4 == 1, direction=-1 if c.p3 < 0 else 1)
 
 
 def mission_start(s, c: Command) -> Result:

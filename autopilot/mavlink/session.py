@@ -134,9 +134,10 @@ class Session:
         return self.vehicle.set_mode(custom_mode)
 
     def _on_set_mode(self, msg, now_s):
-        result = self.set_mode(msg.base_mode, msg.custom_mode)
-        self._out.append(self.codec.command_ack_encode(mav.MAVLINK_MSG_ID_SET_MODE, int(result), 0, 0,
-                                                       msg.get_srcSystem(), msg.get_srcComponent()))
+        # As ArduCopter 4.7 (measured): the SET_MODE message changes the mode and is not answered
+        # (earlier ArduPilots sent a COMMAND_ACK for "command 11"); the HEARTBEAT tells.
+        if self.set_mode(msg.base_mode, msg.custom_mode) != Result.ACCEPTED:
+            self.counters["refused"] += 1
 
     def _on_request_data_stream(self, msg, now_s):
         self.streams.set_group_rate(msg.req_stream_id, msg.req_message_rate, bool(msg.start_stop))

@@ -16,6 +16,7 @@ class ModeContext:
         params        the parameter store (ArduCopter names and units)
         pilot         the pilot's sticks (PilotInput), centred when none arrive
         armed, landed, time_s (sim seconds), home_ned (None until home is set)
+        height_ref_d  the down coordinate heights are measured from (home, or the boot ground)
         nav_speed_m_s the horizontal speed AUTO and GUIDED fly (WPNAV_SPEED, DO_CHANGE_SPEED)
         has_position() whether the horizontal position is known (3D GPS fix)
         auto_armed    AUTO may start its mission from the ground
@@ -55,6 +56,7 @@ class ModeContext:
     landed_at_s = property(attrgetter("_land.landed_at_s"))
     time_s = property(attrgetter("_sim.time_s"))
     home_ned = property(attrgetter("_v.home_ned"))
+    height_ref_d = property(attrgetter("_v.height_ref_d"))
     nav_speed_m_s = property(attrgetter("_v.nav_speed_m_s"))
     auto_armed = property(attrgetter("_arming.auto_armed"))
     origin_alt_m = property(attrgetter("_v.origin.alt_m"))

@@ -32,7 +32,7 @@ class Guided(Mode):
     # Commands from the ground station -------------------------------------------------------
     def user_takeoff(self, ctx, alt_above_home_m: float) -> None:
         self.hold(ctx)
-        self.takeoff_d = ctx.require_home()[2] - alt_above_home_m
+        self.takeoff_d = ctx.height_ref_d - alt_above_home_m  # above home, or the boot ground before it
         self.target_d = self.takeoff_d
 
     def goto(self, ctx, n: float, e: float, d: float | None, yaw: float | None = None,

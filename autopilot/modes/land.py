@@ -12,7 +12,7 @@ GROUND_DISARM_S = 0.9  # LAND entered on the ground disarms this long after
 def descent_rate_m_s(ctx) -> float:
     """ArduCopter's two-stage descent: fast high up, LAND_SPEED below LAND_ALT_LOW."""
     params = ctx.params
-    alt = ctx.require_home()[2] - ctx.body.d_m
+    alt = ctx.height_ref_d - ctx.body.d_m
     if alt > params["LAND_ALT_LOW"] / 100.0:
         return (params["LAND_SPEED_HIGH"] or params["WPNAV_SPEED_DN"]) / 100.0
     return params["LAND_SPEED"] / 100.0
@@ -40,8 +40,7 @@ class Land(Mode):
     """Descend and disarm, holding the point where LAND began; without a position (no GPS fix)
     it comes down level instead, for the rest of the landing, as ArduCopter's LAND without GPS."""
     number = ModeNumber.LAND
-    requires_position = False
-    requires_home = True  # its descent speed depends on the height above home
+    requires_position = False  # without home its descent measures height from the boot ground
 
     def enter(self, ctx) -> str | None:
         self._hold_ne = hold_here(ctx)[0] if ctx.has_position() else None

@@ -22,7 +22,7 @@ way):
 - no handler error (session.counters["handler_errors"]) and no internal error
   (vehicle.internal_errors.count, where the vehicle has one);
 - every COMMAND_LONG / COMMAND_INT addressed to the vehicle (target_system 0 or ours) gets exactly
-  one COMMAND_ACK for its command id, and SET_MODE one for SET_MODE; a message for another system
+  one COMMAND_ACK for its command id (SET_MODE none, as ArduCopter 4.7); a message for another system
   gets no answer and changes nothing;
 - a refused command (ACK not ACCEPTED) changes neither the mode, nor arming, nor home;
 - the vehicle arms only on an accepted ARM;
@@ -65,7 +65,6 @@ GCS_HEARTBEAT_S = 1.0
 LABEL_EVERY_TICKS = 10  # states are labelled and counted this often while time passes (0.1 s)
 VALID_EVERY_TICKS = 50  # and checked valid this often (0.5 s; at the end of every advance and message too)
 ARM, FORCE_ARM, FORCE_DISARM = mav.MAV_CMD_COMPONENT_ARM_DISARM, 2989.0, 21196.0
-SET_MODE_ACK_ID = mav.MAVLINK_MSG_ID_SET_MODE
 ACCEPTED = mav.MAV_RESULT_ACCEPTED
 MODE_NAMES = {n: cls.name for n, cls in MODE_BY_NUMBER.items()}
 PHASES = {"ON_GROUND": "armed_ground", "TAKEOFF": "takeoff", "IN_AIR": "flying", "LANDING": "landing"}
@@ -404,8 +403,7 @@ class Walk:
                            f"was answered {[a.get_type() for a in answers]} or changed "
                            f"(armed, mode, home) {before} -> {self._snapshot()}")
             return
-        command = msg.command if kind in ("COMMAND_LONG", "COMMAND_INT") else SET_MODE_ACK_ID if kind == "SET_MODE" \
-            else None
+        command = msg.command if kind in ("COMMAND_LONG", "COMMAND_INT") else None  # SET_MODE: unanswered
         if command is not None:
             if len(acks) != 1 or acks[0].command != command:
                 self._fail("ack", "session.receive", state, msg,

@@ -19,7 +19,7 @@ from autopilot.vehicle import Vehicle, VehicleConfig
 
 from ._util import client_codec, fly_until, hovering_vehicle, mav, wire
 
-NOT_YET = [ModeNumber.LAND, ModeNumber.RTL, ModeNumber.AUTO]
+NOT_YET = [ModeNumber.RTL, ModeNumber.AUTO]
 
 
 def booting_vehicle() -> Vehicle:
@@ -40,6 +40,29 @@ def test_a_mode_that_measures_from_home_is_entered_before_home_and_waits(mode):
     assert fly_until(v, lambda x: x.home_ned is not None, 120.0)
     v.run_until(v.time_s + 1.0)
     assert v.mode_flying and not v.internal_errors and not v.armed
+
+
+def test_land_before_home_is_flown_at_once_measuring_from_the_boot_ground():
+    v = booting_vehicle()
+    assert v.set_mode(ModeNumber.LAND) == Result.ACCEPTED and v.mode_flying
+    v.run_until(3.0)
+    assert not v.internal_errors and v.home_ned is None
+
+
+def test_without_gps_arming_sets_no_home_and_land_brings_it_down():
+    v = Vehicle(VehicleConfig(faults={"SIM_GPS_DISABLE": 1}))
+    v.run_until(1.0)
+    assert v.set_mode(ModeNumber.ALT_HOLD) == Result.ACCEPTED
+    assert v.arm() == Result.ACCEPTED and v.home_ned is None  # as ArduCopter: home needs a fix
+    assert v.set_home(None) == Result.FAILED
+    end = v.time_s + 3.0
+    while v.time_s < end:  # climb on the throttle stick, held
+        v.pilot_input.update(0.0, 0.0, 0.0, 0.9, v.time_s)
+        v.run_until(v.time_s + 0.1)
+    assert v.boot_ground_d - v.body.d_m > 2.0, "it climbed"
+    assert v.set_mode(ModeNumber.LAND) == Result.ACCEPTED
+    assert fly_until(v, lambda x: not x.armed, 60.0), "landed and disarmed without home"
+    assert not v.internal_errors
 
 
 def test_commands_before_home_are_answered_and_change_nothing_they_should_not():

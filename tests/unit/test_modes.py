@@ -29,6 +29,7 @@ def ctx(d_m=0.0, landed=False, armed=True, pilot=None, params=None, **body):
     c.notify = lambda *a: None
     c.has_position = lambda: True
     c.require_home = lambda: c.home_ned
+    c.height_ref_d = 0.0
     return c
 
 
