@@ -20,7 +20,7 @@ import math
 from dataclasses import dataclass, replace
 from pathlib import Path
 
-from .io.persist import SaveErrors, read_json
+from .io.persist import JsonFile, read_json
 from .params_differences import RENAMED
 from .reference_params import reference_params
 
@@ -220,7 +220,7 @@ class ParamStore:
         self.path = path
         self._values = dict(DEFAULTS)
         self._listeners = []
-        self._save_errors = SaveErrors()
+        self.file = JsonFile(path)
         if path is not None and path.exists() and not wipe:
             self._load(path)
 
@@ -282,16 +282,13 @@ class ParamStore:
 
     @property
     def save_errors(self) -> int:
-        return self._save_errors.save_errors
+        return self.file.save_errors
 
     @property
     def last_save_error(self) -> str:
-        return self._save_errors.last_save_error
+        return self.file.last_save_error
 
     def _save(self) -> bool:
-        """Persist; a disk that refuses is counted (persist.SaveErrors), and the value still takes
-        effect in flight: the vehicle must not stop or half-apply a change for it."""
-        if self.path is None:
-            return True
-        return self._save_errors.save_json(self.path, {n: v for n, v in self._values.items()
-                                                       if v != DEFAULTS[n] and is_saved(n)})
+        """Persist (persist.JsonFile: a refused save is counted, the value still takes effect in
+        flight: the vehicle must not stop or half-apply a change for it)."""
+        return self.file.save(lambda: {n: v for n, v in self._values.items() if v != DEFAULTS[n] and is_saved(n)})

@@ -92,6 +92,10 @@ class Vehicle:
         self.thrust_loss = ThrustLossCheck()
         self.cascade = make_cascade(self.sim, self.params, config.rates, config.compiled)
         self.params.on_change(self._param_changed)
+        # The parameter and mission files with a write waiting for its interval (persist.JsonFile):
+        # the session polls them while this is not empty.
+        self.stores_waiting: set = set()
+        self.params.file.waiting = self.mission.file.waiting = self.stores_waiting
         self.ctx = ModeContext(self)
         self.modes = {number: cls() for number, cls in MODE_BY_NUMBER.items()}
         self.mode = self.modes[ModeNumber.STABILIZE]
@@ -200,6 +204,11 @@ class Vehicle:
 
     def notify(self, text: str, severity: int = Severity.INFO) -> None:
         self.events.append((int(severity), text))
+
+    def poll_stores(self, link_s: float) -> None:
+        """The link time now, for the stores' writes; the writes that are due."""
+        self.params.file.poll(link_s)
+        self.mission.file.poll(link_s)
 
     def drain_events(self) -> list:
         events, self.events = self.events, []

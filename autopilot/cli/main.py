@@ -165,6 +165,7 @@ def build_vehicle(args, scenario, k: int, outs, listen, epoch_us: int):
         params.save_all()
         missions_path.unlink(missing_ok=True)
     mission = MissionStore(missions_path)
+    params.file.min_interval_s = mission.file.min_interval_s = SAVE_EVERY_S
     rate = scenario.sim.physics_rate_hz
     cols = math.ceil(math.sqrt(args.count))
     sim = dataclasses.replace(scenario.sim, seed=scenario.seed + k)
@@ -250,6 +251,8 @@ def main(argv=None) -> int:
             except OSError as exc:  # the rest of the shutdown (signing state, tlog) must still run
                 print(f"autopilot: error: --stats {args.stats}: {exc.strerror or exc}", file=sys.stderr)
         for node in nodes:
+            node.vehicle.params.file.flush()  # what a flood of changes left for its next write
+            node.vehicle.mission.file.flush()
             report_signing(node, args.quiet)
             node.endpoint.close()
             if node.tlog is not None:
@@ -260,6 +263,7 @@ def main(argv=None) -> int:
 
 
 PARENT_POLL_S = 0.5
+SAVE_EVERY_S = 0.5  # a store writes its file at most this often (link time); the rest at exit
 
 
 def positive_pid(text: str) -> int:

@@ -21,7 +21,7 @@ def report(runner, nodes, exception: BaseException | None, wall_s: float) -> dic
         counters.update({f"udp_{k}": n for k, n in (endpoint.totals() | node.link.counters).items()})
         counters["param_sets_refused"] = session.params.refused
         counters["param_save_errors"] = v.params.save_errors
-        counters["mission_save_errors"] = v.mission.save_errors.save_errors
+        counters["mission_save_errors"] = v.mission.file.save_errors
         counters["mission_uploads_refused"] = session.missions.refused
         if node.link_faults is not None:
             counters.update({f"link_dropped_{way}": n for way, n in node.link_faults.dropped.items()})

@@ -3,8 +3,10 @@ either the previous or the new version, never a torn file."""
 from __future__ import annotations
 
 import json
+import math
 import os
 import tempfile
+from collections.abc import Callable
 from pathlib import Path
 
 
@@ -24,22 +26,65 @@ def write_json_atomic(path: Path, data) -> None:
         raise
 
 
-class SaveErrors:
-    """How every store (parameters, missions, fence and rally) meets a disk that refuses a save
-    (full, read-only, its directory gone): the error is counted and kept for the exit report, the
-    change still takes effect in flight, and the caller learns it failed (a mission transfer then
-    answers MAV_MISSION_ERROR, as ArduPilot does when its storage refuses a write)."""
+class JsonFile:
+    """How every store (parameters, missions, fence and rally) writes its file.
 
-    def __init__(self) -> None:
+    - Atomically (write_json_atomic).
+    - A disk that refuses (full, read-only, its directory gone): the error is counted and kept for
+      the exit report, the change still takes effect in flight, and the caller learns it failed
+      (a mission transfer then answers MAV_MISSION_ERROR, as ArduPilot does when its storage
+      refuses a write).
+    - At most once per `min_interval_s` of link time, which the I/O edge sets (0: every change at
+      once, as in the unit tests): a change within it is written at the first poll after it, so
+      a flood of PARAM_SETs costs two writes a second, not one each (as ArduPilot's storage
+      writes behind the changes); the first change after a quiet spell is written at once, and
+      the exit flushes what is left.
+    """
+
+    def __init__(self, path: Path | None) -> None:
+        self.path = path
         self.save_errors = 0
         self.last_save_error = ""
+        self.min_interval_s = 0.0
+        self._now_s = 0.0  # link time, as poll() last said
+        self._written_s = -math.inf
+        self._pending: Callable[[], object] | None = None  # the data still to write
+        # the files with a write waiting, shared with whoever polls (the vehicle's stores_waiting)
+        self.waiting: set = set()
 
-    def save_json(self, path: Path, data) -> bool:
+    @property
+    def pending(self) -> bool:
+        return self._pending is not None
+
+    def save(self, data: Callable[[], object]) -> bool:
+        """Write data() now (whether the disk took it), or after the interval (True)."""
+        if self.path is None:
+            return True
+        if self._now_s - self._written_s < self.min_interval_s:
+            self._pending = data
+            self.waiting.add(self)
+            return True
+        return self._write(data)
+
+    def poll(self, now_s: float) -> None:
+        self._now_s = now_s
+        if self._pending is not None and now_s - self._written_s >= self.min_interval_s:
+            self._write(self._pending)
+
+    def flush(self) -> None:
+        if self._pending is not None:
+            self._write(self._pending)
+
+    def _write(self, data: Callable[[], object]) -> bool:
+        self._pending = None
+        self.waiting.discard(self)
+        self._written_s = self._now_s
+        assert self.path is not None
         try:
-            write_json_atomic(path, data)
+            write_json_atomic(self.path, data())
         except OSError as exc:
             self.save_errors += 1
-            self.last_save_error = f"{path}: {exc.strerror or exc}"
+            self.last_save_error = f"{self.path}: {exc.strerror or exc}"
             return False
         return True
 

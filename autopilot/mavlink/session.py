@@ -35,6 +35,7 @@ class Session:
         self.missions = MissionService(vehicle.mission, vehicle, codec)
         self.ftp = FtpServer(vehicle.params, vehicle.notify)
         self.link_s = 0.0  # link clock (wall time from the I/O layer) for transfer retries
+        self._stores_waiting = vehicle.stores_waiting  # the vehicle's files with a write waiting
         self._out: list = []
         self.counters = {"received": 0, "ignored_other_system": 0, "bad_data": 0, "refused": 0,
                          "handler_errors": 0}
@@ -182,7 +183,7 @@ class Session:
         no transfer, no status text or reached item waiting, no GCS silent for too long."""
         last = self.gcs_last_heartbeat_s
         return (now_s + 1e-9 < self.streams.next_due_s and not self.vehicle.events
-                and not self.missions.uploads and not self.params.streaming
+                and not self.missions.uploads and not self.params.streaming and not self._stores_waiting
                 and not self.vehicle.mission_progress.has_reached
                 and (last is None or link_s - last <= self.vehicle.params["FS_GCS_TIMEOUT"]))
 
@@ -191,6 +192,8 @@ class Session:
         out, vehicle = self._out, self.vehicle
         out.extend(self.missions.poll(link_s))
         out.extend(self.params.poll(link_s))
+        if self._stores_waiting:
+            vehicle.poll_stores(link_s)
         last = self.gcs_last_heartbeat_s
         if last is not None and link_s - last > vehicle.params["FS_GCS_TIMEOUT"]:
             vehicle.failsafes.gcs_lost(vehicle)

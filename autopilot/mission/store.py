@@ -13,7 +13,7 @@ from __future__ import annotations
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
-from ..io.persist import SaveErrors, read_json
+from ..io.persist import JsonFile, read_json
 
 MISSION, FENCE, RALLY = 0, 1, 2
 
@@ -37,7 +37,7 @@ class MissionStore:
         self.path = path
         self._lists: dict[int, list[MissionItem]] = {MISSION: [], FENCE: [], RALLY: []}
         self.version = 0  # bumped on every change, so AUTO can notice a new mission
-        self.save_errors = SaveErrors()  # a refused save: counted, the lists still hold the change
+        self.file = JsonFile(path)  # a refused save: counted, the lists still hold the change
         if path is not None and path.exists():
             self._load(path)
 
@@ -85,6 +85,4 @@ class MissionStore:
         return self._save()
 
     def _save(self) -> bool:
-        if self.path is None:
-            return True
-        return self.save_errors.save_json(self.path, {str(k): [asdict(i) for i in v] for k, v in self._lists.items()})
+        return self.file.save(lambda: {str(k): [asdict(i) for i in v] for k, v in self._lists.items()})

@@ -8,9 +8,9 @@ flood silenced the heartbeat for the whole 5 s (2 of 20 commands answered), the 
 too (3 of 20), and 2 KB datagrams of the costliest junk for pymavlink's parser as well; now the
 longest gap is about 1.0 s in each, every command answered.
 
-Two floods still stall the loop, outside the protocol services: each PARAM_SET of a new value
-and each MISSION_CLEAR_ALL writes its file at once (fsync included), so thousands a second
-starve it; they are marked xfail (strict) until the stores defer their writes.
+A flood of PARAM_SETs of new values, or of MISSION_CLEAR_ALLs, once wrote the store's file
+(fsync included) for each and stalled the loop for seconds; a store now writes at most twice a
+second (persist.JsonFile), the rest at the next write or at exit.
 """
 from __future__ import annotations
 
@@ -26,15 +26,14 @@ pytestmark = pytest.mark.sitl
 FLOOD_S = 5.0
 MAX_GAP_S = 1.5  # HEARTBEAT is 1 Hz
 
-STALLS_ON_WRITES = pytest.mark.xfail(strict=True, reason="the store writes its file (fsync) for each request")
 FLOODS = [  # kind (tests/sitl/floods.py), datagrams a second, source ports
     pytest.param("param_list", 8000, 300, id="param_list"),  # PARAM_REQUEST_LIST: was a burst of 40 each
     pytest.param("junk64k", 150, 300, id="junk64k"),  # 64 KB datagrams of 0xFD
     pytest.param("junk2k", 2000, 300, id="junk2k"),  # 2 KB of empty MAVLink 1 frames: ~2 ms to parse
     pytest.param("ftp_burst", 2000, 50, id="ftp_burst"),  # FTP BurstReadFile of the parameter file
     pytest.param("mission_list", 8000, 300, id="mission_list"),  # MISSION_REQUEST_LIST, _REQUEST_INT
-    pytest.param("param_set", 8000, 300, id="param_set", marks=STALLS_ON_WRITES),
-    pytest.param("mission_clear", 8000, 300, id="mission_clear", marks=STALLS_ON_WRITES),
+    pytest.param("param_set", 8000, 300, id="param_set"),  # PARAM_SET of new values: a file write each
+    pytest.param("mission_clear", 8000, 300, id="mission_clear"),  # MISSION_CLEAR_ALL: a file write each
 ]
 
 

@@ -394,7 +394,7 @@ def test_a_refusing_disk_answers_mission_error_and_the_list_still_flies(tmp_path
     run(session, gcs, LossyLink(0.0, 0))
     assert gcs.done == mav.MAV_MISSION_ERROR
     assert stored_lats(v) == [i.x for i in items[1:]]
-    assert v.mission.save_errors.save_errors >= 1 and "missions.json" in v.mission.save_errors.last_save_error
+    assert v.mission.file.save_errors >= 1 and "missions.json" in v.mission.file.last_save_error
 
 
 @pytest.mark.parametrize("command, params, result", [
