@@ -242,3 +242,18 @@ def test_setting_the_value_in_force_changes_nothing_and_notifies_no_one(tmp_path
     assert seen == []
     store.set("RTL_ALT", 2000)
     assert seen == ["RTL_ALT"]
+
+
+def test_a_store_writes_at_most_once_per_interval_and_the_last_change_after_it(tmp_path):
+    from autopilot.io.persist import JsonFile
+    f = JsonFile(tmp_path / "x.json")
+    f.min_interval_s = 0.5
+    f.poll(100.0)
+    assert f.save(lambda: {"v": 1}) and json.loads((tmp_path / "x.json").read_text()) == {"v": 1}
+    for v in range(2, 50):  # a flood within the interval: nothing written yet, the last one waits
+        f.save(lambda v=v: {"v": v})
+    assert json.loads((tmp_path / "x.json").read_text()) == {"v": 1} and f.pending and f in f.waiting
+    f.poll(100.3)
+    assert f.pending
+    f.poll(100.6)
+    assert json.loads((tmp_path / "x.json").read_text()) == {"v": 49} and not f.pending and not f.waiting
