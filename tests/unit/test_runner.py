@@ -59,3 +59,28 @@ def test_a_swarm_ticked_in_batches_flies_and_sends_as_tick_by_tick(tmp_path, mon
     assert states_batched == states
     assert all(len(frames) > 100 for frames in sent)
     assert sent_batched == sent
+
+
+@pytest.mark.internal_errors
+@pytest.mark.parametrize("where", ["run_until", "poll"])
+def test_a_bug_in_one_vehicle_of_a_swarm_never_stops_the_others(tmp_path, monkeypatch, where):
+    """Vehicle 1's step (or its session's poll) raises every time: it is counted as its internal
+    error, and vehicles 2 and 3 fly the whole run and keep sending."""
+    nodes, sent = _swarm(3, tmp_path, "swarm", monkeypatch)
+    broken = nodes[0]
+
+    def bug(*args, **kw):
+        raise RuntimeError("a bug in vehicle 1")
+    target = broken.vehicle if where == "run_until" else broken.session
+    monkeypatch.setattr(target, where, bug)
+    runner = Runner(nodes, math.inf)
+    try:
+        runner.run(3.0)
+    finally:
+        for node in nodes:
+            node.endpoint.close()
+    assert runner.ticks == 300
+    assert broken.vehicle.internal_errors.count > 0 and "a bug in vehicle 1" in broken.vehicle.internal_errors.last
+    for node, frames in zip(nodes[1:], sent[1:]):
+        assert node.vehicle.time_s == pytest.approx(3.0) and not node.vehicle.internal_errors
+        assert len(frames) > 50
