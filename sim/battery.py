@@ -5,7 +5,9 @@ discharge curve; terminal voltage = cells * OCV(soc) - I * R_internal.
 """
 from __future__ import annotations
 
+import math
 from bisect import bisect_left
+from collections.abc import Callable
 from functools import partial
 from typing import NamedTuple
 
@@ -27,7 +29,8 @@ _OCV_POINTS = tuple(volts for _, volts in _OCV_CURVE)
 # Per segment ending at point i: (s0, v0, v1 - v0, s1 - s0), so the interpolation below does the
 # same float operations as the textbook formula without re-reading the curve (it runs for every
 # vehicle at 100 Hz).
-_SEGMENTS = (None,) + tuple((s0, v0, v1 - v0, s1 - s0) for (s0, v0), (s1, v1) in zip(_OCV_CURVE, _OCV_CURVE[1:]))
+_SEGMENTS = ((math.nan,) * 4,) + tuple((s0, v0, v1 - v0, s1 - s0)  # [0]: no segment ends at the first point
+                                       for (s0, v0), (s1, v1) in zip(_OCV_CURVE, _OCV_CURVE[1:]))
 _LAST_SEGMENT = len(_SOC_POINTS) - 1
 
 
@@ -74,10 +77,16 @@ def step_battery_at(state: BatteryState, omega: tuple, constants: tuple) -> Batt
     return step_battery(state, power, cells, capacity_mah, r_internal_ohm, extra_current_a, dt)
 
 
-try:  # the compiled twin (sim/_battery.c), built by pip install where a C compiler is found
-    from ._battery import step as compiled_step_battery_at
-except ImportError:
-    compiled_step_battery_at = None
+def _compiled_step() -> Callable[[BatteryState, tuple, tuple], BatteryState] | None:
+    """The compiled twin (sim/_battery.c), built by pip install where a C compiler is found."""
+    try:
+        from ._battery import step
+    except ImportError:
+        return None
+    return step
+
+
+compiled_step_battery_at = _compiled_step()
 # What the simulator steps the pack with: the same bits either way, the compiled one 4x faster.
 STEP_AT = compiled_step_battery_at or step_battery_at
 

@@ -10,6 +10,8 @@ position loop every `ratio_pos` steps and the attitude and rate loops every `rat
 """
 from __future__ import annotations
 
+from typing import Protocol
+
 from sim.rigid_body import euler_from_quaternion
 
 from .allocation import Allocator
@@ -17,7 +19,38 @@ from .attitude import AttitudeController, wrap_pi
 from .position import PositionController
 
 
-class Cascade:
+class Command(Protocol):
+    """What the cascade reads of the flight mode's setpoint (modes/base.py Setpoint)."""
+
+    @property
+    def lean(self) -> tuple[float, float] | None: ...
+    @property
+    def pos_ne(self) -> tuple[float, float] | None: ...
+    @property
+    def vel_ne(self) -> tuple[float, float]: ...
+    @property
+    def accel_ne(self) -> tuple[float, float] | None: ...
+    @property
+    def throttle(self) -> float | None: ...
+    @property
+    def pos_d(self) -> float | None: ...
+    @property
+    def vel_d(self) -> float: ...
+    @property
+    def speed_dn(self) -> float | None: ...
+    @property
+    def yaw(self) -> float | None: ...
+    @property
+    def yaw_rate(self) -> float: ...
+
+    def wants_climb(self, d_m: float) -> bool: ...
+
+
+class CascadeSetup:
+    """What the two cascades share: the controllers, configured from the parameters, and the
+    loop rates. The Python reference (Cascade, below) and its compiled twin
+    (compiled.CompiledCascade) each run the loop, and hold its targets, their own way."""
+
     def __init__(self, sim, params, rates):
         airframe = sim.airframe
         self.sim = sim
@@ -29,10 +62,28 @@ class Cascade:
         self.ratio_att = rates.ratio(rates.attitude_hz)
         self.dt_pos = 1.0 / rates.position_hz
         self.dt_att = 1.0 / rates.attitude_hz
-        self._sp = None
+        self._start()
+
+    def _start(self) -> None:
+        raise NotImplementedError
+
+    def configure(self, params) -> None:
+        self.position_ctl.configure(params)
+        self.attitude_ctl.configure(params)
+
+
+class Cascade(CascadeSetup):
+    """The readable reference: the loop in Python."""
+    lean_t: tuple[float, float]
+    thrust_t: float
+    yaw_t: float
+    omega_cmd: tuple[float, float, float, float]
+
+    def __init__(self, sim, params, rates):
+        self._sp: Command | None = None  # none until the vehicle's first command()
         self._armed = self._landed = False
         self._speed_xy = 0.0
-        self._start()
+        super().__init__(sim, params, rates)
 
     def _start(self) -> None:
         """Targets and commands before the first loop: nothing asked, heading held."""
@@ -42,11 +93,7 @@ class Cascade:
         self.yaw_t = euler_from_quaternion(body.qw, body.qx, body.qy, body.qz)[2]
         self.omega_cmd = (0.0, 0.0, 0.0, 0.0)
 
-    def configure(self, params) -> None:
-        self.position_ctl.configure(params)
-        self.attitude_ctl.configure(params)
-
-    def command(self, sp, armed: bool, landed: bool, speed_xy: float) -> None:
+    def command(self, sp: Command, armed: bool, landed: bool, speed_xy: float) -> None:
         """What the flight mode asks for until the next command (speed_xy: horizontal limit)."""
         self._sp, self._armed, self._landed, self._speed_xy = sp, armed, landed, speed_xy
 
@@ -80,10 +127,11 @@ class Cascade:
 
     def ground_idle(self, d_m: float) -> bool:
         """Whether the motors should just idle (disarmed, or armed on the ground not taking off)."""
-        if not self._armed:
+        sp = self._sp
+        if not self._armed or sp is None:  # nothing commanded yet: nothing to fly
             return True
         if self._landed:
-            return not self._sp.wants_climb(d_m)
+            return not sp.wants_climb(d_m)
         return False
 
     def _position_step(self, b, attitude: tuple) -> None:
@@ -96,6 +144,8 @@ class Cascade:
             self.yaw_t = yaw
             return
         sp, pc, dt = self._sp, self.position_ctl, self.dt_pos
+        if sp is None:  # never: ground_idle() is True until the first command
+            return
         if sp.lean is not None:
             self.lean_t = sp.lean
         else:

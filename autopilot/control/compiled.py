@@ -14,18 +14,34 @@ from __future__ import annotations
 
 import os
 import sys
+from typing import TYPE_CHECKING, Protocol
 
 from sim.physics import PhysicsState, fast_step_constants
 from sim.rigid_body import BodyState
 
-from .cascade import Cascade
+from .cascade import Cascade, CascadeSetup, Command
 
-_why_missing = ""
-try:
-    from . import _cascade
-except ImportError as exc:  # a failed build: fly the reference, slower but the same trajectory
-    _cascade = None
-    _why_missing = str(exc)
+if TYPE_CHECKING:
+    from ._cascade import Loop
+
+
+class Extension(Protocol):
+    """What is used of the extension module (its stub: _cascade.pyi)."""
+
+    @property
+    def Loop(self) -> type[Loop]: ...
+
+
+def _import_extension() -> tuple[Extension | None, str]:
+    """The extension, or None and why it could not be imported."""
+    try:
+        from . import _cascade
+    except ImportError as exc:  # a failed build: fly the reference, slower but the same trajectory
+        return None, str(exc)
+    return _cascade, ""
+
+
+_cascade, _why_missing = _import_extension()
 _warned = False
 
 
@@ -44,7 +60,7 @@ def required() -> bool:
     return os.environ.get("CI", "").lower() == "true"
 
 
-def make_cascade(sim, params, rates, compiled: bool = True) -> Cascade:
+def make_cascade(sim, params, rates, compiled: bool = True) -> Cascade | CompiledCascade:
     global _warned
     if compiled and _cascade is not None:
         return CompiledCascade(sim, params, rates)
@@ -64,9 +80,11 @@ def numbers(obj, names: tuple) -> dict:
     return {name: getattr(obj, name) for name in names}
 
 
-class CompiledCascade(Cascade):
+class CompiledCascade(CascadeSetup):
     def _start(self) -> None:
         sim = self.sim
+        if _cascade is None:  # make_cascade makes one only when the extension is there
+            raise ImportError(f"compiled cascade not built ({_why_missing})")
         self.loop = _cascade.Loop(self.constants(), self.ratio_pos, self.ratio_att, BodyState, PhysicsState)
         self.loop.configure(self.gains())
         self.loop.set_conditions(sim.wind_ned, sim.motor_speed_scale)
@@ -107,7 +125,7 @@ class CompiledCascade(Cascade):
         super().configure(params)
         self.loop.configure(self.gains())
 
-    def command(self, sp, armed: bool, landed: bool, speed_xy: float) -> None:
+    def command(self, sp: Command, armed: bool, landed: bool, speed_xy: float) -> None:
         self.loop.command(sp, armed, landed, speed_xy)
 
     def reset_position(self) -> None:
@@ -129,7 +147,7 @@ class CompiledCascade(Cascade):
         sim.take(self._loaded, n)
 
     @property
-    def lean_t(self) -> tuple:
+    def lean_t(self) -> tuple[float, float]:
         return self.loop.lean_t
 
     @property
@@ -141,5 +159,5 @@ class CompiledCascade(Cascade):
         return self.loop.yaw_t
 
     @property
-    def omega_cmd(self) -> tuple:
+    def omega_cmd(self) -> tuple[float, float, float, float]:
         return self.loop.omega_cmd
