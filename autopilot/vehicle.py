@@ -12,7 +12,9 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from functools import partial
 from operator import attrgetter
+from typing import TYPE_CHECKING
 
 from sim.geo import GeoPoint, global_from_ned, ned_from_global
 from sim.vehicle import BATTERY_EVERY, SimConfig, SimVehicle
@@ -22,9 +24,9 @@ from .startup import Startup, StartupTimeline
 from .control.compiled import make_cascade
 from .estimate import StateEstimate
 from .faults.world import Faults, world_values
-from .mission import MissionStore
+from .mission import FENCE, MissionStore
 from .mission.progress import MissionProgress
-from .modes import MODE_BY_NUMBER, ModeNumber, Setpoint
+from .modes import MODE_BY_NUMBER, Mode, ModeNumber, Setpoint
 from .modes.context import ModeContext
 from .params import ParamStore
 from .pilot import CENTRED, CENTRED_MANUAL, PilotInput
@@ -35,6 +37,14 @@ from .safety.failsafe import Failsafes
 from .safety.internal_error import InternalErrors
 from .safety.land_detector import AutoDisarm, LandDetector
 from .safety.thrust_loss import ThrustLossCheck
+from .views import ReadThrough, Vector3
+
+if TYPE_CHECKING:
+    from sim.battery import BatteryState
+    from sim.rigid_body import BodyState
+    from sim.sensors import GpsReading
+
+    from .cli.script import Script
 
 FAILSAFE_EVERY = 10  # flight-mode ticks between failsafe checks (10 Hz at the default 100 Hz)
 HOME_RANGE_M = 50_000  # DO_SET_HOME farther than this from the origin is refused
@@ -67,7 +77,7 @@ class Vehicle:
         self.params = params or ParamStore()
         self.mission = mission or MissionStore()
         self.mission_progress = MissionProgress(self.mission, self.notify)
-        self.script = None  # a scenario's scripted commands (autopilot.cli.script.Script), if any
+        self.script: Script | None = None  # a scenario's scripted commands (autopilot.cli.script.Script), if any
         n0, e0 = config.offset_ne_m
         # Where this vehicle's EKF origin lies in the sim's frame (its start, where ArduCopter sets
         # the origin at its first fix): MAVLink's local frame (LOCAL_POSITION_NED, HOME_POSITION's
@@ -97,13 +107,22 @@ class Vehicle:
         self.stores_waiting: set = set()
         self.params.file.waiting = self.mission.file.waiting = self.stores_waiting
         self.ctx = ModeContext(self)
-        self.modes = {number: cls() for number, cls in MODE_BY_NUMBER.items()}
+        # The parts' own methods that readers call through their views (views.py), bound once:
+        # no call in between (telemetry and the failsafes call them for every vehicle, often).
+        self.attitude_known = self.estimate.attitude_known
+        self.startup_initialising = self.startup.initialising  # (t_s)
+        self.startup_arm_blockers = self.startup.arm_blockers  # (t_s)
+        self.internal_error_prearm_text = self.internal_errors.prearm_text
+        self.internal_error_fields = self.internal_errors.sys_status_fields
+        self.mission_status = self.mission_progress.status
+        self.fence_items = partial(self.mission.items, FENCE)
+        self.modes: dict[int, Mode] = {number: cls() for number, cls in MODE_BY_NUMBER.items()}
         self.mode = self.modes[ModeNumber.STABILIZE]
         # A mode entered before what it needs is there (disarmed before home, as ArduCopter
         # allows) is entered for real, its enter() run, once it is: until then it flies nothing.
         self._mode_entered = True
         self.setpoint = Setpoint()
-        self.home_ned: tuple | None = None
+        self.home_ned: Vector3 | None = None
         # Where heights are measured from until home is set: the ground the vehicle boots on (its
         # barometer's zero, as ArduCopter's altitude without a GPS origin)
         self.boot_ground_d = self.sim.state.body.d_m
@@ -123,12 +142,46 @@ class Vehicle:
 
     # ----- state, as modes, safety checks and telemetry read it -------------------------------
     # The state most read, as C-level attribute getters (failsafes and telemetry read them often).
-    time_s = property(attrgetter("sim.time_s"), doc="Sim time [s].")
-    body = property(attrgetter("estimate.body"), doc="The state estimate (estimate.py).")
-    attitude = property(attrgetter("estimate.attitude"), doc="(roll, pitch, yaw) [rad].")
-    gps = property(attrgetter("estimate.gps"), doc="The last GPS sample.")
-    armed = property(attrgetter("arming.armed"))
-    landed = property(attrgetter("land_detector.landed"))
+    # Each reader family reads through a typed view of these (views.py), never into the parts.
+    time_s: ReadThrough[float] = property(attrgetter("sim.time_s"), doc="Sim time [s].")
+    body: ReadThrough[BodyState] = property(attrgetter("estimate.body"), doc="The state estimate (estimate.py).")
+    attitude: ReadThrough[Vector3] = property(attrgetter("estimate.attitude"), doc="(roll, pitch, yaw) [rad].")
+    gps: ReadThrough[GpsReading] = property(attrgetter("estimate.gps"), doc="The last GPS sample.")
+    armed: ReadThrough[bool] = property(attrgetter("arming.armed"))
+    landed: ReadThrough[bool] = property(attrgetter("land_detector.landed"))
+    # ... the rest of the estimate and the sensors, as telemetry reports them
+    true_body: ReadThrough[BodyState] = property(attrgetter("estimate.true_body"), doc="The sim's own state.")
+    battery: ReadThrough[BatteryState] = property(attrgetter("estimate.battery"), doc="The pack, as its monitor reads it.")
+    battery_remaining: ReadThrough[float] = property(attrgetter("estimate.battery_remaining"), doc="0..1.")
+    temperature: ReadThrough[tuple[float, float]] = property(attrgetter("estimate.temperature"),
+                                                             doc="(sim time of the sample, ground degrees C).")
+    baro_alt_m: ReadThrough[float] = property(attrgetter("estimate.baro_alt_m"), doc="The barometer's last sample.")
+    accel_body: ReadThrough[Vector3] = property(attrgetter("estimate.accel_body"), doc="The accelerometer (FRD).")
+    mag_body_mgauss: ReadThrough[Vector3] = property(attrgetter("estimate.mag_body_mgauss"))
+    wind_ned: ReadThrough[Vector3] = property(attrgetter("estimate.wind_ned"))
+    motor_speeds_rad_s: ReadThrough[tuple[float, float, float, float]] = property(
+        attrgetter("estimate.motor_speeds_rad_s"))
+    # ... the cascade's targets and commands
+    thrust_demand_n: ReadThrough[float] = property(attrgetter("cascade.thrust_t"), doc="U1 demand [N].")
+    lean_target: ReadThrough[tuple[float, float]] = property(
+        attrgetter("cascade.lean_t"), doc="(roll, pitch) the position loop asks of the attitude loop [rad].")
+    yaw_target: ReadThrough[float] = property(attrgetter("cascade.yaw_t"), doc="The heading target [rad].")
+    motor_commands: ReadThrough[tuple[float, float, float, float]] = property(
+        attrgetter("cascade.omega_cmd"), doc="The four motor speed commands [rad/s].")
+    # ... the current mode's declarations
+    mode_number: ReadThrough[int] = property(attrgetter("mode.number"))
+    mode_name: ReadThrough[str] = property(attrgetter("mode.name"))
+    mode_requires_position: ReadThrough[bool] = property(attrgetter("mode.requires_position"))
+    mode_allows_arming: ReadThrough[bool] = property(attrgetter("mode.allows_arming"))
+    mode_manual_throttle: ReadThrough[bool] = property(attrgetter("mode.manual_throttle"))
+    # ... the failsafes, the internal errors and the mission store
+    failsafe_active: ReadThrough[bool] = property(attrgetter("failsafes.active"), doc="Any failsafe on.")
+    battery_failsafe_level: ReadThrough[int] = property(attrgetter("failsafes.battery_level"),
+                                                        doc="0 ok, 1 low, 2 critical.")
+    fence_breached: ReadThrough[bool] = property(attrgetter("failsafes.fence_breached"))
+    gps_glitching: ReadThrough[bool] = property(attrgetter("failsafes.ekf.gps_glitching"))
+    internal_error_bits: ReadThrough[int] = property(attrgetter("internal_errors.bits"))
+    mission_version: ReadThrough[int] = property(attrgetter("mission.version"), doc="Bumped on every change.")
 
     def has_position(self) -> bool:
         return self.estimate.has_position()
@@ -152,19 +205,13 @@ class Vehicle:
             return None
         return global_from_ned(self.origin, *self.home_ned)
 
-    @property
-    def thrust_demand_n(self) -> float:
-        return self.cascade.thrust_t
+    def controls_position(self) -> bool:
+        """The horizontal position controller flies the current mode (Mode.controls_position)."""
+        return self.mode.controls_position(self.ctx)
 
-    @property
-    def lean_target(self) -> tuple:
-        """(roll, pitch) the position loop asks of the attitude loop [rad]."""
-        return self.cascade.lean_t
-
-    @property
-    def motor_commands(self) -> tuple:
-        """The four motor speed commands [rad/s]."""
-        return self.cascade.omega_cmd
+    def destination(self) -> tuple[float, float, float | None] | None:
+        """Where the current mode flies to, if anywhere (Mode.destination)."""
+        return self.mode.destination()
 
     def unix_time_us(self) -> int:
         return self.config.epoch_unix_us + int(self.time_s * 1e6)
@@ -172,17 +219,17 @@ class Vehicle:
     def ned_to_global(self, n: float, e: float, d: float) -> GeoPoint:
         return global_from_ned(self.origin, n, e, d)
 
-    def local_ne(self, n: float, e: float) -> tuple:
+    def local_ne(self, n: float, e: float) -> tuple[float, float]:
         """MAVLink's local north/east (from this vehicle's EKF origin) of a point of the sim's frame."""
         on, oe = self.ekf_origin_ne
         return n - on, e - oe
 
-    def sim_ne(self, x: float, y: float) -> tuple:
+    def sim_ne(self, x: float, y: float) -> tuple[float, float]:
         """The sim's north/east of MAVLink's local x/y (local_ne's inverse)."""
         on, oe = self.ekf_origin_ne
         return x + on, y + oe
 
-    def ned_of(self, lat: float, lon: float, alt_amsl: float) -> tuple:
+    def ned_of(self, lat: float, lon: float, alt_amsl: float) -> Vector3:
         return ned_from_global(self.origin, lat, lon, alt_amsl)
 
     def position_global(self) -> GeoPoint:
@@ -210,7 +257,7 @@ class Vehicle:
         self.params.file.poll(link_s)
         self.mission.file.poll(link_s)
 
-    def drain_events(self) -> list:
+    def drain_events(self) -> list[tuple[int, str]]:
         events, self.events = self.events, []
         return events
 
@@ -278,7 +325,7 @@ class Vehicle:
         self.cascade.reset_position()
         return Result.ACCEPTED
 
-    def _needs_met(self, mode) -> bool:
+    def _needs_met(self, mode: Mode) -> bool:
         """Whether the vehicle has what `mode` declares it needs to fly (Mode.requires_home)."""
         return self.home_ned is not None or not mode.requires_home
 
@@ -300,7 +347,7 @@ class Vehicle:
         return Result.ACCEPTED
 
     def guided_goto(self, n: float, e: float, d: float | None, yaw: float | None = None,
-                    vel_ff: tuple = (0.0, 0.0, 0.0)) -> Result:
+                    vel_ff: Vector3 = (0.0, 0.0, 0.0)) -> Result:
         yaw = None if yaw is None else wrap_pi(yaw)  # as ArduPilot wraps a heading it is given
         return Result.ACCEPTED if self.mode.goto(self.ctx, n, e, d, yaw, vel_ff) else Result.DENIED
 
@@ -319,7 +366,7 @@ class Vehicle:
         self.mode.set_heading(self.ctx, wrap_pi(target))
         return Result.ACCEPTED
 
-    def set_home(self, ned: tuple | None) -> Result:
+    def set_home(self, ned: Vector3 | None) -> Result:
         """DO_SET_HOME: here (None) or at a local NED point within HOME_RANGE_M; FAILED before the
         EKF has an origin (a GPS fix), as ArduCopter's."""
         if not self.estimate.origin_known():
@@ -330,7 +377,8 @@ class Vehicle:
         if not all(math.isfinite(x) for x in ned) or math.hypot(ned[0], ned[1]) > HOME_RANGE_M \
                 or abs(ned[2]) > HOME_ALT_RANGE_M:
             return Result.DENIED
-        self.home_ned = tuple(ned)
+        n, e, d = ned
+        self.home_ned = (n, e, d)
         self.home_sets += 1
         return Result.ACCEPTED
 
@@ -481,5 +529,6 @@ def in_true_height(sp: Setpoint, alt_error_m: float) -> Setpoint:
     true_sp = Setpoint()
     for name in Setpoint.__slots__:
         setattr(true_sp, name, getattr(sp, name))
-    true_sp.pos_d = sp.pos_d + alt_error_m
+    if sp.pos_d is not None:  # the caller's case: a height held
+        true_sp.pos_d = sp.pos_d + alt_error_m
     return true_sp

@@ -1,8 +1,10 @@
 """Unit conversions MAVLink fields share."""
 from __future__ import annotations
 
+from ..views import SimClock
 
-def time_boot_ms(v) -> int:
+
+def time_boot_ms(v: SimClock) -> int:
     """Vehicle time as a uint32 millisecond field."""
     return int(v.time_s * 1000.0) & 0xFFFFFFFF
 

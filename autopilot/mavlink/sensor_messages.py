@@ -12,6 +12,7 @@ from sim.airframe import GRAVITY_M_S2
 from sim.rigid_body import euler_from_quaternion
 
 from ..control.attitude import wrap_pi
+from ..views import SensorView
 from .dialect import mavlink as mav
 from .encoding import deg_e7, time_boot_ms
 
@@ -24,95 +25,95 @@ RC_CHANNELS_USED = 8
 ESC_TEMPERATURE_C = 32  # what ArduCopter SITL's simulated ESCs report; Firefly models no ESC heat
 
 
-def air_temperature_cdeg(v) -> int:
+def air_temperature_cdeg(v: SensorView) -> int:
     """The standard atmosphere's temperature at the vehicle's altitude [centi-degrees C]."""
     return int(round((15.0 - 0.0065 * v.position_global().alt_m) * 100))
 
 
-def _imu_fields(v) -> tuple:
+def _imu_fields(v: SensorView) -> tuple[int, ...]:
     """(xacc, yacc, zacc [mg], xgyro, ygyro, zgyro [mrad/s], xmag, ymag, zmag [mgauss])."""
-    est, b = v.estimate, v.body
-    acc = tuple(int(round(a * MILLI_G)) for a in est.accel_body)
+    b = v.body
+    acc = tuple(int(round(a * MILLI_G)) for a in v.accel_body)
     gyro = tuple(int(round(w * 1000.0)) for w in (b.p_rad_s, b.q_rad_s, b.r_rad_s))
-    mag = tuple(int(round(m)) for m in est.mag_body_mgauss)
+    mag = tuple(int(round(m)) for m in v.mag_body_mgauss)
     return acc + gyro + mag
 
 
-def raw_imu(v, codec):
+def raw_imu(v: SensorView, codec):
     return codec.raw_imu_encode(int(v.time_s * 1e6), *_imu_fields(v), 0, air_temperature_cdeg(v))
 
 
-def scaled_imu2(v, codec):
+def scaled_imu2(v: SensorView, codec):
     """The second IMU: Firefly simulates one, and reports it here too."""
     return codec.scaled_imu2_encode(time_boot_ms(v), *_imu_fields(v), air_temperature_cdeg(v))
 
 
-def scaled_imu3(v, codec):
+def scaled_imu3(v: SensorView, codec):
     """As ArduCopter SITL: a third compass without a third IMU (inertial fields zero)."""
     mag = _imu_fields(v)[6:]
     return codec.scaled_imu3_encode(time_boot_ms(v), 0, 0, 0, 0, 0, 0, *mag, 0)
 
 
-def _barometer_fields(v) -> tuple:
+def _barometer_fields(v: SensorView) -> tuple[float, float, int, int]:
     """The barometer as ArduPilot reports it: absolute pressure [hPa], differential pressure and
     temperature [cdegC] of the International Standard Atmosphere at the altitude the (possibly
     drifting) sensor reads, and no differential sensor's temperature."""
-    alt_m = v.origin.alt_m + v.estimate.baro_alt_m
+    alt_m = v.origin.alt_m + v.baro_alt_m
     pressure_hpa = 1013.25 * (1.0 - 2.25577e-5 * alt_m) ** 5.25588
     return pressure_hpa, 0.0, int(round((15.0 - 0.0065 * alt_m) * 100)), 0
 
 
-def scaled_pressure(v, codec):
+def scaled_pressure(v: SensorView, codec):
     return codec.scaled_pressure_encode(time_boot_ms(v), *_barometer_fields(v))
 
 
-def scaled_pressure2(v, codec):
+def scaled_pressure2(v: SensorView, codec):
     """The second barometer: Firefly simulates one, and reports it here too."""
     return codec.scaled_pressure2_encode(time_boot_ms(v), *_barometer_fields(v))
 
 
-def ahrs(v, codec):
+def ahrs(v: SensorView, codec):
     """DCM's gyro drift and error terms: Firefly's estimate has no drift, so zeros."""
     return codec.ahrs_encode(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
 
 
-def ahrs2(v, codec):
+def ahrs2(v: SensorView, codec):
     roll, pitch, yaw = v.attitude
     pos = v.position_global()
     return codec.ahrs2_encode(roll, pitch, yaw, pos.alt_m, deg_e7(pos.lat_deg), deg_e7(pos.lon_deg))
 
 
-def simstate(v, codec):
+def simstate(v: SensorView, codec):
     """The simulator's truth (not the estimate): attitude, accelerations [m/s^2], rates, place."""
-    body = v.estimate.true_body
+    body = v.true_body
     roll, pitch, yaw = euler_from_quaternion(body.qw, body.qx, body.qy, body.qz)
-    ax, ay, az = v.estimate.accel_body
+    ax, ay, az = v.accel_body
     true_pos = v.ned_to_global(body.n_m, body.e_m, body.d_m)
     return codec.simstate_encode(roll, pitch, yaw, ax, ay, az, body.p_rad_s, body.q_rad_s, body.r_rad_s,
                                  deg_e7(true_pos.lat_deg), deg_e7(true_pos.lon_deg))
 
 
-def vibration(v, codec):
+def vibration(v: SensorView, codec):
     """Firefly's rotors and frame do not vibrate and its accelerometer never clips."""
     return codec.vibration_encode(int(v.time_s * 1e6), 0.0, 0.0, 0.0, 0, 0, 0)
 
 
-def wind(v, codec):
+def wind(v: SensorView, codec):
     """Where the wind blows from [deg, -180..180 as ArduPilot sends it], its horizontal speed and
     its vertical speed (positive up)."""
-    wn, we, wd = v.estimate.wind_ned
+    wn, we, wd = v.wind_ned
     return codec.wind_encode(math.degrees(math.atan2(-we, -wn)), math.hypot(wn, we), -wd)
 
 
-def meminfo(v, codec):
+def meminfo(v: SensorView, codec):
     return codec.meminfo_encode(0, FREE_MEMORY_16, FREE_MEMORY_32)
 
 
-def power_status(v, codec):
+def power_status(v: SensorView, codec):
     return codec.power_status_encode(BOARD_VCC_MV, 0, 0)
 
 
-def rc_channels(v, codec):
+def rc_channels(v: SensorView, codec):
     """The sticks as PWM: MANUAL_CONTROL or RC_CHANNELS_OVERRIDE input while it lasts, else SITL's
     idle RC (centred sticks, throttle low). Pitch forward is low PWM, as on a transmitter."""
     chans = list(RC_IDLE)
@@ -123,7 +124,7 @@ def rc_channels(v, codec):
     return codec.rc_channels_encode(time_boot_ms(v), RC_CHANNELS_USED, *chans, *([0] * (18 - len(chans))), 255)
 
 
-def motor_pwm(v) -> list[int]:
+def motor_pwm(v: SensorView) -> list[int]:
     """Each motor's PWM as ArduCopter's motor library makes it: thrust as a fraction of the most
     a rotor gives, turned into throttle through the MOT_THST_EXPO curve, spread over
     MOT_SPIN_MIN..MOT_SPIN_MAX of the MOT_PWM_MIN..MOT_PWM_MAX range; MOT_PWM_MIN disarmed."""
@@ -141,27 +142,27 @@ def motor_pwm(v) -> list[int]:
     return out
 
 
-def servo_output_raw(v, codec):
+def servo_output_raw(v: SensorView, codec):
     servos = motor_pwm(v) + [0] * 12
     return codec.servo_output_raw_encode(int(v.time_s * 1e6) & 0xFFFFFFFF, 0, *servos)
 
 
-def esc_telemetry_1_to_4(v, codec):
+def esc_telemetry_1_to_4(v: SensorView, codec):
     """Each ESC's voltage, a quarter of the pack current and charge, and its rotor's speed."""
-    batt = v.estimate.battery
-    rpm = [int(round(w * 60.0 / (2.0 * math.pi))) for w in v.estimate.motor_speeds_rad_s]
+    batt = v.battery
+    rpm = [int(round(w * 60.0 / (2.0 * math.pi))) for w in v.motor_speeds_rad_s]
     count = int(v.time_s * 10) & 0xFFFF  # reports received: one per 100 ms of vehicle time
     return codec.esc_telemetry_1_to_4_encode(
         [ESC_TEMPERATURE_C] * 4, [min(int(batt.voltage_v * 100), 65535)] * 4,
         [min(int(batt.current_a * 25), 65535)] * 4, [int(batt.consumed_mah / 4)] * 4, rpm, [count] * 4)
 
 
-def nav_controller_output(v, codec):
+def nav_controller_output(v: SensorView, codec):
     """The lean the position loop asks for [deg], the heading wanted, the bearing and distance to
     the mode's destination and the height still to go (ArduCopter fills xtrack only for planes)."""
     roll_t, pitch_t = v.lean_target
     b = v.body
-    dest = v.mode.destination()
+    dest = v.destination()
     bearing, dist, alt_error = 0, 0, 0.0
     if dest is not None:
         dn, de = dest[0] - b.n_m, dest[1] - b.e_m
@@ -169,7 +170,7 @@ def nav_controller_output(v, codec):
         bearing = int(round(math.degrees(math.atan2(de, dn))))
         if dest[2] is not None:
             alt_error = b.d_m - dest[2]
-    nav_bearing = int(round(math.degrees(wrap_pi(v.cascade.yaw_t))))  # an int16 field
+    nav_bearing = int(round(math.degrees(wrap_pi(v.yaw_target))))  # an int16 field
     return codec.nav_controller_output_encode(math.degrees(roll_t), math.degrees(pitch_t), nav_bearing, bearing,
                                               dist, alt_error, 0.0, 0.0)
 

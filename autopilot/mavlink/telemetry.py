@@ -2,9 +2,12 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
+from typing import Any
 
 from ..mission.progress import MissionState
 from ..modes import MODE_BY_NUMBER
+from ..views import StreamedView, TelemetryView
 from .dialect import mavlink as mav
 from .encoding import deg_e7 as _deg_e7
 from .encoding import time_boot_ms as _ms
@@ -40,65 +43,63 @@ CAPABILITIES = (mav.MAV_PROTOCOL_CAPABILITY_MISSION_FLOAT | mav.MAV_PROTOCOL_CAP
 FIRMWARE_VERSION = (4 << 24) | (5 << 16) | (0 << 8) | mav.FIRMWARE_VERSION_TYPE_OFFICIAL
 
 
-def heartbeat(v, codec):
-    mode = v.mode
+def heartbeat(v: TelemetryView, codec):
     base = mav.MAV_MODE_FLAG_CUSTOM_MODE_ENABLED | mav.MAV_MODE_FLAG_STABILIZE_ENABLED \
         | mav.MAV_MODE_FLAG_MANUAL_INPUT_ENABLED
-    if mode.controls_position(v.ctx):
+    if v.controls_position():
         base |= mav.MAV_MODE_FLAG_GUIDED_ENABLED
     if v.armed:
         base |= mav.MAV_MODE_FLAG_SAFETY_ARMED
     # As ArduCopter: any failsafe or internal error makes it CRITICAL, on the ground (armed or
     # not) it is STANDBY.
-    if v.failsafes.active or v.internal_errors.bits:
+    if v.failsafe_active or v.internal_error_bits:
         status = mav.MAV_STATE_CRITICAL
     elif v.landed:
         status = mav.MAV_STATE_STANDBY
     else:
         status = mav.MAV_STATE_ACTIVE
     return codec.heartbeat_encode(mav.MAV_TYPE_QUADROTOR, mav.MAV_AUTOPILOT_ARDUPILOTMEGA, base,
-                                  mode.number, status)
+                                  v.mode_number, status)
 
 
-def sys_status(v, codec):
+def sys_status(v: TelemetryView, codec):
     present = SENSORS | PREARM | ALWAYS_ON | mav.MAV_SYS_STATUS_GEOFENCE
     # The altitude and position controllers are enabled (and healthy) only in modes that use them.
     enabled = present & ~CONTROL & ~mav.MAV_SYS_STATUS_GEOFENCE
-    if not v.mode.manual_throttle:
+    if not v.mode_manual_throttle:
         enabled |= mav.MAV_SYS_STATUS_SENSOR_Z_ALTITUDE_CONTROL
-    if v.mode.controls_position(v.ctx):
+    if v.controls_position():
         enabled |= mav.MAV_SYS_STATUS_SENSOR_XY_POSITION_CONTROL
     if v.params["FENCE_ENABLE"]:
         enabled |= mav.MAV_SYS_STATUS_GEOFENCE
     healthy = (enabled & ~PREARM & ~mav.MAV_SYS_STATUS_GEOFENCE) | mav.MAV_SYS_STATUS_SENSOR_PROXIMITY
     if v.is_armable():
         healthy |= PREARM
-    if v.failsafes.battery_level:
+    if v.battery_failsafe_level:
         healthy &= ~mav.MAV_SYS_STATUS_SENSOR_BATTERY
     if v.gps.fix_type < 3:  # as ArduCopter: the GPS is healthy only with a 3D fix
         healthy &= ~mav.MAV_SYS_STATUS_SENSOR_GPS
     # As ArduPilot: the fence bit is healthy unless a fence is enabled and breached (MAVProxy
     # reads a missing health bit as a breach even when no fence exists).
-    if not v.failsafes.fence_breached:
+    if not v.fence_breached:
         healthy |= mav.MAV_SYS_STATUS_GEOFENCE
-    est = v.estimate
-    batt = est.battery
-    errors1, errors2, errors4 = v.internal_errors.sys_status_fields()
+    batt = v.battery
+    errors1, errors2, errors4 = v.internal_error_fields()
     return codec.sys_status_encode(present, enabled, healthy, 100,
                                    int(batt.voltage_v * 1000), int(batt.current_a * 100),
-                                   int(round(est.battery_remaining * 100)), 0, 0, errors1, errors2, 0, errors4)
+                                   int(round(v.battery_remaining * 100)), 0, 0, errors1, errors2, 0, errors4)
 
 
-def battery_status(v, codec):
-    batt = v.estimate.battery
+def battery_status(v: TelemetryView, codec):
+    batt = v.battery
     volts = [min(int(batt.voltage_v * 1000), 65534)] + [65535] * 9
     return codec.battery_status_encode(0, mav.MAV_BATTERY_FUNCTION_ALL, mav.MAV_BATTERY_TYPE_LIPO,
                                        32767, volts, int(batt.current_a * 100),
                                        int(batt.consumed_mah), -1,
-                                       int(round(v.estimate.battery_remaining * 100)))
+                                       int(round(v.battery_remaining * 100)))
 
 
-def global_position_int(v, codec):
+def global_position_int(v: TelemetryView, codec):
     b, pos = v.body, v.position_global()
     home_alt = v.home.alt_m if v.home else v.origin.alt_m
     hdg = int(round(math.degrees(v.attitude[2]) * 100)) % 36000
@@ -108,13 +109,13 @@ def global_position_int(v, codec):
                                             int(b.vd_m_s * 100), hdg)
 
 
-def local_position_ned(v, codec):
+def local_position_ned(v: TelemetryView, codec):
     b = v.body
     x, y = v.local_ne(b.n_m, b.e_m)
     return codec.local_position_ned_encode(_ms(v), x, y, b.d_m, b.vn_m_s, b.ve_m_s, b.vd_m_s)
 
 
-def gps_raw_int(v, codec):
+def gps_raw_int(v: TelemetryView, codec):
     g = v.gps
     pos = v.ned_to_global(g.n_m, g.e_m, g.d_m)
     speed = math.hypot(g.vn_m_s, g.ve_m_s)
@@ -124,19 +125,19 @@ def gps_raw_int(v, codec):
                                     int(speed * 100), cog, g.satellites)
 
 
-def attitude(v, codec):
+def attitude(v: TelemetryView, codec):
     b = v.body
     roll, pitch, yaw = v.attitude
     return codec.attitude_encode(_ms(v), roll, pitch, yaw, b.p_rad_s, b.q_rad_s, b.r_rad_s)
 
 
-def attitude_quaternion(v, codec):
+def attitude_quaternion(v: TelemetryView, codec):
     b = v.body
     return codec.attitude_quaternion_encode(_ms(v), b.qw, b.qx, b.qy, b.qz, b.p_rad_s, b.q_rad_s,
                                             b.r_rad_s, [0.0, 0.0, 0.0, 0.0])
 
 
-def vfr_hud(v, codec):
+def vfr_hud(v: TelemetryView, codec):
     b = v.body
     gs = math.hypot(b.vn_m_s, b.ve_m_s)
     heading = int(round(math.degrees(v.attitude[2]))) % 360
@@ -144,22 +145,23 @@ def vfr_hud(v, codec):
     return codec.vfr_hud_encode(gs, gs, heading, throttle, v.position_global().alt_m, -b.vd_m_s)
 
 
-def home_position(v, codec):
-    home = v.home
-    if home is None:
+def home_position(v: TelemetryView, codec):
+    home_ned = v.home_ned
+    if home_ned is None:
         return None
-    n, e, d = v.home_ned
+    n, e, d = home_ned
+    home = v.ned_to_global(n, e, d)  # v.home
     n, e = v.local_ne(n, e)
     return codec.home_position_encode(_deg_e7(home.lat_deg), _deg_e7(home.lon_deg),
                                       int(home.alt_m * 1000), n, e, d, [1.0, 0.0, 0.0, 0.0],
                                       0.0, 0.0, 0.0, int(v.time_s * 1e6))
 
 
-def extended_sys_state(v, codec):
+def extended_sys_state(v: TelemetryView, codec):
     return codec.extended_sys_state_encode(mav.MAV_VTOL_STATE_MC, LANDED_STATE[v.landed_state()])
 
 
-def system_time(v, codec):
+def system_time(v: TelemetryView, codec):
     return codec.system_time_encode(v.unix_time_us(), _ms(v))
 
 
@@ -167,17 +169,16 @@ MISSION_STATE = {MissionState.NOT_STARTED: mav.MISSION_STATE_NOT_STARTED, Missio
                  MissionState.COMPLETE: mav.MISSION_STATE_COMPLETE}
 
 
-def mission_current(v, codec, seq: int | None = None):
+def mission_current(v: TelemetryView, codec, seq: int | None = None):
     """MISSION_CURRENT as ArduCopter fills it: the current navigation item (or `seq`, to echo a
     MISSION_SET_CURRENT), the item count without home, and whether AUTO is flying the mission."""
-    progress = v.mission_progress
-    total = len(progress.items())
-    state = MISSION_STATE[progress.state] if total else mav.MISSION_STATE_NO_MISSION
-    return codec.mission_current_encode(progress.current_seq() if seq is None else seq, total, state,
+    current, total, progress_state = v.mission_status()
+    state = MISSION_STATE[progress_state] if total else mav.MISSION_STATE_NO_MISSION
+    return codec.mission_current_encode(current if seq is None else seq, total, state,
                                         1 if v.in_mission_mode else 0)
 
 
-def autopilot_version(v, codec):
+def autopilot_version(v: TelemetryView, codec):
     return codec.autopilot_version_encode(CAPABILITIES, FIRMWARE_VERSION, 0, 0, 0,
                                           list(b"firefly\0"), [0] * 8, [0] * 8, 0, 0,
                                           v.system_id)
@@ -186,8 +187,8 @@ def autopilot_version(v, codec):
 TEMPERATURE_NAME = b"GND_TEMP"  # downward radiometer reading, degrees C; time_boot_ms = sample time
 
 
-def ground_temperature(v, codec):
-    t_s, value = v.estimate.temperature
+def ground_temperature(v: TelemetryView, codec):
+    t_s, value = v.temperature
     return codec.named_value_float_encode(int(t_s * 1000.0) & 0xFFFFFFFF, TEMPERATURE_NAME, value)
 
 
@@ -200,17 +201,19 @@ EKF_NO_POSITION = (mav.EKF_ATTITUDE | mav.EKF_VELOCITY_VERT | mav.EKF_POS_VERT_A
 EKF_GPS_GLITCH = 32768  # MAVLink's EKF_GPS_GLITCH flag, newer than this pymavlink's dialect
 
 
-def ekf_status_report(v, codec):
+def ekf_status_report(v: TelemetryView, codec):
     """Flags for what the estimate knows; horizontal variances over FS_EKF_THRESH without a fix."""
-    if not v.estimate.attitude_known():  # a realistic start-up before the EKF has aligned
+    if not v.attitude_known():  # a realistic start-up before the EKF has aligned
         return codec.ekf_status_report_encode(mav.EKF_UNINITIALIZED, 1.0, 1.0, 1.0, 1.0, 0.0)
     flags, variance = (EKF_GOOD, 0.01) if v.has_position() else (EKF_NO_POSITION, 1.0)
-    if v.failsafes.ekf.gps_glitching:
+    if v.gps_glitching:
         flags |= EKF_GPS_GLITCH
     return codec.ekf_status_report_encode(flags, variance, variance, 0.01, 0.01, 0.0)
 
 
-BUILDERS = {
+# msg id -> builder(vehicle, codec): the message, or None when there is nothing to send.
+Builder = Callable[[StreamedView, Any], Any]
+BUILDERS: dict[int, Builder] = {
     mav.MAVLINK_MSG_ID_HEARTBEAT: heartbeat,
     mav.MAVLINK_MSG_ID_SYS_STATUS: sys_status,
     mav.MAVLINK_MSG_ID_BATTERY_STATUS: battery_status,
@@ -234,7 +237,7 @@ BUILDERS = {
 # ArduPilot's stream groups (REQUEST_DATA_STREAM ids), the SRn_ parameter that sets each rate,
 # and their messages, as ArduCopter fills them (GCS_MAVLink_Parameters.cpp) for what Firefly has.
 _ID = mav.__dict__
-STREAM_GROUPS = {
+_STREAM_GROUP_NAMES = {
     mav.MAV_DATA_STREAM_RAW_SENSORS: ("SR0_RAW_SENS", ("RAW_IMU", "SCALED_IMU2", "SCALED_IMU3",
                                                       "SCALED_PRESSURE", "SCALED_PRESSURE2")),
     mav.MAV_DATA_STREAM_EXTENDED_STATUS: ("SR0_EXT_STAT", ("SYS_STATUS", "POWER_STATUS", "MEMINFO",
@@ -251,8 +254,9 @@ STREAM_GROUPS = {
                                                "TERRAIN_REQUEST", "BATTERY_STATUS", "EKF_STATUS_REPORT",
                                                "VIBRATION", "EXTENDED_SYS_STATE")),
 }
-STREAM_GROUPS = {group: (param, tuple(_ID[f"MAVLINK_MSG_ID_{name}"] for name in names))
-                 for group, (param, names) in STREAM_GROUPS.items()}
+STREAM_GROUPS: dict[int, tuple[str, tuple[int, ...]]] = {
+    group: (param, tuple(_ID[f"MAVLINK_MSG_ID_{name}"] for name in names))
+    for group, (param, names) in _STREAM_GROUP_NAMES.items()}
 # What Firefly streams before any client asks (ArduCopter streams nothing unasked): what a ground
 # station shows of a vehicle. The rest of each group comes once a client asks for the group.
 UNASKED = frozenset(_ID[f"MAVLINK_MSG_ID_{name}"] for name in (

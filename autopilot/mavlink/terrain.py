@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import math
 
+from ..views import TelemetryView
 from .dialect import mavlink as mav
 from .encoding import deg_e7
 
@@ -42,7 +43,7 @@ def grid_block_corner(lat_e7: int, lon_e7: int, spacing_m: float) -> tuple[int, 
     return ref_lat + d_lat, ref_lon + d_lon
 
 
-def terrain_request(v, codec):
+def terrain_request(v: TelemetryView, codec):
     if not v.params["TERRAIN_ENABLE"]:
         return None
     pos = v.position_global()
@@ -51,7 +52,7 @@ def terrain_request(v, codec):
     return codec.terrain_request_encode(lat, lon, spacing, ALL_BLOCKS_MASK)
 
 
-def terrain_report(v, codec):
+def terrain_report(v: TelemetryView, codec):
     """Nothing loaded: spacing 0, terrain height 0 and the height above it the altitude AMSL."""
     if not v.params["TERRAIN_ENABLE"]:
         return None

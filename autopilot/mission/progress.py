@@ -77,6 +77,10 @@ class MissionProgress:
         """The current navigation item as MISSION_CURRENT numbers it; 0 when there is none."""
         return 0 if self.nav_index is None else self.nav_index + 1
 
+    def status(self) -> tuple[int, int, MissionState]:
+        """(current_seq(), len(items()), state): what MISSION_CURRENT reports (inlined: asked often)."""
+        return 0 if self.nav_index is None else self.nav_index + 1, len(self.store.items(MISSION)), self.state
+
     @property
     def running(self) -> bool:
         return self.state is MissionState.ACTIVE

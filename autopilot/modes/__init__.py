@@ -9,8 +9,8 @@ from .numbers import ModeNumber
 from .poshold import PosHold
 
 MODE_CLASSES = (Stabilize, AltHold, Auto, Guided, Loiter, Rtl, Land, PosHold, Brake)
-MODE_BY_NUMBER = {cls.number: cls for cls in MODE_CLASSES}
-MODE_BY_NAME = {cls.name: cls for cls in MODE_CLASSES}
+MODE_BY_NUMBER: dict[int, type[Mode]] = {cls.number: cls for cls in MODE_CLASSES}
+MODE_BY_NAME: dict[str, type[Mode]] = {cls.name: cls for cls in MODE_CLASSES}
 assert set(MODE_BY_NUMBER) == set(ModeNumber), "every number in the table has its mode class"
 
 __all__ = ["ModeNumber", "Mode", "Setpoint", "MODE_CLASSES", "MODE_BY_NUMBER", "MODE_BY_NAME",

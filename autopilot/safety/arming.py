@@ -1,66 +1,68 @@
 """Arming: ArduCopter's pre-arm checks as a table, the rules that refuse an ARM, and the state
 that arming starts (armed, and ArduCopter's auto_armed flag).
 
-The checks read the vehicle through its public facade (estimate, params, home, failsafes); each
-returns the words ArduCopter puts after "PreArm: ", or None when it passes.
+The checks read the vehicle through its pre-arm view (views.PrearmView); each returns the words
+ArduCopter puts after "PreArm: ", or None when it passes.
 """
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 
 from ..modes.numbers import ModeNumber
+from ..views import PrearmView
 
 FORCE_ARM_MAGIC = 2989  # COMPONENT_ARM_DISARM param2 that skips the checks (ArduPilot's)
 FORCE_DISARM_MAGIC = 21196  # ... and that disarms even in flight
 THROTTLE_ARM_MAX = 0.1  # manual-throttle modes refuse to arm with the stick above this
 
 
-def _starting_up(v):
+def _starting_up(v: PrearmView) -> list[str]:
     """A realistic start-up's sensor and EKF stages (startup.py); none by default."""
-    return v.startup.arm_blockers(v.time_s)
+    return v.startup_arm_blockers(v.time_s)
 
 
-def _need_position(v):
+def _need_position(v: PrearmView) -> str | None:
     """Modes that fly by position need home and the estimate's position; as ArduCopter words it,
     "AHRS: waiting for home" before the EKF has an origin, then "Need 3D Fix" while the GPS has
     no fix, "Need Position Estimate" while the EKF does not use it yet."""
-    if not v.mode.requires_position or v.has_position():
+    if not v.mode_requires_position or v.has_position():
         return None
     if v.home_ned is None:
         return "AHRS: waiting for home"
     return "Need 3D Fix" if v.gps.fix_type < 3 else "Need Position Estimate"
 
 
-def _internal_errors(v):
-    return v.internal_errors.prearm_text()
+def _internal_errors(v: PrearmView) -> str | None:
+    return v.internal_error_prearm_text()
 
 
-def _gps_glitching(v):
-    return "GPS glitching" if v.failsafes.ekf.gps_glitching else None
+def _gps_glitching(v: PrearmView) -> str | None:
+    return "GPS glitching" if v.gps_glitching else None
 
 
-def _leaning(v):
+def _leaning(v: PrearmView) -> str | None:
     roll, pitch, _ = v.attitude
     return "Leaning" if max(abs(roll), abs(pitch)) > math.radians(v.params["ANGLE_MAX"] / 100.0) else None
 
 
-def _battery_low(v):
+def _battery_low(v: PrearmView) -> str | None:
     low = v.params["BATT_LOW_VOLT"]
-    return "Battery below minimum arming voltage" if low > 0 and v.estimate.battery.voltage_v < low else None
+    return "Battery below minimum arming voltage" if low > 0 and v.battery.voltage_v < low else None
 
 
 # In ArduCopter's order; a check gives its words, a list of them, or None when it passes.
-PREARM_CHECKS = (_starting_up, _internal_errors, _need_position, _gps_glitching, _leaning, _battery_low)
+PREARM_CHECKS: tuple[Callable[[PrearmView], str | list[str] | None], ...] = (_starting_up, _internal_errors, _need_position, _gps_glitching, _leaning, _battery_low)
 
 
-def prearm_failures(v) -> list[str]:
+def prearm_failures(v: PrearmView) -> list[str]:
     """Every failing pre-arm check, in order ([] when all pass or ARMING_CHECK is 0): an ARM
     refused by them is answered with each, as ArduCopter reports every failing check."""
     if v.params["ARMING_CHECK"] == 0:
         return []
-    if v.startup.initialising(v.time_s):
+    if v.startup_initialising(v.time_s):
         return ["System not initialised"]  # nothing else is checked yet
-    failures = []
+    failures: list[str] = []
     for check in PREARM_CHECKS:
         reason = check(v)
         if reason:
@@ -68,29 +70,29 @@ def prearm_failures(v) -> list[str]:
     return failures
 
 
-def prearm_failure(v) -> str | None:
+def prearm_failure(v: PrearmView) -> str | None:
     """The first failing pre-arm check, or None."""
     failures = prearm_failures(v)
     return failures[0] if failures else None
 
 
-def arm_refusals(v, force: bool) -> list[str]:
+def arm_refusals(v: PrearmView, force: bool) -> list[str]:
     """The STATUSTEXTs that refuse an ARM in the vehicle's state; [] to arm."""
-    if v.mode.number == ModeNumber.AUTO and not v.mission_progress.items():
+    if v.mode_number == ModeNumber.AUTO and not v.mission_status()[1]:
         return ["Arm: Mode requires mission"]  # ArduCopter's first word on arming in an empty AUTO
-    if not v.mode.allows_arming:
-        return [f"Arm: {v.mode.name} mode not armable"]
+    if not v.mode_allows_arming:
+        return [f"Arm: {v.mode_name} mode not armable"]
     if force:
         return []
     failures = prearm_failures(v)
     if failures:  # ArduPilot prefixes the checks an ARM runs "Arm:", its periodic report "PreArm:"
         return [f"Arm: {reason}" for reason in failures]
-    if v.mode.manual_throttle and v.pilot.throttle > THROTTLE_ARM_MAX:
+    if v.mode_manual_throttle and v.pilot.throttle > THROTTLE_ARM_MAX:
         return ["Arm: Throttle too high"]
     return []
 
 
-def arm_refusal(v, force: bool) -> str | None:
+def arm_refusal(v: PrearmView, force: bool) -> str | None:
     """The first STATUSTEXT that refuses an ARM, or None to arm."""
     refusals = arm_refusals(v, force)
     return refusals[0] if refusals else None
@@ -100,7 +102,7 @@ class Arming:
     """Whether the motors are armed, and ArduCopter's auto_armed: AUTO may start its
     mission from the ground (set by MISSION_START while armed and by a takeoff; cleared on disarm)."""
 
-    def __init__(self):
+    def __init__(self) -> None:
         self.armed = False
         self.auto_armed = False
 

@@ -14,6 +14,7 @@ import math
 
 from ..modes.numbers import ModeNumber
 from ..results import Result, Severity
+from ..views import FailsafeView
 
 EKF_CHECK_ITERATIONS_MAX = 10  # 1 s of bad checks at 10 Hz
 GPS_GLITCH_GATE_M = 5.0  # horizontal GPS-to-estimate distance beyond which a fix is rejected
@@ -21,13 +22,13 @@ ACTION_LAND, ACTION_ALT_HOLD, ACTION_LAND_EVEN_STABILIZE = 1, 2, 3
 
 
 class EkfCheck:
-    def __init__(self):
+    def __init__(self) -> None:
         self.fail_count = 0
         self.failsafe = False  # ArduCopter's failsafe.ekf
         self.acted = False  # an action was taken (ArduCopter's AP_Notify failsafe_ekf flag)
         self.gps_glitching = False
 
-    def check(self, v) -> None:
+    def check(self, v: FailsafeView) -> None:
         """Called at 10 Hz."""
         self._check_glitch(v)
         if not v.armed or v.params["FS_EKF_THRESH"] <= 0:
@@ -45,19 +46,19 @@ class EkfCheck:
             if self.fail_count == 0:
                 self._clear(v)
 
-    def _trip(self, v) -> None:
+    def _trip(self, v: FailsafeView) -> None:
         self.failsafe = True
         action = int(v.params["FS_EKF_ACTION"])
-        if not v.mode.requires_position and action != ACTION_LAND_EVEN_STABILIZE:
+        if not v.mode_requires_position and action != ACTION_LAND_EVEN_STABILIZE:
             return
-        if v.mode.number == ModeNumber.LAND:
+        if v.mode_number == ModeNumber.LAND:
             return
         if action != ACTION_ALT_HOLD or v.set_mode(ModeNumber.ALT_HOLD) != Result.ACCEPTED:
             v.set_mode(ModeNumber.LAND)
         self.acted = True
-        v.notify(f"EKF Failsafe: changed to {v.mode.name} Mode", Severity.CRITICAL)
+        v.notify(f"EKF Failsafe: changed to {v.mode_name} Mode", Severity.CRITICAL)
 
-    def _clear(self, v) -> None:
+    def _clear(self, v: FailsafeView) -> None:
         if not self.failsafe:
             return
         self.failsafe = False
@@ -65,7 +66,7 @@ class EkfCheck:
             self.acted = False
             v.notify("EKF Failsafe Cleared", Severity.CRITICAL)
 
-    def _check_glitch(self, v) -> None:
+    def _check_glitch(self, v: FailsafeView) -> None:
         gps, b = v.gps, v.body
         glitching = gps.fix_type >= 3 and math.hypot(gps.n_m - b.n_m, gps.e_m - b.e_m) > GPS_GLITCH_GATE_M
         if glitching != self.gps_glitching:

@@ -7,10 +7,11 @@ link clock and reported here through `gcs_lost()`, so wall time never reaches th
 from __future__ import annotations
 
 import math
+from typing import Any
 
-from ..mission import FENCE
 from ..modes.numbers import ModeNumber
 from ..results import Result, Severity
+from ..views import FailsafeView
 from .ekf_check import EkfCheck
 
 RTL, LAND, AUTO = ModeNumber.RTL, ModeNumber.LAND, ModeNumber.AUTO
@@ -24,7 +25,7 @@ FENCE_ALT, FENCE_CIRCLE, FENCE_POLYGON = 1, 2, 4
 CMD_POLY_INCLUSION, CMD_POLY_EXCLUSION, CMD_CIRCLE_INCLUSION, CMD_CIRCLE_EXCLUSION = 5001, 5002, 5003, 5004
 
 
-def point_in_polygon(p: tuple, poly: list[tuple]) -> bool:
+def point_in_polygon(p: tuple[float, float], poly: list[tuple[float, float]]) -> bool:
     """Even-odd rule on a local (north, east) polygon."""
     inside = False
     x, y = p
@@ -40,30 +41,32 @@ def vertex_count(p1: float) -> int:
 
 
 class Failsafes:
-    def __init__(self):
+    def __init__(self) -> None:
         self.battery_level = 0  # 0 ok, 1 low, 2 critical
         self.gcs = False
         self.fence_breached = False
         self.ekf = EkfCheck()
-        self._fence_version = None
-        self._zones: list = []
+        self._fence_version: int | None = None
+        # ("poly", inclusion, [(n, e), ...]) or ("circle", inclusion, (n, e, radius))
+        self._zones: list[tuple[str, bool, Any]] = []
 
     @property
     def active(self) -> bool:
         return bool(self.battery_level or self.gcs or self.fence_breached or self.ekf.failsafe)
 
-    def _act(self, v, mode: int | None, reason: str) -> None:
+    def _act(self, v: FailsafeView, mode: int | None, reason: str) -> None:
         if mode is None or not v.armed or v.landed:
             return
-        if v.mode.number == LAND or (mode == RTL and v.mode.number == RTL):
+        if v.mode_number == LAND or (mode == RTL and v.mode_number == RTL):
             return
         if v.set_mode(mode) != Result.ACCEPTED and mode == RTL:
             v.set_mode(LAND)
 
     # ----- battery ------------------------------------------------------------------------------
-    def check_battery(self, v) -> None:
+    def check_battery(self, v: FailsafeView) -> None:
         p = v.params
-        volts, used = v.estimate.battery.voltage_v, v.estimate.battery.consumed_mah
+        battery = v.battery
+        volts, used = battery.voltage_v, battery.consumed_mah
         critical = (p["BATT_CRT_VOLT"] > 0 and volts < p["BATT_CRT_VOLT"]) or \
                    (p["BATT_CRT_MAH"] > 0 and p["BATT_CAPACITY"] - used < p["BATT_CRT_MAH"])
         low = critical or (p["BATT_LOW_VOLT"] > 0 and volts < p["BATT_LOW_VOLT"]) or \
@@ -79,28 +82,29 @@ class Failsafes:
         self._act(v, BATT_ACTIONS.get(int(action)), "battery")
 
     # ----- ground station -----------------------------------------------------------------------
-    def gcs_lost(self, v) -> None:
+    def gcs_lost(self, v: FailsafeView) -> None:
         if self.gcs or not v.armed or v.params["FS_GCS_ENABLE"] == 0:
             return
         self.gcs = True
         v.notify("GCS Failsafe", Severity.CRITICAL)
         action = int(v.params["FS_GCS_ENABLE"])
-        if action == GCS_CONTINUE_IN_AUTO and v.mode.number == AUTO:
+        if action == GCS_CONTINUE_IN_AUTO and v.mode_number == AUTO:
             return
         self._act(v, GCS_ACTIONS.get(action), "gcs")
 
-    def gcs_regained(self, v) -> None:
+    def gcs_regained(self, v: FailsafeView) -> None:
         if self.gcs:
             self.gcs = False
             v.notify("GCS Failsafe Cleared", Severity.CRITICAL)
 
     # ----- fence --------------------------------------------------------------------------------
-    def _fence_zones(self, v) -> list:
+    def _fence_zones(self, v: FailsafeView) -> list[tuple[str, bool, Any]]:
         """Fence items from the store as local shapes, rebuilt when a new fence is uploaded."""
-        if self._fence_version == v.mission.version:
+        if self._fence_version == v.mission_version:
             return self._zones
-        zones, vertices = [], []
-        for item in v.mission.items(FENCE):
+        zones: list[tuple[str, bool, Any]] = []
+        vertices: list[tuple[float, float]] = []
+        for item in v.fence_items():
             n, e, _ = v.ned_of(item.x * 1e-7, item.y * 1e-7, v.origin.alt_m)
             if item.command in (CMD_POLY_INCLUSION, CMD_POLY_EXCLUSION):
                 vertices.append((n, e))
@@ -109,10 +113,10 @@ class Failsafes:
                     vertices = []
             elif item.command in (CMD_CIRCLE_INCLUSION, CMD_CIRCLE_EXCLUSION):
                 zones.append(("circle", item.command == CMD_CIRCLE_INCLUSION, (n, e, item.p1)))
-        self._zones, self._fence_version = zones, v.mission.version
+        self._zones, self._fence_version = zones, v.mission_version
         return zones
 
-    def fence_breach(self, v) -> str | None:
+    def fence_breach(self, v: FailsafeView) -> str | None:
         """Which fence the vehicle is outside of, or None."""
         p, b = v.params, v.body
         kinds = int(p["FENCE_TYPE"])
@@ -130,7 +134,7 @@ class Failsafes:
                     return "polygon" if shape == "poly" else "circle zone"
         return None
 
-    def check_fence(self, v) -> None:
+    def check_fence(self, v: FailsafeView) -> None:
         if not v.params["FENCE_ENABLE"] or not v.armed:
             self.fence_breached = False
             return
@@ -144,7 +148,7 @@ class Failsafes:
         v.notify(f"Fence Breached: {breach}", Severity.CRITICAL)
         self._act(v, FENCE_ACTIONS.get(int(v.params["FENCE_ACTION"])), "fence")
 
-    def check(self, v) -> None:
+    def check(self, v: FailsafeView) -> None:
         self.check_battery(v)
         self.check_fence(v)
         self.ekf.check(v)

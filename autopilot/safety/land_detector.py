@@ -6,6 +6,10 @@ LAND_DETECT_S. Taken off: risen 0.2 m above home or climbing. Disarmed means lan
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from sim.rigid_body import BodyState
 
 LAND_DETECT_S = 1.0
 LOW_THRUST_SHARE = 0.85  # of the weight: the motors no longer carry the vehicle
@@ -26,7 +30,7 @@ class LandDetector:
         """On arming: the vehicle stands on the ground until it rises."""
         self.landed = True
 
-    def update(self, body, armed: bool, home_d_m: float, thrust_n: float, now_s: float) -> bool:
+    def update(self, body: BodyState, armed: bool, home_d_m: float, thrust_n: float, now_s: float) -> bool:
         """Called at the flight-mode rate; True at the tick the vehicle is found landed."""
         if self.landed:
             if armed and (body.d_m < home_d_m - RISEN_M or body.vd_m_s < CLIMBING_VD_M_S):
@@ -54,7 +58,7 @@ class LandDetector:
 class AutoDisarm:
     """Disarm after DISARM_DELAY seconds landed with nothing asking to climb."""
 
-    def __init__(self):
+    def __init__(self) -> None:
         self._since: float | None = None
 
     def restart(self, now_s: float) -> None:

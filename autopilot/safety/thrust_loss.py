@@ -9,6 +9,7 @@ from __future__ import annotations
 import math
 
 from ..results import Severity
+from ..views import ThrustLossView
 
 TRIGGER_S = 1.0  # THRUST_LOSS_CHECK_TRIGGER_SEC
 LEAN_MAX_RAD = math.radians(15.0)  # THRUST_LOSS_CHECK_ANGLE_DEVIATION_CD
@@ -19,11 +20,11 @@ SATURATED = 0.999  # a motor commanded at this share of its top speed is at its 
 
 
 class ThrustLossCheck:
-    def __init__(self):
+    def __init__(self) -> None:
         self._seconds = 0.0
         self.announced = False  # stays until no motor is at its limit (ArduCopter's thrust boost)
 
-    def check(self, v, dt: float) -> None:
+    def check(self, v: ThrustLossView, dt: float) -> None:
         """Called with the failsafe checks, at a tenth of the flight-mode rate (10 Hz)."""
         commands = v.motor_commands
         at_limit = max(commands) >= SATURATED * v.omega_max_rad_s
@@ -41,7 +42,7 @@ class ThrustLossCheck:
             v.notify(f"Potential Thrust Loss ({motor})", Severity.EMERGENCY)
 
     @staticmethod
-    def _suspected(v, at_limit: bool) -> bool:
+    def _suspected(v: ThrustLossView, at_limit: bool) -> bool:
         if not v.armed or v.landed:
             return False
         roll_t, pitch_t = v.lean_target
