@@ -12,8 +12,12 @@ import math
 
 from ..mission.commands import (CMD_DO_CHANGE_SPEED, CMD_DO_SET_HOME, CMD_LAND, CMD_LOITER_TIME,
                                 CMD_LOITER_UNLIM, CMD_RTL, CMD_TAKEOFF, CMD_WAYPOINT, is_nav)
+from ..mission.progress import MissionProgress
+from ..mission.store import MissionItem
 from ..results import Severity
+from ..views import Vector3
 from .base import Mode, Setpoint
+from .context import ModeContext
 from .land import Rtl, descend_and_disarm
 from .numbers import ModeNumber
 from .waypoint_legs import NAV_BY_LEGS, WaypointLegs, flies_through, next_nav_index
@@ -30,13 +34,26 @@ class Auto(Mode):
     number = ModeNumber.AUTO
     requires_position = True
     requires_home = True  # items at heights above home, RTL and land items
+    _ctx: ModeContext
+    _rtl: Rtl  # flies the RTL item
+    _index: int | None  # the navigation item being flown (None: none, holding)
+    _item: MissionItem  # ... and that item
+    _nav_done: bool
+    _legs: WaypointLegs
+    _hold_ne: tuple[float, float]
+    _hold_d: float
+    _waiting_to_start: bool
+    _target: Vector3
+    _arrived_at: float | None
+    _land_d: float
+    _seen: tuple[int, int | None, tuple[tuple[int, MissionItem], ...]]
 
     def __init__(self) -> None:
         # Until enter() (which may wait for home): no item flown, no destination.
-        self._index: int | None = None
-        self._rtl: Rtl | None = None
+        self._index = None
+        self._rtl = Rtl(disarm_on_land=False)
 
-    def enter(self, ctx) -> str | None:
+    def enter(self, ctx: ModeContext) -> str | None:
         mission = ctx.mission_progress
         # ArduCopter gives one reason for both refusals ("Mode change to AUTO failed: init failed").
         if not mission.items() and ctx.armed:  # disarmed: entered, and refused at arming instead
@@ -45,7 +62,7 @@ class Auto(Mode):
             ctx.notify("Auto: Missing Takeoff Cmd", Severity.CRITICAL)
             return "init failed"
         self._ctx = ctx
-        self._rtl = None
+        self._rtl = Rtl(disarm_on_land=False)  # the mission's end disarms (mission_complete)
         self._index = None
         self._nav_done = False
         self._legs = WaypointLegs()
@@ -54,24 +71,24 @@ class Auto(Mode):
         mission.bind(self)
         return None
 
-    def exit(self, ctx) -> None:
+    def exit(self, ctx: ModeContext) -> None:
         if ctx.mission_progress.running:
             ctx.mission_progress.stop()
 
-    def destination(self) -> tuple | None:
+    def destination(self) -> tuple[float, float, float | None] | None:
         return getattr(self, "_target", None) if self._index is not None else None
 
     @staticmethod
-    def _restart(ctx) -> bool:
+    def _restart(ctx: ModeContext) -> bool:
         return ctx.params["MIS_RESTART"] == 1
 
     # ----- the runner mission/progress.py calls -------------------------------------------------
-    def start_command(self, index: int, item) -> bool:
+    def start_command(self, index: int, item: MissionItem) -> bool:
         """Start an item; False for a navigation item this vehicle cannot fly (it is passed over)."""
         ctx = self._ctx
         if item.command in NAV_COMMANDS:
             self._index, self._item, self._nav_done = index, item, False
-            self._begin_nav(ctx, item)
+            self._begin_nav(ctx, index, item)
             return True
         if is_nav(item.command):  # a navigation item this emulator does not fly
             ctx.notify(f"Skipping invalid cmd #{item.command}", Severity.WARNING)
@@ -83,7 +100,7 @@ class Auto(Mode):
             ctx.set_home(None if item.p1 == 1 else self._target_ned(ctx, item))
         return True
 
-    def verify_command(self, index: int, item) -> bool:
+    def verify_command(self, index: int, item: MissionItem) -> bool:
         if item.command in NAV_COMMANDS:
             return index == self._index and self._nav_done
         if item.command not in (CMD_DO_CHANGE_SPEED, CMD_DO_SET_HOME):
@@ -98,7 +115,7 @@ class Auto(Mode):
         if ctx.landed and ctx.armed:
             ctx.disarm("mission complete")
 
-    def _target_ned(self, ctx, item) -> tuple:
+    def _target_ned(self, ctx: ModeContext, item: MissionItem) -> Vector3:
         """Item position in local NED; lat/lon 0 = here, altitude 0 for takeoff/land = keep."""
         b = ctx.body
         if item.x == 0 and item.y == 0:
@@ -111,32 +128,32 @@ class Auto(Mode):
             d = ctx.require_home()[2] - item.z
         return n, e, d
 
-    def _begin_nav(self, ctx, item) -> None:
+    def _begin_nav(self, ctx: ModeContext, index: int, item: MissionItem) -> None:
         self._target = self._target_ned(ctx, item)
         self._arrived_at = None
         if item.command == CMD_TAKEOFF:
             b = ctx.body
             self._target = (b.n_m, b.e_m, min(self._target[2], b.d_m))
         if item.command == CMD_RTL:
-            self._rtl = Rtl(disarm_on_land=False)  # the mission's end disarms (mission_complete)
             self._rtl.enter(ctx)
         self._land_d = ctx.body.d_m
-        self._begin_leg(ctx, item)
+        self._begin_leg(ctx, index, item)
 
-    def _begin_leg(self, ctx, item) -> None:
+    def _begin_leg(self, ctx: ModeContext, index: int, item: MissionItem) -> None:
         """Waypoints and loiters are flown by the waypoint navigator; other items end its legs."""
         if item.command not in NAV_BY_LEGS:
             self._legs.end()
             return
         mission = ctx.mission_progress
         items = mission.items()
-        following = next_nav_index(items, self._index, mission.jumps_followed())
+        following = next_nav_index(items, index, mission.jumps_followed())
         next_item = None if following is None else items[following]
         through = flies_through(item, next_item)
-        self._legs.begin(ctx, self._target, self._target_ned(ctx, next_item) if through else None)
+        next_target = self._target_ned(ctx, next_item) if through and next_item is not None else None
+        self._legs.begin(ctx, self._target, next_target)
 
     # ----- loop ----------------------------------------------------------------------------------
-    def update(self, ctx, sp: Setpoint, dt: float) -> None:
+    def update(self, ctx: ModeContext, sp: Setpoint, dt: float) -> None:
         sp.clear()
         sp.speed_xy = ctx.nav_speed_m_s
         mission = ctx.mission_progress
@@ -173,7 +190,7 @@ class Auto(Mode):
                 ctx.notify(f"Reached command #{self._index + 1}")
             self._nav_done = True
 
-    def _check_for_new_list(self, ctx, mission) -> None:
+    def _check_for_new_list(self, ctx: ModeContext, mission: MissionProgress) -> None:
         """The list changed while the mission runs (an upload writes item by item): if the
         current navigation item or the next ones differ while the current index stayed, a
         waypoint being flown starts again, as ArduCopter's mission change detector does."""
@@ -191,7 +208,7 @@ class Auto(Mode):
                 ctx.notify("Auto mission changed but failed to restart command", Severity.CRITICAL)
 
     @staticmethod
-    def _upcoming(mission) -> tuple:
+    def _upcoming(mission: MissionProgress) -> tuple[tuple[int, MissionItem], ...]:
         """(index, item) of the navigation items from the current one on, CHANGE_WINDOW at most,
         following DO_JUMPs as the mission will."""
         items, index = mission.items(), mission.nav_index
@@ -199,13 +216,13 @@ class Auto(Mode):
             return ()
         if not is_nav(items[index].command):
             index = next_nav_index(items, index, mission.jumps_followed())
-        upcoming = []
+        upcoming: list[tuple[int, MissionItem]] = []
         while index is not None and len(upcoming) < CHANGE_WINDOW:
             upcoming.append((index, items[index]))
             index = next_nav_index(items, index, mission.jumps_followed())
         return tuple(upcoming)
 
-    def _land(self, ctx, sp: Setpoint, item) -> None:
+    def _land(self, ctx: ModeContext, sp: Setpoint, item: MissionItem) -> None:
         n, e, _ = self._target
         b = ctx.body
         if math.hypot(b.n_m - n, b.e_m - e) > 1.0 and not ctx.landed:
@@ -216,13 +233,13 @@ class Auto(Mode):
         # the mission (so the land item is never reported reached).
         descend_and_disarm(ctx, sp)
 
-    def _hold(self, ctx, sp: Setpoint) -> None:
+    def _hold(self, ctx: ModeContext, sp: Setpoint) -> None:
         self._legs.end()  # a leg after the hold starts from where the vehicle then is
         if ctx.landed:
             self._hold_ne, self._hold_d = (ctx.body.n_m, ctx.body.e_m), ctx.body.d_m
         sp.pos_ne, sp.pos_d = self._hold_ne, self._hold_d
 
-    def landed_state_hint(self, ctx) -> str | None:
+    def landed_state_hint(self, ctx: ModeContext) -> str | None:
         if self._index is None:
             return None
         command = self._item.command
@@ -230,6 +247,6 @@ class Auto(Mode):
             return "TAKEOFF"
         if command == CMD_LAND:
             return "LANDING"
-        if command == CMD_RTL and self._rtl is not None:
+        if command == CMD_RTL:
             return self._rtl.landed_state_hint(ctx)
         return None

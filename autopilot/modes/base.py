@@ -9,6 +9,8 @@ from __future__ import annotations
 import math
 
 from ..control.position import stopping_point_ne
+from .context import ModeContext
+from ..views import Vector3
 from .numbers import ModeNumber
 
 
@@ -22,8 +24,20 @@ class Setpoint:
     """
     __slots__ = ("pos_ne", "vel_ne", "accel_ne", "lean", "pos_d", "vel_d", "throttle", "yaw", "yaw_rate",
                  "speed_xy", "speed_up", "speed_dn")
+    pos_ne: tuple[float, float] | None
+    vel_ne: tuple[float, float]
+    accel_ne: tuple[float, float] | None
+    lean: tuple[float, float] | None
+    pos_d: float | None
+    vel_d: float
+    throttle: float | None
+    yaw: float | None
+    yaw_rate: float
+    speed_xy: float
+    speed_up: float | None
+    speed_dn: float | None
 
-    def __init__(self):
+    def __init__(self) -> None:
         self.clear()
 
     def clear(self) -> None:
@@ -68,59 +82,59 @@ class Mode:
     has_user_takeoff = False
     manual_throttle = False
 
-    def __init_subclass__(cls, **kwargs):
+    def __init_subclass__(cls, **kwargs: object) -> None:
         super().__init_subclass__(**kwargs)
         if "number" in cls.__dict__:
             cls.name = cls.number.name
 
-    def enter(self, ctx) -> str | None:
+    def enter(self, ctx: ModeContext) -> str | None:
         """Prepare to take over; return None to accept, or the reason for refusing."""
         return None
 
-    def update(self, ctx, sp: Setpoint, dt: float) -> None:
+    def update(self, ctx: ModeContext, sp: Setpoint, dt: float) -> None:
         raise NotImplementedError
 
-    def exit(self, ctx) -> None:
+    def exit(self, ctx: ModeContext) -> None:
         pass
 
-    def landed_state_hint(self, ctx) -> str | None:
+    def landed_state_hint(self, ctx: ModeContext) -> str | None:
         """'TAKEOFF' or 'LANDING' while the mode is doing either, else None."""
         return None
 
-    def controls_position(self, ctx) -> bool:
+    def controls_position(self, ctx: ModeContext) -> bool:
         """The horizontal position controller flies this mode (HEARTBEAT's GUIDED_ENABLED flag,
         as ArduCopter sets it from its position controller)."""
         return self.requires_position
 
-    def destination(self) -> tuple | None:
+    def destination(self) -> tuple[float, float, float | None] | None:
         """The point (local NED; d None = any height) the mode is flying to, if it flies to one:
         NAV_CONTROLLER_OUTPUT's bearing and distance to the waypoint."""
         return None
 
     # ----- commands from a ground station; refused unless the mode flies them ----------------
-    def user_takeoff(self, ctx, alt_above_home_m: float) -> None:
+    def user_takeoff(self, ctx: ModeContext, alt_above_home_m: float) -> None:
         """Climb to alt_above_home_m; called only if has_user_takeoff, armed on the ground."""
         raise NotImplementedError(f"{self.name} declares no user takeoff")
 
-    def goto(self, ctx, n: float, e: float, d: float | None, yaw: float | None,
-             vel_ff: tuple) -> bool:
+    def goto(self, ctx: ModeContext, n: float, e: float, d: float | None, yaw: float | None,
+             vel_ff: Vector3) -> bool:
         """Fly to a local NED point (d None: keep the height); False if this mode does not."""
         return False
 
-    def set_velocity(self, ctx, vn: float, ve: float, vd: float, yaw: float | None) -> bool:
+    def set_velocity(self, ctx: ModeContext, vn: float, ve: float, vd: float, yaw: float | None) -> bool:
         return False
 
-    def set_heading(self, ctx, yaw_rad: float) -> bool:
+    def set_heading(self, ctx: ModeContext, yaw_rad: float) -> bool:
         return False
 
 
-def hold_here(ctx) -> tuple:
+def hold_here(ctx: ModeContext) -> tuple[tuple[float, float], float]:
     """Current horizontal position and height: the point a mode holds when it takes over."""
     b = ctx.body
     return (b.n_m, b.e_m), b.d_m
 
 
-def stopping_point(ctx) -> tuple:
+def stopping_point(ctx: ModeContext) -> tuple[tuple[float, float], float]:
     """Where the position controller brings the vehicle to rest from its present horizontal
     velocity, and its present height: the point GUIDED holds when it takes over at speed (as
     ArduCopter's, which stops ahead instead of flying back to where the mode changed)."""

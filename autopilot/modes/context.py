@@ -6,7 +6,19 @@ current, also when a mode is entered between two ticks (a command from a ground 
 """
 from __future__ import annotations
 
+from collections.abc import Callable
 from operator import attrgetter
+from typing import TYPE_CHECKING
+
+from ..views import ModeHost, Notify, ReadThrough, Vector3
+
+if TYPE_CHECKING:
+    from sim.rigid_body import BodyState
+
+    from ..mission.progress import MissionProgress
+    from ..params import ParamStore
+    from ..pilot import PilotInput
+    from ..results import Result
 
 
 class ModeContext:
@@ -32,8 +44,15 @@ class ModeContext:
     """
     __slots__ = ("_v", "_estimate", "_arming", "_land", "_sim", "params", "mission_progress", "notify", "disarm",
                  "set_speed", "set_home", "ned_of")
+    params: ParamStore
+    mission_progress: MissionProgress
+    notify: Notify
+    disarm: Callable[[str], Result]
+    set_speed: Callable[[float], Result]
+    set_home: Callable[[Vector3 | None], Result]
+    ned_of: Callable[[float, float, float], Vector3]
 
-    def __init__(self, vehicle):
+    def __init__(self, vehicle: ModeHost):
         self._v = vehicle
         self._estimate = vehicle.estimate
         self._arming = vehicle.arming
@@ -48,23 +67,23 @@ class ModeContext:
         self.ned_of = vehicle.ned_of
 
     # Read-through properties as C-level attribute getters: modes read them at 100 Hz per vehicle.
-    body = property(attrgetter("_estimate.body"))
-    attitude = property(attrgetter("_estimate.attitude"))
-    pilot = property(attrgetter("_v.pilot"))
-    armed = property(attrgetter("_arming.armed"))
-    landed = property(attrgetter("_land.landed"))
-    landed_at_s = property(attrgetter("_land.landed_at_s"))
-    time_s = property(attrgetter("_sim.time_s"))
-    home_ned = property(attrgetter("_v.home_ned"))
-    height_ref_d = property(attrgetter("_v.height_ref_d"))
-    nav_speed_m_s = property(attrgetter("_v.nav_speed_m_s"))
-    auto_armed = property(attrgetter("_arming.auto_armed"))
-    origin_alt_m = property(attrgetter("_v.origin.alt_m"))
+    body: ReadThrough[BodyState] = property(attrgetter("_estimate.body"))
+    attitude: ReadThrough[Vector3] = property(attrgetter("_estimate.attitude"))
+    pilot: ReadThrough[PilotInput] = property(attrgetter("_v.pilot"))
+    armed: ReadThrough[bool] = property(attrgetter("_arming.armed"))
+    landed: ReadThrough[bool] = property(attrgetter("_land.landed"))
+    landed_at_s: ReadThrough[float] = property(attrgetter("_land.landed_at_s"))
+    time_s: ReadThrough[float] = property(attrgetter("_sim.time_s"))
+    home_ned: ReadThrough[Vector3 | None] = property(attrgetter("_v.home_ned"))
+    height_ref_d: ReadThrough[float] = property(attrgetter("_v.height_ref_d"))
+    nav_speed_m_s: ReadThrough[float] = property(attrgetter("_v.nav_speed_m_s"))
+    auto_armed: ReadThrough[bool] = property(attrgetter("_arming.auto_armed"))
+    origin_alt_m: ReadThrough[float] = property(attrgetter("_v.origin.alt_m"))
 
     def has_position(self) -> bool:
         return self._estimate.has_position()
 
-    def require_home(self) -> tuple:
+    def require_home(self) -> Vector3:
         """Home (local NED), for a mode that declares requires_home: the vehicle runs such a
         mode only once home is set, so a None here is a bug, raised as one (an internal error)."""
         home = self._v.home_ned

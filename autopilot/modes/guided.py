@@ -1,7 +1,9 @@
 """GUIDED: the vehicle goes where the ground station says (position, velocity, takeoff)."""
 from __future__ import annotations
 
+from ..views import Vector3
 from .base import Mode, Setpoint, stopping_point
+from .context import ModeContext
 from .numbers import ModeNumber
 
 VELOCITY_TIMEOUT_S = 3.0  # ArduCopter stops if velocity setpoints stop arriving
@@ -16,13 +18,21 @@ class Guided(Mode):
     requires_position = True
     allows_arming = True
     has_user_takeoff = True
+    takeoff_d: float | None  # the height a user takeoff climbs to, until it is reached
+    target_ne: tuple[float, float]
+    target_d: float
+    target_vel_ne: tuple[float, float]
+    target_vel_d: float
+    target_yaw: float | None
+    velocity_mode: bool
+    velocity_time_s: float
 
-    def enter(self, ctx) -> str | None:
+    def enter(self, ctx: ModeContext) -> str | None:
         self.hold(ctx)
         self.takeoff_d = None
         return None
 
-    def hold(self, ctx) -> None:
+    def hold(self, ctx: ModeContext) -> None:
         self.target_ne, self.target_d = stopping_point(ctx)
         self.target_vel_ne, self.target_vel_d = (0.0, 0.0), 0.0
         self.target_yaw = None
@@ -30,13 +40,13 @@ class Guided(Mode):
         self.velocity_time_s = ctx.time_s
 
     # Commands from the ground station -------------------------------------------------------
-    def user_takeoff(self, ctx, alt_above_home_m: float) -> None:
+    def user_takeoff(self, ctx: ModeContext, alt_above_home_m: float) -> None:
         self.hold(ctx)
         self.takeoff_d = ctx.height_ref_d - alt_above_home_m  # above home, or the boot ground before it
         self.target_d = self.takeoff_d
 
-    def goto(self, ctx, n: float, e: float, d: float | None, yaw: float | None = None,
-             vel_ff: tuple = (0.0, 0.0, 0.0)) -> bool:
+    def goto(self, ctx: ModeContext, n: float, e: float, d: float | None, yaw: float | None = None,
+             vel_ff: Vector3 = (0.0, 0.0, 0.0)) -> bool:
         self.takeoff_d = None
         self.velocity_mode = False
         self.target_ne = (n, e)
@@ -46,7 +56,7 @@ class Guided(Mode):
         self.target_yaw = yaw
         return True
 
-    def set_velocity(self, ctx, vn: float, ve: float, vd: float, yaw: float | None = None) -> bool:
+    def set_velocity(self, ctx: ModeContext, vn: float, ve: float, vd: float, yaw: float | None = None) -> bool:
         self.takeoff_d = None
         self.velocity_mode = True
         self.target_vel_ne, self.target_vel_d = (vn, ve), vd
@@ -54,15 +64,15 @@ class Guided(Mode):
         self.velocity_time_s = ctx.time_s
         return True
 
-    def set_heading(self, ctx, yaw_rad: float) -> bool:
+    def set_heading(self, ctx: ModeContext, yaw_rad: float) -> bool:
         self.target_yaw = yaw_rad
         return True
 
-    def destination(self) -> tuple | None:
+    def destination(self) -> tuple[float, float, float | None] | None:
         return None if self.velocity_mode else (self.target_ne[0], self.target_ne[1], self.target_d)
 
     # Loop --------------------------------------------------------------------------------------
-    def update(self, ctx, sp: Setpoint, dt: float) -> None:
+    def update(self, ctx: ModeContext, sp: Setpoint, dt: float) -> None:
         sp.clear()
         sp.speed_xy = ctx.nav_speed_m_s
         sp.yaw = self.target_yaw
@@ -81,5 +91,5 @@ class Guided(Mode):
         if self.takeoff_d is not None and abs(ctx.body.d_m - self.takeoff_d) < TAKEOFF_DONE_M:
             self.takeoff_d = None
 
-    def landed_state_hint(self, ctx) -> str | None:
+    def landed_state_hint(self, ctx: ModeContext) -> str | None:
         return "TAKEOFF" if self.takeoff_d is not None and not ctx.landed else None

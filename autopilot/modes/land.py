@@ -1,7 +1,11 @@
 """LAND and RTL: descend where you are, or come home first; disarm once landed."""
 from __future__ import annotations
 
+import math
+
+from ..params import ParamStore
 from .base import Mode, Setpoint, hold_here
+from .context import ModeContext
 from .numbers import ModeNumber
 from .waypoint_legs import WaypointLegs
 
@@ -9,7 +13,7 @@ from .waypoint_legs import WaypointLegs
 GROUND_DISARM_S = 0.9  # LAND entered on the ground disarms this long after
 
 
-def descent_rate_m_s(ctx) -> float:
+def descent_rate_m_s(ctx: ModeContext) -> float:
     """ArduCopter's two-stage descent: fast high up, LAND_SPEED below LAND_ALT_LOW."""
     params = ctx.params
     alt = ctx.height_ref_d - ctx.body.d_m
@@ -18,12 +22,12 @@ def descent_rate_m_s(ctx) -> float:
     return params["LAND_SPEED"] / 100.0
 
 
-def spool_down_s(params) -> float:
+def spool_down_s(params: ParamStore) -> float:
     """How long the motors take from flying to ground idle (MOT_SPOOL_TIM_DN, 0 = MOT_SPOOL_TIME)."""
     return params["MOT_SPOOL_TIM_DN"] or params["MOT_SPOOL_TIME"]
 
 
-def descend_and_disarm(ctx, sp: Setpoint) -> bool:
+def descend_and_disarm(ctx: ModeContext, sp: Setpoint) -> bool:
     """The final descent shared by LAND, RTL and AUTO's land item; True once landed and disarmed.
     As ArduCopter, it disarms when landed with the motors spooled down to ground idle, which they
     begin once the land detector has fired."""
@@ -41,15 +45,17 @@ class Land(Mode):
     it comes down level instead, for the rest of the landing, as ArduCopter's LAND without GPS."""
     number = ModeNumber.LAND
     requires_position = False  # without home its descent measures height from the boot ground
+    _hold_ne: tuple[float, float] | None  # None: comes down level (no position)
+    _disarm_from_s: float
 
-    def enter(self, ctx) -> str | None:
+    def enter(self, ctx: ModeContext) -> str | None:
         self._hold_ne = hold_here(ctx)[0] if ctx.has_position() else None
         # Entered on the ground, ArduCopter disarms about a second later, not at once (measured on
         # its SITL: still armed 0.5 s after, "Disarming motors" stamped 1.1-1.5 s after the command).
         self._disarm_from_s = ctx.time_s + GROUND_DISARM_S if ctx.landed else ctx.time_s
         return None
 
-    def update(self, ctx, sp: Setpoint, dt: float) -> None:
+    def update(self, ctx: ModeContext, sp: Setpoint, dt: float) -> None:
         sp.clear()
         if not ctx.has_position():
             self._hold_ne = None
@@ -62,10 +68,10 @@ class Land(Mode):
             return
         descend_and_disarm(ctx, sp)
 
-    def landed_state_hint(self, ctx) -> str | None:
+    def landed_state_hint(self, ctx: ModeContext) -> str | None:
         return None if ctx.landed else "LANDING"
 
-    def controls_position(self, ctx) -> bool:
+    def controls_position(self, ctx: ModeContext) -> bool:
         return ctx.has_position()  # it holds its point with a fix, comes down level without
 
 
@@ -78,13 +84,19 @@ class Rtl(Mode):
     requires_position = True
     requires_home = True
 
+    _return_d: float
+    _hold_ne: tuple[float, float]
+    _stage: str  # GROUND, CLIMB, RETURN, LOITER, LAND
+    _loiter_until: float  # set when the stage LOITER begins
+    _legs: WaypointLegs | None
+
     def __init__(self, disarm_on_land: bool = True):
         self.disarm_on_land = disarm_on_land  # AUTO's RTL item leaves the disarm to the mission's end
         # Until enter() (which may wait for home): nothing to fly to, as if still on the ground.
         self._stage = "GROUND"
         self._legs: WaypointLegs | None = None
 
-    def enter(self, ctx) -> str | None:
+    def enter(self, ctx: ModeContext) -> str | None:
         params = ctx.params
         home_d = ctx.require_home()[2]
         current_alt = home_d - ctx.body.d_m
@@ -94,11 +106,11 @@ class Rtl(Mode):
         # Entered on the ground it stays there armed, as ArduCopter's RTL does, until the
         # auto-disarm (DISARM_DELAY from arming) disarms it.
         self._stage = "GROUND" if ctx.landed else "CLIMB"
-        self._loiter_until = None
+        self._loiter_until = math.inf
         self._legs = None
         return None
 
-    def update(self, ctx, sp: Setpoint, dt: float) -> None:
+    def update(self, ctx: ModeContext, sp: Setpoint, dt: float) -> None:
         sp.clear()
         home_ne = ctx.require_home()[:2]
         sp.speed_xy = (ctx.params["RTL_SPEED"] / 100.0) or ctx.nav_speed_m_s
@@ -117,30 +129,32 @@ class Rtl(Mode):
             else:
                 sp.vel_d = sp.speed_dn = descent_rate_m_s(ctx)
 
-    def destination(self) -> tuple | None:
+    def destination(self) -> tuple[float, float, float | None] | None:
         return self._legs.destination if self._legs is not None else None
 
-    def controls_position(self, ctx) -> bool:
+    def controls_position(self, ctx: ModeContext) -> bool:
         return ctx.armed  # disarmed on the ground ArduCopter's RTL runs no position controller
 
-    def touched_down(self, ctx) -> bool:
+    def touched_down(self, ctx: ModeContext) -> bool:
         """Landed at the end of the return."""
         return self._stage == "LAND" and ctx.landed
 
-    def _fly_home(self, ctx, sp: Setpoint, dt: float, home_ne: tuple, speed: float) -> None:
+    def _fly_home(self, ctx: ModeContext, sp: Setpoint, dt: float, home_ne: tuple[float, float],
+                  speed: float) -> None:
         return_target = (home_ne[0], home_ne[1], self._return_d)
-        if self._legs is None:
-            self._legs = WaypointLegs()
+        legs = self._legs
+        if legs is None:
+            legs = self._legs = WaypointLegs()
             climb_target = (self._hold_ne[0], self._hold_ne[1], self._return_d)
-            self._legs.begin(ctx, climb_target, return_target, speed)
-        if not self._legs.update(ctx, sp, dt):
+            legs.begin(ctx, climb_target, return_target, speed)
+        if not legs.update(ctx, sp, dt):
             return
         if self._stage == "CLIMB":
             self._stage = "RETURN"
-            self._legs.begin(ctx, return_target, None, speed)
+            legs.begin(ctx, return_target, None, speed)
         else:
             self._stage = "LOITER"
             self._loiter_until = ctx.time_s + ctx.params["RTL_LOIT_TIME"] / 1000.0
 
-    def landed_state_hint(self, ctx) -> str | None:
+    def landed_state_hint(self, ctx: ModeContext) -> str | None:
         return "LANDING" if self._stage == "LAND" and not ctx.landed else None

@@ -4,6 +4,7 @@ from __future__ import annotations
 import math
 
 from .base import Mode, Setpoint, hold_here, stick_deadzone
+from .context import ModeContext
 from .manual import pilot_vertical
 from .numbers import ModeNumber
 
@@ -15,12 +16,14 @@ class Loiter(Mode):
     number = ModeNumber.LOITER
     requires_position = True
     allows_arming = True
+    _hold_ne: tuple[float, float]
+    _hold_d: float
 
-    def enter(self, ctx) -> str | None:
+    def enter(self, ctx: ModeContext) -> str | None:
         self._hold_ne, self._hold_d = hold_here(ctx)
         return None
 
-    def update(self, ctx, sp: Setpoint, dt: float) -> None:
+    def update(self, ctx: ModeContext, sp: Setpoint, dt: float) -> None:
         sp.clear()
         pilot = ctx.pilot
         fwd, right = stick_deadzone(pilot.pitch), stick_deadzone(pilot.roll)
@@ -42,19 +45,21 @@ class Brake(Mode):
     """Stop as hard as the position controller allows, then hold. Arming is refused here."""
     number = ModeNumber.BRAKE
     requires_position = True
+    _hold_ne: tuple[float, float] | None  # None while braking
+    _hold_d: float
 
-    def enter(self, ctx) -> str | None:
+    def enter(self, ctx: ModeContext) -> str | None:
         self._hold_ne = None
         self._hold_d = ctx.body.d_m
         return None
 
-    def update(self, ctx, sp: Setpoint, dt: float) -> None:
+    def update(self, ctx: ModeContext, sp: Setpoint, dt: float) -> None:
         sp.clear()
         self.brake_then_hold(ctx, sp)
         sp.pos_d = self._hold_d
         sp.yaw = ctx.attitude[2] if self._hold_ne else None
 
-    def brake_then_hold(self, ctx, sp: Setpoint) -> None:
+    def brake_then_hold(self, ctx: ModeContext, sp: Setpoint) -> None:
         """Zero velocity wanted until the vehicle is nearly stopped (or on the ground), then the
         point where it stopped is held."""
         b = ctx.body

@@ -3,8 +3,9 @@ from __future__ import annotations
 
 import math
 
-from ..pilot import CENTRED, CENTRED_MANUAL
+from ..pilot import CENTRED, CENTRED_MANUAL, PilotInput
 from .base import Mode, Setpoint, stick_deadzone
+from .context import ModeContext
 from .numbers import ModeNumber
 
 # What the expressions below give for centred sticks, bit for bit (ANGLE_MAX and PILOT_Y_RATE
@@ -12,7 +13,7 @@ from .numbers import ModeNumber
 CENTRED_LEAN = (0.0, -0.0)
 
 
-def pilot_lean_and_yaw(ctx, sp: Setpoint, pilot=None) -> None:
+def pilot_lean_and_yaw(ctx: ModeContext, sp: Setpoint, pilot: PilotInput | None = None) -> None:
     """Lean from the roll and pitch sticks, yaw rate from the yaw stick (`pilot`: ctx.pilot, if
     the caller has it already: it is read at 100 Hz per vehicle)."""
     if pilot is None:
@@ -33,14 +34,14 @@ class Stabilize(Mode):
     allows_arming = True
     manual_throttle = True
 
-    def update(self, ctx, sp: Setpoint, dt: float) -> None:
+    def update(self, ctx: ModeContext, sp: Setpoint, dt: float) -> None:
         sp.clear()
         pilot = ctx.pilot
         pilot_lean_and_yaw(ctx, sp, pilot)
         sp.throttle = pilot.throttle
 
 
-def pilot_climb_rate(ctx) -> float:
+def pilot_climb_rate(ctx: ModeContext) -> float:
     """Throttle stick (0..1, centre = hold) to a climb rate [m/s, up positive]."""
     stick = stick_deadzone(2.0 * ctx.pilot.throttle - 1.0, 0.1)
     up = ctx.params["PILOT_SPEED_UP"] / 100.0
@@ -48,7 +49,7 @@ def pilot_climb_rate(ctx) -> float:
     return stick * (up if stick > 0 else down)
 
 
-def pilot_vertical(ctx, sp: Setpoint, hold_d: float) -> float:
+def pilot_vertical(ctx: ModeContext, sp: Setpoint, hold_d: float) -> float:
     """Throttle stick in ALT_HOLD/LOITER: climb at the stick's rate, or hold the height it left;
     returns the height to hold from now on."""
     climb = pilot_climb_rate(ctx)
@@ -63,11 +64,11 @@ class AltHold(Mode):
     number = ModeNumber.ALT_HOLD
     allows_arming = True
 
-    def enter(self, ctx) -> str | None:
+    def enter(self, ctx: ModeContext) -> str | None:
         self._hold_d = ctx.body.d_m
         return None
 
-    def update(self, ctx, sp: Setpoint, dt: float) -> None:
+    def update(self, ctx: ModeContext, sp: Setpoint, dt: float) -> None:
         sp.clear()
         pilot_lean_and_yaw(ctx, sp)
         self._hold_d = pilot_vertical(ctx, sp, self._hold_d)

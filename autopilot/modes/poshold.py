@@ -7,6 +7,7 @@ from __future__ import annotations
 import math
 
 from .base import Setpoint, stick_deadzone
+from .context import ModeContext
 from .loiter import Brake
 from .manual import pilot_lean_and_yaw, pilot_vertical
 from .numbers import ModeNumber
@@ -16,7 +17,7 @@ class PosHold(Brake):
     number = ModeNumber.POSHOLD
     allows_arming = True
 
-    def update(self, ctx, sp: Setpoint, dt: float) -> None:
+    def update(self, ctx: ModeContext, sp: Setpoint, dt: float) -> None:
         sp.clear()
         pilot = ctx.pilot
         if stick_deadzone(pilot.roll) or stick_deadzone(pilot.pitch):

@@ -10,7 +10,9 @@ next waypoint starts afresh from where the vehicle can stop.
 from __future__ import annotations
 
 from ..control.wpnav import NavLimits, WaypointNav
+from ..views import Vector3
 from .base import Setpoint
+from .context import ModeContext
 
 CMD_WAYPOINT, CMD_LOITER_UNLIM, CMD_LOITER_TIME = 16, 17, 19
 CMD_DO_JUMP = 177
@@ -44,11 +46,11 @@ def flies_through(item, next_item) -> bool:
 
 
 class WaypointLegs:
-    def __init__(self):
+    def __init__(self) -> None:
         self.nav: WaypointNav | None = None
 
     @property
-    def destination(self) -> tuple | None:
+    def destination(self) -> Vector3 | None:
         """The point the current leg flies to (local NED)."""
         return self.nav.destination if self.nav is not None else None
 
@@ -56,7 +58,8 @@ class WaypointLegs:
         """Another kind of item took over: the next leg starts afresh."""
         self.nav = None
 
-    def begin(self, ctx, target: tuple, next_target: tuple | None, speed_m_s: float | None = None) -> None:
+    def begin(self, ctx: ModeContext, target: Vector3, next_target: Vector3 | None,
+              speed_m_s: float | None = None) -> None:
         """Start the leg to `target` (local NED), flying through it to `next_target` if given,
         at `speed_m_s` (default: the navigation speed, WPNAV_SPEED or DO_CHANGE_SPEED's)."""
         limits = NavLimits(ctx.params, ctx.nav_speed_m_s if speed_m_s is None else speed_m_s)
@@ -67,11 +70,13 @@ class WaypointLegs:
             self.nav.limits = limits
         self.nav.set_destination(target, next_target)
 
-    def update(self, ctx, sp: Setpoint, dt: float) -> bool:
+    def update(self, ctx: ModeContext, sp: Setpoint, dt: float) -> bool:
         """Fill the setpoint with the navigator's target; returns whether the leg's point is
         reached."""
         b = ctx.body
         nav = self.nav
+        if nav is None:
+            raise RuntimeError("waypoint leg flown before begin() (or after end())")
         reached = nav.update(dt, (b.n_m, b.e_m, b.d_m), (b.vn_m_s, b.ve_m_s, b.vd_m_s))
         p, v, a = nav.pos, nav.vel, nav.accel
         sp.pos_ne, sp.vel_ne, sp.accel_ne = (p[0], p[1]), (v[0], v[1]), (a[0], a[1])
