@@ -17,6 +17,7 @@ its scenario and from what is set during the run, so a restart does not bring ba
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, replace
 from pathlib import Path
 
@@ -219,7 +220,7 @@ class ParamStore:
     def __init__(self, path: Path | None = None, wipe: bool = False):
         self.path = path
         self._values = dict(DEFAULTS)
-        self._listeners = []
+        self._listeners: list[Callable[[str, float], None]] = []
         self.file = JsonFile(path)
         if path is not None and path.exists() and not wipe:
             self._load(path)
@@ -255,13 +256,14 @@ class ParamStore:
 
     def mav_type(self, name: str) -> int:
         """The MAV_PARAM_TYPE `name` is served with (the reference's, for the reference's names)."""
-        return SERVED_BY_NAME[name].mav_type
+        mav_type = SERVED_BY_NAME[name].mav_type
+        return MAV_PARAM_TYPE_REAL32 if mav_type is None else mav_type  # every served spec has one
 
     def acts(self, name: str) -> bool:
         """Whether setting `name` changes the vehicle (a modelled parameter) or is only stored."""
         return STORED_AS.get(name) in SPEC_BY_NAME
 
-    def on_change(self, callback) -> None:
+    def on_change(self, callback: Callable[[str, float], None]) -> None:
         self._listeners.append(callback)
 
     def set(self, name: str, value) -> float:

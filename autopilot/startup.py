@@ -29,6 +29,7 @@ import math
 from dataclasses import dataclass
 
 from .results import Severity
+from .views import Notify
 
 
 ORIGIN_LANE_GAP_S = 0.25  # the second EKF lane sets its origin a moment after the first
@@ -64,7 +65,7 @@ class Startup:
     def __init__(self, timeline: StartupTimeline | None):
         self.timeline = timeline
         self._said = 0
-        self._due: list | None = None  # the milestones, built at the first say_due
+        self._due: list[tuple[float, str]] | None = None  # the milestones, built at the first say_due
         self.next_due_s = -math.inf if timeline is not None else math.inf  # when the next milestone is
 
     def _at_least(self, t_s: float, stage_s: float) -> bool:
@@ -108,8 +109,11 @@ class Startup:
         return out
 
     def milestones(self, field_elevation_m: float) -> list[tuple[float, str]]:
-        """What ArduCopter SITL says as it starts (its two EKF lanes, IMU0 and IMU1, each report)."""
+        """What ArduCopter SITL says as it starts (its two EKF lanes, IMU0 and IMU1, each report);
+        nothing without a start-up timeline."""
         tl = self.timeline
+        if tl is None:
+            return []
         lanes = ("IMU0", "IMU1")
         return [(0.0, "Barometer 1 calibration complete"), (0.0, "Barometer 2 calibration complete"),
                 (0.0, "ArduPilot Ready"), (0.0, "AHRS: DCM active"),
@@ -123,7 +127,7 @@ class Startup:
                 (tl.origin_s + ORIGIN_LANE_GAP_S, "EKF3 IMU1 origin set"),
                 *[(tl.gps_in_use_s, f"EKF3 {lane} is using GPS") for lane in lanes]]
 
-    def say_due(self, t_s: float, field_elevation_m: float, notify) -> None:
+    def say_due(self, t_s: float, field_elevation_m: float, notify: Notify) -> None:
         """Say each start-up milestone once its time has come (called at the flight-mode rate:
         nothing is built until the next one is due)."""
         if t_s < self.next_due_s:

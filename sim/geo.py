@@ -25,7 +25,7 @@ class GeoPoint:
             raise ValueError(f"altitude {self.alt_m!r} m is outside -500..10000")
 
 
-def ned_from_global(origin: GeoPoint, lat_deg: float, lon_deg: float, alt_m: float) -> tuple:
+def ned_from_global(origin: GeoPoint, lat_deg: float, lon_deg: float, alt_m: float) -> tuple[float, float, float]:
     n = math.radians(lat_deg - origin.lat_deg) * EARTH_RADIUS_M
     e = math.radians(lon_deg - origin.lon_deg) * EARTH_RADIUS_M * math.cos(math.radians(origin.lat_deg))
     return n, e, origin.alt_m - alt_m

@@ -37,7 +37,7 @@ class SimVehicle:
         self._step = make_fast_step(self.airframe, self.dt)
         self.wind = Wind(config.wind, config.seed)
         self._wind_ned = self.wind.velocity_ned
-        self._speed_scale = HEALTHY
+        self._speed_scale: tuple[float, ...] = HEALTHY
         self.conditions_version = 0  # bumped whenever the wind or the motors' health changes
         self.state: PhysicsState = initial_state(yaw_rad, n_m, e_m)
         self.battery = BatteryState(0.0, 0.0, self.airframe.battery_cells * 4.2)

@@ -31,7 +31,7 @@ class Wind:
 
     def __init__(self, steady: SteadyWind, seed: int):
         self._mean = self._target = steady.velocity_ned()
-        self._gust = (0.0, 0.0, 0.0)
+        self._gust: tuple[float, ...] = (0.0, 0.0, 0.0)
         self._src = NoisySource(sensor_rng(seed, "wind"))
         self.turbulence_m_s = 0.0
         self.change_tc_s = 0.0

@@ -162,7 +162,7 @@ class WaypointNav:
         if nxt is not None:
             remaining = this.duration - t
             if self._t_next == 0.0:
-                if t >= this.decel_start and remaining <= nxt.accel_end and self._corner_ok(remaining):
+                if t >= this.decel_start and remaining <= nxt.accel_end and self._corner_ok(nxt, remaining):
                     self._t_next = step
             else:
                 self._t_next = min(self._t_next + step, nxt.duration)
@@ -183,10 +183,10 @@ class WaypointNav:
                 self.reached = dn * dn + de * de + dd * dd <= self.limits.radius ** 2
         return self.reached
 
-    def _corner_ok(self, remaining: float) -> bool:
-        """Whether the turn, started now, keeps its mid point within the waypoint radius, below
-        the cruise speed and within the corner (and vertical) acceleration."""
-        this, nxt, lim = self._this, self._next, self.limits
+    def _corner_ok(self, nxt: SCurve, remaining: float) -> bool:
+        """Whether the turn onto `nxt`, started now, keeps its mid point within the waypoint
+        radius, below the cruise speed and within the corner (and vertical) acceleration."""
+        this, lim = self._this, self.limits
         half = remaining / 2.0
         s1, v1, a1 = this.along(this.duration - half)
         s2, v2, a2 = nxt.along(half)

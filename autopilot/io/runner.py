@@ -13,9 +13,18 @@ from __future__ import annotations
 import math
 import select
 import time
+from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any, TextIO
 
 from .state_log import state_line
+
+if TYPE_CHECKING:
+    from ..mavlink.link import Link
+    from ..mavlink.session import Session
+    from ..vehicle import Vehicle
+    from .tlog import TlogWriter
+    from .udp import UdpEndpoint
 
 MAX_LAG_WALL_S = 0.5  # if the sim falls further behind than this, pacing restarts from now
 READ_EVERY_WALL_S = 0.0002  # flat out, sockets are read this often (wall): a command waits no longer
@@ -42,12 +51,12 @@ def incoming(datagrams: list, link, answer):
 
 @dataclass
 class Node:
-    vehicle: object
-    session: object
-    endpoint: object  # UdpEndpoint: the socket and who it answers
-    link: object  # Link (autopilot/mavlink/link.py): decodes, judges and packs, between the two
-    tlog: object = None  # TlogWriter, or None
-    state_log: object = None  # open text file (state_log.py): a line every STATE_LOG_EVERY ticks, or None
+    vehicle: Vehicle
+    session: Session
+    endpoint: UdpEndpoint  # the socket and who it answers
+    link: Link  # (autopilot/mavlink/link.py): decodes, judges and packs, between the two
+    tlog: TlogWriter | None = None
+    state_log: TextIO | None = None  # open text file (state_log.py): a line every STATE_LOG_EVERY ticks, or None
 
     @property
     def link_faults(self):
@@ -94,14 +103,17 @@ class Runner:
                     continue
                 link.advance(unix_s, link_s)
                 datagrams = () if unread else endpoint.receive()
+                received: Sequence[Any]
                 if datagrams:  # most ticks have none
                     heard = True
-                    received, out = [], []
+                    got: list[Any] = []
+                    out = []
                     # each message is judged only after the one before it was handled
                     for msg in incoming(datagrams, link, endpoint.answer):
-                        received.append(msg)
+                        got.append(msg)
                         out.extend(session.receive(msg, now, link_s))
                     out.extend(session.poll(now, link_s))
+                    received = got
                 else:
                     received, out = (), session.poll(now, link_s)
                 frames = link.pack(out) if out else out
@@ -114,14 +126,17 @@ class Runner:
         return heard
 
     @staticmethod
-    def _log(node: Node, received: list, sent: list) -> None:
+    def _log(node: Node, received: Sequence[Any], sent: list) -> None:
+        tlog = node.tlog
+        if tlog is None:
+            return
         stamp = node.vehicle.unix_time_us()
         for msg in received:
             if msg.get_type() != "BAD_DATA":
-                node.tlog.write(stamp, bytes(msg.get_msgbuf()))
+                tlog.write(stamp, bytes(msg.get_msgbuf()))
         for frame in sent:
-            node.tlog.write(stamp, frame)
-        node.tlog.maybe_flush()
+            tlog.write(stamp, frame)
+        tlog.maybe_flush()
 
     def _advance(self) -> None:
         self.ticks += 1

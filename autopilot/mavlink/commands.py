@@ -285,8 +285,9 @@ class CommandService:
 
     def handle(self, session, c: Command, now_s: float, link_s: float):
         key = retry_key(c)
-        if self._is_retry(c, key, now_s, link_s):
-            result = self._last[1]
+        last = self._last
+        if last is not None and self._is_retry(c, key, now_s, link_s):
+            result = last[1]
         else:
             handler = HANDLERS.get(c.command)
             try:

@@ -46,6 +46,7 @@ def _packed_query(path: str) -> str | None:
 def _strtoul(text: str) -> int:
     """C strtoul, truncated to 32 bits as ArduPilot stores it: leading digits, 0 if none."""
     m = re.match(r"\s*([+-]?)(\d*)", text)
+    assert m is not None  # every text matches: both groups may be empty
     value = min(int(m.group(2) or 0), 2 ** 64 - 1)
     if m.group(1) == "-":
         value = -value % 2 ** 64

@@ -84,11 +84,12 @@ def _record(entry: Entry, last_name: str, with_default: bool) -> tuple[bytes, by
     if common == len(name):  # the name is a prefix of the last one: send at least its last byte
         common -= 1
     tail = name[common:].encode("ascii")
-    flags = 1 if with_default else 0
+    default = entry.default if with_default else None  # pack() asks only for an entry's default
+    flags = 1 if default is not None else 0
     head = bytes([entry.ptype | flags << 4, common | (len(tail) - 1) << 4]) + tail
     value = _encode_value(entry.ptype, entry.value)
-    if with_default:
-        value += _encode_value(entry.ptype, entry.default)
+    if default is not None:
+        value += _encode_value(entry.ptype, default)
     return head, value
 
 
@@ -122,7 +123,8 @@ def unpack(data: bytes) -> tuple[int, int, list[Entry]]:
     magic, count, total = HEADER.unpack_from(data, 0)
     if magic not in (MAGIC, MAGIC_WITH_DEFAULTS):
         raise PackError(f"bad magic 0x{magic:04x}")
-    pos, last_name, entries = HEADER.size, b"", []
+    pos, last_name = HEADER.size, b""
+    entries: list[Entry] = []
     while len(entries) < count:
         while pos < len(data) and data[pos] == 0:
             pos += 1

@@ -118,7 +118,7 @@ class MissionProgress:
             return
         if self.do_loaded and self.do_index is not None:
             self._set_current_index(self.do_index)
-        elif self.nav_loaded:
+        elif self.nav_loaded and self.nav_index is not None:
             self._set_current_index(self.nav_index)
 
     def start_or_resume(self, restart: bool) -> None:
@@ -171,7 +171,7 @@ class MissionProgress:
                 return
         if not self.do_loaded:
             self._advance_do()
-        elif self._verify(self.do_index):
+        elif self.do_index is not None and self._verify(self.do_index):
             self.do_loaded = False
 
     def _verify(self, index: int) -> bool:

@@ -16,14 +16,18 @@ import re
 import shutil
 import tempfile
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import pytest
 
 from .settings import KEYS, FireflySettings, SettingsError, parse_speedup, seed_for, settings
 
-RUN_KEY = pytest.StashKey()  # on a test item: its FireflyRun
-REPORTS_KEY = pytest.StashKey()  # on a test item: its reports so far, by phase
-SPEEDUP_KEY = pytest.StashKey()  # on the config: --firefly-speedup
+if TYPE_CHECKING:
+    from .run import FireflyRun  # imported when a test asks for a vehicle (below)
+
+RUN_KEY = pytest.StashKey["FireflyRun"]()  # on a test item: its FireflyRun
+REPORTS_KEY = pytest.StashKey[dict[str, pytest.TestReport]]()  # on a test item: its reports so far, by phase
+SPEEDUP_KEY = pytest.StashKey[float]()  # on the config: --firefly-speedup
 
 
 def pytest_addoption(parser):
@@ -119,6 +123,7 @@ def firefly_fleet(request, tmp_path_factory):
         if run is not None:
             run.stop()
         pytest.fail(problem, pytrace=False)
+    assert run is not None  # started without a problem
     yield run.vehicles
     code = run.stop()
     internal = run.internal_errors()

@@ -9,6 +9,7 @@ import math
 import zlib
 from dataclasses import dataclass, field, replace
 from pathlib import Path
+from typing import Any
 
 MAX_COUNT = 50  # vehicles one test may ask for (the autopilot itself takes up to 255)
 MAX_AIRBORNE_M = 500.0
@@ -97,7 +98,7 @@ def settings(marker_kwargs: dict, defaults: FireflySettings, test_dir: Path, mar
     unknown = sorted(set(marker_kwargs) - set(KEYS))
     if unknown:
         raise SettingsError(f"{where}: unknown key {unknown[0]!r} (known: {', '.join(KEYS)})")
-    changes = {}
+    changes: dict[str, Any] = {}  # FireflySettings fields, each of its own type
     for key, value in marker_kwargs.items():
         at = f"{where}({key}=...)"
         if key == "speedup":

@@ -10,6 +10,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from pathlib import Path
+from typing import BinaryIO
 
 from autopilot.modes.numbers import ModeNumber
 from sim.rigid_body import euler_from_quaternion
@@ -88,33 +89,35 @@ class StateLogReader:
     def __init__(self, path: Path, from_end: bool = False):
         self.path = Path(path)
         self.from_end = from_end
-        self._file = None
+        self._file: BinaryIO | None = None
         self._columns: list[str] | None = None
-        self._partial = b""
+        self._partial: bytes | None = b""  # None: skip to the end of the line being written
         self.latest: VehicleState | None = None
 
-    def _open(self) -> bool:
+    def _open(self) -> BinaryIO | None:
+        """The log, open after its header, or None while it has none."""
         try:
-            self._file = open(self.path, "rb")
+            file = open(self.path, "rb")
         except FileNotFoundError:
-            return False
-        header = self._file.readline()
+            return None
+        header = file.readline()
         if not header.endswith(b"\n"):  # not written yet: read it again next time
-            self._file.close()
-            self._file = None
-            return False
+            file.close()
+            return None
+        self._file = file
         self._columns = header.decode().strip().split(",")
         if self.from_end:
-            end = self._file.seek(0, 2)
-            self._file.seek(end - 1)
-            if self._file.read(1) != b"\n":  # mid-line: that line is older than this reader
+            end = file.seek(0, 2)
+            file.seek(end - 1)
+            if file.read(1) != b"\n":  # mid-line: that line is older than this reader
                 self._partial = None
-        return True
+        return file
 
     def _lines(self) -> list[bytes]:
-        if self._file is None and not self._open():
+        file = self._file if self._file is not None else self._open()
+        if file is None:
             return []
-        chunk = self._file.read()
+        chunk = file.read()
         if not chunk:
             return []
         if self._partial is None:  # skip the rest of the line this reader started in
@@ -127,7 +130,9 @@ class StateLogReader:
         return lines
 
     def new_states(self) -> list[VehicleState]:
-        states = [parse_state(self._columns, line.decode()) for line in self._lines()]
+        lines = self._lines()
+        columns = self._columns  # read with the header, before any line
+        states = [parse_state(columns, line.decode()) for line in lines] if columns is not None else []
         if states:
             self.latest = states[-1]
         return states
@@ -135,7 +140,7 @@ class StateLogReader:
     def latest_state(self) -> VehicleState | None:
         """The newest state, parsing only the newest line."""
         lines = self._lines()
-        if lines:
+        if lines and self._columns is not None:
             self.latest = parse_state(self._columns, lines[-1].decode())
         return self.latest
 

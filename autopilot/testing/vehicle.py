@@ -9,6 +9,7 @@ from __future__ import annotations
 import asyncio
 import time
 from pathlib import Path
+from typing import Any
 
 from .control import ControlLink
 from .errors import FireflyError
@@ -30,7 +31,7 @@ class Wait:
         self.vehicle, self.condition, self.timeout_s, self.what = vehicle, condition, timeout_s, what
         self.reader = StateLogReader(vehicle.state_log_path, from_end=True)
         self.start_s = vehicle.state().time_s
-        self.last = None
+        self.last: VehicleState | None = None
         self.moved_wall = time.monotonic()
 
     def poll(self) -> VehicleState | None:
@@ -69,7 +70,7 @@ class FireflyVehicle:
         self.tlog_path = tlog
         self._state = StateLogReader(state_log)
         self._control: ControlLink | None = None
-        self._mavsdk = None  # (Mavsdk, System)
+        self._mavsdk: tuple[Any, Any] | None = None  # (Mavsdk, System)
         self._mavlink = None
 
     # ----- where clients connect ------------------------------------------------------------
