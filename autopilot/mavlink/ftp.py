@@ -80,7 +80,8 @@ class Packet:
     @classmethod
     def parse(cls, payload: bytes) -> Packet:
         payload = bytes(payload[:PAYLOAD_SIZE]).ljust(PAYLOAD_SIZE, b"\0")
-        return cls(*HEADER.unpack_from(payload, 0), data=payload[HEADER.size:])
+        seq, session, opcode, size, req_opcode, burst_complete, offset = HEADER.unpack_from(payload, 0)
+        return cls(seq, session, opcode, size, req_opcode, burst_complete, offset, data=payload[HEADER.size:])
 
     def encode(self) -> list:
         header = HEADER.pack(self.seq & 0xFFFF, self.session, self.opcode, self.size,
@@ -112,7 +113,7 @@ class FtpServer:
         """`params`: the vehicle's ParamStore; `notify(text, severity)`: status texts."""
         self.params = params
         self.notify = notify
-        self.file = None  # ParamFile (read) or ParamUpload (write)
+        self.file: param_files.ParamFile | param_files.ParamUpload | None = None  # read or write
         self.session = NO_SESSION
         self.owner: tuple | None = None  # (system, component) that opened the session
         self.last_send_s = float("-inf")  # the open session's last reply
@@ -245,8 +246,10 @@ class FtpServer:
         if self.file is not None and now_s - self.last_send_s > SESSION_TIMEOUT_S:
             self._close()  # its client never saw our open reply and gave up
         refused = self._open(request, reply, sender, lambda path: param_files.open_read(self.params, path))
-        return refused or replace(reply, opcode=ACK, size=4,
-                                  data=struct.pack("<I", self.file.size_estimate))
+        if refused is not None:
+            return refused
+        assert isinstance(self.file, param_files.ParamFile)  # just opened for reading
+        return replace(reply, opcode=ACK, size=4, data=struct.pack("<I", self.file.size_estimate))
 
     def _open_write(self, request: Packet, reply: Packet, sender: tuple) -> Packet:
         refused = self._open(request, reply, sender,
@@ -269,6 +272,7 @@ class FtpServer:
         return None
 
     def _read(self, request: Packet, reply: Packet) -> Packet:
+        assert isinstance(self.file, param_files.ParamFile)  # _dispatch checked
         try:
             data = self.file.read(request.offset, min(DATA_SIZE, request.size))
         except FsError as exc:
@@ -281,6 +285,7 @@ class FtpServer:
         """Blocks from the requested offset to the end of the file (at most `limit`), then the
         EndOfFile NAK; the last block is flagged burst_complete. The NAK keeps the last block's
         flag and the offset after it, as ArduPilot's reuse of one reply buffer gives."""
+        assert isinstance(self.file, param_files.ParamFile)  # _dispatch checked
         block = request.size or DATA_SIZE
         out = []
         for i in range(limit):
@@ -301,6 +306,7 @@ class FtpServer:
         return out
 
     def _write(self, request: Packet, reply: Packet) -> Packet:
+        assert isinstance(self.file, param_files.ParamUpload)  # _dispatch checked
         try:
             self.file.write(request.offset, request.data[:request.size])
         except FsError as exc:
