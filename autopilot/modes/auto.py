@@ -180,6 +180,8 @@ class Auto(Mode):
             sp.pos_ne, sp.pos_d = (n, e), d
             self._nav_done = ctx.body.d_m <= d + 0.5
             return
+        if self._legs.nav is None:  # the leg ended while AUTO held on the ground: fly it from here
+            self._begin_leg(ctx, self._index, item)
         if self._legs.update(ctx, sp, dt) and self._arrived_at is None:  # waypoints and loiters
             self._arrived_at = ctx.time_s
         if self._arrived_at is None:

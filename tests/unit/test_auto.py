@@ -47,6 +47,22 @@ def test_auto_on_the_ground_starts_the_mission_but_waits_for_mission_start_to_fl
     assert v.mission_progress.reached[:2] == [1, 2]
 
 
+def test_a_waypoint_made_current_while_auto_waits_on_the_ground_is_flown_on_mission_start():
+    """AUTO held on the ground (its leg ended); MISSION_SET_CURRENT to a waypoint, then
+    MISSION_START: the leg starts from where the vehicle is (it had raised an internal error)."""
+    v = ready_vehicle()
+    v.mission.replace(0, [takeoff(), wp_at(v, 20, 0), wp_at(v, 20, 20)])
+    v.set_mode(4)
+    v.arm()
+    assert v.set_mode(3) == Result.ACCEPTED
+    v.run_until(v.time_s + 1.0)
+    assert v.set_mission_current(2)
+    v.run_until(v.time_s + 0.5)
+    assert v.mission_start() == Result.ACCEPTED
+    v.run_until(v.time_s + 5.0)
+    assert not v.internal_errors and v.mode.number == 3 and v.armed
+
+
 def test_mission_start_announces_the_first_item_twice_as_arducopter():
     """MISSION_START starts the mission, and AUTO's first tick resumes it (restarting the item)."""
     v = ready_vehicle()
