@@ -295,9 +295,12 @@ class Vehicle:
         self.notify("Disarming motors")
         return Result.ACCEPTED
 
-    def _set_home_here(self) -> None:
+    def _set_home_here(self, in_flight: bool = False) -> None:
+        """Home where the vehicle is; set in flight (the first fix after a take-off without GPS)
+        at the height of the ground it booted on, as ArduCopter's set_home_to_current_location_inflight
+        takes the EKF origin's altitude, not the flight's."""
         b = self.body
-        self.home_ned = (b.n_m, b.e_m, b.d_m)
+        self.home_ned = (b.n_m, b.e_m, self.boot_ground_d if in_flight else b.d_m)
         self.home_sets += 1
 
     # ----- commands: modes and navigation ------------------------------------------------------
@@ -400,7 +403,8 @@ class Vehicle:
         result = self.set_mode(ModeNumber.AUTO)
         if result == Result.ACCEPTED:
             self.arming.auto_armed = self.armed
-            if not self.mission_progress.running:
+            # AUTO waiting for home starts (or resumes) the mission itself once it is entered
+            if not self.mission_progress.running and self._mode_entered:
                 self.mission_progress.start_or_resume(self.params["MIS_RESTART"] == 1)
         return result
 
@@ -431,9 +435,9 @@ class Vehicle:
         if steps % est.gps_every == 0:
             est.sample_gps()
             if self.home_ned is None and est.origin_known():
-                self._set_home_here()
+                self._set_home_here(in_flight=not self.land_detector.landed)
         if steps % est.temperature_every == 0:
-            est.sample_temperature((self.home_ned or (0, 0, 0))[2])
+            est.sample_temperature(self.height_ref_d)
         if steps % self._mode_every == 0:
             self._mode_tick()
         sp = self.setpoint
@@ -456,7 +460,10 @@ class Vehicle:
         if now >= self.startup.next_due_s:
             self.startup.say_due(now, self.origin.alt_m, self.notify)
         if self.script is not None:
-            self.script.run_due(self)
+            try:  # a scenario's step that raises must not starve the mode and the checks below
+                self.script.run_due(self)
+            except Exception as exc:  # noqa: BLE001
+                self.internal_error(exc, "scenario script")
         if self._mode_entered or self._enter_when_ready():
             try:
                 self.mode.update(self.ctx, self.setpoint, dt)
@@ -465,7 +472,7 @@ class Vehicle:
         armed, detector = self.arming.armed, self.land_detector
         if armed or not detector.landed:  # disarmed on the ground neither check has anything to do
             body = estimate.body
-            home_d = (self.home_ned or (0, 0, 0))[2]
+            home_d = self.height_ref_d
             if detector.update(body, armed, home_d, self.cascade.thrust_t, now):
                 self.auto_disarm.restart(now)
             if armed:
@@ -485,7 +492,7 @@ class Vehicle:
             self.setpoint.clear()
             return False
         reason = self.mode.enter(self.ctx)
-        if reason is not None:  # refused now: as a refused mode change, the mode before it stays
+        if reason is not None:  # refused now (a disarmed mode never is today): STABILIZE takes over
             self.notify(f"Mode change to {self.mode.name} failed: {reason}", Severity.WARNING)
             self.mode = self.modes[ModeNumber.STABILIZE]
             reason = self.mode.enter(self.ctx)
@@ -507,12 +514,14 @@ class Vehicle:
         if self.mode is not land:
             try:
                 self.mode.exit(self.ctx)
-                self.mode, self._mode_entered = land, True
+            except Exception as again:  # noqa: BLE001 - the failed mode's tidy-up: LAND all the same
+                self.internal_errors.record(again, f"{self.mode.name} exit")
+            self.mode, self._mode_entered = land, True
+            try:
                 land.enter(self.ctx)
                 return
             except Exception as again:  # noqa: BLE001
                 self.internal_errors.record(again, "LAND entry")
-        self.mode, self._mode_entered = land, True
         self._descend_level()
 
     def _descend_level(self) -> None:

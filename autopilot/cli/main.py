@@ -165,7 +165,8 @@ def build_vehicle(args, scenario, k: int, outs, listen, epoch_us: int):
         params.save_all()
         missions_path.unlink(missing_ok=True)
     mission = MissionStore(missions_path)
-    params.file.min_interval_s = mission.file.min_interval_s = SAVE_EVERY_S
+    for store_file in (params.file, mission.file):
+        store_file.min_interval_s, store_file.clock = SAVE_EVERY_S, time.monotonic  # the link clock
     rate = scenario.sim.physics_rate_hz
     cols = math.ceil(math.sqrt(args.count))
     sim = dataclasses.replace(scenario.sim, seed=scenario.seed + k)

@@ -68,8 +68,8 @@ class Script:
     def run_due(self, vehicle) -> None:
         while self.next < len(self.steps) and self.steps[self.next][0] <= vehicle.time_s + 1e-9:
             t, verb, args = self.steps[self.next]
+            self.next += 1  # first: a step that raises is run once, not at every tick after
             self.results.append((t, verb, int(self._do(vehicle, verb, args))))
-            self.next += 1
 
     @staticmethod
     def _do(v, verb: str, args: tuple):

@@ -46,7 +46,8 @@ class JsonFile:
         self.save_errors = 0
         self.last_save_error = ""
         self.min_interval_s = 0.0
-        self._now_s = 0.0  # link time, as poll() last said
+        # the link clock (wall seconds), injected by the I/O edge with min_interval_s
+        self.clock: Callable[[], float] | None = None
         self._written_s = -math.inf
         self._pending: Callable[[], object] | None = None  # the data still to write
         # the files with a write waiting, shared with whoever polls (the vehicle's stores_waiting)
@@ -60,25 +61,25 @@ class JsonFile:
         """Write data() now (whether the disk took it), or after the interval (True)."""
         if self.path is None:
             return True
-        if self._now_s - self._written_s < self.min_interval_s:
+        now = self.clock() if self.clock is not None else 0.0
+        if now - self._written_s < self.min_interval_s:
             self._pending = data
             self.waiting.add(self)
             return True
-        return self._write(data)
+        return self._write(data, now)
 
     def poll(self, now_s: float) -> None:
-        self._now_s = now_s
         if self._pending is not None and now_s - self._written_s >= self.min_interval_s:
-            self._write(self._pending)
+            self._write(self._pending, now_s)
 
     def flush(self) -> None:
         if self._pending is not None:
-            self._write(self._pending)
+            self._write(self._pending, self._written_s)
 
-    def _write(self, data: Callable[[], object]) -> bool:
+    def _write(self, data: Callable[[], object], now_s: float) -> bool:
         self._pending = None
         self.waiting.discard(self)
-        self._written_s = self._now_s
+        self._written_s = now_s
         assert self.path is not None
         try:
             write_json_atomic(self.path, data())

@@ -11,12 +11,11 @@ Nothing here raises: recording an error must never be a second error.
 """
 from __future__ import annotations
 
-import traceback
 from collections.abc import Callable
 
 FLOW_OF_CONTROL = 1 << 20  # AP_InternalError::error_t::flow_of_control
 REPORT_FIRST = 5  # errors passed to `report` (a process prints them); the rest are only counted
-BIT_NAMES = {FLOW_OF_CONTROL: "flow_of_control"}
+BIT_NAMES = {FLOW_OF_CONTROL: "flow_of_ctrl"}  # as AP_InternalError::errors_as_string names it
 
 
 class InternalErrors:
@@ -38,10 +37,11 @@ class InternalErrors:
         new = not self.bits & bit
         self.bits |= bit
         self.count += 1
-        frames = traceback.extract_tb(exc.__traceback__)
-        origin = frames[-1] if frames else None
-        self.line = origin.lineno or 0 if origin is not None else 0
-        place = f" ({origin.filename.rsplit('/', 1)[-1]}:{origin.lineno})" if origin is not None else ""
+        tb = exc.__traceback__
+        while tb is not None and tb.tb_next is not None:  # the innermost frame: where it raised
+            tb = tb.tb_next
+        self.line = tb.tb_lineno if tb is not None else 0
+        place = f" ({tb.tb_frame.f_code.co_filename.rsplit('/', 1)[-1]}:{tb.tb_lineno})" if tb is not None else ""
         self.last = f"{where}: {type(exc).__name__}: {exc}{place}"
         if self.report is not None and self.count <= REPORT_FIRST:
             try:

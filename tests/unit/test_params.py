@@ -246,14 +246,21 @@ def test_setting_the_value_in_force_changes_nothing_and_notifies_no_one(tmp_path
 
 def test_a_store_writes_at_most_once_per_interval_and_the_last_change_after_it(tmp_path):
     from autopilot.io.persist import JsonFile
-    f = JsonFile(tmp_path / "x.json")
-    f.min_interval_s = 0.5
-    f.poll(100.0)
-    assert f.save(lambda: {"v": 1}) and json.loads((tmp_path / "x.json").read_text()) == {"v": 1}
+    (tmp_path / "d").mkdir()
+    f = JsonFile(tmp_path / "d" / "x.json")
+    now = [100.0]
+    f.min_interval_s, f.clock = 0.5, lambda: now[0]
+    assert f.save(lambda: {"v": 1}) and json.loads((tmp_path / "d" / "x.json").read_text()) == {"v": 1}
     for v in range(2, 50):  # a flood within the interval: nothing written yet, the last one waits
         f.save(lambda v=v: {"v": v})
-    assert json.loads((tmp_path / "x.json").read_text()) == {"v": 1} and f.pending and f in f.waiting
+    assert json.loads((tmp_path / "d" / "x.json").read_text()) == {"v": 1} and f.pending and f in f.waiting
     f.poll(100.3)
     assert f.pending
     f.poll(100.6)
-    assert json.loads((tmp_path / "x.json").read_text()) == {"v": 49} and not f.pending and not f.waiting
+    assert json.loads((tmp_path / "d" / "x.json").read_text()) == {"v": 49} and not f.pending and not f.waiting
+    now[0] = 200.0  # after a quiet spell the next change is written at once, and its failure told
+    for leftover in (tmp_path / "d").iterdir():
+        leftover.unlink()
+    (tmp_path / "d").rmdir()
+    (tmp_path / "d").write_text("a file where the directory was")
+    assert f.save(lambda: {"v": 50}) is False and not f.pending and f.save_errors == 1
