@@ -221,3 +221,29 @@ def test_a_heading_of_any_size_is_wrapped_before_it_is_flown_or_reported():
     nav = s.build(mav.MAVLINK_MSG_ID_NAV_CONTROLLER_OUTPUT)
     assert -180 <= nav.nav_bearing <= 180
     assert nav.pack(new_codec(1))
+
+
+def test_home_found_in_flight_takes_the_boot_grounds_height():
+    v = Vehicle(VehicleConfig(faults={"SIM_GPS_DISABLE": 1}))
+    v.run_until(1.0)
+    v.set_mode(ModeNumber.ALT_HOLD)
+    assert v.arm() == Result.ACCEPTED
+    end = v.time_s + 3.0
+    while v.time_s < end:
+        v.pilot_input.update(0.0, 0.0, 0.0, 0.9, v.time_s)
+        v.run_until(v.time_s + 0.1)
+    assert v.home_ned is None and v.boot_ground_d - v.body.d_m > 2.0
+    v.params.set("SIM_GPS_DISABLE", 0)
+    assert fly_until(v, lambda x: x.home_ned is not None, 10.0)
+    assert v.home_ned[2] == v.boot_ground_d  # not the height it was flying at
+
+
+def test_mission_start_while_auto_waits_for_home_runs_nothing_until_then():
+    from autopilot.mission import MissionItem
+    v = booting_vehicle()
+    v.mission.replace(0, [MissionItem(22, 3, z=10.0), MissionItem(16, 3, x=-353632610, y=1491652300, z=10.0)])
+    v.drain_events()
+    assert v.mission_start() == Result.ACCEPTED and not v.mode_flying
+    v.run_until(3.0)
+    assert not [t for _, t in v.drain_events() if t.startswith("Mission")]
+    assert not v.mission_progress.running
