@@ -47,6 +47,7 @@ if TYPE_CHECKING:
     from .cli.script import Script
 
 FAILSAFE_EVERY = 10  # flight-mode ticks between failsafe checks (10 Hz at the default 100 Hz)
+MAX_PENDING_TEXTS = 64  # STATUSTEXTs waiting for the next poll; a loop of texts cannot grow memory
 HOME_RANGE_M = 50_000  # DO_SET_HOME farther than this from the origin is refused
 HOME_ALT_RANGE_M = 83_000  # ... or higher or lower than ArduPilot's Location holds (LOCATION_ALT_MAX_M)
 SPEED_MAX_WPNAV = 5.0  # DO_CHANGE_SPEED is capped at this multiple of WPNAV_SPEED
@@ -250,7 +251,10 @@ class Vehicle:
         return self.prearm_failure() is None
 
     def notify(self, text: str, severity: int = Severity.INFO) -> None:
-        self.events.append((int(severity), text))
+        events = self.events
+        if len(events) >= MAX_PENDING_TEXTS:  # as ArduPilot's queue: the oldest gives way
+            del events[0]
+        events.append((int(severity), text))
 
     def poll_stores(self, link_s: float) -> None:
         """The link time now, for the stores' writes; the writes that are due."""

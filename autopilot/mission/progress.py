@@ -192,17 +192,23 @@ class MissionProgress:
         self.do_index, self.do_loaded, self.do_all_done = None, False, False
         self.nav_loaded = False
         if self.state is not MissionState.ACTIVE:
-            # Not running: find the item a resume starts from, start nothing.
-            while not self.nav_loaded:
+            # Not running: find the item a resume starts from, start nothing. Bounded as
+            # _advance_nav is: "do" items and an unlimited DO_JUMP back to them, with no
+            # navigation item, would otherwise be searched (and their jumps counted) for ever.
+            for _ in range(MAX_ADVANCE):
+                if self.nav_loaded:
+                    break
                 found = self._next_item(index, count_jumps=True)
                 if found is None:
-                    self.nav_index = None
-                    return False
+                    break
                 if is_nav(items[found].command):
                     self.nav_index, self.nav_loaded = found, True
                 elif not self.do_loaded:
                     self.do_index, self.do_loaded = found, True
                 index = found + 1
+            if not self.nav_loaded:
+                self.nav_index = None
+                return False
             self.do_all_done = not self.do_loaded
             self.state = MissionState.NOT_STARTED
             return True

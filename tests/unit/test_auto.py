@@ -262,3 +262,12 @@ def test_an_upload_changing_the_next_waypoint_restarts_the_current_one_once():
     changed = items[:1] + [wp_at(v, 40, 40)] + items[2:]
     assert _upload_item_by_item(v, changed) == ["Auto mission changed, restarted command"]
     assert v.mission_progress.current_seq() == 1
+
+
+def test_set_current_into_a_loop_of_do_items_without_navigation_ends():
+    """Only "do" items and an unlimited DO_JUMP back to them: MISSION_SET_CURRENT while the mission
+    is not running searched (and counted jumps, with a text each) for ever, until memory ran out."""
+    v = ready_vehicle()
+    v.mission.replace(0, [MissionItem(178, REL, 1, 5.0), MissionItem(177, REL, 1, -1)])
+    assert v.set_mission_current(1) is False
+    assert len(v.events) <= 64 and v.mission_progress.nav_index is None
