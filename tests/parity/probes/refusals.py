@@ -194,15 +194,13 @@ UNREADY_KEYS = ["result", "mode_after", "armed_after", "home_set_after", "said",
 
 
 def observe_unready(send):
-    """Send, then the state after; a mode change is followed by DO_SET_MODE back to STABILIZE."""
+    """Send, then the state after (observe_ground's facts, and whether home is set); a mode
+    change is followed by DO_SET_MODE back to STABILIZE."""
+    observe = observe_ground(send)
+
     def act(c: Client, facts: Facts) -> None:
-        t0 = c.now_ms
-        facts["result"] = send(c)
-        c.idle(SAID_WITHIN_S)
-        c.fresh_heartbeat()
-        facts["mode_after"], facts["armed_after"] = mode_name(c.mode), c.armed
+        observe(c, facts)
         facts["home_set_after"] = home_is_set(c)
-        facts["said"] = said(c.texts_since(t0))
         facts["back_to_stabilize"] = c.set_mode(STABILIZE) if c.mode != STABILIZE else "-"
         if facts["back_to_stabilize"] is None:
             c.fresh_heartbeat()  # a dead vehicle raises here; a live one that did not answer is a fact
@@ -330,6 +328,7 @@ GROUND_KEYS = ["result", "mode_after", "armed_after", "said"]
 
 
 def observe_ground(send):
+    """Send, then the result, mode, arming and what the vehicle said."""
     def act(c: Client, facts: Facts) -> None:
         t0 = c.now_ms
         facts["result"] = send(c)
