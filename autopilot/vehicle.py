@@ -49,7 +49,7 @@ if TYPE_CHECKING:
 FAILSAFE_EVERY = 10  # flight-mode ticks between failsafe checks (10 Hz at the default 100 Hz)
 MAX_PENDING_TEXTS = 64  # STATUSTEXTs waiting for the next poll; a loop of texts cannot grow memory
 HOME_RANGE_M = 50_000  # DO_SET_HOME farther than this from the origin is refused
-HOME_ALT_RANGE_M = 83_000  # ... or higher or lower than ArduPilot's Location holds (LOCATION_ALT_MAX_M)
+LOCATION_ALT_MAX_M = 83_000  # the largest altitude ArduPilot's Location holds: home and commands' positions
 SPEED_MAX_WPNAV = 5.0  # DO_CHANGE_SPEED is capped at this multiple of WPNAV_SPEED
 
 
@@ -382,7 +382,7 @@ class Vehicle:
             self._set_home_here()
             return Result.ACCEPTED
         if not all(math.isfinite(x) for x in ned) or math.hypot(ned[0], ned[1]) > HOME_RANGE_M \
-                or abs(ned[2]) > HOME_ALT_RANGE_M:
+                or abs(ned[2]) > LOCATION_ALT_MAX_M:
             return Result.DENIED
         n, e, d = ned
         self.home_ned = (n, e, d)
@@ -499,7 +499,7 @@ class Vehicle:
         if reason is not None:  # refused now (a disarmed mode never is today): STABILIZE takes over
             self.notify(f"Mode change to {self.mode.name} failed: {reason}", Severity.WARNING)
             self.mode = self.modes[ModeNumber.STABILIZE]
-            reason = self.mode.enter(self.ctx)
+            self.mode.enter(self.ctx)  # STABILIZE refuses nothing
         self._mode_entered = True
         return True
 
@@ -511,7 +511,7 @@ class Vehicle:
         nothing from that code: an armed vehicle lands where it is; if LAND itself failed, it
         comes down level at LAND_SPEED. (A failed message handler changes no mode.)"""
         if self.internal_errors.record(exc, where):
-            self.notify(self.internal_errors.prearm_text() or "Internal error", Severity.CRITICAL)
+            self.notify(self.internal_errors.announcement(), Severity.CRITICAL)
         if not (in_flight_code and self.armed):
             return
         land = self.modes[ModeNumber.LAND]

@@ -14,11 +14,11 @@ from typing import NamedTuple
 from ..modes.numbers import ModeNumber
 from ..results import Result, Severity
 from ..safety.arming import FORCE_ARM_MAGIC, FORCE_DISARM_MAGIC
+from ..vehicle import LOCATION_ALT_MAX_M
 from .dialect import mavlink as mav
 
 RETRY_WINDOW_S = 1.5  # an unconfirmed repeat this close, in wall and in sim time, is a retry
 INT32_MAX = 2**31 - 1
-ALT_MAX_M = 83_000  # the largest altitude ArduPilot's Location holds (LOCATION_ALT_MAX_M)
 ABSOLUTE_ALT_FRAMES = {mav.MAV_FRAME_GLOBAL, mav.MAV_FRAME_GLOBAL_INT}
 # Altitude above home (ArduPilot's terrain frames fall back to home over flat ground, as here).
 RELATIVE_ALT_FRAMES = {mav.MAV_FRAME_GLOBAL_RELATIVE_ALT, mav.MAV_FRAME_GLOBAL_RELATIVE_ALT_INT,
@@ -110,12 +110,12 @@ def do_change_speed(s, c: Command) -> Result:
 
 def is_location(s, c: Command) -> bool:
     """Whether a command's lat/lon/alt make a location, as ArduPilot converts a command to one: a
-    latitude and longitude on the globe, an altitude that is a number within ALT_MAX_M, a frame it
+    latitude and longitude on the globe, an altitude that is a number within LOCATION_ALT_MAX_M, a frame it
     knows (an unknown one is named in a STATUSTEXT, as ArduPilot's SITL names it). False: DENIED."""
     lat, lon, alt = c.p5, c.p6, c.p7
     if not (_finite(lat, lon) and -90 <= lat <= 90 and -180 <= lon <= 180):
         return False
-    if not (math.isfinite(alt) and abs(alt) <= ALT_MAX_M):
+    if not (math.isfinite(alt) and abs(alt) <= LOCATION_ALT_MAX_M):
         return False
     if c.frame not in ABSOLUTE_ALT_FRAMES and c.frame not in RELATIVE_ALT_FRAMES:
         s.vehicle.notify(f"Unknown mavlink coordinate frame {c.frame}", Severity.INFO)

@@ -130,7 +130,7 @@ def as_uint16(value: float) -> int:
     return int(value) & 0xFFFF
 
 
-def check_list_item(item: MissionItem, kind: int, seq: int, count: int, stored: int) -> int:
+def check_list_item(item: MissionItem, kind: int, count: int, stored: int) -> int:
     """What an item that passed check_item still needs in its place in the list: a DO_JUMP must
     jump to an item that is or will be there (MissionItemProtocol_Waypoints: not 0, and below the
     stored list's length or at most the upload's last seq), else MAV_MISSION_ERROR.

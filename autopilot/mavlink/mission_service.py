@@ -31,7 +31,7 @@ MAX_ITEMS = {MISSION: 700, FENCE: 200, RALLY: 50}
 
 def saved_result(saved: bool) -> int:
     """A transfer's MISSION_ACK: ACCEPTED, or MAV_MISSION_ERROR when storage refused the change
-    (as ArduPilot answers a failed write; the list flies as received, persist.SaveErrors)."""
+    (as ArduPilot answers a failed write; the list flies as received, persist.JsonFile)."""
     return mav.MAV_MISSION_ACCEPTED if saved else mav.MAV_MISSION_ERROR
 
 
@@ -148,7 +148,7 @@ class MissionService:
         item = item_from_message(msg)
         result = check_item(item, up.kind)
         if result == mav.MAV_MISSION_ACCEPTED:
-            result = check_list_item(item, up.kind, msg.seq, up.count, len(self.store.items(MISSION)) + 1)
+            result = check_list_item(item, up.kind, up.count, len(self.store.items(MISSION)) + 1)
         if result == mav.MAV_MISSION_ACCEPTED and up.kind != FENCE:
             result = self._write(up.kind, msg.seq, item)
         if result != mav.MAV_MISSION_ACCEPTED:  # refused in silence, as ArduCopter refuses

@@ -2,10 +2,10 @@
 
 ArduPilot keeps a bitmask of internal error kinds (AP_InternalError) and a count, reports them in
 SYS_STATUS (errors_count1/2: the mask's low and high halves, errors_count4: the count), marks the
-HEARTBEAT's system_status CRITICAL, and refuses to arm with "Internal errors 0x<mask> l:<line>
-<names>" — and keeps flying. Firefly records an exception the same way, under the kind
-flow_of_control (ArduPilot's "we should never get here"), with the line of the Python code that
-raised as the line, and says it once in a STATUSTEXT, so that a test or a user sees it at once.
+HEARTBEAT's system_status CRITICAL, says "Internal Errors 0x<mask>" when the mask changes, and
+refuses to arm with "Internal errors 0x<mask> l:<line> <names>" — and keeps flying. Firefly
+records an exception the same way, under the kind flow_of_control (ArduPilot's "we should never
+get here"), with the line of the Python code that raised as the line.
 
 Nothing here raises: recording an error must never be a second error.
 """
@@ -52,6 +52,11 @@ class InternalErrors:
 
     def names(self) -> str:
         return ",".join(name for bit, name in BIT_NAMES.items() if self.bits & bit)
+
+    def announcement(self) -> str:
+        """What ArduPilot says (CRITICAL) when its mask changes (AP_Vehicle; measured on
+        ArduCopter SITL: "Internal Errors 0x400")."""
+        return f"Internal Errors 0x{self.bits:x}"
 
     def prearm_text(self) -> str | None:
         """The pre-arm failure ArduPilot reports while any internal error is set, or None."""
