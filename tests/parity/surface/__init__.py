@@ -1,0 +1,1 @@
+"""ArduCopter's user-reachable surface, enumerated from its sources at the reference commit."""
