@@ -14,6 +14,7 @@ from pathlib import Path
 from .compare_run import AreaResult, run_area
 from .probes import AREAS
 from .recording import ARDUPILOT_COMMIT, load
+from .surface.score import KINDS, load_surface, share, statuses, write_not_yet
 
 
 def _short(value, width: int = 60) -> str:
@@ -21,11 +22,65 @@ def _short(value, width: int = 60) -> str:
     return text if len(text) <= width else text[: width - 1] + "…"
 
 
+def surface_section(results: list[AreaResult]) -> list[str]:
+    """The lead table: of ArduCopter's surface, per kind, how much Firefly reproduces."""
+    table = statuses(results)
+    lines = [
+        "# Parity with ArduCopter",
+        "",
+        "## Of what ArduCopter does, how much Firefly does the same",
+        "",
+        f"ArduCopter's surface, enumerated from its sources at commit {ARDUPILOT_COMMIT[:8]} "
+        "(`tests/parity/surface/arducopter.json`, by `python -m tests.parity.surface.extract`): every "
+        "command its GCS handles, every mode number, every message it handles, every mission command its "
+        "AUTO flies, the SIM faults a test sets (`sim_faults.toml`) and every parameter. An entry is "
+        "*matching* when every fact its probes recorded on ArduCopter is reproduced, *deliberate* when "
+        "what differs is listed with a reason in `tests/parity/differences.toml`, *not yet* otherwise "
+        "(an entry no probe covers yet counts as not yet).",
+        "",
+        "| kind | ArduCopter has | in scope | matching | deliberate | not yet | Firefly reproduces |",
+        "|---|---:|---:|---:|---:|---:|---:|",
+    ]
+    totals = [0, 0, 0, 0, 0]
+    for kind, title in KINDS.items():
+        column = table.get(kind, {})
+        in_scope, matching, deliberate, missing = share(column)
+        for i, n in enumerate((len(column), in_scope, matching, deliberate, missing)):
+            totals[i] += n
+        lines.append(f"| {title} | {len(column)} | {in_scope} | {matching} | {deliberate} | {missing} | "
+                     f"**{100 * matching / max(in_scope, 1):.1f} %** |")
+    every, in_scope, matching, deliberate, missing = totals
+    lines += [f"| **all** | {every} | {in_scope} | {matching} | {deliberate} | {missing} | "
+              f"**{100 * matching / max(in_scope, 1):.1f} %** |", ""]
+    probed = [share(table.get(k, {})) for k in KINDS if k != "parameters"]
+    probed_in, probed_matching = sum(p[0] for p in probed), sum(p[1] for p in probed)
+    lines += ["Without the parameters (one entry each, most of them plain defaults): "
+              f"{probed_matching} of {probed_in} = {100 * probed_matching / max(probed_in, 1):.1f} %.",
+              "", "Out of scope (nothing a user of a SITL quadcopter can reach):", ""]
+    out: dict[str, list[str]] = {}
+    for kind, entries in load_surface().items():
+        for entry in entries:
+            if not entry.in_scope:
+                out.setdefault(f"{kind}: {entry.why}", []).append(entry.name)
+    lines += [f"- {why}: {', '.join(f'`{n}`' for n in names)}" for why, names in out.items()]
+    lines += ["", "Not yet reproduced, per kind (the work of the issues that follow):", ""]
+    for kind in KINDS:
+        if kind == "parameters":
+            continue
+        names = sorted(n for n, s in table.get(kind, {}).items() if s in ("not yet", "not probed"))
+        if names:
+            lines.append(f"- {kind} ({len(names)}): " + ", ".join(f"`{n}`" for n in names))
+    missing_params = sorted(n for n, s in table.get("parameters", {}).items() if s in ("not yet", "not probed"))
+    if missing_params:
+        lines.append(f"- parameters ({len(missing_params)}): see the params area below")
+    return lines + [""]
+
+
 def markdown(results: list[AreaResult], elapsed_s: float) -> str:
     total = sum(len(r.checks) for r in results)
     matching = sum(r.matching for r in results)
-    lines = [
-        "# Parity with ArduCopter",
+    lines = surface_section(results) + [
+        "## Per area: every recorded fact",
         "",
         f"Every probe in `tests/parity/probes/` run against Firefly and compared, fact by fact, with the "
         f"recording of the same probe against ArduCopter SITL (commit {ARDUPILOT_COMMIT[:8]}, "
@@ -46,7 +101,7 @@ def markdown(results: list[AreaResult], elapsed_s: float) -> str:
     for r in results:
         if not r.explained and not r.unexplained:
             continue
-        lines += [f"## {r.area}", ""]
+        lines += [f"### {r.area}", ""]
         if r.unexplained:
             lines += ["Unexplained (a regression or a new gap):", ""]
             lines += [f"- `{c.name}`: ArduCopter {_short(c.want)}, Firefly {_short(c.got)}" for c in r.unexplained]
@@ -70,6 +125,8 @@ def main(argv=None) -> int:
     parser = argparse.ArgumentParser(prog="python -m tests.parity.report", description=__doc__.split("\n")[0])
     parser.add_argument("areas", nargs="*")
     parser.add_argument("--out", type=Path, default=Path("PARITY.md"))
+    parser.add_argument("--write-not-yet", action="store_true",
+                        help="rewrite surface/not_yet.toml from what this run found (all areas only)")
     args = parser.parse_args(argv)
     unknown = [a for a in args.areas if a not in AREAS]
     if unknown:
@@ -87,6 +144,11 @@ def main(argv=None) -> int:
     print(f"{'all':10s}     {matching}/{total} = {100 * matching / max(total, 1):.1f} %")
     args.out.write_text(markdown(results, time.monotonic() - started) + "\n")
     print(f"wrote {args.out}")
+    if args.write_not_yet:
+        if args.areas:
+            parser.error("--write-not-yet needs every area (name none)")
+        write_not_yet(statuses(results))
+        print("wrote tests/parity/surface/not_yet.toml")
     return 1 if any(r.unexplained for r in results) else 0
 
 
