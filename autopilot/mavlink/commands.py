@@ -186,6 +186,8 @@ def get_home_position(s, c: Command) -> Result:
 
 
 def request_autopilot_capabilities(s, c: Command) -> Result:
+    if c.p1 != 1:  # as ArduCopter: only "1: request autopilot version" is asked for
+        return Result.FAILED
     s.queue(s.build(mav.MAVLINK_MSG_ID_AUTOPILOT_VERSION))
     return Result.ACCEPTED
 
