@@ -1,7 +1,7 @@
 """The land detector and ArduCopter's auto-disarm (DISARM_DELAY).
 
 Landed: armed, with the thrust demand below most of the weight and (almost) no motion for
-LAND_DETECT_S. Taken off: risen 0.2 m above home or climbing. Disarmed means landed.
+MOTOR_WIND_DOWN_S + LAND_DETECT_S. Taken off: risen 0.2 m above home or climbing. Disarmed means landed.
 """
 from __future__ import annotations
 
@@ -12,6 +12,11 @@ if TYPE_CHECKING:
     from sim.rigid_body import BodyState
 
 LAND_DETECT_S = 1.0
+# ArduCopter starts its one-second count only once the motors reach their lower limit, which
+# takes its vertical-acceleration integrator about a second to unwind from hover throttle after
+# touchdown (ArduCopter SITL: 2.4 s and 3.4 s from 0.2 m above home to the disarm). Firefly's
+# thrust demand drops at touchdown, so the unwinding is counted as time.
+MOTOR_WIND_DOWN_S = 1.0
 LOW_THRUST_SHARE = 0.85  # of the weight: the motors no longer carry the vehicle
 STILL_VD_M_S = 0.3
 STILL_VNE_M_S = 0.5
@@ -48,7 +53,7 @@ class LandDetector:
         if self._landed_since is None:
             self._landed_since = now_s
             return False
-        if now_s - self._landed_since >= LAND_DETECT_S:
+        if now_s - self._landed_since >= MOTOR_WIND_DOWN_S + LAND_DETECT_S:
             self.landed = True
             self.landed_at_s = now_s
             return True

@@ -1,7 +1,7 @@
 """The land detector and auto-disarm (safety/land_detector.py) on hand-made states."""
 from __future__ import annotations
 
-from autopilot.safety.land_detector import LAND_DETECT_S, AutoDisarm, LandDetector
+from autopilot.safety.land_detector import LAND_DETECT_S, MOTOR_WIND_DOWN_S, AutoDisarm, LandDetector
 from sim.rigid_body import BodyState
 
 WEIGHT = 15.0
@@ -19,16 +19,16 @@ def test_it_leaves_the_ground_only_when_armed_and_rising_or_climbing():
     assert not detector.landed
 
 
-def test_it_lands_after_a_second_of_low_thrust_and_stillness():
+def test_it_lands_after_the_wind_down_and_a_second_of_low_thrust_and_stillness():
     detector = LandDetector(WEIGHT)
     detector.update(BodyState(d_m=-2.0), True, 0.0, WEIGHT, 0.0)
     assert not detector.landed
     t, just_landed = 0.0, []
-    while t < LAND_DETECT_S + 0.05:
+    while t < MOTOR_WIND_DOWN_S + LAND_DETECT_S + 0.05:
         just_landed.append(detector.update(STILL_LOW, True, 0.0, 0.5 * WEIGHT, t))
         t += 0.01
     assert detector.landed and just_landed.count(True) == 1 and just_landed[-1] is False
-    assert just_landed.index(True) >= round(LAND_DETECT_S / 0.01)
+    assert just_landed.index(True) >= round((MOTOR_WIND_DOWN_S + LAND_DETECT_S) / 0.01)
 
 
 def test_thrust_or_motion_restarts_the_landing_count():
