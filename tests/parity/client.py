@@ -173,8 +173,11 @@ class Client:
         seen = self.received.get(kind, 0)
         self.wait(lambda: self.received.get(kind, 0) > seen, sim_s, what=f"a new {kind}")
 
-    def texts_since(self, t_ms: int) -> list[str]:
-        return [text for stamp, _, text in self.texts if stamp >= t_ms]
+    def texts_since(self, t_ms: int, within_s: float | None = None) -> list[str]:
+        """Texts stamped at or after vehicle time t_ms (and, with within_s, no later than that
+        after it: a client that fell behind reads past the end of its wait in one go)."""
+        end = math.inf if within_s is None else t_ms + within_s * 1000
+        return [text for stamp, _, text in self.texts if t_ms <= stamp <= end]
 
     def rel_alt_m(self) -> float:
         m = self.last.get("GLOBAL_POSITION_INT")

@@ -13,6 +13,7 @@ from .texts import said
 AREA = "commands"
 HOME_LAT, HOME_LON = -35.363261, 149.165230
 NORTH_20M_LAT = HOME_LAT + 20 / 111_195.0
+SAID_WITHIN_S = 1.0  # the replies to a command, and what the vehicle does in the second after it
 
 # name -> how to send it: ("long", command, params) or ("int", command, frame, p1..p4, x, y, z)
 STATEFUL = {
@@ -63,12 +64,12 @@ def send(client: Client, how) -> int | None:
 def observe(client: Client, trace: Trace, name: str, how) -> None:
     t0 = client.now_ms
     result = send(client, how)
-    client.idle(1.0)
+    client.idle(SAID_WITHIN_S)
     client.fresh_heartbeat()
     trace.fact(f"{name}.result", result)
     trace.fact(f"{name}.mode_after", mode_name(client.mode))
     trace.fact(f"{name}.armed_after", client.armed)
-    trace.fact(f"{name}.said", said(client.texts_since(t0)))
+    trace.fact(f"{name}.said", said(client.texts_since(t0, SAID_WITHIN_S)))
 
 
 def run(target) -> dict[str, Trace]:

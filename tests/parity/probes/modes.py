@@ -17,7 +17,7 @@ def try_mode(client: Client, trace: Trace, name: str, mode: int) -> None:
     t0 = client.now_ms
     result = client.set_mode(mode)
     client.idle(SAID_WITHIN_S)
-    texts = said(client.texts_since(t0))  # what it said within SAID_WITHIN_S of the command
+    texts = said(client.texts_since(t0, SAID_WITHIN_S))  # what it said within SAID_WITHIN_S of the command
     client.fresh_heartbeat()
     trace.fact(f"{name}.result", result)
     trace.fact(f"{name}.mode_after", mode_name(client.mode))

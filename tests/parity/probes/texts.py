@@ -11,6 +11,7 @@ BACKGROUND = [re.compile(p) for p in (
     r"^fmuv", r"^Loaded", r"^Ready to FLY", r"^Init ",
     r"^SIM ",  # the reference simulator's own remarks (ground contact), not the autopilot's
     r"^EKF variance$",  # said when its estimate degrades after GPS loss: timing, not a reply
+    r"^[0-9a-f]{32}$",  # the board id the reference prints beside its banner: differs per instance
 )]
 
 
