@@ -54,14 +54,24 @@ class MissionService:
         self._completed = None  # (peer, kind, last seq) of the upload just stored, to re-ACK a resend
         self.refused = 0  # uploads refused: unsupported list, no space, busy, an invalid item
         self._cleared_at_home_set: int | None = None  # the vehicle's home_sets when the mission was cleared
+        # ArduCopter warns once per list (and boot) about each of the two float-coordinate messages.
+        self._warned: set[tuple[str, int]] = set()
 
     # ----- helpers ----------------------------------------------------------------------------
     def _ack(self, peer: tuple, result: int, kind: int):
         return self.codec.mission_ack_encode(peer[0], peer[1], result, kind)
 
     def _request(self, up: Upload, link_s: float):
+        """ArduCopter asks for each item with MISSION_REQUEST (not _INT), whichever way the items
+        come; a script that waits for MISSION_REQUEST depends on it."""
         up.last_request_s = link_s
-        return self.codec.mission_request_int_encode(up.peer[0], up.peer[1], len(up.items), up.kind)
+        return self.codec.mission_request_encode(up.peer[0], up.peer[1], len(up.items), up.kind)
+
+    def _warn_once(self, msg, text: str) -> None:
+        key = (msg.get_type(), msg.mission_type)
+        if key not in self._warned:
+            self._warned.add(key)
+            self.vehicle.notify(text, Severity.WARNING)
 
     def listed(self, kind: int) -> list[MissionItem]:
         """The list as ground stations see it: for the mission, home first as seq 0."""
@@ -138,6 +148,8 @@ class MissionService:
     def on_item(self, msg, link_s: float) -> list:
         up = self.uploads.get(msg.mission_type)
         peer = (msg.get_srcSystem(), msg.get_srcComponent())
+        if msg.get_type() == "MISSION_ITEM" and msg.mission_type in MAX_ITEMS:
+            self._warn_once(msg, "got MISSION_ITEM; GCS should send MISSION_ITEM_INT")
         if up is None and self._completed == (peer, msg.mission_type, msg.seq):
             # Our ACK was lost and the client resends its last item: tell it again, store nothing.
             return [self._ack(peer, mav.MAV_MISSION_ACCEPTED, msg.mission_type)]
@@ -211,6 +223,8 @@ class MissionService:
             return [self._ack(peer, mav.MAV_MISSION_INVALID_SEQUENCE, msg.mission_type)]
         it = items[msg.seq]
         current = 1 if msg.seq == self.vehicle.mission_progress.current_seq() else 0
+        if msg.get_type() == "MISSION_REQUEST":
+            self._warn_once(msg, "got MISSION_REQUEST; use MISSION_REQUEST_INT!")
         if msg.get_type() == "MISSION_REQUEST_INT":
             return [self.codec.mission_item_int_encode(peer[0], peer[1], msg.seq, it.frame, it.command,
                                                        current, it.autocontinue, it.p1, it.p2, it.p3,

@@ -65,6 +65,8 @@ class Session:
             "SET_POSITION_TARGET_GLOBAL_INT": self._on_setpoint_global,
             "TIMESYNC": self._on_timesync,
             "SETUP_SIGNING": lambda m, now: self.signing.setup(m, self.vehicle.armed),
+            # The request older ground stations send before REQUEST_MESSAGE existed.
+            "AUTOPILOT_VERSION_REQUEST": lambda m, now: self.queue(self.build(mav.MAVLINK_MSG_ID_AUTOPILOT_VERSION)),
         }
 
     # ----- output helpers used by the services ------------------------------------------------

@@ -72,7 +72,7 @@ class GroundStation:
 
     def on(self, msg, now):
         t = msg.get_type()
-        if t == "MISSION_REQUEST_INT" and msg.seq < len(self.items):
+        if t == "MISSION_REQUEST" and msg.seq < len(self.items):  # ArduCopter asks with MISSION_REQUEST
             # The last item is resent until the ACK arrives (MAVSDK's upload does the same).
             self.send(self.items[msg.seq], now, retry=msg.seq == len(self.items) - 1)
         elif t == "MISSION_ACK":
@@ -363,7 +363,7 @@ def test_a_fence_uploads_while_a_mission_upload_is_under_way(setup):
     gcs = GroundStation()
     mission = plan(3)
     requests = session.receive(gcs.codec.mission_count_encode(1, 1, 3, 0), 0.0, 0.0)
-    assert [(r.get_type(), r.seq, r.mission_type) for r in requests] == [("MISSION_REQUEST_INT", 0, 0)]
+    assert [(r.get_type(), r.seq, r.mission_type) for r in requests] == [("MISSION_REQUEST", 0, 0)]
     requests = session.receive(mission[0], 0.0, 0.0)
     fence = GroundStation()
     fence.items = [mav.MAVLink_mission_item_int_message(1, 1, 0, mav.MAV_FRAME_GLOBAL_INT,
@@ -373,7 +373,7 @@ def test_a_fence_uploads_while_a_mission_upload_is_under_way(setup):
     run(session, fence, LossyLink(0.0, 0))
     assert fence.done == mav.MAV_MISSION_ACCEPTED and len(v.mission.items(1)) == 1
     for item in mission[1:]:  # the mission's transfer goes on where it was
-        assert [(r.get_type(), r.seq) for r in requests] == [("MISSION_REQUEST_INT", item.seq)]
+        assert [(r.get_type(), r.seq) for r in requests] == [("MISSION_REQUEST", item.seq)]
         requests = session.receive(item, 0.0, 0.0)
     assert [(r.get_type(), r.type) for r in requests] == [("MISSION_ACK", mav.MAV_MISSION_ACCEPTED)]
     assert stored_lats(v) == [i.x for i in mission[1:]]
