@@ -414,3 +414,23 @@ def test_nan_params_are_refused_where_ap_mission_refuses_them(setup, command, pa
     gcs.start_upload(items, 0.0)
     run(session, gcs, LossyLink(0.0, 0))
     assert gcs.done == result
+
+
+def test_float_coordinate_messages_are_served_with_arducopters_one_warning_each(setup):
+    """MISSION_ITEM and MISSION_REQUEST still work; ArduCopter warns once about each (per list)."""
+    v, session = setup
+    codec = GroundStation().codec
+    first = plan(1)[0]
+    item = mav.MAVLink_mission_item_message(1, 1, 1, first.frame, first.command, 0, 1, 0, 0, 0, 0,
+                                            first.x * 1e-7, first.y * 1e-7, first.z, 0)
+    for _ in range(2):
+        assert [r.get_type() for r in session.receive(codec.mission_count_encode(1, 1, 2, 0), 0.0, 0.0)] \
+            == ["MISSION_REQUEST"]
+        session.receive(plan(1)[0], 0.0, 0.0)  # item 0 (home's place) as MISSION_ITEM_INT
+        replies = session.receive(item, 0.0, 0.0)
+        assert [(r.get_type(), r.type) for r in replies] == [("MISSION_ACK", mav.MAV_MISSION_ACCEPTED)]
+        assert [r.get_type() for r in session.receive(codec.mission_request_encode(1, 1, 1, 0), 0.0, 0.0)] \
+            == ["MISSION_ITEM"]
+    said = [text for _, text in v.events]
+    assert said.count("got MISSION_ITEM; GCS should send MISSION_ITEM_INT") == 1
+    assert said.count("got MISSION_REQUEST; use MISSION_REQUEST_INT!") == 1
