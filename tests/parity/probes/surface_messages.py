@@ -606,7 +606,8 @@ class Watch:
         for stamp, kind in self.log:
             if stamp >= start:
                 counts[kind] = counts.get(kind, 0) + 1
-        self.background = {kind for kind, n in counts.items() if n >= 2}
+        # An ACK is never a stream: two of them here are a client's retried command, answered twice.
+        self.background = {kind for kind, n in counts.items() if n >= 2} - {"COMMAND_ACK", "MISSION_ACK"}
         self.unusual_ms = 0
 
     def settle(self) -> None:
