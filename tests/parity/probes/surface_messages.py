@@ -612,7 +612,8 @@ class Watch:
 
     def settle(self) -> None:
         """Until a whole second passes with nothing but the streams (a transfer's last replies)."""
-        self.c.wait(lambda: self.c.now_ms - self.unusual_ms >= 1000, SETTLE_MAX_S, what="a quiet link")
+        # Strictly more than a second: the window before a message starts a second back, inclusive.
+        self.c.wait(lambda: self.c.now_ms - self.unusual_ms > 1000, SETTLE_MAX_S, what="a quiet link")
 
 
 def sensor_bits(client: Client) -> dict[str, int]:
