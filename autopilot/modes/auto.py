@@ -188,7 +188,7 @@ class Auto(Mode):
             return
         hold = item.p1 if item.command in (CMD_WAYPOINT, CMD_LOITER_TIME) and math.isfinite(item.p1) else 0.0
         if item.command != CMD_LOITER_UNLIM and ctx.time_s - self._arrived_at >= max(hold, 0.0):
-            if not self._nav_done and item.command == CMD_WAYPOINT:
+            if not self._nav_done and item.command in (CMD_WAYPOINT, CMD_LOITER_TIME):
                 ctx.notify(f"Reached command #{self._index + 1}")
             self._nav_done = True
 

@@ -148,6 +148,7 @@ def test_loiter_time_holds_for_its_time():
     t0 = v.time_s
     assert fly_until(v, lambda x: 1 in x.mission_progress.reached, 30.0)
     assert v.time_s - t0 >= 8.0
+    assert "Reached command #1" in [text for _, text in v.events]  # ArduCopter's verify_loiter_time says so
 
 
 def test_mission_land_and_rtl_end_disarmed_at_the_spot():
