@@ -122,6 +122,7 @@ PARAM_TABLE: tuple[ParamSpec, ...] = (
     _i("FS_THR_ENABLE", 0, 0, 7), _i("FS_GCS_ENABLE", 0, 0, 7), _f("FS_GCS_TIMEOUT", 5, 2, 120),
     _i("FS_BATT_ENABLE", 0, 0, 6), _i("BATT_FS_CRT_ACT", 0, 0, 7, "critical battery action (as BATT_FS_LOW_ACT)"),
     _f("BATT_LOW_VOLT", 10.5, 0, 120), _f("BATT_CRT_VOLT", 0, 0, 120),
+    _i("BATT_LOW_TIMER", 10, 0, 120, "seconds a voltage must stay below BATT_LOW/CRT_VOLT to count, 0 = never"),
     _f("BATT_LOW_MAH", 0, 0, 500000), _f("BATT_CRT_MAH", 0, 0, 500000),
     _f("BATT_CAPACITY", 5000, 0, 500000, "battery capacity [mAh]"),
     _i("FENCE_ENABLE", 0, 0, 1), _i("FENCE_TYPE", 7, 0, 15), _i("FENCE_ACTION", 1, 0, 5),
@@ -146,7 +147,7 @@ PARAM_TABLE: tuple[ParamSpec, ...] = (
     _f("SIM_WIND_DIR", 0, 0, 360, "direction the wind blows from [deg], from the scenario's [wind]"),
     _f("SIM_WIND_TURB", 0, 0, 20, "turbulence, standard deviation per axis [m/s]"),
     _f("SIM_WIND_TC", 5, 0, 120, "time over which a wind change takes effect [s]"),
-    _f("SIM_BATT_VOLTAGE", 16.8, 0, 100, "battery resting voltage [V]; setting it re-initialises the charge"),
+    _f("SIM_BATT_VOLTAGE", 12.6, 0, 100, "battery resting voltage [V]; setting it re-initialises the charge"),
     _f("SIM_LINK_DOWN", 0, 0, 3600, "ground-station link cut for this many wall seconds, then 0"),
     _f("SIM_LINK_LOSS", 0, 0, 100, "share of MAVLink frames lost each way [%]"),
     # Mission (AP_Mission)

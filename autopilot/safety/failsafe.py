@@ -23,6 +23,7 @@ FENCE_ACTIONS = {1: RTL, 2: LAND, 3: RTL, 4: RTL, 5: RTL}
 GCS_CONTINUE_IN_AUTO = 2  # FS_GCS_ENABLE: a mission in AUTO flies on
 FENCE_ALT, FENCE_CIRCLE, FENCE_POLYGON = 1, 2, 4
 CMD_POLY_INCLUSION, CMD_POLY_EXCLUSION, CMD_CIRCLE_INCLUSION, CMD_CIRCLE_EXCLUSION = 5001, 5002, 5003, 5004
+CHECK_S = 0.1  # check() runs at 10 Hz of sim time
 
 
 def point_in_polygon(p: tuple[float, float], poly: list[tuple[float, float]]) -> bool:
@@ -43,6 +44,9 @@ def vertex_count(p1: float) -> int:
 class Failsafes:
     def __init__(self) -> None:
         self.battery_level = 0  # 0 ok, 1 low, 2 critical
+        # Seconds the pack has read below BATT_LOW_VOLT / BATT_CRT_VOLT without a break (None: not below)
+        self._low_volts_s: float | None = None
+        self._critical_volts_s: float | None = None
         self.gcs = False
         self.fence_breached = False
         self.ekf = EkfCheck()
@@ -63,13 +67,29 @@ class Failsafes:
             v.set_mode(LAND)
 
     # ----- battery ------------------------------------------------------------------------------
+    @staticmethod
+    def _for_long(below: bool, since: float | None) -> float | None:
+        """The time below a voltage threshold after one more check: None once it is not below;
+        0 at the first reading below, as AP_BattMonitor starts its timer there."""
+        if not below:
+            return None
+        return 0.0 if since is None else since + CHECK_S
+
     def check_battery(self, v: FailsafeView) -> None:
+        """As AP_BattMonitor: a voltage below BATT_LOW_VOLT / BATT_CRT_VOLT counts once it has
+        lasted more than BATT_LOW_TIMER seconds (a timer of 0 turns the voltage checks off: a
+        momentary sag under a climb's current does not fire); capacity left below BATT_LOW_MAH /
+        BATT_CRT_MAH counts at once."""
         p = v.params
         battery = v.battery
         volts, used = battery.voltage_v, battery.consumed_mah
-        critical = (p["BATT_CRT_VOLT"] > 0 and volts < p["BATT_CRT_VOLT"]) or \
+        self._low_volts_s = self._for_long(p["BATT_LOW_VOLT"] > 0 and volts < p["BATT_LOW_VOLT"], self._low_volts_s)
+        self._critical_volts_s = self._for_long(p["BATT_CRT_VOLT"] > 0 and volts < p["BATT_CRT_VOLT"],
+                                                self._critical_volts_s)
+        timer = p["BATT_LOW_TIMER"]
+        critical = (timer > 0 and self._critical_volts_s is not None and self._critical_volts_s > timer) or \
                    (p["BATT_CRT_MAH"] > 0 and p["BATT_CAPACITY"] - used < p["BATT_CRT_MAH"])
-        low = critical or (p["BATT_LOW_VOLT"] > 0 and volts < p["BATT_LOW_VOLT"]) or \
+        low = critical or (timer > 0 and self._low_volts_s is not None and self._low_volts_s > timer) or \
             (p["BATT_LOW_MAH"] > 0 and p["BATT_CAPACITY"] - used < p["BATT_LOW_MAH"])
         level = 2 if critical else 1 if low else 0
         if level <= self.battery_level or not v.armed:

@@ -226,25 +226,55 @@ def test_a_wind_change_blows_in_over_sim_wind_tc_and_is_held_against():
 
 
 # ----- battery --------------------------------------------------------------------------------------
-def test_a_battery_that_suddenly_rests_low_triggers_the_battery_failsafe():
-    v, _ = hovering_with(("BATT_LOW_VOLT", 14.0), ("FS_BATT_ENABLE", 2))
+def test_a_battery_that_suddenly_rests_low_triggers_the_battery_failsafe_after_batt_low_timer():
+    """ArduCopter SITL's test: SIM_BATT_VOLTAGE 10 on its 12.6 V pack, BATT_LOW_VOLT at its
+    default 10.5 V; the failsafe fires once the voltage has been low for BATT_LOW_TIMER (10 s)."""
+    v, _ = hovering_with(("FS_BATT_ENABLE", 2))
     v.run_until(v.time_s + 1.0)
     assert not v.failsafes.battery_level
-    v.params.set("SIM_BATT_VOLTAGE", 13.6)  # 3.4 V a cell: nearly empty
-    assert fly_until(v, lambda x: x.mode.name == "RTL", 1.0)
+    v.params.set("SIM_BATT_VOLTAGE", 10.0)  # 3.33 V a cell: nearly empty
+    assert v.battery.voltage_v == pytest.approx(10.0, abs=0.3)  # the reading follows the setting
+    assert not fly_until(v, lambda x: x.mode.name == "RTL", 9.9)
+    assert fly_until(v, lambda x: x.mode.name == "RTL", 0.5)
     assert said(v, "Battery 1 is low")
     status = telemetry.sys_status(v, CODEC)
     assert not status.onboard_control_sensors_health & mav.MAV_SYS_STATUS_SENSOR_BATTERY
     assert status.battery_remaining < 10
 
 
+def test_a_voltage_above_batt_low_volt_trips_nothing():
+    v, _ = hovering_with(("FS_BATT_ENABLE", 2))
+    v.params.set("SIM_BATT_VOLTAGE", 11.0)
+    assert not fly_until(v, lambda x: x.failsafes.battery_level > 0, 15.0)
+    assert v.mode.name == "GUIDED"
+
+
+def test_a_voltage_that_recovers_before_batt_low_timer_restarts_the_timer():
+    v, _ = hovering_with(("FS_BATT_ENABLE", 2))
+    v.params.set("SIM_BATT_VOLTAGE", 10.0)
+    v.run_until(v.time_s + 8.0)
+    v.params.set("SIM_BATT_VOLTAGE", 12.6)
+    v.run_until(v.time_s + 0.5)
+    v.params.set("SIM_BATT_VOLTAGE", 10.0)
+    assert not fly_until(v, lambda x: x.failsafes.battery_level > 0, 9.5)
+    assert fly_until(v, lambda x: x.failsafes.battery_level == 1, 1.0)
+
+
+def test_batt_low_timer_0_turns_the_voltage_failsafe_off_but_not_the_capacity_one():
+    v, _ = hovering_with(("FS_BATT_ENABLE", 2), ("BATT_LOW_TIMER", 0))
+    v.params.set("SIM_BATT_VOLTAGE", 10.0)
+    assert not fly_until(v, lambda x: x.failsafes.battery_level > 0, 12.0)
+    v.params.set("BATT_LOW_MAH", v.params["BATT_CAPACITY"])  # any use at all leaves less than this
+    assert fly_until(v, lambda x: x.failsafes.battery_level == 1, 0.5)
+
+
 @pytest.mark.parametrize("critical_action, mode", [(0, "GUIDED"), (1, "LAND"), (2, "RTL")])
 def test_the_critical_battery_failsafe_takes_its_own_action(critical_action, mode):
     """BATT_FS_CRT_ACT, not the low action (which is RTL here), decides what a critical battery does."""
-    v, _ = hovering_with(("BATT_CRT_VOLT", 14.0), ("FS_BATT_ENABLE", 2), ("BATT_FS_CRT_ACT", critical_action))
+    v, _ = hovering_with(("BATT_CRT_VOLT", 10.2), ("FS_BATT_ENABLE", 2), ("BATT_FS_CRT_ACT", critical_action))
     v.run_until(v.time_s + 1.0)
-    v.params.set("SIM_BATT_VOLTAGE", 13.6)
-    assert fly_until(v, lambda x: x.failsafes.battery_level == 2, 1.0)
+    v.params.set("SIM_BATT_VOLTAGE", 10.0)
+    assert fly_until(v, lambda x: x.failsafes.battery_level == 2, 10.5)
     assert said(v, "Battery 1 is critical")
     v.run_until(v.time_s + 0.5)
     assert v.mode.name == mode

@@ -136,10 +136,10 @@ def test_resting_voltage_and_state_of_charge_are_inverse(volts_per_cell):
 
 def test_setting_the_resting_voltage_re_initialises_the_charge():
     sim = SimVehicle(SimConfig())
-    sim.set_battery_resting_voltage(4 * 3.70)
+    sim.set_battery_resting_voltage(3 * 3.70)
     soc = soc_at_open_circuit_volts(3.70)
     assert sim.battery.consumed_mah == pytest.approx((1 - soc) * AF.battery_capacity_mah)
-    assert sim.battery.voltage_v == pytest.approx(14.8)
+    assert sim.battery.voltage_v == pytest.approx(11.1)
     assert sim.battery_remaining == pytest.approx(soc)
     sim.set_battery_resting_voltage(99.0)  # above full: a full pack
-    assert sim.battery.consumed_mah == 0.0 and sim.battery.voltage_v == pytest.approx(16.8)
+    assert sim.battery.consumed_mah == 0.0 and sim.battery.voltage_v == pytest.approx(12.6)
