@@ -62,6 +62,17 @@ def test_battery_fault_mid_flight_triggers_the_battery_failsafe(autopilot_factor
     gcs.close()
 
 
+def test_rc_failure_mid_flight_triggers_the_radio_failsafe(autopilot_factory):
+    """A test written for ArduPilot SITL: SIM_RC_FAIL 1 with FS_THR_ENABLE at its default (1, RTL)."""
+    gcs = Gcs(autopilot_factory(speedup="10").pymavlink_url)
+    take_off(gcs)
+    set_param(gcs, "SIM_RC_FAIL", 1)
+    expect_failsafe(gcs, "Radio Failsafe", RTL, timeout=10)
+    set_param(gcs, "SIM_RC_FAIL", 0)
+    assert gcs.recv("STATUSTEXT", 10, lambda m: m.text == "Radio Failsafe Cleared") is not None
+    gcs.close()
+
+
 def recv_as_gcs(gcs: Gcs, types, timeout: float, condition=None):
     """Like Gcs.recv, but sending a GCS heartbeat every half second meanwhile, as a ground
     station keeps doing: whatever trips the GCS failsafe is then the link, not the station."""

@@ -11,7 +11,7 @@ from sim.airframe import Airframe
 from sim.battery import open_circuit_volts_per_cell, soc_at_open_circuit_volts
 from sim.rigid_body import BodyState
 from sim.rotors import motor_lag_factor, step_motors
-from sim.sensors import FIX_2D, FIX_3D, NO_FIX, Barometer, Gps, NoiseConfig
+from sim.sensors import FIX_3D, NO_FIX, Barometer, Gps, NoiseConfig
 from sim.vehicle import BATTERY_EVERY, SimConfig, SimVehicle
 from sim.wind import TURBULENCE_TC_S, SteadyWind, Wind
 
@@ -94,14 +94,13 @@ def test_the_sim_steps_the_wind_with_the_battery_and_only_while_it_changes():
 
 
 # ----- GPS and barometer ---------------------------------------------------------------------------
-def test_gps_fix_follows_the_switch_and_the_satellites():
+def test_gps_fix_follows_the_switch_only_and_the_satellites_are_reported():
+    """As ArduPilot SITL's GPS: SIM_GPS1_NUMSATS is the count reported, the fix is SIM_GPS1_ENABLE's."""
     gps = Gps(0, QUIET)
     body = BodyState(n_m=1.0, e_m=2.0, d_m=-3.0)
     assert gps.read(body).fix_type == FIX_3D
     gps.satellites = 3
-    assert gps.read(body).fix_type == FIX_2D
-    gps.satellites = 2
-    assert gps.read(body).fix_type == NO_FIX
+    assert gps.read(body).fix_type == FIX_3D and gps.read(body).satellites == 3
     gps.satellites, gps.enabled = 12, False
     reading = gps.read(body)
     assert reading.fix_type == NO_FIX and reading.satellites == 0
