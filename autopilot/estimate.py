@@ -21,6 +21,11 @@ GPS_RATE_HZ = 10  # GPS and barometer samples
 # its default home (-35.36, 149.17). Firefly does not model how the field changes from place to place.
 EARTH_FIELD_NED_MGAUSS = (232.0, 52.0, -528.0)
 TEMPERATURE_RATE_HZ = 10
+# ArduCopter's EKF3 dead-reckons after its last GPS position: only once none has come for this
+# long (posRetryTimeNoVel_ms, no other velocity source) does it time the position out. Measured on
+# ArduCopter SITL: SIM_GPS1_ENABLE 0 in a hover, then the EKF failsafe's LAND 8 s later (7 s here,
+# then its check's 1 s).
+DEAD_RECKONING_S = 7.0
 
 
 class StateEstimate:
@@ -33,6 +38,7 @@ class StateEstimate:
         self.baro_alt_m = 0.0  # the barometer's last sample (altitude above the origin)
         self.temperature = (0.0, math.nan)  # (sim time of the sample, degrees C)
         self.alt_error_m = 0.0  # how far the barometer, and so the height estimate, reads high
+        self.last_fix_s = -math.inf  # sim time of the last GPS sample with a fix in use
 
     # ----- sampling, called by the vehicle loop ------------------------------------------------
     def sample_gps(self) -> None:
@@ -41,6 +47,8 @@ class StateEstimate:
         if not self.startup.gps_powered_up(sim.time_s):  # still acquiring: no fix, no satellites
             self.gps = self.gps._replace(satellites=0, fix_type=0)
         self.baro_alt_m = sim.baro.altitude_m(sim.state.body, sim.time_s)
+        if self.gps.fix_type >= 3 and self.startup.gps_in_use(sim.time_s):
+            self.last_fix_s = sim.time_s
 
     def sample_temperature(self, home_d_m: float) -> None:
         self.temperature = (self.sim.time_s, self.sim.read_temperature(home_d_m))
@@ -64,8 +72,12 @@ class StateEstimate:
         return euler_from_quaternion(b.qw, b.qx, b.qy, b.qz)
 
     def has_position(self) -> bool:
-        """Whether the horizontal position is known: only with a 3D GPS fix the EKF uses."""
-        return self.gps.fix_type >= 3 and self.startup.gps_in_use(self.sim.time_s)
+        """Whether the horizontal position is known: with a 3D GPS fix the EKF uses, and for
+        DEAD_RECKONING_S after the last one."""
+        now = self.sim.time_s
+        if self.gps.fix_type >= 3 and self.startup.gps_in_use(now):
+            return True
+        return now - self.last_fix_s <= DEAD_RECKONING_S
 
     def origin_known(self) -> bool:
         """Whether the EKF has an origin (set from a 3D fix), so home can be set."""

@@ -119,9 +119,15 @@ PARAM_TABLE: tuple[ParamSpec, ...] = (
     # Arming
     _i("ARMING_CHECK", 1, 0, 0x7FFFF, "pre-arm checks bitmask, 0 = none"),
     # Failsafes
-    _i("FS_THR_ENABLE", 0, 0, 7), _i("FS_GCS_ENABLE", 0, 0, 7), _f("FS_GCS_TIMEOUT", 5, 2, 120),
+    _i("FS_THR_ENABLE", 1, 0, 7, "radio failsafe action: 1 RTL, 3 LAND, ... (SIM_RC_FAIL loses the radio)"),
+    _i("FS_THR_VALUE", 975, 910, 1100, "throttle PWM below which the radio is lost [us]"),
+    _f("RC_FS_TIMEOUT", 1.0, 0.5, 10, "seconds without RC frames before the radio failsafe"),
+    _i("FS_OPTIONS", 16, 0, 0x7FFFFFFF, "failsafe options: bit 0 continue AUTO, 2 continue GUIDED, "
+                                      "3 continue landing on a radio failsafe"),
+    _i("FS_GCS_ENABLE", 0, 0, 7), _f("FS_GCS_TIMEOUT", 5, 2, 120),
     _i("FS_BATT_ENABLE", 0, 0, 6), _i("BATT_FS_CRT_ACT", 0, 0, 7, "critical battery action (as BATT_FS_LOW_ACT)"),
     _f("BATT_LOW_VOLT", 10.5, 0, 120), _f("BATT_CRT_VOLT", 0, 0, 120),
+    _i("BATT_LOW_TIMER", 10, 0, 120, "seconds a voltage must stay below BATT_LOW/CRT_VOLT to count, 0 = never"),
     _f("BATT_LOW_MAH", 0, 0, 500000), _f("BATT_CRT_MAH", 0, 0, 500000),
     _f("BATT_CAPACITY", 5000, 0, 500000, "battery capacity [mAh]"),
     _i("FENCE_ENABLE", 0, 0, 1), _i("FENCE_TYPE", 7, 0, 15), _i("FENCE_ACTION", 1, 0, 5),
@@ -140,13 +146,14 @@ PARAM_TABLE: tuple[ParamSpec, ...] = (
     _f("SIM_GPS_GLITCH_X", 0, -1, 1, "GPS latitude offset [deg]"),
     _f("SIM_GPS_GLITCH_Y", 0, -1, 1, "GPS longitude offset [deg]"),
     _f("SIM_GPS_GLITCH_Z", 0, -1000, 1000, "GPS altitude offset [m]"),
-    _i("SIM_GPS_NUMSATS", 10, 0, 40, "satellites in view; under 4 no 3D fix"),
+    _i("SIM_GPS_NUMSATS", 10, 0, 40, "satellites the GPS reports (the fix does not depend on them, as in SITL)"),
     _f("SIM_BARO_DRIFT", 0, -10, 10, "barometer altitude drift [m/s], 0 = none"),
     _f("SIM_WIND_SPD", 0, 0, 100, "mean wind speed [m/s], from the scenario's [wind]"),
     _f("SIM_WIND_DIR", 0, 0, 360, "direction the wind blows from [deg], from the scenario's [wind]"),
     _f("SIM_WIND_TURB", 0, 0, 20, "turbulence, standard deviation per axis [m/s]"),
     _f("SIM_WIND_TC", 5, 0, 120, "time over which a wind change takes effect [s]"),
-    _f("SIM_BATT_VOLTAGE", 16.8, 0, 100, "battery resting voltage [V]; setting it re-initialises the charge"),
+    _i("SIM_RC_FAIL", 0, 0, 2, "RC receiver: 1 no frames, 2 throttle at 950 us"),
+    _f("SIM_BATT_VOLTAGE", 12.6, 0, 100, "battery resting voltage [V]; setting it re-initialises the charge"),
     _f("SIM_LINK_DOWN", 0, 0, 3600, "ground-station link cut for this many wall seconds, then 0"),
     _f("SIM_LINK_LOSS", 0, 0, 100, "share of MAVLink frames lost each way [%]"),
     # Mission (AP_Mission)

@@ -41,10 +41,7 @@ DEFAULT_DIFFERENCES: dict[str, str] = {
                      "0.3 gives a yaw-rate loop slower than the angle loop",
     "ATC_RAT_YAW_I": "scaled with ATC_RAT_YAW_P",
     "MOT_THST_HOVER": "copter.parm's 0.39 is SITL's quad; Firefly's airframe hovers near 0.35",
-    "FS_THR_ENABLE": "no RC receiver is simulated (pilot input comes over MAVLink), so there is no "
-                     "throttle signal to lose; copter.parm enables it for SITL's simulated RC",
-    "BATT_CAPACITY": "Firefly's airframe carries a 5000 mAh 4S pack",
-    "SIM_BATT_VOLTAGE": "a full 4S pack (16.8 V); the reference simulates 3S (12.6 V)",
+    "BATT_CAPACITY": "Firefly's airframe carries a 5000 mAh 3S pack",
     "FENCE_RADIUS": "ArduPilot's own default; copter.parm lowers it to 150 m for its autotests",
     "SIM_WIND_DIR": "set from the scenario's [wind] at start; moot while SIM_WIND_SPD is 0",
     "SIM_ENGINE_MUL": "1 = healthy motor in Firefly (see SEMANTIC_DIFFERENCES: SIM_ENGINE_FAIL)",

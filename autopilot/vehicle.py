@@ -42,7 +42,7 @@ from .views import ReadThrough, Vector3
 if TYPE_CHECKING:
     from sim.battery import BatteryState
     from sim.rigid_body import BodyState
-    from sim.sensors import GpsReading
+    from sim.sensors import GpsReading, RcReceiver
 
     from .cli.script import Script
 
@@ -154,6 +154,7 @@ class Vehicle:
     true_body: ReadThrough[BodyState] = property(attrgetter("estimate.true_body"), doc="The sim's own state.")
     battery: ReadThrough[BatteryState] = property(attrgetter("estimate.battery"), doc="The pack, as its monitor reads it.")
     battery_remaining: ReadThrough[float] = property(attrgetter("estimate.battery_remaining"), doc="0..1.")
+    rc_receiver: ReadThrough[RcReceiver] = property(attrgetter("sim.rc"), doc="The simulated RC receiver.")
     temperature: ReadThrough[tuple[float, float]] = property(attrgetter("estimate.temperature"),
                                                              doc="(sim time of the sample, ground degrees C).")
     baro_alt_m: ReadThrough[float] = property(attrgetter("estimate.baro_alt_m"), doc="The barometer's last sample.")

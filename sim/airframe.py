@@ -32,9 +32,12 @@ class Airframe:
     prop_radius_m: float = 0.127
     figure_of_merit: float = 0.6
     motor_efficiency: float = 0.8
-    battery_cells: int = 4
+    # A 3S pack as ArduPilot SITL's quad flies (its full 12.6 V is SIM_BATT_VOLTAGE's default there),
+    # so ArduCopter's voltage thresholds (BATT_LOW_VOLT 10.5 V: 3.5 V a cell) mean on this pack
+    # what they mean on SITL's; its resistance is SITL's frame model's (refBatRes 0.01 ohm).
+    battery_cells: int = 3
     battery_capacity_mah: float = 5000.0
-    battery_internal_resistance_ohm: float = 0.06
+    battery_internal_resistance_ohm: float = 0.01
     avionics_current_a: float = 0.6
 
     @property

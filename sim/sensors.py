@@ -4,7 +4,8 @@ Each sensor owns its own numpy Generator (seeded from the vehicle seed and the s
 adding a sensor never changes another's noise. Noise draws happen at each sensor's own rate.
 
 Faults are plain attributes set from outside (autopilot/faults/world.py): the GPS can be switched off,
-glitched by a fixed offset or left with few satellites; the barometer can drift.
+glitched by a fixed offset or report few satellites; the barometer can drift; the RC receiver can
+stop sending frames or send its failsafe throttle.
 """
 from __future__ import annotations
 
@@ -58,27 +59,44 @@ class NoisySource:
 NO_FIX, FIX_2D, FIX_3D = 1, 2, 3  # MAVLink GPS_FIX_TYPE
 
 
-def fix_for(satellites: int) -> int:
-    """What a receiver solves with this many satellites: 4 fix a position in 3D, 3 in 2D only."""
-    return FIX_3D if satellites >= 4 else FIX_2D if satellites == 3 else NO_FIX
-
-
 class Gps:
     def __init__(self, seed: int, noise: NoiseConfig):
         self._src = NoisySource(sensor_rng(seed, "gps"))
         self._noise = noise
         self.enabled = True
-        self.satellites = 10  # ArduPilot SITL's SIM_GPS_NUMSATS default
+        # What the receiver reports in view (ArduPilot SITL's SIM_GPS1_NUMSATS default); as in SITL
+        # only the count reported, the fix is the switch's: measured on ArduCopter SITL, 3
+        # satellites in flight change nothing.
+        self.satellites = 10
         self.glitch_ned = (0.0, 0.0, 0.0)  # metres added to every position reading
 
     def read(self, body) -> GpsReading:
         nz, h, v, vel = self._src.normal, self._noise.gps_horizontal_m, self._noise.gps_vertical_m, \
             self._noise.gps_velocity_m_s
         gn, ge, gd = self.glitch_ned
-        sats = self.satellites if self.enabled else 0
+        sats, fix = (self.satellites, FIX_3D) if self.enabled else (0, NO_FIX)
         return GpsReading(body.n_m + gn + h * nz(), body.e_m + ge + h * nz(), body.d_m + gd + v * nz(),
                           body.vn_m_s + vel * nz(), body.ve_m_s + vel * nz(),
-                          body.vd_m_s + vel * nz(), sats, fix_for(sats))
+                          body.vd_m_s + vel * nz(), sats, fix)
+
+
+class RcReceiver:
+    """The pilot's radio as ArduPilot SITL simulates one with no transmitter attached: frames at
+    50 Hz with the sticks at rest (throttle 1000 us). `fail` is SIM_RC_FAIL: 1 no frames at all,
+    2 frames with the throttle at 950 us (a receiver's failsafe value, below FS_THR_VALUE)."""
+
+    REST_THROTTLE_US = 1000
+    FAILSAFE_THROTTLE_US = 950
+    NO_PULSES, THROTTLE_950 = 1, 2
+
+    def __init__(self) -> None:
+        self.fail = 0
+
+    def throttle_us(self) -> int | None:
+        """The throttle channel of the latest frame; None while no frames come."""
+        if self.fail == self.NO_PULSES:
+            return None
+        return self.FAILSAFE_THROTTLE_US if self.fail == self.THROTTLE_950 else self.REST_THROTTLE_US
 
 
 class Barometer:

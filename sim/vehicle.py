@@ -12,7 +12,7 @@ from .battery import (STEP_AT, BatteryState, open_circuit_volts_per_cell, remain
                       soc_at_open_circuit_volts)
 from .physics import PhysicsState, initial_state, make_fast_step
 from .rotors import HEALTHY, shaft_power_per_thrust_1p5
-from .sensors import Barometer, Gps, Gyro, NoiseConfig
+from .sensors import Barometer, Gps, Gyro, NoiseConfig, RcReceiver
 from .wind import SteadyWind, Wind
 
 
@@ -43,6 +43,7 @@ class SimVehicle:
         self.battery = BatteryState(0.0, 0.0, self.airframe.battery_cells * 4.2)
         self.gps = Gps(config.seed, config.noise)
         self.baro = Barometer(config.seed, config.noise)
+        self.rc = RcReceiver()
         self.gyro = Gyro(config.seed, config.noise)
         self.thermometer = TemperatureSensor(config.world, config.seed)
         self.time_s = 0.0

@@ -3,7 +3,7 @@
 The parameters are the interface (PARAM_SET at run time, a scenario's [faults] table at start,
 its [script] "param" steps at a sim time); sim/ only sees numbers: motor thrust shares, the GPS's
 switch, satellites and offset in metres, the barometer's drift rate, the wind, the battery's
-resting voltage. SIM_LINK_* act on the MAVLink link, not on the sim (faults/link.py).
+resting voltage, the RC receiver's failure. SIM_LINK_* act on the MAVLink link, not on the sim (faults/link.py).
 """
 from __future__ import annotations
 
@@ -66,6 +66,9 @@ class Faults:
     def _battery(self) -> None:
         self.sim.set_battery_resting_voltage(self.params["SIM_BATT_VOLTAGE"])
 
+    def _rc(self) -> None:
+        self.sim.rc.fail = int(self.params["SIM_RC_FAIL"])
+
 
 APPLY = {
     "SIM_ENGINE_FAIL": Faults._motors, "SIM_ENGINE_MUL": Faults._motors,
@@ -75,4 +78,5 @@ APPLY = {
     "SIM_WIND_SPD": Faults._wind, "SIM_WIND_DIR": Faults._wind, "SIM_WIND_TURB": Faults._wind,
     "SIM_WIND_TC": Faults._wind,
     "SIM_BATT_VOLTAGE": Faults._battery,
+    "SIM_RC_FAIL": Faults._rc,
 }

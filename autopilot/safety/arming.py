@@ -25,8 +25,9 @@ def _starting_up(v: PrearmView) -> list[str]:
 def _need_position(v: PrearmView) -> str | None:
     """Modes that fly by position need home and the estimate's position; as ArduCopter words it,
     "AHRS: waiting for home" before the EKF has an origin, then "Need 3D Fix" while the GPS has
-    no fix, "Need Position Estimate" while the EKF does not use it yet."""
-    if not v.mode_requires_position or v.has_position():
+    no fix (the EKF's dead reckoning after a lost fix does not arm), "Need Position Estimate"
+    while the EKF does not use it yet."""
+    if not v.mode_requires_position or (v.has_position() and v.gps.fix_type >= 3):
         return None
     if v.home_ned is None:
         return "AHRS: waiting for home"

@@ -2,9 +2,9 @@
 
 The estimate here is ideal (the sim's own state), so there are no variances to watch. What is
 honest to model is what the estimate cannot do without GPS: know its horizontal position. So the
-check counts, at 10 Hz, while the GPS has no 3D fix (ArduCopter: EKF position not ok, with no
-optical flow), and after EKF_CHECK_ITERATIONS_MAX bad checks in a row says "EKF variance" and
-takes FS_EKF_ACTION. It counts back down once the fix returns and clears at zero. A fix that
+check counts, at 10 Hz, while the estimate has no position (ArduCopter: EKF position not ok,
+with no optical flow; DEAD_RECKONING_S after the last GPS fix, estimate.py), and after
+EKF_CHECK_ITERATIONS_MAX bad checks in a row says "EKF variance" and takes FS_EKF_ACTION. It counts back down once the fix returns and clears at zero. A fix that
 jumps away from the estimate by more than GPS_GLITCH_GATE_M is a glitch the EKF would reject:
 announced as ArduCopter does, and refused at arming, while the estimate itself is unaffected.
 """

@@ -19,10 +19,16 @@ RTL, LAND, AUTO = ModeNumber.RTL, ModeNumber.LAND, ModeNumber.AUTO
 # switch to (SmartRTL and AUTO's DO_LAND_START are flown as RTL here, Brake-then-Land as LAND).
 BATT_ACTIONS = {1: LAND, 2: RTL, 3: RTL, 4: RTL, 6: RTL, 7: LAND}
 GCS_ACTIONS = {1: RTL, 2: RTL, 3: RTL, 4: RTL, 5: LAND}
+# FS_THR_ENABLE -> mode (2, "continue the mission", is RTL in ArduCopter 4.7 too)
+RADIO_ACTIONS = {1: RTL, 2: RTL, 3: LAND, 4: RTL, 5: RTL, 6: RTL, 7: LAND}
+# FS_OPTIONS bits the radio failsafe reads
+RC_CONTINUE_IF_AUTO, RC_CONTINUE_IF_GUIDED, CONTINUE_IF_LANDING = 1, 4, 8
+RADIO_LOW_THROTTLE_CHECKS = 3  # ArduCopter's FS_COUNTER: low throttle readings in a row
 FENCE_ACTIONS = {1: RTL, 2: LAND, 3: RTL, 4: RTL, 5: RTL}
 GCS_CONTINUE_IN_AUTO = 2  # FS_GCS_ENABLE: a mission in AUTO flies on
 FENCE_ALT, FENCE_CIRCLE, FENCE_POLYGON = 1, 2, 4
 CMD_POLY_INCLUSION, CMD_POLY_EXCLUSION, CMD_CIRCLE_INCLUSION, CMD_CIRCLE_EXCLUSION = 5001, 5002, 5003, 5004
+CHECK_S = 0.1  # check() runs at 10 Hz of sim time
 
 
 def point_in_polygon(p: tuple[float, float], poly: list[tuple[float, float]]) -> bool:
@@ -43,6 +49,13 @@ def vertex_count(p1: float) -> int:
 class Failsafes:
     def __init__(self) -> None:
         self.battery_level = 0  # 0 ok, 1 low, 2 critical
+        # Checks since the pack first read below BATT_LOW_VOLT / BATT_CRT_VOLT, without a break
+        # (None: not below); counted, not summed, so 10 s is 100 checks exactly.
+        self._low_volts_checks: int | None = None
+        self._critical_volts_checks: int | None = None
+        self.radio = False  # ArduCopter's failsafe.radio
+        self._rc_silent_checks = 0  # checks since the last RC frame
+        self._rc_low_throttle = 0  # ArduCopter's failsafe.radio_counter
         self.gcs = False
         self.fence_breached = False
         self.ekf = EkfCheck()
@@ -52,7 +65,7 @@ class Failsafes:
 
     @property
     def active(self) -> bool:
-        return bool(self.battery_level or self.gcs or self.fence_breached or self.ekf.failsafe)
+        return bool(self.battery_level or self.gcs or self.radio or self.fence_breached or self.ekf.failsafe)
 
     def _act(self, v: FailsafeView, mode: int | None, reason: str) -> None:
         if mode is None or not v.armed or v.landed:
@@ -63,13 +76,30 @@ class Failsafes:
             v.set_mode(LAND)
 
     # ----- battery ------------------------------------------------------------------------------
+    @staticmethod
+    def _for_long(below: bool, checks: int | None) -> int | None:
+        """Checks below a voltage threshold after one more: None once it is not below; 0 at the
+        first reading below, as AP_BattMonitor starts its timer there."""
+        if not below:
+            return None
+        return 0 if checks is None else checks + 1
+
     def check_battery(self, v: FailsafeView) -> None:
+        """As AP_BattMonitor: a voltage below BATT_LOW_VOLT / BATT_CRT_VOLT counts once it has
+        lasted more than BATT_LOW_TIMER seconds (a timer of 0 turns the voltage checks off: a
+        momentary sag under a climb's current does not fire); capacity left below BATT_LOW_MAH /
+        BATT_CRT_MAH counts at once."""
         p = v.params
         battery = v.battery
         volts, used = battery.voltage_v, battery.consumed_mah
-        critical = (p["BATT_CRT_VOLT"] > 0 and volts < p["BATT_CRT_VOLT"]) or \
+        self._low_volts_checks = self._for_long(p["BATT_LOW_VOLT"] > 0 and volts < p["BATT_LOW_VOLT"],
+                                                self._low_volts_checks)
+        self._critical_volts_checks = self._for_long(p["BATT_CRT_VOLT"] > 0 and volts < p["BATT_CRT_VOLT"],
+                                                     self._critical_volts_checks)
+        timer_checks = round(p["BATT_LOW_TIMER"] / CHECK_S)
+        critical = (timer_checks > 0 and (self._critical_volts_checks or 0) > timer_checks) or \
                    (p["BATT_CRT_MAH"] > 0 and p["BATT_CAPACITY"] - used < p["BATT_CRT_MAH"])
-        low = critical or (p["BATT_LOW_VOLT"] > 0 and volts < p["BATT_LOW_VOLT"]) or \
+        low = critical or (timer_checks > 0 and (self._low_volts_checks or 0) > timer_checks) or \
             (p["BATT_LOW_MAH"] > 0 and p["BATT_CAPACITY"] - used < p["BATT_LOW_MAH"])
         level = 2 if critical else 1 if low else 0
         if level <= self.battery_level or not v.armed:
@@ -77,9 +107,72 @@ class Failsafes:
         self.battery_level = level
         word = "critical" if level == 2 else "low"
         v.notify(f"Battery 1 is {word} {volts:.2f}V used {used:.0f} mAh", Severity.CRITICAL)
-        # As ArduCopter: each level has its own action (AP_BattMonitor's low and critical)
-        action = p["BATT_FS_CRT_ACT"] if level == 2 else p["FS_BATT_ENABLE"]
-        self._act(v, BATT_ACTIONS.get(int(action)), "battery")
+        # As ArduCopter: each level has its own action (AP_BattMonitor's low and critical), and
+        # its handler announces the failsafe whatever the action (handle_battery_failsafe)
+        action = int(p["BATT_FS_CRT_ACT"] if level == 2 else p["FS_BATT_ENABLE"])
+        if v.landed:
+            v.notify("Battery Failsafe - Disarming", Severity.WARNING)
+            v.disarm("battery failsafe", force=True)
+        elif v.mode_number == LAND and int(p["FS_OPTIONS"]) & CONTINUE_IF_LANDING and action:
+            v.notify("Battery Failsafe - Continuing Landing", Severity.WARNING)
+        else:
+            v.notify("Battery Failsafe", Severity.WARNING)
+            self._act(v, BATT_ACTIONS.get(action), "battery")
+
+    # ----- radio --------------------------------------------------------------------------------
+    def check_radio(self, v: FailsafeView) -> None:
+        """As ArduCopter's radio.cpp: no RC frame for RC_FS_TIMEOUT, or RADIO_LOW_THROTTLE_CHECKS
+        throttle readings in a row below FS_THR_VALUE, is the radio failsafe (with FS_THR_ENABLE
+        set); frames with a good throttle clear it. SITL's receiver has always been seen, so the
+        failsafe comes armed or not."""
+        p = v.params
+        enabled = int(p["FS_THR_ENABLE"])
+        throttle = v.rc_receiver.throttle_us()
+        if throttle is None:
+            self._rc_silent_checks += 1
+            timeout_checks = math.ceil(p["RC_FS_TIMEOUT"] / CHECK_S - 1e-9)
+            if enabled and not self.radio and self._rc_silent_checks >= timeout_checks:
+                self._radio_lost(v, enabled)
+            return
+        self._rc_silent_checks = 0
+        if not enabled:
+            self._rc_low_throttle = 0
+            self._radio_back(v)
+        elif throttle < p["FS_THR_VALUE"]:
+            if not self.radio:
+                self._rc_low_throttle = min(self._rc_low_throttle + 1, RADIO_LOW_THROTTLE_CHECKS)
+                if self._rc_low_throttle >= RADIO_LOW_THROTTLE_CHECKS:
+                    self._radio_lost(v, enabled)
+        else:
+            self._rc_low_throttle = max(self._rc_low_throttle - 1, 0)
+            if self._rc_low_throttle == 0:
+                self._radio_back(v)
+
+    def _radio_lost(self, v: FailsafeView, enabled: int) -> None:
+        """ArduCopter's failsafe_radio_on_event: the exceptions FS_OPTIONS and the state make, each
+        announced as it announces them, else FS_THR_ENABLE's action."""
+        self.radio = True
+        options, mode = int(v.params["FS_OPTIONS"]), v.mode_number
+        if not v.armed or v.landed:
+            v.notify("Radio Failsafe - Disarming", Severity.WARNING)
+            if v.armed:
+                v.disarm("radio failsafe", force=True)
+        elif mode == LAND and self.battery_level:
+            v.notify("Radio + Battery Failsafe - Continuing Landing", Severity.WARNING)
+        elif mode == LAND and options & CONTINUE_IF_LANDING:
+            v.notify("Radio Failsafe - Continuing Landing", Severity.WARNING)
+        elif mode == AUTO and options & RC_CONTINUE_IF_AUTO:
+            v.notify("Radio Failsafe - Continuing Auto", Severity.WARNING)
+        elif mode == ModeNumber.GUIDED and options & RC_CONTINUE_IF_GUIDED:
+            v.notify("Radio Failsafe - Continuing Guided Mode", Severity.WARNING)
+        else:
+            v.notify("Radio Failsafe", Severity.WARNING)
+            self._act(v, RADIO_ACTIONS.get(enabled, LAND), "radio")
+
+    def _radio_back(self, v: FailsafeView) -> None:
+        if self.radio:
+            self.radio = False
+            v.notify("Radio Failsafe Cleared", Severity.WARNING)
 
     # ----- ground station -----------------------------------------------------------------------
     def gcs_lost(self, v: FailsafeView) -> None:
@@ -149,6 +242,7 @@ class Failsafes:
         self._act(v, FENCE_ACTIONS.get(int(v.params["FENCE_ACTION"])), "fence")
 
     def check(self, v: FailsafeView) -> None:
+        self.check_radio(v)
         self.check_battery(v)
         self.check_fence(v)
         self.ekf.check(v)

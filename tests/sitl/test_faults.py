@@ -51,13 +51,25 @@ def test_a_weak_motor_on_a_loaded_copter_reports_potential_thrust_loss(autopilot
 
 
 def test_battery_fault_mid_flight_triggers_the_battery_failsafe(autopilot_factory):
+    """As a test written for ArduPilot SITL does it: SIM_BATT_VOLTAGE 10 on the 12.6 V pack, the
+    default BATT_LOW_VOLT (10.5 V), and BATT_LOW_TIMER's 10 s (1 s of wall time at 10x) later RTL."""
     gcs = Gcs(autopilot_factory(speedup="10").pymavlink_url)
-    for name, value in (("BATT_LOW_VOLT", 14.0), ("FS_BATT_ENABLE", 2)):
-        set_param(gcs, name, value)
+    set_param(gcs, "BATT_FS_LOW_ACT", 2)
     take_off(gcs)
-    set_param(gcs, "SIM_BATT_VOLTAGE", 13.6)
+    set_param(gcs, "SIM_BATT_VOLTAGE", 10.0)
     expect_failsafe(gcs, "Battery 1 is low", RTL, timeout=10)
     sys_status_healthy(gcs, BATTERY_BIT, False)
+    gcs.close()
+
+
+def test_rc_failure_mid_flight_triggers_the_radio_failsafe(autopilot_factory):
+    """A test written for ArduPilot SITL: SIM_RC_FAIL 1 with FS_THR_ENABLE at its default (1, RTL)."""
+    gcs = Gcs(autopilot_factory(speedup="10").pymavlink_url)
+    take_off(gcs)
+    set_param(gcs, "SIM_RC_FAIL", 1)
+    expect_failsafe(gcs, "Radio Failsafe", RTL, timeout=10)
+    set_param(gcs, "SIM_RC_FAIL", 0)
+    assert gcs.recv("STATUSTEXT", 10, lambda m: m.text == "Radio Failsafe Cleared") is not None
     gcs.close()
 
 

@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import pytest
 
-from autopilot.estimate import GPS_RATE_HZ, TEMPERATURE_RATE_HZ
+from autopilot.estimate import DEAD_RECKONING_S, GPS_RATE_HZ, TEMPERATURE_RATE_HZ
 from autopilot.mavlink.dialect import mavlink as mav
 
 from ._session_link import Link
@@ -52,9 +52,15 @@ def test_a_drifting_barometer_moves_the_height_estimate_not_the_truth():
     assert 1.5 < v.sim.state.body.d_m - true_d <= v.estimate.alt_error_m + 0.05
 
 
-def test_the_position_is_known_only_with_a_3d_fix():
+def test_the_position_is_known_with_a_3d_fix_and_dead_reckoned_for_7_s_after():
+    """As ArduCopter's EKF3 (posRetryTimeNoVel_ms): the position times out 7 s after the last fix."""
     v = ready_vehicle()
     assert v.estimate.has_position()
-    v.params.set("SIM_GPS_NUMSATS", 3)
+    v.params.set("SIM_GPS1_ENABLE", 0)
     v.run_until(v.time_s + 0.2)
-    assert not v.estimate.has_position() and v.estimate.gps.fix_type == 2
+    assert v.estimate.gps.fix_type == 1
+    t_lost = v.estimate.last_fix_s
+    v.run_until(t_lost + DEAD_RECKONING_S - 0.05)
+    assert v.estimate.has_position()
+    v.run_until(t_lost + DEAD_RECKONING_S + 0.15)
+    assert not v.estimate.has_position()

@@ -7,6 +7,7 @@ import math
 
 import pytest
 
+from autopilot.estimate import DEAD_RECKONING_S
 from autopilot.safety.ekf_check import EKF_CHECK_ITERATIONS_MAX
 from autopilot.mavlink import sensor_messages, telemetry
 from autopilot.mavlink.dialect import mavlink as mav
@@ -22,7 +23,8 @@ from sim.wind import SteadyWind
 from ._util import altitude, fly_until, hovering_vehicle, ready_vehicle
 
 CODEC = new_codec(1)
-EKF_FAILSAFE_S = EKF_CHECK_ITERATIONS_MAX / 10.0  # ten bad checks at 10 Hz
+# the EKF dead-reckons DEAD_RECKONING_S, then ten bad checks at 10 Hz
+EKF_FAILSAFE_S = DEAD_RECKONING_S + EKF_CHECK_ITERATIONS_MAX / 10.0
 
 
 def texts(v: Vehicle) -> list[str]:
@@ -57,14 +59,14 @@ def hovering_with(*settings) -> tuple[Vehicle, tuple]:
 
 
 # ----- GPS loss: the EKF failsafe -------------------------------------------------------------------
-@pytest.mark.parametrize("fault", [("SIM_GPS_DISABLE", 1), ("SIM_GPS_NUMSATS", 3)])
+@pytest.mark.parametrize("fault", [("SIM_GPS_DISABLE", 1), ("SIM_GPS1_ENABLE", 0)])
 def test_gps_loss_in_guided_lands_with_ekf_failsafe_and_recovers_when_the_gps_returns(fault):
     v = hovering_vehicle(10.0)
     v.events.clear()
     t0 = v.time_s
     v.params.set(*fault)
-    assert fly_until(v, lambda x: x.mode.number == Land.number, 3.0)
-    assert v.time_s - t0 == pytest.approx(EKF_FAILSAFE_S, abs=0.15)  # ArduCopter's 1 s of bad checks
+    assert fly_until(v, lambda x: x.mode.number == Land.number, EKF_FAILSAFE_S + 2.0)
+    assert v.time_s - t0 == pytest.approx(EKF_FAILSAFE_S, abs=0.15)  # 8 s on ArduCopter SITL
     assert texts(v)[:2] == ["EKF variance", "EKF Failsafe: changed to LAND Mode"]
     assert (int(Severity.CRITICAL), "EKF variance") in v.events
     assert not gps_healthy(v) and not v.has_position()
@@ -75,11 +77,19 @@ def test_gps_loss_in_guided_lands_with_ekf_failsafe_and_recovers_when_the_gps_re
     v.run_until(v.time_s + 2.0)
     assert altitude(v) < 9.5  # LAND is coming down
 
-    v.params.set(fault[0], {"SIM_GPS_DISABLE": 0, "SIM_GPS_NUMSATS": 10}[fault[0]])
+    v.params.set(fault[0], {"SIM_GPS_DISABLE": 0, "SIM_GPS1_ENABLE": 1}[fault[0]])
     assert fly_until(v, lambda x: said(x, "EKF Failsafe Cleared"), 2.0)
     assert gps_healthy(v) and not v.failsafes.active
     assert v.mode.number == Land.number  # ArduCopter does not go back to the mode it left
     assert v.set_mode(Guided.number) == Result.ACCEPTED
+
+
+def test_three_satellites_change_nothing_in_flight():
+    """Measured on ArduCopter SITL: SIM_GPS1_NUMSATS 3 in a GUIDED hover keeps the fix and the mode."""
+    v, _ = hovering_with(("SIM_GPS1_NUMSATS", 3))
+    v.run_until(v.time_s + 5.0)
+    assert v.mode.number == Guided.number and v.has_position() and not texts(v)
+    assert v.gps.satellites == 3
 
 
 def test_land_without_gps_comes_down_level_and_drifts_with_the_wind():
@@ -104,7 +114,7 @@ def test_gps_loss_in_alt_hold_keeps_the_mode_unless_fs_ekf_action_is_3():
 
 def test_fs_ekf_action_2_switches_to_alt_hold():
     v, _ = hovering_with(("FS_EKF_ACTION", 2), ("SIM_GPS_DISABLE", 1))
-    assert fly_until(v, lambda x: x.mode.number == AltHold.number, 3.0)
+    assert fly_until(v, lambda x: x.mode.number == AltHold.number, EKF_FAILSAFE_S + 2.0)
     assert said(v, "EKF Failsafe: changed to ALT_HOLD Mode")
 
 
@@ -226,28 +236,98 @@ def test_a_wind_change_blows_in_over_sim_wind_tc_and_is_held_against():
 
 
 # ----- battery --------------------------------------------------------------------------------------
-def test_a_battery_that_suddenly_rests_low_triggers_the_battery_failsafe():
-    v, _ = hovering_with(("BATT_LOW_VOLT", 14.0), ("FS_BATT_ENABLE", 2))
+def test_a_battery_that_suddenly_rests_low_triggers_the_battery_failsafe_after_batt_low_timer():
+    """ArduCopter SITL's test: SIM_BATT_VOLTAGE 10 on its 12.6 V pack, BATT_LOW_VOLT at its
+    default 10.5 V; the failsafe fires once the voltage has been low for BATT_LOW_TIMER (10 s)."""
+    v, _ = hovering_with(("FS_BATT_ENABLE", 2))
     v.run_until(v.time_s + 1.0)
     assert not v.failsafes.battery_level
-    v.params.set("SIM_BATT_VOLTAGE", 13.6)  # 3.4 V a cell: nearly empty
-    assert fly_until(v, lambda x: x.mode.name == "RTL", 1.0)
-    assert said(v, "Battery 1 is low")
+    v.params.set("SIM_BATT_VOLTAGE", 10.0)  # 3.33 V a cell: nearly empty
+    assert v.battery.voltage_v == pytest.approx(10.0, abs=0.3)  # the reading follows the setting
+    assert not fly_until(v, lambda x: x.mode.name == "RTL", 9.9)
+    assert fly_until(v, lambda x: x.mode.name == "RTL", 0.5)
+    assert texts(v) == ["Battery 1 is low 9.63V used 5003 mAh", "Battery Failsafe"]
     status = telemetry.sys_status(v, CODEC)
     assert not status.onboard_control_sensors_health & mav.MAV_SYS_STATUS_SENSOR_BATTERY
     assert status.battery_remaining < 10
 
 
+def test_a_voltage_above_batt_low_volt_trips_nothing():
+    v, _ = hovering_with(("FS_BATT_ENABLE", 2))
+    v.params.set("SIM_BATT_VOLTAGE", 11.0)
+    assert not fly_until(v, lambda x: x.failsafes.battery_level > 0, 15.0)
+    assert v.mode.name == "GUIDED"
+
+
+def test_a_voltage_that_recovers_before_batt_low_timer_restarts_the_timer():
+    v, _ = hovering_with(("FS_BATT_ENABLE", 2))
+    v.params.set("SIM_BATT_VOLTAGE", 10.0)
+    v.run_until(v.time_s + 8.0)
+    v.params.set("SIM_BATT_VOLTAGE", 12.6)
+    v.run_until(v.time_s + 0.5)
+    v.params.set("SIM_BATT_VOLTAGE", 10.0)
+    assert not fly_until(v, lambda x: x.failsafes.battery_level > 0, 9.5)
+    assert fly_until(v, lambda x: x.failsafes.battery_level == 1, 1.0)
+
+
+def test_batt_low_timer_0_turns_the_voltage_failsafe_off_but_not_the_capacity_one():
+    v, _ = hovering_with(("FS_BATT_ENABLE", 2), ("BATT_LOW_TIMER", 0))
+    v.params.set("SIM_BATT_VOLTAGE", 10.0)
+    assert not fly_until(v, lambda x: x.failsafes.battery_level > 0, 12.0)
+    v.params.set("BATT_LOW_MAH", v.params["BATT_CAPACITY"])  # any use at all leaves less than this
+    assert fly_until(v, lambda x: x.failsafes.battery_level == 1, 0.5)
+
+
 @pytest.mark.parametrize("critical_action, mode", [(0, "GUIDED"), (1, "LAND"), (2, "RTL")])
 def test_the_critical_battery_failsafe_takes_its_own_action(critical_action, mode):
     """BATT_FS_CRT_ACT, not the low action (which is RTL here), decides what a critical battery does."""
-    v, _ = hovering_with(("BATT_CRT_VOLT", 14.0), ("FS_BATT_ENABLE", 2), ("BATT_FS_CRT_ACT", critical_action))
+    v, _ = hovering_with(("BATT_CRT_VOLT", 10.2), ("FS_BATT_ENABLE", 2), ("BATT_FS_CRT_ACT", critical_action))
     v.run_until(v.time_s + 1.0)
-    v.params.set("SIM_BATT_VOLTAGE", 13.6)
-    assert fly_until(v, lambda x: x.failsafes.battery_level == 2, 1.0)
+    v.params.set("SIM_BATT_VOLTAGE", 10.0)
+    assert fly_until(v, lambda x: x.failsafes.battery_level == 2, 10.5)
     assert said(v, "Battery 1 is critical")
     v.run_until(v.time_s + 0.5)
     assert v.mode.name == mode
+
+
+# ----- radio ----------------------------------------------------------------------------------------
+def test_rc_frames_that_stop_trip_the_radio_failsafe_after_rc_fs_timeout_and_clear_when_back():
+    """Measured on ArduCopter SITL: SIM_RC_FAIL 1 in a GUIDED hover, FS_THR_ENABLE 1 (its default):
+    RTL 1 s later, "Radio Failsafe"; SIM_RC_FAIL 0: "Radio Failsafe Cleared", RTL flown on."""
+    v, _ = hovering_with(("SIM_RC_FAIL", 1))
+    assert not fly_until(v, lambda x: x.mode.name == "RTL", 0.85)
+    assert fly_until(v, lambda x: x.mode.name == "RTL", 0.3)
+    assert texts(v) == ["Radio Failsafe"] and v.failsafes.active
+    assert (int(Severity.WARNING), "Radio Failsafe") in v.events
+    v.params.set("SIM_RC_FAIL", 0)
+    v.run_until(v.time_s + 0.2)
+    assert texts(v)[-1] == "Radio Failsafe Cleared" and not v.failsafes.radio
+    assert v.mode.name == "RTL"
+
+
+def test_a_failsafe_throttle_from_the_receiver_trips_it_at_once():
+    v, _ = hovering_with(("SIM_RC_FAIL", 2))  # 950 us, below FS_THR_VALUE's 975
+    assert fly_until(v, lambda x: x.mode.name == "RTL", 0.35)
+    assert texts(v) == ["Radio Failsafe"]
+
+
+@pytest.mark.parametrize("settings, mode, text", [
+    ((("FS_THR_ENABLE", 0),), "GUIDED", None),
+    ((("FS_THR_ENABLE", 3),), "LAND", "Radio Failsafe"),
+    ((("FS_OPTIONS", 4),), "GUIDED", "Radio Failsafe - Continuing Guided Mode"),
+])
+def test_fs_thr_enable_and_fs_options_decide_what_the_radio_failsafe_does(settings, mode, text):
+    v, _ = hovering_with(*settings, ("SIM_RC_FAIL", 1))
+    v.run_until(v.time_s + 2.0)
+    assert v.mode.name == mode
+    assert texts(v) == ([text] if text else [])
+
+
+def test_the_radio_failsafe_on_the_ground_says_it_disarms():
+    v = ready_vehicle()
+    v.params.set("SIM_RC_FAIL", 1)
+    v.run_until(v.time_s + 1.5)
+    assert said(v, "Radio Failsafe - Disarming") and not v.armed
 
 
 # ----- where faults come from -------------------------------------------------------------------

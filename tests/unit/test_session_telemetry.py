@@ -223,9 +223,9 @@ def test_telemetry_in_flight_uses_mavlink_units():
     ext = of_type(out, "EXTENDED_SYS_STATE")[0]
     assert ext.landed_state == mav.MAV_LANDED_STATE_IN_AIR
     sys_status = of_type(out, "SYS_STATUS")[0]
-    assert 4 * 3.3 * 1000 < sys_status.voltage_battery < 4 * 4.2 * 1000  # mV of a 4S pack
-    # cA: at least the ideal induced power of hover (4 x 20 W) over a full 4S pack (16.8 V).
-    assert sys_status.current_battery > 80.0 / 16.8 * 100
+    assert 3 * 3.3 * 1000 < sys_status.voltage_battery < 3 * 4.2 * 1000  # mV of a 3S pack
+    # cA: at least the ideal induced power of hover (4 x 20 W) over a full 3S pack (12.6 V).
+    assert sys_status.current_battery > 80.0 / 12.6 * 100
     assert 0 < sys_status.battery_remaining <= 100
 
 

@@ -11,7 +11,7 @@ from sim.airframe import Airframe
 from sim.battery import open_circuit_volts_per_cell, soc_at_open_circuit_volts
 from sim.rigid_body import BodyState
 from sim.rotors import motor_lag_factor, step_motors
-from sim.sensors import FIX_2D, FIX_3D, NO_FIX, Barometer, Gps, NoiseConfig
+from sim.sensors import FIX_3D, NO_FIX, Barometer, Gps, NoiseConfig
 from sim.vehicle import BATTERY_EVERY, SimConfig, SimVehicle
 from sim.wind import TURBULENCE_TC_S, SteadyWind, Wind
 
@@ -94,14 +94,13 @@ def test_the_sim_steps_the_wind_with_the_battery_and_only_while_it_changes():
 
 
 # ----- GPS and barometer ---------------------------------------------------------------------------
-def test_gps_fix_follows_the_switch_and_the_satellites():
+def test_gps_fix_follows_the_switch_only_and_the_satellites_are_reported():
+    """As ArduPilot SITL's GPS: SIM_GPS1_NUMSATS is the count reported, the fix is SIM_GPS1_ENABLE's."""
     gps = Gps(0, QUIET)
     body = BodyState(n_m=1.0, e_m=2.0, d_m=-3.0)
     assert gps.read(body).fix_type == FIX_3D
     gps.satellites = 3
-    assert gps.read(body).fix_type == FIX_2D
-    gps.satellites = 2
-    assert gps.read(body).fix_type == NO_FIX
+    assert gps.read(body).fix_type == FIX_3D and gps.read(body).satellites == 3
     gps.satellites, gps.enabled = 12, False
     reading = gps.read(body)
     assert reading.fix_type == NO_FIX and reading.satellites == 0
@@ -136,10 +135,10 @@ def test_resting_voltage_and_state_of_charge_are_inverse(volts_per_cell):
 
 def test_setting_the_resting_voltage_re_initialises_the_charge():
     sim = SimVehicle(SimConfig())
-    sim.set_battery_resting_voltage(4 * 3.70)
+    sim.set_battery_resting_voltage(3 * 3.70)
     soc = soc_at_open_circuit_volts(3.70)
     assert sim.battery.consumed_mah == pytest.approx((1 - soc) * AF.battery_capacity_mah)
-    assert sim.battery.voltage_v == pytest.approx(14.8)
+    assert sim.battery.voltage_v == pytest.approx(11.1)
     assert sim.battery_remaining == pytest.approx(soc)
     sim.set_battery_resting_voltage(99.0)  # above full: a full pack
-    assert sim.battery.consumed_mah == 0.0 and sim.battery.voltage_v == pytest.approx(16.8)
+    assert sim.battery.consumed_mah == 0.0 and sim.battery.voltage_v == pytest.approx(12.6)

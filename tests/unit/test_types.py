@@ -63,10 +63,10 @@ def _names_for_annotations() -> dict:
     """What the annotations name, though their modules import it for the type checker only."""
     from sim.battery import BatteryState
     from sim.rigid_body import BodyState
-    from sim.sensors import GpsReading
+    from sim.sensors import GpsReading, RcReceiver
     from autopilot.pilot import PilotInput
     return {"ReadThrough": views.ReadThrough, "Vector3": views.Vector3, "BatteryState": BatteryState,
-            "BodyState": BodyState, "GpsReading": GpsReading, "PilotInput": PilotInput}
+            "BodyState": BodyState, "GpsReading": GpsReading, "PilotInput": PilotInput, "RcReceiver": RcReceiver}
 
 
 def conforms(value, hint) -> bool:
