@@ -1,7 +1,10 @@
 """GUIDED: the vehicle goes where the ground station says (position, velocity, takeoff)."""
 from __future__ import annotations
 
+import math
+
 from ..views import Vector3
+from .auto_yaw import AutoYaw
 from .base import Mode, Setpoint, stopping_point
 from .context import ModeContext
 from .numbers import ModeNumber
@@ -10,6 +13,7 @@ VELOCITY_TIMEOUT_S = 3.0  # ArduCopter stops if velocity setpoints stop arriving
 # The takeoff is over (EXTENDED_SYS_STATE TAKEOFF -> IN_AIR) this close to its altitude: ArduCopter's
 # ends at the altitude (measured on its SITL: IN_AIR at 9.99 m of a 10 m takeoff).
 TAKEOFF_DONE_M = 0.1
+FACE_TARGET_BEYOND_M = 1.0  # nearer than this the heading stays: an overshoot does not turn it
 
 
 class Guided(Mode):
@@ -26,6 +30,7 @@ class Guided(Mode):
     target_yaw: float | None
     velocity_mode: bool
     velocity_time_s: float
+    auto_yaw: AutoYaw  # the heading when no target sets one (WP_YAW_BEHAVIOR)
 
     def enter(self, ctx: ModeContext) -> str | None:
         self.hold(ctx)
@@ -38,6 +43,7 @@ class Guided(Mode):
         self.target_yaw = None
         self.velocity_mode = False
         self.velocity_time_s = ctx.time_s
+        self.auto_yaw = AutoYaw()  # the heading is held until the vehicle moves
 
     # Commands from the ground station -------------------------------------------------------
     def user_takeoff(self, ctx: ModeContext, alt_above_home_m: float) -> None:
@@ -81,8 +87,21 @@ class Guided(Mode):
                 self.hold(ctx)
             else:
                 sp.vel_ne, sp.vel_d = self.target_vel_ne, self.target_vel_d
+                if sp.yaw is None:
+                    sp.yaw = self.auto_yaw.facing(ctx, *self.target_vel_ne)
                 return
         sp.pos_ne, sp.pos_d = self.target_ne, self.target_d
+        if sp.yaw is None:
+            # ArduCopter's desired velocity points at the target until the last centimetres (its
+            # path stops there); the vehicle's own would turn it round on a small overshoot.
+            b, (n, e) = ctx.body, self.target_ne
+            dn, de = n - b.n_m, e - b.e_m
+            distance = math.hypot(dn, de)
+            if distance > FACE_TARGET_BEYOND_M:
+                scale = math.hypot(b.vn_m_s, b.ve_m_s) / distance
+                sp.yaw = self.auto_yaw.facing(ctx, dn * scale, de * scale)
+            else:
+                sp.yaw = self.auto_yaw.yaw
         sp.vel_ne, sp.vel_d = self.target_vel_ne, self.target_vel_d
         if ctx.landed and self.takeoff_d is None:
             # On the ground without a takeoff: stay put wherever the target was set.

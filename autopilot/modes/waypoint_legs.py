@@ -11,6 +11,7 @@ from __future__ import annotations
 
 from ..control.wpnav import NavLimits, WaypointNav
 from ..views import Vector3
+from .auto_yaw import AutoYaw
 from .base import Setpoint
 from .context import ModeContext
 
@@ -48,6 +49,7 @@ def flies_through(item, next_item) -> bool:
 class WaypointLegs:
     def __init__(self) -> None:
         self.nav: WaypointNav | None = None
+        self.auto_yaw = AutoYaw()  # kept from leg to leg, as ArduCopter's heading is
 
     @property
     def destination(self) -> Vector3 | None:
@@ -81,4 +83,5 @@ class WaypointLegs:
         p, v, a = nav.pos, nav.vel, nav.accel
         sp.pos_ne, sp.vel_ne, sp.accel_ne = (p[0], p[1]), (v[0], v[1]), (a[0], a[1])
         sp.pos_d, sp.vel_d = p[2], v[2]
+        sp.yaw = self.auto_yaw.facing(ctx, v[0], v[1])
         return reached

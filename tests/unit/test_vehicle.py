@@ -280,13 +280,18 @@ def test_gps_noise_depends_on_the_seed():
 
 
 @pytest.mark.parametrize("home_yaw_deg", [90.0, 225.0])
-def test_goto_works_whatever_the_heading(home_yaw_deg):
+@pytest.mark.parametrize("wp_yaw_behavior", [0, 2])
+def test_goto_works_whatever_the_heading_and_faces_the_way_as_wp_yaw_behavior_says(home_yaw_deg, wp_yaw_behavior):
     v = hovering_vehicle(10.0, home_yaw_deg=home_yaw_deg)
+    v.params.set("WP_YAW_BEHAVIOR", wp_yaw_behavior)
     v.guided_goto(20.0, 5.0, None)
     assert fly_until(v, lambda x: math.hypot(x.body.n_m - 20.0, x.body.e_m - 5.0) < 1.0 and
                      math.hypot(x.body.vn_m_s, x.body.ve_m_s) < 0.2, 30.0)
-    # The heading was not asked to change, so it did not.
-    assert math.degrees(wrap(v.attitude[2] - math.radians(home_yaw_deg))) == pytest.approx(0, abs=2)
+    heading = math.degrees(v.attitude[2])
+    if wp_yaw_behavior == 0:  # never change yaw: the heading was not asked to change, so it did not
+        assert math.degrees(wrap(math.radians(heading - home_yaw_deg))) == pytest.approx(0, abs=2)
+    else:  # ArduCopter's default faces the way it flies: the target's bearing (14°) as it comes
+        assert math.degrees(wrap(math.radians(heading - 14.0))) == pytest.approx(0, abs=10)
 
 
 def test_position_hold_in_steady_wind():
