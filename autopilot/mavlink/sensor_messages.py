@@ -175,6 +175,28 @@ def nav_controller_output(v: SensorView, codec):
                                               dist, alt_error, 0.0, 0.0)
 
 
+# ArduCopter sends only a target's position (velocity, acceleration and yaw marked ignored).
+POSITION_ONLY = (mav.POSITION_TARGET_TYPEMASK_VX_IGNORE | mav.POSITION_TARGET_TYPEMASK_VY_IGNORE
+                 | mav.POSITION_TARGET_TYPEMASK_VZ_IGNORE | mav.POSITION_TARGET_TYPEMASK_AX_IGNORE
+                 | mav.POSITION_TARGET_TYPEMASK_AY_IGNORE | mav.POSITION_TARGET_TYPEMASK_AZ_IGNORE
+                 | mav.POSITION_TARGET_TYPEMASK_YAW_IGNORE | mav.POSITION_TARGET_TYPEMASK_YAW_RATE_IGNORE | 0xF000)
+
+
+def position_target_global_int(v: SensorView, codec):
+    """Where the mode flies to, above sea level; not sent when it flies to nowhere (as
+    ArduCopter's, which sends it only when the mode has a waypoint)."""
+    dest = v.destination()
+    if dest is None:
+        return None
+    n, e, d = dest
+    target = v.ned_to_global(n, e, v.body.d_m if d is None else d)
+    if not (abs(target.lat_deg) <= 90 and abs(target.lon_deg) <= 180 and abs(target.alt_m) < 1e30):
+        return None  # a target thousands of km away (a hostile setpoint) has no place on the globe
+    return codec.position_target_global_int_encode(
+        time_boot_ms(v), mav.MAV_FRAME_GLOBAL, POSITION_ONLY, deg_e7(target.lat_deg),
+        deg_e7(target.lon_deg), target.alt_m, 0, 0, 0, 0, 0, 0, 0, 0)
+
+
 BUILDERS = {
     mav.MAVLINK_MSG_ID_RAW_IMU: raw_imu,
     mav.MAVLINK_MSG_ID_SCALED_IMU2: scaled_imu2,
@@ -192,4 +214,5 @@ BUILDERS = {
     mav.MAVLINK_MSG_ID_SERVO_OUTPUT_RAW: servo_output_raw,
     mav.MAVLINK_MSG_ID_ESC_TELEMETRY_1_TO_4: esc_telemetry_1_to_4,
     mav.MAVLINK_MSG_ID_NAV_CONTROLLER_OUTPUT: nav_controller_output,
+    mav.MAVLINK_MSG_ID_POSITION_TARGET_GLOBAL_INT: position_target_global_int,
 }

@@ -242,7 +242,7 @@ _STREAM_GROUP_NAMES = {
                                                       "SCALED_PRESSURE", "SCALED_PRESSURE2")),
     mav.MAV_DATA_STREAM_EXTENDED_STATUS: ("SR0_EXT_STAT", ("SYS_STATUS", "POWER_STATUS", "MEMINFO",
                                                           "MISSION_CURRENT", "GPS_RAW_INT",
-                                                          "NAV_CONTROLLER_OUTPUT")),
+                                                          "NAV_CONTROLLER_OUTPUT", "POSITION_TARGET_GLOBAL_INT")),
     mav.MAV_DATA_STREAM_POSITION: ("SR0_POSITION", ("GLOBAL_POSITION_INT", "LOCAL_POSITION_NED")),
     mav.MAV_DATA_STREAM_RC_CHANNELS: ("SR0_RC_CHAN", ("SERVO_OUTPUT_RAW", "RC_CHANNELS")),
     # ATTITUDE_QUATERNION is Firefly's addition to EXTRA1 (ArduCopter sends it only when asked).

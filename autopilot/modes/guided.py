@@ -31,6 +31,7 @@ class Guided(Mode):
     velocity_mode: bool
     velocity_time_s: float
     auto_yaw: AutoYaw  # the heading when no target sets one (WP_YAW_BEHAVIOR)
+    has_waypoint: bool  # a position target was given (ArduCopter's WP/Pos sub-modes, its get_wp)
 
     def enter(self, ctx: ModeContext) -> str | None:
         self.hold(ctx)
@@ -44,6 +45,7 @@ class Guided(Mode):
         self.velocity_mode = False
         self.velocity_time_s = ctx.time_s
         self.auto_yaw = AutoYaw()  # the heading is held until the vehicle moves
+        self.has_waypoint = False
 
     # Commands from the ground station -------------------------------------------------------
     def user_takeoff(self, ctx: ModeContext, alt_above_home_m: float) -> None:
@@ -60,6 +62,7 @@ class Guided(Mode):
             self.target_d = d
         self.target_vel_ne, self.target_vel_d = (vel_ff[0], vel_ff[1]), vel_ff[2]
         self.target_yaw = yaw
+        self.has_waypoint = vel_ff == (0.0, 0.0, 0.0)  # with a velocity too: ArduCopter's PosVelAccel
         return True
 
     def set_velocity(self, ctx: ModeContext, vn: float, ve: float, vd: float, yaw: float | None = None) -> bool:
@@ -68,6 +71,7 @@ class Guided(Mode):
         self.target_vel_ne, self.target_vel_d = (vn, ve), vd
         self.target_yaw = yaw
         self.velocity_time_s = ctx.time_s
+        self.has_waypoint = False
         return True
 
     def set_heading(self, ctx: ModeContext, yaw_rad: float) -> bool:
@@ -75,7 +79,9 @@ class Guided(Mode):
         return True
 
     def destination(self) -> tuple[float, float, float | None] | None:
-        return None if self.velocity_mode else (self.target_ne[0], self.target_ne[1], self.target_d)
+        """Only a position target is a destination: holding where it entered, taking off or
+        flying a velocity, ArduCopter's GUIDED has no waypoint to report."""
+        return (self.target_ne[0], self.target_ne[1], self.target_d) if self.has_waypoint else None
 
     # Loop --------------------------------------------------------------------------------------
     def update(self, ctx: ModeContext, sp: Setpoint, dt: float) -> None:

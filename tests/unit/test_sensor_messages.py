@@ -82,6 +82,15 @@ def test_terrain_request_goes_out_no_more_often_than_every_two_seconds():
 
 def test_every_streamed_message_has_a_builder_and_builds():
     v = hovering_vehicle(5.0)
+    # Hovering after a takeoff GUIDED has no waypoint: ArduCopter sends no position target then.
+    assert BUILDERS[mav.MAVLINK_MSG_ID_POSITION_TARGET_GLOBAL_INT](v, CODEC) is None
+    v.guided_goto(10.0, 0.0, -5.0)
+    target = BUILDERS[mav.MAVLINK_MSG_ID_POSITION_TARGET_GLOBAL_INT](v, CODEC)
+    assert (target.lat_int, target.lon_int) == (round(v.ned_to_global(10.0, 0.0, -5.0).lat_deg * 1e7),
+                                                round(v.ned_to_global(10.0, 0.0, -5.0).lon_deg * 1e7))
+    v.guided_goto(1e9, 0.0, -5.0)  # a hostile target off the globe: not sent, and no internal error
+    assert BUILDERS[mav.MAVLINK_MSG_ID_POSITION_TARGET_GLOBAL_INT](v, CODEC) is None
+    v.guided_goto(10.0, 0.0, -5.0)
     for _, ids in STREAM_GROUPS.values():
         for msg_id in ids:
             msg = BUILDERS[msg_id](v, CODEC)
