@@ -221,6 +221,11 @@ class Vehicle:
     def ned_to_global(self, n: float, e: float, d: float) -> GeoPoint:
         return global_from_ned(self.origin, n, e, d)
 
+    def ekf_origin(self) -> GeoPoint:
+        """Where MAVLink's local frame starts: the EKF origin, on the ground this vehicle booted on."""
+        on, oe = self.ekf_origin_ne
+        return self.ned_to_global(on, oe, self.boot_ground_d)
+
     def local_ne(self, n: float, e: float) -> tuple[float, float]:
         """MAVLink's local north/east (from this vehicle's EKF origin) of a point of the sim's frame."""
         on, oe = self.ekf_origin_ne

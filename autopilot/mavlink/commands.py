@@ -166,7 +166,7 @@ def do_set_home(s, c: Command) -> Result:
     altitude is above sea level (ArduPilot converts it in MAV_FRAME_GLOBAL)."""
     v = s.vehicle
     if c.p1 == 1 or (c.p5 == 0 and c.p6 == 0):
-        return v.set_home(None)
+        return _home_told(s, v.set_home(None))
     if c.p1 != 0:  # NaN included
         return Result.FAILED
     if not c.is_int:
@@ -174,15 +174,33 @@ def do_set_home(s, c: Command) -> Result:
     if not is_location(s, c):
         return Result.DENIED
     target = target_ned(s, c)
-    return Result.FAILED if target is None else v.set_home(target)
+    return Result.FAILED if target is None else _home_told(s, v.set_home(target))
+
+
+def _home_told(s, result: Result) -> Result:
+    """A home set (or asked for) is followed, as on ArduCopter, by HOME_POSITION and the EKF
+    origin (GPS_GLOBAL_ORIGIN)."""
+    if result == Result.ACCEPTED:
+        s.queue(s.build(mav.MAVLINK_MSG_ID_HOME_POSITION))
+        s.queue(s.build(mav.MAVLINK_MSG_ID_GPS_GLOBAL_ORIGIN))
+    return result
 
 
 def get_home_position(s, c: Command) -> Result:
-    msg = s.build(mav.MAVLINK_MSG_ID_HOME_POSITION)
-    if msg is None:
+    if s.vehicle.home_ned is None:
         return Result.FAILED
-    s.queue(msg)
-    return Result.ACCEPTED
+    return _home_told(s, Result.ACCEPTED)
+
+
+def loiter_unlimited(s, c: Command) -> Result:
+    """As ArduCopter: LOITER, in any state, or FAILED where LOITER cannot be entered."""
+    return Result.ACCEPTED if s.vehicle.set_mode(ModeNumber.LOITER) == Result.ACCEPTED else Result.FAILED
+
+
+def no_such_device(s, c: Command) -> Result:
+    """FAILED, as ArduCopter SITL answers for a device it has none of: a mount or gimbal, a
+    camera, a gripper, a winch, an ADS-B transponder, an SD card to format."""
+    return Result.FAILED
 
 
 def request_autopilot_capabilities(s, c: Command) -> Result:
@@ -248,6 +266,15 @@ HANDLERS = {
     mav.MAV_CMD_GET_MESSAGE_INTERVAL: get_message_interval,
     mav.MAV_CMD_CONDITION_YAW: condition_yaw,
     mav.MAV_CMD_MISSION_START: mission_start,
+    mav.MAV_CMD_NAV_LOITER_UNLIM: loiter_unlimited,
+    # A multicopter flies the VTOL takeoff and landing as the plain ones (ArduCopter does too).
+    mav.MAV_CMD_NAV_VTOL_TAKEOFF: takeoff,
+    mav.MAV_CMD_NAV_VTOL_LAND: land,
+    **{command: no_such_device for command in (
+        mav.MAV_CMD_DO_MOUNT_CONFIGURE, mav.MAV_CMD_DO_MOUNT_CONTROL, mav.MAV_CMD_DO_GIMBAL_MANAGER_PITCHYAW,
+        mav.MAV_CMD_DO_GIMBAL_MANAGER_CONFIGURE, mav.MAV_CMD_SET_CAMERA_FOCUS, mav.MAV_CMD_IMAGE_START_CAPTURE,
+        mav.MAV_CMD_VIDEO_START_CAPTURE, mav.MAV_CMD_VIDEO_STOP_CAPTURE, mav.MAV_CMD_DO_GRIPPER,
+        mav.MAV_CMD_DO_WINCH, mav.MAV_CMD_DO_ADSB_OUT_IDENT, mav.MAV_CMD_STORAGE_FORMAT)},
 }
 
 

@@ -157,6 +157,16 @@ def home_position(v: TelemetryView, codec):
                                       0.0, 0.0, 0.0, int(v.time_s * 1e6))
 
 
+def gps_global_origin(v: TelemetryView, codec):
+    """The EKF origin; ArduCopter sends it with HOME_POSITION when asked for home or home moves.
+    Before home (no fix yet) there is none to send."""
+    if v.home_ned is None:
+        return None
+    origin = v.ekf_origin()
+    return codec.gps_global_origin_encode(_deg_e7(origin.lat_deg), _deg_e7(origin.lon_deg),
+                                          int(origin.alt_m * 1000), int(v.time_s * 1e6))
+
+
 def extended_sys_state(v: TelemetryView, codec):
     return codec.extended_sys_state_encode(mav.MAV_VTOL_STATE_MC, LANDED_STATE[v.landed_state()])
 
@@ -224,6 +234,7 @@ BUILDERS: dict[int, Builder] = {
     mav.MAVLINK_MSG_ID_ATTITUDE_QUATERNION: attitude_quaternion,
     mav.MAVLINK_MSG_ID_VFR_HUD: vfr_hud,
     mav.MAVLINK_MSG_ID_HOME_POSITION: home_position,
+    mav.MAVLINK_MSG_ID_GPS_GLOBAL_ORIGIN: gps_global_origin,
     mav.MAVLINK_MSG_ID_EXTENDED_SYS_STATE: extended_sys_state,
     mav.MAVLINK_MSG_ID_SYSTEM_TIME: system_time,
     mav.MAVLINK_MSG_ID_MISSION_CURRENT: mission_current,
