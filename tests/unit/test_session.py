@@ -31,6 +31,21 @@ def test_unknown_command_is_unsupported(link):
     assert link.session.counters["refused"] == 1
 
 
+def test_commands_answered_as_arducopter_sitl_answers_them(link):
+    """Measured on ArduCopter SITL (tests/parity/probes/surface_commands.py)."""
+    ack, replies = link.command(mav.MAV_CMD_GET_HOME_POSITION)
+    assert ack.result == mav.MAV_RESULT_ACCEPTED
+    assert {"HOME_POSITION", "GPS_GLOBAL_ORIGIN"} <= {m.get_type() for m in replies}
+    ack, _ = link.command(mav.MAV_CMD_DO_MOUNT_CONTROL, 10, 0, 0)  # no mount: FAILED, not UNSUPPORTED
+    assert ack.result == mav.MAV_RESULT_FAILED
+    ack, _ = link.command(mav.MAV_CMD_NAV_LOITER_UNLIM)  # LOITER, even disarmed
+    assert ack.result == mav.MAV_RESULT_ACCEPTED and link.vehicle.mode_number == Loiter.number
+    link.command(mav.MAV_CMD_DO_SET_MODE, mav.MAV_MODE_FLAG_CUSTOM_MODE_ENABLED, Guided.number)
+    link.command(mav.MAV_CMD_COMPONENT_ARM_DISARM, 1)
+    ack, _ = link.command(mav.MAV_CMD_NAV_VTOL_TAKEOFF, 0, 0, 0, 0, 0, 0, 10)  # a plain takeoff on a copter
+    assert ack.result == mav.MAV_RESULT_ACCEPTED
+
+
 def test_takeoff_while_disarmed_fails(link):
     link.command(mav.MAV_CMD_DO_SET_MODE, mav.MAV_MODE_FLAG_CUSTOM_MODE_ENABLED, Guided.number)
     ack, _ = link.command(mav.MAV_CMD_NAV_TAKEOFF, 0, 0, 0, 0, 0, 0, 10)
