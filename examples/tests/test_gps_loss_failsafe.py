@@ -20,7 +20,8 @@ def test_gps_loss_mid_flight_lands_the_vehicle(firefly):
     firefly.wait_until(lambda s: s.north_m > 20, timeout=30, what="the leg north under way")
 
     firefly.set_param("SIM_GPS_DISABLE", 1)
-    firefly.wait_until(lambda s: s.mode == "LAND", timeout=5, what="the EKF failsafe")
+    # As ArduCopter's EKF, the estimate dead-reckons for a few seconds first: LAND about 8 s later.
+    firefly.wait_until(lambda s: s.mode == "LAND", timeout=12, what="the EKF failsafe")
     text = conn.recv_match(type="STATUSTEXT", blocking=True, timeout=5,
                            condition="STATUSTEXT.text.startswith('EKF Failsafe')")
     assert text is not None and "LAND" in text.text
