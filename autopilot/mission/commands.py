@@ -7,6 +7,9 @@ NAV_LAST = 95  # MAV_CMD_NAV_LAST: every command numbered up to it is a navigati
 NAV_EXCEPTIONS = {213, 42702, 42703}  # NAV_SET_YAW_SPEED, NAV_SCRIPT_TIME, NAV_ATTITUDE_TIME
 TAKEOFF_COMMANDS = {CMD_TAKEOFF, 84, 24}  # NAV_TAKEOFF, NAV_VTOL_TAKEOFF, NAV_TAKEOFF_LOCAL
 
+# A multicopter flies the VTOL takeoff and landing as the plain ones (ArduCopter's AUTO does).
+FLOWN_AS = {84: CMD_TAKEOFF, 85: CMD_LAND}
+
 NAMES = {
     16: "WP", 82: "SplineWP", 20: "RTL", 17: "LoitUnlim", 19: "LoitTime", 92: "GuidedEnable",
     18: "LoitTurns", 31: "LoitAltitude", 213: "SetYawSpd", 112: "CondDelay", 114: "CondDist",

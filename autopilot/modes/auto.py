@@ -9,9 +9,10 @@ vehicle is already flying); an armed, landed vehicle enters AUTO only if a takeo
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 from ..mission.commands import (CMD_DO_CHANGE_SPEED, CMD_DO_SET_HOME, CMD_LAND, CMD_LOITER_TIME,
-                                CMD_LOITER_UNLIM, CMD_RTL, CMD_TAKEOFF, CMD_WAYPOINT, is_nav)
+                                CMD_LOITER_UNLIM, CMD_RTL, CMD_TAKEOFF, CMD_WAYPOINT, FLOWN_AS, is_nav)
 from ..mission.progress import MissionProgress
 from ..mission.store import MissionItem
 from ..results import Severity
@@ -27,6 +28,12 @@ from .waypoint_legs import NAV_BY_LEGS, WaypointLegs, flies_through, next_nav_in
 CHANGE_WINDOW = 3
 NAV_COMMANDS = {CMD_WAYPOINT, CMD_LOITER_UNLIM, CMD_LOITER_TIME, CMD_RTL, CMD_LAND, CMD_TAKEOFF}
 GLOBAL_AMSL_FRAMES = {0, 5}  # MAV_FRAME_GLOBAL, MAV_FRAME_GLOBAL_INT: altitude above sea level
+
+
+def _flown(item: MissionItem) -> MissionItem:
+    """The item as this multicopter flies it (a VTOL takeoff or landing is the plain one)."""
+    command = FLOWN_AS.get(item.command)
+    return item if command is None else replace(item, command=command)
 
 
 class Auto(Mode):
@@ -86,6 +93,7 @@ class Auto(Mode):
     def start_command(self, index: int, item: MissionItem) -> bool:
         """Start an item; False for a navigation item this vehicle cannot fly (it is passed over)."""
         ctx = self._ctx
+        item = _flown(item)
         if item.command in NAV_COMMANDS:
             self._index, self._item, self._nav_done = index, item, False
             self._begin_nav(ctx, index, item)
@@ -101,6 +109,7 @@ class Auto(Mode):
         return True
 
     def verify_command(self, index: int, item: MissionItem) -> bool:
+        item = _flown(item)
         if item.command in NAV_COMMANDS:
             return index == self._index and self._nav_done
         if item.command not in (CMD_DO_CHANGE_SPEED, CMD_DO_SET_HOME):

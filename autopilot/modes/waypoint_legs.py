@@ -18,7 +18,7 @@ from .context import ModeContext
 CMD_WAYPOINT, CMD_LOITER_UNLIM, CMD_LOITER_TIME = 16, 17, 19
 CMD_DO_JUMP = 177
 NAV_BY_LEGS = {CMD_WAYPOINT, CMD_LOITER_UNLIM, CMD_LOITER_TIME}
-ALL_NAV = NAV_BY_LEGS | {20, 21, 22}  # + RTL, LAND, TAKEOFF
+ALL_NAV = NAV_BY_LEGS | {20, 21, 22, 84, 85}  # + RTL, LAND, TAKEOFF and the VTOL takeoff and land
 
 
 def next_nav_index(items, index: int, jumps_done: dict) -> int | None:

@@ -129,6 +129,18 @@ def test_auto_in_the_air_starts_at_once_without_takeoff_item():
     assert v.armed  # a mission that does not land ends in a hover
 
 
+def test_vtol_takeoff_and_land_items_are_flown_as_the_plain_ones():
+    """As ArduCopter's AUTO on a multicopter: "Mission: 1 VTOLTakeoff" climbs, VTOLLand lands."""
+    v = hovering_vehicle()
+    v.mission.replace(0, [MissionItem(84, REL, z=15.0), wp_at(v, 10, 0, alt=15.0), MissionItem(85, REL)])
+    assert v.set_mode(3) == Result.ACCEPTED
+    assert fly_until(v, lambda x: altitude(x) > 14.5, 30.0)
+    assert fly_until(v, lambda x: not x.armed, 90.0)
+    said = [text for _, text in v.events]
+    assert "Mission: 1 VTOLTakeoff" in said and "Mission: 3 VTOLLand" in said
+    assert not any(t.startswith("Skipping") for t in said)
+
+
 def test_do_jump_repeats_and_unsupported_items_are_skipped():
     v = hovering_vehicle()
     items = [wp_at(v, 10, 0), wp_at(v, 0, 0), MissionItem(177, 2, p1=1, p2=2),
