@@ -13,7 +13,7 @@ from typing import NamedTuple
 
 from ..modes.numbers import ModeNumber
 from ..results import Result, Severity
-from ..safety.arming import FORCE_ARM_MAGIC, FORCE_DISARM_MAGIC
+from ..safety.arming import FORCE_ARM_MAGIC, FORCE_DISARM_MAGIC, prearm_failures
 from ..vehicle import LOCATION_ALT_MAX_M
 from .dialect import mavlink as mav
 
@@ -197,6 +197,26 @@ def loiter_unlimited(s, c: Command) -> Result:
     return Result.ACCEPTED if s.vehicle.set_mode(ModeNumber.LOITER) == Result.ACCEPTED else Result.FAILED
 
 
+def flight_termination(s, c: Command) -> Result:
+    """As ArduCopter (no advanced failsafe configured): param 1 above 0.5 stops the motors at
+    once, in flight too, and is ACCEPTED also when already disarmed; anything else FAILED."""
+    if not c.p1 > 0.5:  # NaN included
+        return Result.FAILED
+    s.vehicle.disarm("termination", force=True)
+    return Result.ACCEPTED
+
+
+def run_prearm_checks(s, c: Command) -> Result:
+    """As ArduCopter: TEMPORARILY_REJECTED while armed; otherwise every failing pre-arm check is
+    said ("PreArm: ...") and the command ACCEPTED, whatever the checks found."""
+    v = s.vehicle
+    if v.armed:
+        return Result.TEMPORARILY_REJECTED
+    for reason in prearm_failures(v):
+        v.notify(f"PreArm: {reason}", Severity.CRITICAL)
+    return Result.ACCEPTED
+
+
 def no_such_device(s, c: Command) -> Result:
     """FAILED, as ArduCopter SITL answers for a device it has none of: a mount or gimbal, a
     camera, a gripper, a winch, an ADS-B transponder, an SD card to format."""
@@ -267,6 +287,8 @@ HANDLERS = {
     mav.MAV_CMD_CONDITION_YAW: condition_yaw,
     mav.MAV_CMD_MISSION_START: mission_start,
     mav.MAV_CMD_NAV_LOITER_UNLIM: loiter_unlimited,
+    mav.MAV_CMD_DO_FLIGHTTERMINATION: flight_termination,
+    mav.MAV_CMD_RUN_PREARM_CHECKS: run_prearm_checks,
     # A multicopter flies the VTOL takeoff and landing as the plain ones (ArduCopter does too).
     mav.MAV_CMD_NAV_VTOL_TAKEOFF: takeoff,
     mav.MAV_CMD_NAV_VTOL_LAND: land,
@@ -279,7 +301,7 @@ HANDLERS = {
 
 
 # Queries answer with fresh data every time; everything else replays its result on a retry.
-QUERIES = {mav.MAV_CMD_GET_HOME_POSITION, mav.MAV_CMD_REQUEST_AUTOPILOT_CAPABILITIES,
+QUERIES = {mav.MAV_CMD_GET_HOME_POSITION, mav.MAV_CMD_REQUEST_AUTOPILOT_CAPABILITIES, mav.MAV_CMD_RUN_PREARM_CHECKS,
            mav.MAV_CMD_REQUEST_MESSAGE, mav.MAV_CMD_SET_MESSAGE_INTERVAL,
            mav.MAV_CMD_GET_MESSAGE_INTERVAL}
 

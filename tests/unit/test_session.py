@@ -46,6 +46,22 @@ def test_commands_answered_as_arducopter_sitl_answers_them(link):
     assert ack.result == mav.MAV_RESULT_ACCEPTED
 
 
+def test_prearm_checks_run_on_request_and_termination_stops_the_motors_in_flight():
+    """Measured on ArduCopter SITL (tests/parity/probes/surface_commands.py)."""
+    from ._util import hovering_vehicle
+
+    link = Link(hovering_vehicle(10.0))
+    ack, _ = link.command(mav.MAV_CMD_RUN_PREARM_CHECKS)
+    assert ack.result == mav.MAV_RESULT_TEMPORARILY_REJECTED  # armed
+    ack, _ = link.command(mav.MAV_CMD_DO_FLIGHTTERMINATION, 0)
+    assert ack.result == mav.MAV_RESULT_FAILED and link.vehicle.armed
+    ack, out = link.command(mav.MAV_CMD_DO_FLIGHTTERMINATION, 1)
+    assert ack.result == mav.MAV_RESULT_ACCEPTED and not link.vehicle.armed
+    assert "Disarming motors" in statustexts(out + link.poll())
+    ack, _ = link.command(mav.MAV_CMD_RUN_PREARM_CHECKS)
+    assert ack.result == mav.MAV_RESULT_ACCEPTED
+
+
 def test_takeoff_while_disarmed_fails(link):
     link.command(mav.MAV_CMD_DO_SET_MODE, mav.MAV_MODE_FLAG_CUSTOM_MODE_ENABLED, Guided.number)
     ack, _ = link.command(mav.MAV_CMD_NAV_TAKEOFF, 0, 0, 0, 0, 0, 0, 10)
