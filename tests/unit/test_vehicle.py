@@ -294,6 +294,17 @@ def test_goto_works_whatever_the_heading_and_faces_the_way_as_wp_yaw_behavior_sa
         assert math.degrees(wrap(math.radians(heading - 14.0))) == pytest.approx(0, abs=10)
 
 
+def test_a_velocity_target_turns_the_nose_the_way_it_flies():
+    """Measured on ArduCopter SITL: 3 m/s east as a velocity-only SET_POSITION_TARGET_LOCAL_NED
+    turns the nose from 0° to 90° within 5 s (WP_YAW_BEHAVIOR's default)."""
+    v = hovering_vehicle(10.0)
+    v.mode.set_velocity(v.ctx, 0.0, 3.0, 0.0)
+    for _ in range(50):
+        v.run_until(v.time_s + 0.1)
+        v.mode.set_velocity(v.ctx, 0.0, 3.0, 0.0)
+    assert math.degrees(v.attitude[2]) == pytest.approx(90.0, abs=5)
+
+
 def test_position_hold_in_steady_wind():
     from sim.wind import SteadyWind
     v = hovering_vehicle(10.0, sim=SimConfig(wind=SteadyWind(6.0, 45.0)))
