@@ -13,11 +13,11 @@ install: $(STAMP)
 $(STAMP): pyproject.toml setup.py $(wildcard sim/*.h autopilot/control/*.h autopilot/control/*.c)
 	$(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install --quiet --upgrade pip
-	$(PY) -m pip install --quiet -e '.[test,ray]'
+	$(PY) -m pip install --quiet -e '.[test,ray,explore]'
 	touch $(STAMP)
 
 run: install
-	$(PY) -m groundstation explore --scenario scenarios/default.toml
+	$(PY) -m firefly.groundstation explore --scenario scenarios/default.toml
 
 test: install
 	$(PY) -m pytest -q -ra

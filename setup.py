@@ -19,17 +19,17 @@ HEADERS = ["sim/pyfloat.h", "sim/physics.h", "autopilot/control/pid.h", "autopil
            "autopilot/control/position.h", "autopilot/control/allocation.h", "autopilot/control/cascade.h",
            "autopilot/control/by_name.h", "autopilot/control/pyvalues.h"]
 FLAGS = ["-O2", "-ffp-contract=off", "-fno-fast-math", "-fno-builtin"]
-BUILD_REQUIRED = os.environ.get("CI", "").lower() == "true"  # as autopilot.control.compiled.required()
+BUILD_REQUIRED = os.environ.get("CI", "").lower() == "true"  # as firefly.autopilot.control.compiled.required()
 
 setup(ext_modules=[Extension(
-    "autopilot.control._cascade",
+    "firefly.autopilot.control._cascade",
     sources=["autopilot/control/_cascade.c"],
     depends=HEADERS,
     include_dirs=["sim", "autopilot/control"],
     extra_compile_args=FLAGS,
     optional=not BUILD_REQUIRED,
 ), Extension(
-    "sim._battery",
+    "firefly.sim._battery",
     sources=["sim/_battery.c"],
     depends=["sim/pyfloat.h", "sim/battery.h"],
     include_dirs=["sim"],

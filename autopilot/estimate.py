@@ -11,10 +11,10 @@ from __future__ import annotations
 
 import math
 
-from sim.physics import specific_force_body
+from firefly.sim.physics import specific_force_body
 
 from .startup import Startup
-from sim.rigid_body import euler_from_quaternion, ned_to_body
+from firefly.sim.rigid_body import euler_from_quaternion, ned_to_body
 
 GPS_RATE_HZ = 10  # GPS and barometer samples
 # The earth's magnetic field the compass reads (NED, milligauss): as ArduCopter SITL reports it at

@@ -26,7 +26,7 @@ class ReferenceParam:
 @cache
 def recording() -> dict:
     """The whole recorded file: its header (reference commit, how it was recorded) and params."""
-    text = resources.files("autopilot").joinpath("data", DATA_FILE).read_text()
+    text = resources.files("firefly.autopilot").joinpath("data", DATA_FILE).read_text()
     return json.loads(text)
 
 

@@ -16,8 +16,8 @@ from functools import partial
 from operator import attrgetter
 from typing import TYPE_CHECKING
 
-from sim.geo import GeoPoint, global_from_ned, ned_from_global
-from sim.vehicle import BATTERY_EVERY, SimConfig, SimVehicle
+from firefly.sim.geo import GeoPoint, global_from_ned, ned_from_global
+from firefly.sim.vehicle import BATTERY_EVERY, SimConfig, SimVehicle
 
 from .control.attitude import wrap_pi
 from .startup import Startup, StartupTimeline
@@ -40,9 +40,9 @@ from .safety.thrust_loss import ThrustLossCheck
 from .views import ReadThrough, Vector3
 
 if TYPE_CHECKING:
-    from sim.battery import BatteryState
-    from sim.rigid_body import BodyState
-    from sim.sensors import GpsReading, RcReceiver
+    from firefly.sim.battery import BatteryState
+    from firefly.sim.rigid_body import BodyState
+    from firefly.sim.sensors import GpsReading, RcReceiver
 
     from .cli.script import Script
 

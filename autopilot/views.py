@@ -26,11 +26,11 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any, NoReturn, Protocol, TypeVar
 
 if TYPE_CHECKING:
-    from sim.battery import BatteryState
-    from sim.geo import GeoPoint
-    from sim.rigid_body import BodyState
-    from sim.sensors import GpsReading, RcReceiver
-    from sim.vehicle import SimVehicle
+    from firefly.sim.battery import BatteryState
+    from firefly.sim.geo import GeoPoint
+    from firefly.sim.rigid_body import BodyState
+    from firefly.sim.sensors import GpsReading, RcReceiver
+    from firefly.sim.vehicle import SimVehicle
 
     from .estimate import StateEstimate
     from .mission.progress import MissionProgress, MissionState

@@ -17,9 +17,9 @@ import sys
 import time
 from pathlib import Path
 
-from autopilot.control import compiled as compiled_cascade
-from autopilot.rates import LoopRates
-from autopilot.vehicle import Vehicle, VehicleConfig
+from firefly.autopilot.control import compiled as compiled_cascade
+from firefly.autopilot.rates import LoopRates
+from firefly.autopilot.vehicle import Vehicle, VehicleConfig
 from report import summary, write_markdown  # bench/report.py, beside this script
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -98,7 +98,7 @@ def rtf_headless(runs: int, compiled: bool = True) -> dict:
 # ----- process start-up ------------------------------------------------------------------------------
 def startup(runs: int) -> dict:
     from pymavlink import mavutil
-    from groundstation.flight.autopilot_process import free_udp_port
+    from firefly.groundstation.flight.autopilot_process import free_udp_port
     hb_times, armable_times = [], []
     # Byte-compile first, as a (non-editable) pip install does: a user's second start never
     # compiles sources, and this machine's PYTHONDONTWRITEBYTECODE=1 would otherwise make every run pay it.
@@ -108,7 +108,7 @@ def startup(runs: int) -> dict:
         port = free_udp_port()
         conn = mavutil.mavlink_connection(f"udpin:127.0.0.1:{port}", source_system=255)
         t0 = time.monotonic()
-        proc = subprocess.Popen([sys.executable, "-m", "autopilot", "--listen", "udp:127.0.0.1:0",
+        proc = subprocess.Popen([sys.executable, "-m", "firefly.autopilot", "--listen", "udp:127.0.0.1:0",
                                  "--out", f"udp:127.0.0.1:{port}", "--quiet", "--wipe",
                                  "--state-dir", str(ROOT / "bench" / "tmp")], cwd=ROOT)
         hb = armable = None
@@ -136,8 +136,8 @@ def plugin_fixture(runs: int, speedups=("10", "inf")) -> dict:
     state line, then `await firefly.mavsdk()`. And the same to a pymavlink connection that has
     seen a HEARTBEAT."""
     import tempfile
-    from autopilot.testing.run import FireflyRun
-    from autopilot.testing.settings import FireflySettings, parse_speedup
+    from firefly.autopilot.testing.run import FireflyRun
+    from firefly.autopilot.testing.settings import FireflySettings, parse_speedup
     from mavsdk import LogLevel, log_subscribe
     log_subscribe(lambda level, *_: level < LogLevel.WARN)
     subprocess.run([sys.executable, "-m", "compileall", "-q", "sim", "autopilot", "groundstation"], cwd=ROOT,
@@ -187,10 +187,10 @@ def campaign_throughput(decided: int = 60, flown: int = 8) -> dict:
     (gig on the default world) and flown (at speedup 50), with 1 and 2 local workers and on a local
     Ray with 2 CPUs (its start-up included)."""
     import tempfile
-    from groundstation.campaign.pool import run_local
-    from groundstation.campaign.ray_backend import run_ray
-    from groundstation.campaign.run import work
-    from groundstation.campaign.spec import load_campaign
+    from firefly.groundstation.campaign.pool import run_local
+    from firefly.groundstation.campaign.ray_backend import run_ray
+    from firefly.groundstation.campaign.run import work
+    from firefly.groundstation.campaign.spec import load_campaign
     out = {}
     with tempfile.TemporaryDirectory() as tmp:
         path = Path(tmp) / "bench.toml"
@@ -218,8 +218,8 @@ def campaign_throughput(decided: int = 60, flown: int = 8) -> dict:
 # ----- the MAVSDK flight of the SITL tests -----------------------------------------------------------
 def mavsdk_flight(speedup: str) -> float | None:
     """Wall seconds for the flight at this speedup, or None if it failed."""
-    from groundstation.flight.autopilot_process import start_autopilot
-    from groundstation.flight.reference_flight import fly_takeoff_goto_rtl, north_east_m
+    from firefly.groundstation.flight.autopilot_process import start_autopilot
+    from firefly.groundstation.flight.reference_flight import fly_takeoff_goto_rtl, north_east_m
     ap = start_autopilot(ROOT / "bench" / "tmp" / "state", speedup, cwd=ROOT)
     t0 = time.monotonic()
     try:
@@ -275,13 +275,13 @@ def swarm_trial(count: int, window_s: float, segments: int = 6) -> dict:
     """Run `autopilot --count N` at 1x; sim time of vehicle 1 (SYSTEM_TIME) against wall time over
     the window, and over each of its `segments` equal parts (for median, min and max)."""
     from pymavlink import mavutil
-    from autopilot.testing.run import free_port_bases
+    from firefly.autopilot.testing.run import free_port_bases
     # Every vehicle's own listening and --out ports (each base + 10k), all free and apart: with
     # ephemeral listening ports, one vehicle's --out could be another's socket, and the two
     # would talk to each other.
     listen, port = free_port_bases(2, count)
     conn = mavutil.mavlink_connection(f"udpin:127.0.0.1:{port}", source_system=255)
-    proc = subprocess.Popen([sys.executable, "-m", "autopilot", "--count", str(count), "--speedup", "1",
+    proc = subprocess.Popen([sys.executable, "-m", "firefly.autopilot", "--count", str(count), "--speedup", "1",
                              "--listen", f"udp:127.0.0.1:{listen}", "--out", f"udp:127.0.0.1:{port}", "--quiet",
                              "--wipe", "--state-dir", str(ROOT / "bench" / "tmp" / "swarm")], cwd=ROOT)
     try:
@@ -353,7 +353,7 @@ def swarm(counts: list[int], window_s: float) -> dict:
 # ----- the 4-waypoint mission flown by `groundstation mission` ---------------------------------------
 def mission_flight(speedup: str) -> float | None:
     t0 = time.monotonic()
-    result = subprocess.run([sys.executable, "-m", "groundstation", "mission", str(ROOT / "examples" / "square.plan"),
+    result = subprocess.run([sys.executable, "-m", "firefly.groundstation", "mission", str(ROOT / "examples" / "square.plan"),
                              "--speedup", speedup, "--plot", str(ROOT / "bench" / "tmp" / "mission.png")],
                             cwd=ROOT, capture_output=True, text=True, timeout=600)
     wall = time.monotonic() - t0

@@ -16,8 +16,8 @@ from __future__ import annotations
 import time
 from typing import Callable
 
-from autopilot.control import _cascade
-from autopilot.vehicle import Vehicle, VehicleConfig
+from firefly.autopilot.control import _cascade
+from firefly.autopilot.vehicle import Vehicle, VehicleConfig
 from report import summary
 
 CHUNK = 4  # physics steps per cascade run in a vehicle at 400 Hz (one flight-mode period)

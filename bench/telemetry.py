@@ -47,7 +47,7 @@ def rtf_with_client_run(window_s: float) -> float:
     port = client.getsockname()[1]
     gcs = mavlink.MAVLink(None, srcSystem=255, srcComponent=190)
     heartbeat = gcs.heartbeat_encode(6, 8, 0, 0, 0).pack(gcs)
-    proc = subprocess.Popen([sys.executable, "-m", "autopilot", "--speedup", "inf", "--listen", "udp:127.0.0.1:0",
+    proc = subprocess.Popen([sys.executable, "-m", "firefly.autopilot", "--speedup", "inf", "--listen", "udp:127.0.0.1:0",
                              "--out", f"udp:127.0.0.1:{port}", "--quiet", "--wipe",
                              "--state-dir", str(ROOT / "bench" / "tmp" / "telemetry")], cwd=ROOT)
     try:
@@ -89,12 +89,12 @@ def rtf_with_client(runs: int, window_s: float = 5.0, progress=print) -> dict:
 
 def message_cost_us(runs: int, rounds: int = 2000, progress=print) -> dict:
     """Per message of the default streams: build (vehicle state -> message) and pack (-> frame)."""
-    from autopilot.mavlink.dialect import new_codec
-    from autopilot.mavlink.link import Link
-    from autopilot.mavlink.session import Session
-    from autopilot.mavlink.signing import LinkSigning
-    from autopilot.params import ParamStore
-    from autopilot.vehicle import Vehicle, VehicleConfig
+    from firefly.autopilot.mavlink.dialect import new_codec
+    from firefly.autopilot.mavlink.link import Link
+    from firefly.autopilot.mavlink.session import Session
+    from firefly.autopilot.mavlink.signing import LinkSigning
+    from firefly.autopilot.params import ParamStore
+    from firefly.autopilot.vehicle import Vehicle, VehicleConfig
     vehicle = Vehicle(VehicleConfig(), ParamStore(None))
     codec = new_codec(1)
     session = Session(vehicle, codec)

@@ -10,7 +10,7 @@ vehicle's guards, autopilot/safety/internal_error.py), unless it is marked
 import pytest
 from hypothesis import settings
 
-from autopilot.safety.internal_error import InternalErrors
+from firefly.autopilot.safety.internal_error import InternalErrors
 
 settings.register_profile("firefly", deadline=None)
 settings.load_profile("firefly")

@@ -7,8 +7,8 @@ from __future__ import annotations
 import dataclasses
 from pathlib import Path
 
-from sim import scenario as world
-from sim.scenario import DEFAULT_HOME, ScenarioError, parse_home  # noqa: F401 - the CLI's names
+from firefly.sim import scenario as world
+from firefly.sim.scenario import DEFAULT_HOME, ScenarioError, parse_home  # noqa: F401 - the CLI's names
 
 from ..faults.world import world_values
 from ..params import SPEC_BY_NAME, ParamError, checked_value

@@ -295,7 +295,7 @@ static PyGetSetDef Loop_getset[] = {
 
 static PyTypeObject LoopType = {
     PyVarObject_HEAD_INIT(NULL, 0)
-    .tp_name = "autopilot.control._cascade.Loop",
+    .tp_name = "firefly.autopilot.control._cascade.Loop",
     .tp_basicsize = sizeof(LoopObject),
     .tp_flags = Py_TPFLAGS_DEFAULT,
     .tp_doc = "One vehicle's physics and control cascade, stepped in C.",

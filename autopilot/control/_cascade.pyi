@@ -2,7 +2,7 @@
 from collections.abc import Sequence
 from typing import Any
 
-from sim.physics import PhysicsState
+from firefly.sim.physics import PhysicsState
 
 class Loop:
     def __init__(self, constants: dict[str, Any], ratio_pos: int, ratio_att: int, body_type: type,

@@ -7,8 +7,8 @@ from __future__ import annotations
 
 import math
 
-from sim.airframe import Airframe
-from sim.rotors import unmix
+from firefly.sim.airframe import Airframe
+from firefly.sim.rotors import unmix
 
 
 class Allocator:

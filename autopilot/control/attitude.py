@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import math
 
-from sim.airframe import Airframe
+from firefly.sim.airframe import Airframe
 
 from .pid import Pid
 

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from typing import Protocol
 
-from sim.rigid_body import euler_from_quaternion
+from firefly.sim.rigid_body import euler_from_quaternion
 
 from .allocation import Allocator
 from .attitude import AttitudeController, wrap_pi

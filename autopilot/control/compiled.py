@@ -16,8 +16,8 @@ import os
 import sys
 from typing import TYPE_CHECKING, Protocol
 
-from sim.physics import PhysicsState, fast_step_constants
-from sim.rigid_body import BodyState
+from firefly.sim.physics import PhysicsState, fast_step_constants
+from firefly.sim.rigid_body import BodyState
 
 from .cascade import Cascade, CascadeSetup, Command
 

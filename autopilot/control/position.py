@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import math
 
-from sim.airframe import GRAVITY_M_S2, Airframe
+from firefly.sim.airframe import GRAVITY_M_S2, Airframe
 
 from .pid import Pid
 

@@ -26,7 +26,7 @@ from __future__ import annotations
 
 import math
 
-from sim.airframe import GRAVITY_M_S2
+from firefly.sim.airframe import GRAVITY_M_S2
 
 from .position import stopping_distance, stopping_point_ne
 from .scurve import SCurve

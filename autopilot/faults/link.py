@@ -12,7 +12,7 @@ bytes on a serial port, come closest), so these two are named in its style.
 """
 from __future__ import annotations
 
-from sim.sensors import sensor_rng
+from firefly.sim.sensors import sensor_rng
 
 
 class LinkFaults:

@@ -7,9 +7,9 @@ resting voltage, the RC receiver's failure. SIM_LINK_* act on the MAVLink link, 
 """
 from __future__ import annotations
 
-from sim.wind import SteadyWind
+from firefly.sim.wind import SteadyWind
 
-from sim.geo import ned_from_global
+from firefly.sim.geo import ned_from_global
 
 
 def world_values(sim_config) -> dict:

@@ -8,7 +8,7 @@ buffered so that a reader sees each line as it is written.
 """
 from __future__ import annotations
 
-from sim.rigid_body import BodyState
+from firefly.sim.rigid_body import BodyState
 
 COLUMNS = ("time_s", *BodyState._fields, "on_ground", "armed", "mode", "home_n_m", "home_e_m", "home_d_m")
 HEADER = ",".join(COLUMNS) + "\n"

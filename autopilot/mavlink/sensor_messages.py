@@ -8,8 +8,8 @@ from __future__ import annotations
 
 import math
 
-from sim.airframe import GRAVITY_M_S2
-from sim.rigid_body import euler_from_quaternion
+from firefly.sim.airframe import GRAVITY_M_S2
+from firefly.sim.rigid_body import euler_from_quaternion
 
 from ..control.attitude import wrap_pi
 from ..views import SensorView

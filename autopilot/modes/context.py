@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING
 from ..views import ModeHost, Notify, ReadThrough, Vector3
 
 if TYPE_CHECKING:
-    from sim.rigid_body import BodyState
+    from firefly.sim.rigid_body import BodyState
 
     from ..mission.progress import MissionProgress
     from ..params import ParamStore

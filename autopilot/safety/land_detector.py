@@ -9,7 +9,7 @@ import math
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
-    from sim.rigid_body import BodyState
+    from firefly.sim.rigid_body import BodyState
 
 LAND_DETECT_S = 1.0
 # ArduCopter starts its one-second count only once the motors reach their lower limit, which

@@ -75,7 +75,7 @@ class FireflyRun:
 
     def _command(self, ports: dict) -> list[str]:
         s = self.settings
-        cmd = [sys.executable, "-m", "autopilot", "--listen", "udp:127.0.0.1:0",
+        cmd = [sys.executable, "-m", "firefly.autopilot", "--listen", "udp:127.0.0.1:0",
                *[a for kind in PORT_KINDS for a in ("--out", f"udp:127.0.0.1:{ports[kind]}")],
                "--speedup", s.speedup_text, "--seed", str(s.seed), "--count", str(s.count),
                "--startup", s.startup, "--state-dir", str(self.evidence_dir / "state"), "--wipe", "--quiet",

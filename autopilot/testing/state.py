@@ -12,8 +12,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import BinaryIO
 
-from autopilot.modes.numbers import ModeNumber
-from sim.rigid_body import euler_from_quaternion
+from firefly.autopilot.modes.numbers import ModeNumber
+from firefly.sim.rigid_body import euler_from_quaternion
 
 
 @dataclass(frozen=True)

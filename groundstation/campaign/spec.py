@@ -32,8 +32,8 @@ import math
 from dataclasses import dataclass
 from pathlib import Path
 
-from sim.fire import WORLD_KEYS
-from sim.scenario import ScenarioError, read_toml, scenario_from_dict
+from firefly.sim.fire import WORLD_KEYS
+from firefly.sim.scenario import ScenarioError, read_toml, scenario_from_dict
 
 from ..evaluation.episodes import EpisodeConfig, episode_world
 from ..strategy.policies import POLICIES

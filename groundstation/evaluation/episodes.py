@@ -24,7 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from sim.fire import Fire, FireWorld, TemperatureSensor
+from firefly.sim.fire import Fire, FireWorld, TemperatureSensor
 
 from ..strategy.belief import Geometry
 from ..strategy.controller import SearchConfig, SearchController

@@ -205,7 +205,7 @@ def plot(results: dict[str, list[dict]], path: Path, title: str) -> None:
 
 
 def evaluate(args) -> int:
-    from sim.scenario import ScenarioError, load_scenario
+    from firefly.sim.scenario import ScenarioError, load_scenario
     if args.flight is not None and args.start != "corner":
         raise EvaluateError("--flight: flown episodes start at home, the area's corner; use --start corner")
     if args.flight is not None and args.flight > args.episodes:

@@ -17,7 +17,7 @@ import math
 import tempfile
 from pathlib import Path
 
-from sim.fire import WORLD_KEYS, FireWorld
+from firefly.sim.fire import WORLD_KEYS, FireWorld
 
 from ..flight.autopilot_process import AutopilotExited, run_flight, run_team_flight
 from ..flight.explore import explore

@@ -1,6 +1,6 @@
 """Markdown tables from `groundstation evaluate --json` files, as EVALUATION.md shows them:
 
-    python -m groundstation.evaluation.report out/eval/default_R.json [more.json ...]
+    python -m firefly.groundstation.evaluation.report out/eval/default_R.json [more.json ...]
 
 Per file: the summary per policy and the paired path differences against the first policy.
 """
@@ -55,7 +55,7 @@ def section(path: Path) -> str:
 def main(argv: list[str] | None = None) -> int:
     paths = [Path(p) for p in (sys.argv[1:] if argv is None else argv)]
     if not paths:
-        print("usage: python -m groundstation.evaluation.report FILE.json [...]", file=sys.stderr)
+        print("usage: python -m firefly.groundstation.evaluation.report FILE.json [...]", file=sys.stderr)
         return 2
     for path in paths:
         try:

@@ -15,7 +15,7 @@ import time
 
 import numpy as np
 
-from sim.fire import FireWorld, TemperatureSensor
+from firefly.sim.fire import FireWorld, TemperatureSensor
 
 from ..strategy.belief import Geometry
 from ..strategy.stopping import Declaration

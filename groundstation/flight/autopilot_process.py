@@ -132,7 +132,7 @@ class AutopilotProcess:
 
 def start_autopilot(state_dir: Path | None = None, speedup="10", extra: tuple = (), port: int | None = None,
                     wipe: bool = True, cwd: Path | None = None, capture_stderr: bool = False) -> AutopilotProcess:
-    """Start `python -m autopilot` sending to a free port (or `port`). Without `state_dir` its
+    """Start `python -m firefly.autopilot` sending to a free port (or `port`). Without `state_dir` its
     parameters and mission live in a temporary directory that stop() removes. With capture_stderr
     what it writes to stderr is kept for exit_line() and written out by stop()."""
     owned = []
@@ -141,7 +141,7 @@ def start_autopilot(state_dir: Path | None = None, speedup="10", extra: tuple = 
         state_dir = Path(owned[0].name)
     count = int(extra[extra.index("--count") + 1]) if "--count" in extra else 1
     port = port or free_udp_port(count)
-    cmd = [sys.executable, "-m", "autopilot", "--listen", "udp:127.0.0.1:0",
+    cmd = [sys.executable, "-m", "firefly.autopilot", "--listen", "udp:127.0.0.1:0",
            "--out", f"udp:127.0.0.1:{port}", "--speedup", str(speedup), "--state-dir", str(state_dir),
            "--quiet", f"--exit-with-parent={os.getpid()}", *extra]
     if wipe:
@@ -156,9 +156,9 @@ def check_scenario(path: Path) -> None:
     companion reads only the world of a scenario (sim/scenario.py); the vehicle's own tables
     ([faults], [script], [signing]) are the autopilot's to judge. Raises ScenarioError with the
     autopilot's one line when it refuses them."""
-    from sim.scenario import ScenarioError
+    from firefly.sim.scenario import ScenarioError
     with tempfile.TemporaryDirectory(prefix="firefly-check-") as state:
-        result = subprocess.run([sys.executable, "-m", "autopilot", "--scenario", str(path), "--duration", "0",
+        result = subprocess.run([sys.executable, "-m", "firefly.autopilot", "--scenario", str(path), "--duration", "0",
                                  "--quiet", "--listen", "udp:127.0.0.1:0", "--out", f"udp:127.0.0.1:{free_udp_port()}",
                                  "--state-dir", state, "--wipe"], capture_output=True, text=True, timeout=60)
     if result.returncode != 0:

@@ -23,7 +23,7 @@ from pathlib import Path
 import numpy as np
 from mavsdk.asyncio.plugins.mavlink_direct import MavlinkDirectAsync
 
-from sim.fire import FireWorld
+from firefly.sim.fire import FireWorld
 
 from ..evaluation.episodes import fires_found, judge
 from ..strategy import Geometry, make_policy
@@ -301,7 +301,7 @@ def draw_fires(ax, world: FireWorld | None) -> None:
 
 def run(url: str | None, scenario: Path | None, policy: str, speedup: float, plot: Path | None,
         truth: bool, max_fires: int = 1) -> int:
-    from sim.scenario import Scenario, load_scenario
+    from firefly.sim.scenario import Scenario, load_scenario
     sc = load_scenario(scenario) if scenario else Scenario()
     if scenario and not url:
         check_scenario(scenario)  # the vehicle's tables too, before a vehicle starts on them

@@ -9,7 +9,7 @@ from mavsdk.asyncio import ComponentType, Configuration, Mavsdk
 from mavsdk.asyncio.plugins.action import ActionAsync
 from mavsdk.asyncio.plugins.telemetry import FlightMode, LandedState, TelemetryAsync
 
-from sim.geo import global_from_ned, ned_from_global
+from firefly.sim.geo import global_from_ned, ned_from_global
 
 from .vehicle_link import LinkError, first, home_point  # first() fails (LinkError) naming what did not happen
 

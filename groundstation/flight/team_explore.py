@@ -27,8 +27,8 @@ from pathlib import Path
 import numpy as np
 from mavsdk.asyncio.plugins.mavlink_direct import MavlinkDirectAsync
 
-from sim.fire import FireWorld
-from sim.geo import ned_from_global
+from firefly.sim.fire import FireWorld
+from firefly.sim.geo import ned_from_global
 
 from ..evaluation.episodes import judge
 from ..plots import draw_track, label_map, png
@@ -270,7 +270,7 @@ MAX_VEHICLES = 6
 
 def run(url: str | None, scenario: Path | None, policy: str, speedup: float, plot: Path | None, truth: bool,
         vehicles: int, max_fires: int = 1) -> int:
-    from sim.scenario import Scenario, load_scenario
+    from firefly.sim.scenario import Scenario, load_scenario
     from ..strategy.team import TEAM_POLICIES
     from .autopilot_process import check_scenario, run_team_flight
     if policy not in TEAM_POLICIES:

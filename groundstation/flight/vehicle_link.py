@@ -12,7 +12,7 @@ from mavsdk.asyncio import ComponentType, Configuration, Mavsdk
 from mavsdk.asyncio.plugins.action import ActionAsync
 from mavsdk.asyncio.plugins.telemetry import TelemetryAsync
 
-from sim.geo import GeoPoint, global_from_ned, ned_from_global
+from firefly.sim.geo import GeoPoint, global_from_ned, ned_from_global
 
 
 class LinkError(RuntimeError):

@@ -71,7 +71,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from sim.fire import KERNELS, kernel_value
+from firefly.sim.fire import KERNELS, kernel_value
 
 
 @dataclass(frozen=True)

@@ -117,7 +117,7 @@ def lanes(area_m: float, spacing_m: float, start, east_m: tuple | None = None) -
 
 def detection_radius(geometry: Geometry, weak_strength_k: float = 20.0, sigmas: float = 4.0) -> float:
     """Horizontal range within which a weak fire raises the reading by `sigmas` noise sigmas."""
-    from sim.fire import kernel_value
+    from firefly.sim.fire import kernel_value
     sigma = max(geometry.noise_k, 0.01)
     need = sigmas * sigma / weak_strength_k  # kernel value needed
     if need >= 1.0:

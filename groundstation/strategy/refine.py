@@ -21,7 +21,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.optimize import least_squares
 
-from sim.fire import kernel_value
+from firefly.sim.fire import kernel_value
 
 from .belief import Geometry
 

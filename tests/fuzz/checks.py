@@ -3,8 +3,8 @@ from __future__ import annotations
 
 import math
 
-from autopilot.modes import MODE_BY_NUMBER
-from autopilot.params import PARAM_TABLE
+from firefly.autopilot.modes import MODE_BY_NUMBER
+from firefly.autopilot.params import PARAM_TABLE
 
 
 def terminal_speed_m_s(airframe) -> float:

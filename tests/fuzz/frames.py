@@ -7,9 +7,9 @@ import math
 import random
 import struct
 
-from autopilot.mavlink.dialect import mavlink as mav
-from autopilot.mavlink.dialect import new_codec
-from autopilot.params import PARAM_TABLE
+from firefly.autopilot.mavlink.dialect import mavlink as mav
+from firefly.autopilot.mavlink.dialect import new_codec
+from firefly.autopilot.params import PARAM_TABLE
 
 SPECIAL = (0.0, 1.0, -1.0, 2989.0, 21196.0, 4.0, 1e30, -1e30, 3.4e38, math.nan, math.inf, -math.inf)
 COMMANDS = (400, 400, 22, 21, 20, 176, 178, 179, 192, 410, 511, 512, 300, 115, 31999)

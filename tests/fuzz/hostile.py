@@ -15,10 +15,10 @@ from __future__ import annotations
 import math
 import struct
 
-from autopilot.mavlink.commands import HANDLERS
-from autopilot.mavlink.dialect import mavlink as mav
-from autopilot.modes import MODE_BY_NUMBER
-from autopilot.params import PARAM_TABLE
+from firefly.autopilot.mavlink.commands import HANDLERS
+from firefly.autopilot.mavlink.dialect import mavlink as mav
+from firefly.autopilot.modes import MODE_BY_NUMBER
+from firefly.autopilot.params import PARAM_TABLE
 
 SYSTEM_ID = 1
 NAN, INF = math.nan, math.inf

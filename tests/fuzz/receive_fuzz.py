@@ -17,11 +17,11 @@ import json
 import sys
 import time
 
-from autopilot.faults.link import LinkFaults
-from autopilot.mavlink.dialect import new_codec
-from autopilot.mavlink.link import Link
-from autopilot.mavlink.session import Session
-from autopilot.vehicle import Vehicle, VehicleConfig
+from firefly.autopilot.faults.link import LinkFaults
+from firefly.autopilot.mavlink.dialect import new_codec
+from firefly.autopilot.mavlink.link import Link
+from firefly.autopilot.mavlink.session import Session
+from firefly.autopilot.vehicle import Vehicle, VehicleConfig
 
 from .checks import vehicle_problems
 from .frames import FrameSource

@@ -23,7 +23,7 @@ import threading
 import time
 from pathlib import Path
 
-from autopilot.modes.numbers import ModeNumber
+from firefly.autopilot.modes.numbers import ModeNumber
 
 from ..sitl.conftest import free_udp_port
 from .frames import FrameSource
@@ -118,7 +118,7 @@ def soak(sim_hours: float, speedup: float, noisy_clients: int, rate: float, seed
     stop = threading.Event()
     with tempfile.TemporaryDirectory(prefix="firefly-soak-") as tmp:
         stats_path = Path(tmp) / "stats.json"
-        proc = subprocess.Popen([sys.executable, "-m", "autopilot", "--listen", f"udp:127.0.0.1:{listen}",
+        proc = subprocess.Popen([sys.executable, "-m", "firefly.autopilot", "--listen", f"udp:127.0.0.1:{listen}",
                                  "--out", f"udp:127.0.0.1:{out}", "--speedup", str(speedup),
                                  "--duration", str(duration), "--stats", str(stats_path),
                                  "--state-dir", str(Path(tmp) / "state"), "--wipe", "--quiet"], cwd=REPO)

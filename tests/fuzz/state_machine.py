@@ -46,13 +46,13 @@ import traceback
 from collections import Counter
 from dataclasses import dataclass, field
 
-from autopilot.mavlink.dialect import mavlink as mav
-from autopilot.mavlink.dialect import new_codec
-from autopilot.mavlink.link import Link
-from autopilot.mavlink.session import Session
-from autopilot.modes import MODE_BY_NUMBER
-from autopilot.startup import StartupTimeline
-from autopilot.vehicle import Vehicle, VehicleConfig
+from firefly.autopilot.mavlink.dialect import mavlink as mav
+from firefly.autopilot.mavlink.dialect import new_codec
+from firefly.autopilot.mavlink.link import Link
+from firefly.autopilot.mavlink.session import Session
+from firefly.autopilot.modes import MODE_BY_NUMBER
+from firefly.autopilot.startup import StartupTimeline
+from firefly.autopilot.vehicle import Vehicle, VehicleConfig
 
 from . import hostile
 from .checks import vehicle_problems
@@ -724,7 +724,7 @@ def act_param_list(w: Walk, r) -> None:
 
 
 def act_ftp(w: Walk, r) -> None:
-    from autopilot.mavlink import ftp
+    from firefly.autopilot.mavlink import ftp
     session = r.choice((0, 1))
     step = r.randrange(6)
     path = b"@PARAM/param.pck"

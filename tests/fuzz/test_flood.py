@@ -13,11 +13,11 @@ import time
 
 import pytest
 
-from autopilot.io import udp
-from autopilot.io.runner import incoming
-from autopilot.mavlink import link as mavlink_link
-from autopilot.mavlink.dialect import new_codec
-from autopilot.mavlink.signing import LinkSigning
+from firefly.autopilot.io import udp
+from firefly.autopilot.io.runner import incoming
+from firefly.autopilot.mavlink import link as mavlink_link
+from firefly.autopilot.mavlink.dialect import new_codec
+from firefly.autopilot.mavlink.signing import LinkSigning
 
 from ..sitl.conftest import start_autopilot
 from ..sitl.pymav import Gcs
@@ -164,7 +164,7 @@ def test_unsigned_radio_status_from_many_ports_cannot_push_the_signed_gcs_off_th
     """RADIO_STATUS passes signing unsigned (radios inject it), but its sender is not answered."""
     import hashlib
 
-    from autopilot.mavlink.signing import signing_time
+    from firefly.autopilot.mavlink.signing import signing_time
     key = hashlib.sha256(b"soak").digest()
     endpoint = udp.UdpEndpoint(("127.0.0.1", 0), [])
     link = _link(key)

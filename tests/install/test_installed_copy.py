@@ -1,9 +1,10 @@
-"""`pip install .` (not editable) gives a working program: a package left out of pyproject.toml's
-packages.find, or a file the build does not ship, fails here rather than on a user's machine.
+"""The wheel of the checkout gives a working program that fits in: a package left out of
+pyproject.toml's packages.find, or a file the build does not ship, fails here rather than on a
+user's machine, and so does a top-level name besides `firefly` that could collide with a user's.
 
-The checkout's files (tracked, and untracked but not ignored) are copied aside and installed from
-there: an in-tree build would reuse build/lib, whose stale copies of packages could hide a
-missing one. The copy goes into a fresh venv that sees the test environment's dependencies but
+The checkout's files (tracked, and untracked but not ignored) are copied aside and a wheel is built
+from there: an in-tree build would reuse build/lib, whose stale copies of packages could hide a
+missing one. The wheel goes into a fresh venv that sees the test environment's dependencies but
 not its editable install of this checkout, and runs from a directory outside the repository, so
 nothing of the checkout can stand in for what the install left out.
 """
@@ -31,7 +32,7 @@ def checkout_files() -> list[str]:
     """What a commit of the working tree would hold: tracked files and untracked unignored ones."""
     listed = subprocess.run(["git", "ls-files", "-z", "--cached", "--others", "--exclude-standard"], cwd=REPO,
                             capture_output=True, text=True, check=True).stdout
-    return [name for name in listed.split("\0") if name and (REPO / name).is_file()]
+    return [name for name in listed.split("\0") if name and ((REPO / name).is_file() or (REPO / name).is_symlink())]
 
 
 def dependency_dirs() -> list[str]:
@@ -42,23 +43,39 @@ def dependency_dirs() -> list[str]:
 
 
 @pytest.fixture(scope="module")
-def installed(tmp_path_factory) -> Path:
-    """A fresh venv holding `pip install --no-deps .` of a copy of the checkout; returns its python."""
-    root = tmp_path_factory.mktemp("installed")
+def wheel(tmp_path_factory) -> Path:
+    """`pip wheel --no-deps` of a copy of the checkout (the links under firefly/ copied as links)."""
+    root = tmp_path_factory.mktemp("wheel")
     source = root / "source"
     for name in checkout_files():
         (source / name).parent.mkdir(parents=True, exist_ok=True)
-        shutil.copy2(REPO / name, source / name)
-    venv = root / "venv"
+        if (REPO / name).is_symlink():
+            (source / name).symlink_to(os.readlink(REPO / name))
+        else:
+            shutil.copy2(REPO / name, source / name)
+    built = subprocess.run([sys.executable, "-m", "pip", "wheel", "--quiet", "--no-deps", "--wheel-dir",
+                            str(root / "dist"), str(source)], cwd=root, capture_output=True, text=True)
+    assert built.returncode == 0, f"pip wheel failed:\n{built.stdout}\n{built.stderr}"
+    (found,) = (root / "dist").glob("firefly_sitl-*.whl")
+    return found
+
+
+@pytest.fixture(scope="module")
+def installed(wheel, tmp_path_factory) -> Path:
+    """A fresh venv holding the wheel (its commands too); returns its python."""
+    venv = tmp_path_factory.mktemp("installed") / "venv"
     subprocess.run([sys.executable, "-m", "venv", "--without-pip", str(venv)], check=True)
     python = venv / "bin" / "python"
-    site = Path(subprocess.run([str(python), "-c", "import sysconfig; print(sysconfig.get_paths()['purelib'])"],
-                               capture_output=True, text=True, check=True).stdout.strip())
-    pip = subprocess.run([sys.executable, "-m", "pip", "install", "--quiet", "--no-deps", "--target", str(site),
-                          str(source)], cwd=root, capture_output=True, text=True)
-    assert pip.returncode == 0, f"pip install . failed:\n{pip.stdout}\n{pip.stderr}"
-    (site / "test-dependencies.pth").write_text("\n".join(dependency_dirs()) + "\n")
+    pip = subprocess.run([sys.executable, "-m", "pip", "--python", str(python), "install", "--quiet", "--no-deps",
+                          str(wheel)], capture_output=True, text=True)
+    assert pip.returncode == 0, f"pip install of the wheel failed:\n{pip.stdout}\n{pip.stderr}"
+    (site_packages(python) / "test-dependencies.pth").write_text("\n".join(dependency_dirs()) + "\n")
     return python
+
+
+def site_packages(python: Path) -> Path:
+    return Path(subprocess.run([str(python), "-c", "import sysconfig; print(sysconfig.get_paths()['purelib'])"],
+                               capture_output=True, text=True, check=True).stdout.strip())
 
 
 def without_pythonpath() -> dict:
@@ -72,9 +89,39 @@ def run_installed(python: Path, *args: str, **kw) -> subprocess.CompletedProcess
                           text=True, timeout=60, **kw)
 
 
+def test_the_install_adds_one_import_name_and_two_commands(installed):
+    """Only `firefly` (and the distribution's metadata) lands on the import path: a user's own
+    `sim` or `autopilot` cannot be shadowed. The commands keep their names."""
+    added = {p.name for p in site_packages(installed).iterdir()} - {"test-dependencies.pth", "_virtualenv.pth",
+                                                                     "_virtualenv.py", "__pycache__"}
+    assert {n for n in added if not n.endswith(".dist-info")} == {"firefly"}, sorted(added)
+    scripts = installed.parent
+    assert (scripts / "autopilot").exists() and (scripts / "groundstation").exists()
+    run = subprocess.run([str(scripts / "autopilot"), "--help"], capture_output=True, text=True, timeout=60,
+                         env=without_pythonpath(), cwd=scripts)
+    assert run.returncode == 0 and "usage: autopilot" in run.stdout, run.stderr
+
+
+def test_the_vehicle_and_plugin_need_no_science_or_plots(installed, wheel):
+    """scipy and matplotlib are the decision layer's (the `explore` extra): the vehicle, its
+    command line and the pytest plugin import without them."""
+    import zipfile
+    with zipfile.ZipFile(wheel) as zipped:
+        (metadata,) = [n for n in zipped.namelist() if n.endswith(".dist-info/METADATA")]
+        requires = [line for line in zipped.read(metadata).decode().splitlines() if line.startswith("Requires-Dist:")]
+    plain = [r for r in requires if "extra ==" not in r]
+    assert not [r for r in plain if "scipy" in r or "matplotlib" in r], plain
+    assert any("pytest-asyncio" in r for r in plain), plain
+    probe = run_installed(installed, "-c", (
+        "import sys; sys.modules.update(scipy=None, matplotlib=None); "
+        "import firefly.autopilot.cli.main, firefly.autopilot.testing.plugin, firefly.autopilot.vehicle"))
+    assert probe.returncode == 0, probe.stderr
+
+
 def test_every_package_comes_from_the_installed_copy(installed):
     probe = run_installed(installed, "-c", (
-        "import json, autopilot, groundstation, sim; from autopilot.control import compiled; "
+        "import json; from firefly import autopilot, groundstation, sim; "
+        "from firefly.autopilot.control import compiled; "
         "print(json.dumps({'files': [m.__file__ for m in (autopilot, groundstation, sim)], "
         "'compiled': compiled.available(), 'required': compiled.required(), 'why': compiled.why_missing()}))"))
     assert probe.returncode == 0, probe.stderr
@@ -86,7 +133,7 @@ def test_every_package_comes_from_the_installed_copy(installed):
 
 
 def test_the_installed_groundstation_starts(installed):
-    run = run_installed(installed, "-m", "groundstation", "--help")
+    run = run_installed(installed, "-m", "firefly.groundstation", "--help")
     assert run.returncode == 0, run.stderr
     assert "usage: groundstation" in run.stdout
 
@@ -109,7 +156,7 @@ def test_the_installed_autopilot_answers_and_arms_in_guided(installed, tmp_path)
     log = tmp_path / "autopilot.err"
     with open(log, "w") as err:
         process = subprocess.Popen(
-            [str(installed), "-m", "autopilot", "--listen", "udp:127.0.0.1:0", "--out", f"udp:127.0.0.1:{port}",
+            [str(installed), "-m", "firefly.autopilot", "--listen", "udp:127.0.0.1:0", "--out", f"udp:127.0.0.1:{port}",
              "--speedup", "inf", "--duration", "3600", "--state-dir", str(tmp_path / "state"), "--wipe", "--quiet"],
             cwd=tmp_path, stderr=err, env=without_pythonpath())
     url, gcs = f"udpin:127.0.0.1:{port}", None

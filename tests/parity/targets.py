@@ -11,7 +11,7 @@ import subprocess
 import tempfile
 from pathlib import Path
 
-from groundstation.flight.autopilot_process import free_udp_port, start_autopilot, stop_process
+from firefly.groundstation.flight.autopilot_process import free_udp_port, start_autopilot, stop_process
 
 from .client import Client, ProbeTimeout, mav
 

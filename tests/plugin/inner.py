@@ -33,7 +33,7 @@ def run_inner(pytester: pytest.Pytester, *args: str, asyncio_mode: str = "auto")
 
 
 def autopilots_under(directory: Path) -> list[str]:
-    """Each live `python -m autopilot` process whose command line names a path under `directory`
+    """Each live `python -m firefly.autopilot` process whose command line names a path under `directory`
     (its state directory, tlog, state log), as "pid: command line". A zombie has an empty
     /proc/PID/cmdline and so is not listed: it has stopped."""
     under = str(directory).rstrip("/") + "/"
@@ -46,7 +46,7 @@ def autopilots_under(directory: Path) -> list[str]:
         except OSError:  # it ended while we looked
             continue
         cmdline = " ".join(w.decode(errors="replace") for w in words if w)
-        if "-m autopilot" in cmdline and under in cmdline:
+        if "-m firefly.autopilot" in cmdline and under in cmdline:
             found.append(f"{entry.name}: {cmdline}")
     return found
 

@@ -23,7 +23,7 @@ import pytest
 
 
 def autopilot_pids(path):
-    """Live `python -m autopilot` processes whose command line names `path`."""
+    """Live `python -m firefly.autopilot` processes whose command line names `path`."""
     pids = []
     for entry in Path("/proc").iterdir():
         if not entry.name.isdigit():
@@ -32,7 +32,7 @@ def autopilot_pids(path):
             cmdline = (entry / "cmdline").read_bytes().replace(b"\\0", b" ").decode(errors="replace")
         except OSError:
             continue
-        if "-m autopilot" in cmdline and path in cmdline:
+        if "-m firefly.autopilot" in cmdline and path in cmdline:
             pids.append(int(entry.name))
     return pids
 
@@ -69,7 +69,7 @@ def reproduce_runs_beside_the_evidence(section: list[str], *evidence: Path) -> N
     assert argv[0] == "autopilot" and not {"--tlog", "--state-log", "--quiet"} & set(argv), argv
     before = [path.read_bytes() for path in evidence]
     state_dir = Path(argv[argv.index("--state-dir") + 1])
-    process = subprocess.Popen([sys.executable, "-m", "autopilot", *argv[1:]], stdout=subprocess.PIPE,
+    process = subprocess.Popen([sys.executable, "-m", "firefly.autopilot", *argv[1:]], stdout=subprocess.PIPE,
                                stderr=subprocess.STDOUT, text=True)
     try:
         assert "autopilot" in process.stdout.readline()  # its first line: it runs

@@ -11,8 +11,8 @@ from pathlib import Path
 
 import pytest
 
-from groundstation.flight import autopilot_process
-from groundstation.flight.autopilot_process import AutopilotProcess, free_udp_port  # noqa: F401 - the tests' names
+from firefly.groundstation.flight import autopilot_process
+from firefly.groundstation.flight.autopilot_process import AutopilotProcess, free_udp_port  # noqa: F401 - the tests' names
 
 REPO = Path(__file__).resolve().parents[2]
 

@@ -23,7 +23,7 @@ HEARTBEAT_ID, COMMAND_ACK_ID = 0, 77
 
 
 def _codec(system=250, component=1):
-    from autopilot.mavlink.dialect import new_codec
+    from firefly.autopilot.mavlink.dialect import new_codec
     return new_codec(system, component)
 
 

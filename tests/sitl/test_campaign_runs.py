@@ -13,7 +13,7 @@ from pathlib import Path
 
 import pytest
 
-from groundstation.campaign.spec import load_campaign
+from firefly.groundstation.campaign.spec import load_campaign
 
 pytestmark = pytest.mark.sitl
 REPO = Path(__file__).resolve().parents[2]
@@ -21,7 +21,7 @@ CAMPAIGN_WALL_S = 600
 
 
 def campaign_command(campaign: Path, out: Path, *args: str) -> list[str]:
-    return [sys.executable, "-m", "groundstation", "campaign", str(campaign), "--out", str(out), *args]
+    return [sys.executable, "-m", "firefly.groundstation", "campaign", str(campaign), "--out", str(out), *args]
 
 
 def records(out: Path) -> list[dict]:
@@ -124,7 +124,7 @@ def flying_workers(campaign_pid: int, ray: bool) -> list[int]:
                    if p.name.isdigit() and cmdline(int(p.name)).startswith("ray::work")]
     else:
         workers = children(campaign_pid)
-    return [w for w in workers if any("-m autopilot" in cmdline(c) for c in children(w))]
+    return [w for w in workers if any("-m firefly.autopilot" in cmdline(c) for c in children(w))]
 
 
 @pytest.mark.parametrize("backend", [(), ("--ray",)], ids=["local-pool", "local-ray"])

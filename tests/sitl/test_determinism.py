@@ -17,7 +17,7 @@ def start(tmp_path, speedup: str, seed: str, tag: str):
     # Telemetry goes to a port of its own that nobody listens on: a client that heard the vehicle
     # (say, another test's MAVSDK on a well-known port) could fly it and change the trajectory.
     log = tmp_path / f"states-{tag}.csv"
-    proc = subprocess.Popen([sys.executable, "-m", "autopilot", "--scenario", str(REPO / "scenarios" / "scripted_flight.toml"),
+    proc = subprocess.Popen([sys.executable, "-m", "firefly.autopilot", "--scenario", str(REPO / "scenarios" / "scripted_flight.toml"),
                              "--speedup", speedup, "--duration", "60", "--seed", seed, "--state-log", str(log),
                              "--listen", "udp:127.0.0.1:0", "--out", f"udp:127.0.0.1:{free_udp_port()}", "--quiet", "--wipe",
                              "--state-dir", str(tmp_path / tag)], cwd=REPO)

@@ -13,8 +13,8 @@ import sys
 
 import pytest
 
-from groundstation.flight.autopilot_process import AutopilotExited, start_autopilot
-from groundstation.flight.vehicle_link import VehicleLink
+from firefly.groundstation.flight.autopilot_process import AutopilotExited, start_autopilot
+from firefly.groundstation.flight.vehicle_link import VehicleLink
 
 from .conftest import REPO, free_udp_port
 from .pymav import Gcs
@@ -34,7 +34,7 @@ def refused_scenario(tmp_path):
 def test_explore_finds_the_fire_and_lands(autopilot_factory, tmp_path):
     ap = autopilot_factory(speedup="20", extra=("--scenario", str(SMALL_WORLD)))
     plot = tmp_path / "explore.png"
-    result = subprocess.run([sys.executable, "-m", "groundstation", "explore", "--url", ap.mavsdk_url,
+    result = subprocess.run([sys.executable, "-m", "firefly.groundstation", "explore", "--url", ap.mavsdk_url,
                              "--scenario", str(SMALL_WORLD), "--plot", str(plot)],
                             cwd=REPO, capture_output=True, text=True, timeout=240)
     assert result.returncode == 0, result.stdout[-2000:] + result.stderr[-2000:]
@@ -57,7 +57,7 @@ def test_explore_finds_the_fire_and_lands(autopilot_factory, tmp_path):
 
 
 def test_explore_says_so_and_exits_nonzero_when_no_vehicle_answers(tmp_path):
-    result = subprocess.run([sys.executable, "-m", "groundstation", "explore", "--url", f"udpin://127.0.0.1:{free_udp_port()}",
+    result = subprocess.run([sys.executable, "-m", "firefly.groundstation", "explore", "--url", f"udpin://127.0.0.1:{free_udp_port()}",
                              "--plot", str(tmp_path / "x.png")], cwd=REPO, capture_output=True, text=True,
                             timeout=60)
     assert result.returncode != 0
@@ -66,7 +66,7 @@ def test_explore_says_so_and_exits_nonzero_when_no_vehicle_answers(tmp_path):
 
 def test_evaluate_flight_flies_an_episode_and_lands_it_at_home(tmp_path):
     out = tmp_path / "flight.json"
-    result = subprocess.run([sys.executable, "-m", "groundstation", "evaluate", "--scenario", str(SMALL_WORLD),
+    result = subprocess.run([sys.executable, "-m", "firefly.groundstation", "evaluate", "--scenario", str(SMALL_WORLD),
                              "--episodes", "1", "--policies", "gig", "--flight", "1", "--json", str(out)],
                             cwd=REPO, capture_output=True, text=True, timeout=240)
     assert result.returncode == 0, result.stdout[-2000:] + result.stderr[-2000:]
@@ -84,7 +84,7 @@ def test_evaluate_flight_flies_an_episode_and_lands_it_at_home(tmp_path):
 def test_evaluate_flight_flies_with_the_budget_and_speed_it_is_given(tmp_path):
     out = tmp_path / "flight.json"
     # Threshold 1: nothing but the 60 m budget can end the search; 2 m/s: slower than the 5 m/s default.
-    result = subprocess.run([sys.executable, "-m", "groundstation", "evaluate", "--scenario", str(SMALL_WORLD),
+    result = subprocess.run([sys.executable, "-m", "firefly.groundstation", "evaluate", "--scenario", str(SMALL_WORLD),
                              "--episodes", "2", "--policies", "gig", "--flight", "2", "--budget", "60",
                              "--speed", "2", "--no-confirm", "--threshold", "1", "--json", str(out)],
                             cwd=REPO, capture_output=True, text=True, timeout=240)
@@ -98,7 +98,7 @@ def test_evaluate_flight_flies_with_the_budget_and_speed_it_is_given(tmp_path):
 
 
 def test_a_scenario_its_autopilot_refuses_ends_explore_at_once_with_one_line(refused_scenario, tmp_path):
-    result = subprocess.run([sys.executable, "-m", "groundstation", "explore", "--scenario", str(refused_scenario),
+    result = subprocess.run([sys.executable, "-m", "firefly.groundstation", "explore", "--scenario", str(refused_scenario),
                              "--plot", str(tmp_path / "x.png")], cwd=REPO, capture_output=True, text=True, timeout=60)
     assert result.returncode == 2
     lines = result.stderr.strip().splitlines()
@@ -108,7 +108,7 @@ def test_a_scenario_its_autopilot_refuses_ends_explore_at_once_with_one_line(ref
 
 
 def test_evaluate_flight_refuses_a_scenario_its_autopilot_refuses_before_any_episode(refused_scenario):
-    result = subprocess.run([sys.executable, "-m", "groundstation", "evaluate", "--scenario", str(refused_scenario),
+    result = subprocess.run([sys.executable, "-m", "firefly.groundstation", "evaluate", "--scenario", str(refused_scenario),
                              "--episodes", "1", "--policies", "gig", "--flight", "1"],
                             cwd=REPO, capture_output=True, text=True, timeout=60)
     assert result.returncode == 2 and result.stdout == ""
@@ -154,7 +154,7 @@ def test_explore_reads_the_wind_and_finds_the_fire_under_a_leaning_plume(autopil
     scenario.write_text(SMALL_WORLD.read_text().replace("[world]", "[wind]\nspeed_m_s = 4.0\n"
                                                         "from_direction_deg = 270.0\n\n[world]\nplume_rise_m_s = 5.0"))
     ap = autopilot_factory(speedup="20", extra=("--scenario", str(scenario)))
-    result = subprocess.run([sys.executable, "-m", "groundstation", "explore", "--url", ap.mavsdk_url,
+    result = subprocess.run([sys.executable, "-m", "firefly.groundstation", "explore", "--url", ap.mavsdk_url,
                              "--scenario", str(scenario), "--plot", str(tmp_path / "windy.png")],
                             cwd=REPO, capture_output=True, text=True, timeout=240)
     assert result.returncode == 0, result.stdout[-2000:] + result.stderr[-2000:]
@@ -172,7 +172,7 @@ def test_explore_looks_for_two_fires_and_declares_both(autopilot_factory, tmp_pa
     scenario = tmp_path / "two_fires.toml"
     scenario.write_text(SMALL_WORLD.read_text() + "\n[[fire]]\nn_m = 45.0\ne_m = 150.0\nstrength_k = 40.0\n")
     ap = autopilot_factory(speedup="20", extra=("--scenario", str(scenario)))
-    result = subprocess.run([sys.executable, "-m", "groundstation", "explore", "--url", ap.mavsdk_url,
+    result = subprocess.run([sys.executable, "-m", "firefly.groundstation", "explore", "--url", ap.mavsdk_url,
                              "--scenario", str(scenario), "--max-fires", "2", "--plot", str(tmp_path / "two.png")],
                             cwd=REPO, capture_output=True, text=True, timeout=240)
     assert result.returncode == 0, result.stdout[-2000:] + result.stderr[-2000:]

@@ -11,11 +11,11 @@ import sys
 
 import pytest
 
-from groundstation.flight.explore import explore
-from groundstation.flight.vehicle_link import LinkError
-from groundstation.strategy import policies
-from groundstation.strategy.policies import POLICIES, Lawnmower
-from sim.scenario import load_scenario
+from firefly.groundstation.flight.explore import explore
+from firefly.groundstation.flight.vehicle_link import LinkError
+from firefly.groundstation.strategy import policies
+from firefly.groundstation.strategy.policies import POLICIES, Lawnmower
+from firefly.sim.scenario import load_scenario
 
 from .conftest import REPO
 from .pymav import Gcs
@@ -28,7 +28,7 @@ FIRE_N, FIRE_E = 135.0, 72.0  # the small world's fire
 @pytest.mark.parametrize("policy", sorted(POLICIES))
 def test_every_policy_flies_to_a_declaration_and_lands(policy, autopilot_factory):
     ap = autopilot_factory(speedup="50", extra=("--scenario", str(SMALL_WORLD)))
-    result = subprocess.run([sys.executable, "-m", "groundstation", "explore", "--url", ap.mavsdk_url,
+    result = subprocess.run([sys.executable, "-m", "firefly.groundstation", "explore", "--url", ap.mavsdk_url,
                              "--scenario", str(SMALL_WORLD), "--policy", policy],
                             cwd=REPO, capture_output=True, text=True, timeout=300)
     assert result.returncode == 0, result.stdout[-2000:] + result.stderr[-2000:]

@@ -7,7 +7,7 @@ import re
 import pytest
 from pymavlink.mavftp import MAVFTP
 
-from autopilot.params import SERVED
+from firefly.autopilot.params import SERVED
 
 from .conftest import free_udp_port
 from .pymav import Gcs, set_param

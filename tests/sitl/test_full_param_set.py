@@ -8,7 +8,7 @@ import time
 import pytest
 from mavsdk.asyncio.plugins.param import ParamAsync
 
-from groundstation.flight.reference_flight import connect
+from firefly.groundstation.flight.reference_flight import connect
 
 from .pymav import Gcs, mav
 from .test_mavproxy import mavproxy_factory  # noqa: F401 - a fixture

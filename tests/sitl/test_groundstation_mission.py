@@ -15,7 +15,7 @@ EXAMPLES = REPO / "examples"
 
 
 def run_groundstation(*args, timeout=120):
-    return subprocess.run([sys.executable, "-m", "groundstation", *args], cwd=REPO, capture_output=True,
+    return subprocess.run([sys.executable, "-m", "firefly.groundstation", *args], cwd=REPO, capture_output=True,
                           text=True, timeout=timeout)
 
 

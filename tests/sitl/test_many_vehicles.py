@@ -6,7 +6,7 @@ import math
 import pytest
 from pymavlink import mavutil
 
-from autopilot.testing.run import free_port_bases
+from firefly.autopilot.testing.run import free_port_bases
 
 from .pymav import Gcs
 

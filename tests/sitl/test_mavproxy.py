@@ -22,7 +22,7 @@ from pathlib import Path
 
 import pytest
 
-from autopilot.params import SERVED
+from firefly.autopilot.params import SERVED
 
 from .conftest import free_udp_port
 from .pymav import Gcs

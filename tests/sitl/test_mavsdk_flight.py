@@ -9,8 +9,8 @@ import pytest
 from mavsdk.asyncio.plugins.param import ParamAsync
 from mavsdk.asyncio.plugins.telemetry import FlightMode
 
-from groundstation.flight.reference_flight import connect, fly_takeoff_goto_rtl, north_east_m
-from groundstation.flight.vehicle_link import first  # noqa: F401 - test_mavsdk_mission takes it from here
+from firefly.groundstation.flight.reference_flight import connect, fly_takeoff_goto_rtl, north_east_m
+from firefly.groundstation.flight.vehicle_link import first  # noqa: F401 - test_mavsdk_mission takes it from here
 
 pytestmark = pytest.mark.sitl
 

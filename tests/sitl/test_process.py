@@ -15,7 +15,7 @@ pytestmark = pytest.mark.sitl
 
 
 def run_cli(*args, timeout=30):
-    return subprocess.run([sys.executable, "-m", "autopilot", *args], cwd=REPO, capture_output=True,
+    return subprocess.run([sys.executable, "-m", "firefly.autopilot", *args], cwd=REPO, capture_output=True,
                           text=True, timeout=timeout)
 
 
@@ -167,13 +167,13 @@ def test_exit_with_parent_given_a_pid_that_has_already_gone_stops_at_once(tmp_pa
     finished = subprocess.Popen([sys.executable, "-c", "pass"])
     finished.wait()
     started = time.monotonic()
-    ap = subprocess.run([sys.executable, "-m", "autopilot", "--listen", "udp:127.0.0.1:0",
+    ap = subprocess.run([sys.executable, "-m", "firefly.autopilot", "--listen", "udp:127.0.0.1:0",
                          "--out", "udp:127.0.0.1:9", "--quiet", "--wipe", "--state-dir", str(tmp_path / "state"),
                          f"--exit-with-parent={finished.pid}"], cwd=REPO, capture_output=True, text=True, timeout=20)
     assert ap.returncode == 0, ap.stderr
     assert time.monotonic() - started < 10
 
-    bad = subprocess.run([sys.executable, "-m", "autopilot", "--exit-with-parent=-3"], cwd=REPO,
+    bad = subprocess.run([sys.executable, "-m", "firefly.autopilot", "--exit-with-parent=-3"], cwd=REPO,
                          capture_output=True, text=True, timeout=20)
     assert bad.returncode == 2 and "Traceback" not in bad.stderr
     assert "--exit-with-parent: expected a process id (a positive integer), got '-3'" in bad.stderr, bad.stderr

@@ -14,8 +14,8 @@ import time
 import pytest
 from pymavlink import mavutil
 
-from autopilot.mavlink.dialect import new_codec
-from autopilot.mavlink.signing import RESERVE, TICKS_PER_S, signing_time
+from firefly.autopilot.mavlink.dialect import new_codec
+from firefly.autopilot.mavlink.signing import RESERVE, TICKS_PER_S, signing_time
 
 from .test_signing import ARM, KEY, PROBE, answers_before_probe, armed, key_file, signing_gcs  # noqa: F401
 

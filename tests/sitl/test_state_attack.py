@@ -16,10 +16,10 @@ from pathlib import Path
 import pytest
 from pymavlink import mavutil
 
-from autopilot.params import ParamStore
-from groundstation.flight.autopilot_process import start_autopilot
-from sim.geo import GeoPoint
-from sim.scenario import DEFAULT_HOME
+from firefly.autopilot.params import ParamStore
+from firefly.groundstation.flight.autopilot_process import start_autopilot
+from firefly.sim.geo import GeoPoint
+from firefly.sim.scenario import DEFAULT_HOME
 
 from ..fuzz import hostile
 from ..fuzz.state_machine import describe_message

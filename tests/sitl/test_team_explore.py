@@ -13,9 +13,9 @@ import threading
 
 import pytest
 
-from groundstation.flight.autopilot_process import free_udp_port
-from groundstation.flight.team_explore import explore_team
-from sim.scenario import load_scenario
+from firefly.groundstation.flight.autopilot_process import free_udp_port
+from firefly.groundstation.flight.team_explore import explore_team
+from firefly.sim.scenario import load_scenario
 
 from .conftest import REPO
 from .pymav import Gcs
@@ -28,7 +28,7 @@ CELL_M = 10.0
 
 def test_two_vehicles_find_the_fire_together_and_land_at_their_homes(tmp_path):
     plot = tmp_path / "team.png"
-    result = subprocess.run([sys.executable, "-m", "groundstation", "explore", "--vehicles", "2", "--speedup", "50",
+    result = subprocess.run([sys.executable, "-m", "firefly.groundstation", "explore", "--vehicles", "2", "--speedup", "50",
                              "--scenario", str(SMALL_WORLD), "--plot", str(plot)],
                             cwd=REPO, capture_output=True, text=True, timeout=300)
     out = result.stdout
@@ -94,7 +94,7 @@ def test_a_vehicle_whose_motor_fails_drops_out_and_the_other_finishes(autopilot_
 
 def test_evaluate_flies_team_episodes_beside_the_decided_ones(tmp_path):
     out = tmp_path / "team.json"
-    result = subprocess.run([sys.executable, "-m", "groundstation", "evaluate", "--scenario", str(SMALL_WORLD),
+    result = subprocess.run([sys.executable, "-m", "firefly.groundstation", "evaluate", "--scenario", str(SMALL_WORLD),
                              "--vehicles", "2", "--policies", "joint", "--episodes", "2", "--flight", "1",
                              "--flight-speedup", "50", "--json", str(out)],
                             cwd=REPO, capture_output=True, text=True, timeout=300)

@@ -3,8 +3,8 @@ from __future__ import annotations
 
 import pytest
 
-from autopilot.mavlink.dialect import new_codec
-from autopilot.mavlink.session import Session
+from firefly.autopilot.mavlink.dialect import new_codec
+from firefly.autopilot.mavlink.session import Session
 
 from ._util import GCS_COMPONENT, GCS_SYSTEM, client_codec, command_long, of_type, ready_vehicle
 

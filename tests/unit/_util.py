@@ -3,11 +3,11 @@ from __future__ import annotations
 
 import math
 
-from autopilot.mavlink.dialect import mavlink as mav
-from autopilot.mavlink.dialect import new_codec
-from autopilot.modes import Guided
-from autopilot.results import Result
-from autopilot.vehicle import Vehicle, VehicleConfig
+from firefly.autopilot.mavlink.dialect import mavlink as mav
+from firefly.autopilot.mavlink.dialect import new_codec
+from firefly.autopilot.modes import Guided
+from firefly.autopilot.results import Result
+from firefly.autopilot.vehicle import Vehicle, VehicleConfig
 
 GCS_SYSTEM, GCS_COMPONENT = 255, 190
 

@@ -3,9 +3,9 @@ from __future__ import annotations
 
 import pytest
 
-from autopilot.modes import ModeNumber
-from autopilot.results import Result
-from autopilot.safety.arming import PREARM_CHECKS, arm_refusal, prearm_failure
+from firefly.autopilot.modes import ModeNumber
+from firefly.autopilot.results import Result
+from firefly.autopilot.safety.arming import PREARM_CHECKS, arm_refusal, prearm_failure
 
 from ._util import ready_vehicle
 

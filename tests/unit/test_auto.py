@@ -3,9 +3,9 @@ from __future__ import annotations
 
 import math
 
-from autopilot.mission import MissionItem
-from autopilot.mission.progress import MissionState
-from autopilot.results import Result
+from firefly.autopilot.mission import MissionItem
+from firefly.autopilot.mission.progress import MissionState
+from firefly.autopilot.results import Result
 
 from ._util import altitude, fly_until, hovering_vehicle, ready_vehicle
 

@@ -10,9 +10,9 @@ from pathlib import Path
 
 import pytest
 
-from groundstation.campaign.pool import run_local
-from groundstation.campaign.spec import CampaignError, load_campaign
-from groundstation.campaign.store import ResultStore
+from firefly.groundstation.campaign.pool import run_local
+from firefly.groundstation.campaign.spec import CampaignError, load_campaign
+from firefly.groundstation.campaign.store import ResultStore
 
 REPO = Path(__file__).resolve().parents[2]
 SCENARIO = REPO / "scenarios" / "default.toml"
@@ -151,7 +151,7 @@ start = ["spread"]
 def test_a_team_sweep_runs_team_policies_decided_only(tmp_path):
     c = load_campaign(campaign_file(tmp_path, TEAM))
     assert [cond.team for cond in c.conditions()] == [(1, "spread"), (3, "spread")]
-    from groundstation.campaign.tasks import run_task
+    from firefly.groundstation.campaign.tasks import run_task
     task = next(t for t in c.tasks() if t.condition.team == (3, "spread") and t.policy == "joint")
     result = run_task(c, task)["result"]
     assert result["vehicles"] == 3 and len(result["paths_m"]) == 3 and result["success"]

@@ -9,10 +9,10 @@ import random
 
 import pytest
 
-import sim.vehicle
-from autopilot.control import compiled
-from autopilot.vehicle import Vehicle, VehicleConfig
-from sim.battery import STEP_AT, BatteryState, compiled_step_battery_at, step_battery_at
+import firefly.sim.vehicle
+from firefly.autopilot.control import compiled
+from firefly.autopilot.vehicle import Vehicle, VehicleConfig
+from firefly.sim.battery import STEP_AT, BatteryState, compiled_step_battery_at, step_battery_at
 
 if compiled.required() and compiled_step_battery_at is None:  # CI builds it or fails the install
     pytest.fail("CI=true but the compiled battery step (sim._battery) is not built; "
@@ -91,7 +91,7 @@ def test_bad_arguments_are_refused_not_a_crash():
 
 def test_a_whole_flight_drains_the_pack_the_same_with_either_step(monkeypatch):
     def fly(step) -> list:
-        monkeypatch.setattr(sim.vehicle, "STEP_AT", step)
+        monkeypatch.setattr(firefly.sim.vehicle, "STEP_AT", step)
         v = Vehicle(VehicleConfig())
         states = []
         v.run_until(0.5)

@@ -14,17 +14,17 @@ from pathlib import Path
 
 import pytest
 
-from autopilot.control import compiled
-from autopilot.control.cascade import Cascade
-from autopilot.mission import MissionItem
-from autopilot.modes import Auto, Guided, Land, Stabilize
-from autopilot.params import SPEC_BY_NAME
-from autopilot.rates import LoopRates
-from autopilot.vehicle import Vehicle, VehicleConfig
-from sim.physics import initial_state, make_fast_step
-from sim.rigid_body import BodyState
-from sim.vehicle import SimConfig, SimVehicle
-from sim.wind import SteadyWind
+from firefly.autopilot.control import compiled
+from firefly.autopilot.control.cascade import Cascade
+from firefly.autopilot.mission import MissionItem
+from firefly.autopilot.modes import Auto, Guided, Land, Stabilize
+from firefly.autopilot.params import SPEC_BY_NAME
+from firefly.autopilot.rates import LoopRates
+from firefly.autopilot.vehicle import Vehicle, VehicleConfig
+from firefly.sim.physics import initial_state, make_fast_step
+from firefly.sim.rigid_body import BodyState
+from firefly.sim.vehicle import SimConfig, SimVehicle
+from firefly.sim.wind import SteadyWind
 
 if compiled.required() and not compiled.available():  # in CI the whole run stops here, once, with the cause
     pytest.fail(f"CI=true but the compiled cascade is not built ({compiled.why_missing()}); "
@@ -231,7 +231,7 @@ def test_run_until_in_chunks_flies_the_same_as_single_steps():
 
 def test_without_the_extension_vehicles_fly_the_reference_after_one_warning(monkeypatch, capsys):
     monkeypatch.setattr(compiled, "_cascade", None)
-    monkeypatch.setattr(compiled, "_why_missing", "No module named 'autopilot.control._cascade'")
+    monkeypatch.setattr(compiled, "_why_missing", "No module named 'firefly.autopilot.control._cascade'")
     monkeypatch.setattr(compiled, "_warned", False)
     vehicles = [Vehicle(VehicleConfig()) for _ in range(3)]
     assert all(type(v.cascade) is Cascade for v in vehicles)
@@ -254,8 +254,8 @@ def compiled_twin() -> compiled.CompiledCascade:
 
 @needs_extension
 def test_every_constant_and_gain_is_handed_over_by_a_name_the_loop_knows():
-    from autopilot.control import _cascade
-    from sim.physics import PhysicsState
+    from firefly.autopilot.control import _cascade
+    from firefly.sim.physics import PhysicsState
     twin = compiled_twin()
 
     def new_loop(constants):
@@ -301,8 +301,8 @@ def test_a_refused_configure_leaves_the_gains_as_they_were():
 
 @needs_extension
 def test_misusing_the_loop_object_raises_instead_of_crashing():
-    from autopilot.control import _cascade
-    from sim.physics import PhysicsState
+    from firefly.autopilot.control import _cascade
+    from firefly.sim.physics import PhysicsState
     loop = _cascade.Loop
     with pytest.raises(RuntimeError):
         loop.__new__(loop).run(0, 1)  # never initialised: its loop ratios are 0
@@ -333,7 +333,7 @@ def test_misusing_the_loop_object_raises_instead_of_crashing():
 def test_in_ci_a_missing_extension_stops_the_test_run_once_naming_the_cause():
     this = Path(__file__)
     # The extension made unimportable in a child pytest; with CI=true it must not just skip.
-    child = ("import sys, pytest; sys.modules['autopilot.control._cascade'] = None; "
+    child = ("import sys, pytest; sys.modules['firefly.autopilot.control._cascade'] = None; "
              f"sys.exit(pytest.main(['-q', '-p', 'no:cacheprovider', {str(this)!r}, "
              f"'--deselect', {str(this) + '::' + sys._getframe().f_code.co_name!r}]))")
     run = subprocess.run([sys.executable, "-c", child], cwd=this.parents[2], capture_output=True, text=True,

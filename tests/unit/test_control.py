@@ -6,10 +6,10 @@ import math
 
 import pytest
 
-from autopilot.control.attitude import AttitudeController, wrap_pi
-from autopilot.control.position import PositionController, sqrt_controller
-from autopilot.params import ParamStore
-from sim.airframe import GRAVITY_M_S2, Airframe
+from firefly.autopilot.control.attitude import AttitudeController, wrap_pi
+from firefly.autopilot.control.position import PositionController, sqrt_controller
+from firefly.autopilot.params import ParamStore
+from firefly.sim.airframe import GRAVITY_M_S2, Airframe
 
 AF = Airframe()
 

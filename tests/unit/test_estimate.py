@@ -3,8 +3,8 @@ from __future__ import annotations
 
 import pytest
 
-from autopilot.estimate import DEAD_RECKONING_S, GPS_RATE_HZ, TEMPERATURE_RATE_HZ
-from autopilot.mavlink.dialect import mavlink as mav
+from firefly.autopilot.estimate import DEAD_RECKONING_S, GPS_RATE_HZ, TEMPERATURE_RATE_HZ
+from firefly.autopilot.mavlink.dialect import mavlink as mav
 
 from ._session_link import Link
 from ._util import command_long, hovering_vehicle, ready_vehicle

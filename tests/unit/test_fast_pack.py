@@ -6,12 +6,12 @@ from __future__ import annotations
 
 import pytest
 
-from autopilot.mavlink.dialect import mavlink as mav
-from autopilot.mavlink.dialect import new_codec
-from autopilot.mavlink.fast_pack import FastCodec, PackedMessage
-from autopilot.mavlink.link import Link
-from autopilot.mavlink.signing import LinkSigning
-from autopilot.mavlink.telemetry import BUILDERS
+from firefly.autopilot.mavlink.dialect import mavlink as mav
+from firefly.autopilot.mavlink.dialect import new_codec
+from firefly.autopilot.mavlink.fast_pack import FastCodec, PackedMessage
+from firefly.autopilot.mavlink.link import Link
+from firefly.autopilot.mavlink.signing import LinkSigning
+from firefly.autopilot.mavlink.telemetry import BUILDERS
 
 from ._util import ready_vehicle
 

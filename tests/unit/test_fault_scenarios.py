@@ -4,10 +4,10 @@ from __future__ import annotations
 
 import pytest
 
-from autopilot.cli import main as cli
-from autopilot.cli.script import Script, ScriptError, parse_steps
-from autopilot.cli.scenario import ScenarioError, scenario_from_dict
-from autopilot.vehicle import Vehicle, VehicleConfig
+from firefly.autopilot.cli import main as cli
+from firefly.autopilot.cli.script import Script, ScriptError, parse_steps
+from firefly.autopilot.cli.scenario import ScenarioError, scenario_from_dict
+from firefly.autopilot.vehicle import Vehicle, VehicleConfig
 
 
 def one_line_error(data: dict) -> str:
@@ -84,7 +84,7 @@ class FakeEndpoint:
 
 
 def test_the_command_line_flies_the_scenario_faults(monkeypatch, tmp_path):
-    monkeypatch.setattr("autopilot.io.udp.UdpEndpoint", FakeEndpoint)
+    monkeypatch.setattr("firefly.autopilot.io.udp.UdpEndpoint", FakeEndpoint)
     path = tmp_path / "faulty.toml"
     path.write_text("[wind]\nspeed_m_s = 5.0\n[faults]\nSIM_GPS_DISABLE = 1\nSIM_LINK_LOSS = 20\n")
     node, _ = cli.build(cli.build_parser().parse_args(["--scenario", str(path), "--state-dir", str(tmp_path)]))[0]

@@ -7,18 +7,18 @@ import math
 
 import pytest
 
-from autopilot.estimate import DEAD_RECKONING_S
-from autopilot.safety.ekf_check import EKF_CHECK_ITERATIONS_MAX
-from autopilot.mavlink import sensor_messages, telemetry
-from autopilot.mavlink.dialect import mavlink as mav
-from autopilot.mavlink.dialect import new_codec
-from autopilot.modes import AltHold, Guided, Land
-from autopilot.params import ParamStore
-from autopilot.results import Result, Severity
-from autopilot.vehicle import Vehicle, VehicleConfig
-from sim.airframe import Airframe
-from sim.vehicle import SimConfig
-from sim.wind import SteadyWind
+from firefly.autopilot.estimate import DEAD_RECKONING_S
+from firefly.autopilot.safety.ekf_check import EKF_CHECK_ITERATIONS_MAX
+from firefly.autopilot.mavlink import sensor_messages, telemetry
+from firefly.autopilot.mavlink.dialect import mavlink as mav
+from firefly.autopilot.mavlink.dialect import new_codec
+from firefly.autopilot.modes import AltHold, Guided, Land
+from firefly.autopilot.params import ParamStore
+from firefly.autopilot.results import Result, Severity
+from firefly.autopilot.vehicle import Vehicle, VehicleConfig
+from firefly.sim.airframe import Airframe
+from firefly.sim.vehicle import SimConfig
+from firefly.sim.wind import SteadyWind
 
 from ._util import altitude, fly_until, hovering_vehicle, ready_vehicle
 

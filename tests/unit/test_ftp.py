@@ -8,9 +8,9 @@ import zlib
 import pytest
 from pymavlink.mavftp import MAVFTP
 
-from autopilot.mavlink import ftp
-from autopilot.mavlink.dialect import new_codec
-from autopilot.params import SPEC_BY_NAME
+from firefly.autopilot.mavlink import ftp
+from firefly.autopilot.mavlink.dialect import new_codec
+from firefly.autopilot.params import SPEC_BY_NAME
 
 from ._session_link import SYSTEM_ID, Link, gcs, link  # noqa: F401 - link is a fixture
 from ._util import wire

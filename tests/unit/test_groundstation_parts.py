@@ -9,13 +9,14 @@ from pathlib import Path
 
 import pytest
 
-from groundstation.progress import Progress
+from firefly.groundstation.progress import Progress
 
 GROUNDSTATION = Path(__file__).resolve().parents[2] / "groundstation"
 
 
 def imported_modules(path: Path) -> set[str]:
-    """Absolute names of the modules a source file imports (relative imports resolved)."""
+    """Absolute names of the modules a source file imports (relative imports resolved), without
+    the installed package's `firefly.` prefix."""
     package = ".".join(path.relative_to(GROUNDSTATION.parent).with_suffix("").parts[:-1])
     names = set()
     for node in ast.walk(ast.parse(path.read_text(), str(path))):
@@ -26,7 +27,7 @@ def imported_modules(path: Path) -> set[str]:
             module = node.module if node.level == 0 else ".".join(filter(None, [base, node.module]))
             names.add(module)
             names.update(f"{module}.{alias.name}" for alias in node.names)
-    return names
+    return {name.removeprefix("firefly.") for name in names}  # named by folder, as in a checkout
 
 
 SOURCES = sorted(GROUNDSTATION.rglob("*.py"))

@@ -14,11 +14,11 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from autopilot.mavlink.commands import HANDLERS
-from autopilot.mavlink.dialect import new_codec
-from autopilot.mavlink.session import Session
-from autopilot.modes import MODE_BY_NUMBER, Guided
-from autopilot.params import PARAM_TABLE, SPEC_BY_NAME
+from firefly.autopilot.mavlink.commands import HANDLERS
+from firefly.autopilot.mavlink.dialect import new_codec
+from firefly.autopilot.mavlink.session import Session
+from firefly.autopilot.modes import MODE_BY_NUMBER, Guided
+from firefly.autopilot.params import PARAM_TABLE, SPEC_BY_NAME
 
 from ..fuzz.checks import vehicle_problems
 from ._util import GCS_COMPONENT, GCS_SYSTEM, client_codec, mav, ready_vehicle, wire

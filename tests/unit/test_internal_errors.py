@@ -8,14 +8,14 @@ import math
 
 import pytest
 
-from autopilot.mavlink.commands import HANDLERS, Command, CommandService
-from autopilot.mavlink.dialect import new_codec
-from autopilot.mavlink.session import Session
-from autopilot.modes import Guided, Land, ModeNumber
-from autopilot.results import Result
-from autopilot.safety.internal_error import FLOW_OF_CONTROL
-from autopilot.startup import StartupTimeline
-from autopilot.vehicle import Vehicle, VehicleConfig
+from firefly.autopilot.mavlink.commands import HANDLERS, Command, CommandService
+from firefly.autopilot.mavlink.dialect import new_codec
+from firefly.autopilot.mavlink.session import Session
+from firefly.autopilot.modes import Guided, Land, ModeNumber
+from firefly.autopilot.results import Result
+from firefly.autopilot.safety.internal_error import FLOW_OF_CONTROL
+from firefly.autopilot.startup import StartupTimeline
+from firefly.autopilot.vehicle import Vehicle, VehicleConfig
 
 from ._util import client_codec, fly_until, hovering_vehicle, mav, wire
 
@@ -192,8 +192,8 @@ def test_set_home_altitude_outside_what_a_location_holds_is_denied(alt_m):
 
 
 def test_a_message_that_cannot_pack_is_reported_and_the_rest_of_the_batch_goes():
-    from autopilot.mavlink.link import Link
-    from autopilot.mavlink.signing import LinkSigning
+    from firefly.autopilot.mavlink.link import Link
+    from firefly.autopilot.mavlink.signing import LinkSigning
     codec = new_codec(1)
     link = Link(codec, LinkSigning(codec))
     seen = []
@@ -239,7 +239,7 @@ def test_home_found_in_flight_takes_the_boot_grounds_height():
 
 
 def test_mission_start_while_auto_waits_for_home_runs_nothing_until_then():
-    from autopilot.mission import MissionItem
+    from firefly.autopilot.mission import MissionItem
     v = booting_vehicle()
     v.mission.replace(0, [MissionItem(22, 3, z=10.0), MissionItem(16, 3, x=-353632610, y=1491652300, z=10.0)])
     v.drain_events()

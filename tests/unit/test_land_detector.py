@@ -1,8 +1,8 @@
 """The land detector and auto-disarm (safety/land_detector.py) on hand-made states."""
 from __future__ import annotations
 
-from autopilot.safety.land_detector import LAND_DETECT_S, MOTOR_WIND_DOWN_S, AutoDisarm, LandDetector
-from sim.rigid_body import BodyState
+from firefly.autopilot.safety.land_detector import LAND_DETECT_S, MOTOR_WIND_DOWN_S, AutoDisarm, LandDetector
+from firefly.sim.rigid_body import BodyState
 
 WEIGHT = 15.0
 STILL_LOW = BodyState(d_m=-0.05)

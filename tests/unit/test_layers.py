@@ -17,7 +17,8 @@ ROOT = Path(__file__).resolve().parents[2]
 
 
 def absolute_imports(path: Path) -> set[str]:
-    """Every module a file imports, relative imports resolved against its package."""
+    """Every module a file imports, relative imports resolved against its package, named by folder
+    (an installed `firefly.autopilot.modes` is the checkout's autopilot/modes)."""
     package = path.relative_to(ROOT).with_suffix("").parts[:-1]
     found = set()
     for node in ast.walk(ast.parse(path.read_text())):
@@ -27,7 +28,7 @@ def absolute_imports(path: Path) -> set[str]:
             base = package[:len(package) - node.level + 1] if node.level else ()
             module = ".".join((*base, node.module or ""))
             found.add(module.rstrip("."))
-    return found
+    return {name.removeprefix("firefly.") for name in found}  # the layers by their folders' names
 
 
 TEST_HARNESS = "autopilot/testing"

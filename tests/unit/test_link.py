@@ -7,14 +7,14 @@ from __future__ import annotations
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from autopilot.faults.link import LinkFaults
-from autopilot.io.runner import incoming
-from autopilot.mavlink import link as link_module
-from autopilot.mavlink.dialect import new_codec
-from autopilot.mavlink.link import Link
-from autopilot.mavlink.session import Session
-from autopilot.mavlink.signing import LinkSigning, frame_signature, signing_time
-from autopilot.params import ParamStore
+from firefly.autopilot.faults.link import LinkFaults
+from firefly.autopilot.io.runner import incoming
+from firefly.autopilot.mavlink import link as link_module
+from firefly.autopilot.mavlink.dialect import new_codec
+from firefly.autopilot.mavlink.link import Link
+from firefly.autopilot.mavlink.session import Session
+from firefly.autopilot.mavlink.signing import LinkSigning, frame_signature, signing_time
+from firefly.autopilot.params import ParamStore
 
 from ._util import GCS_COMPONENT, GCS_SYSTEM, mav, ready_vehicle
 from .test_signing import KEY, NOW, OTHER_KEY, arm_frame, radio_status_frame, signing_client

@@ -4,13 +4,13 @@ from __future__ import annotations
 
 import pytest
 
-from autopilot.faults.link import LinkFaults
-from autopilot.mavlink.dialect import new_codec
-from autopilot.mavlink.link import Link
-from autopilot.mavlink.session import Session
-from autopilot.mavlink.signing import LinkSigning
-from autopilot.modes import Rtl
-from autopilot.params import ParamStore
+from firefly.autopilot.faults.link import LinkFaults
+from firefly.autopilot.mavlink.dialect import new_codec
+from firefly.autopilot.mavlink.link import Link
+from firefly.autopilot.mavlink.session import Session
+from firefly.autopilot.mavlink.signing import LinkSigning
+from firefly.autopilot.modes import Rtl
+from firefly.autopilot.params import ParamStore
 
 from ._util import client_codec, hovering_vehicle, mav, statustexts
 
@@ -96,7 +96,7 @@ def test_the_link_loses_received_frames_by_its_seed():
 
 
 def test_a_sender_whose_frames_are_all_lost_is_still_answered():
-    from autopilot.io.runner import incoming
+    from firefly.autopilot.io.runner import incoming
     link = _lossy_link(1)
     link.faults.params.set("SIM_LINK_LOSS", 100)
     gcs = client_codec()

@@ -2,8 +2,8 @@
 runner in place of AUTO. Each rule was checked on ArduCopter's SITL (tests/parity/recorded)."""
 from __future__ import annotations
 
-from autopilot.mission import MISSION, MissionItem, MissionStore
-from autopilot.mission.progress import MissionProgress, MissionState
+from firefly.autopilot.mission import MISSION, MissionItem, MissionStore
+from firefly.autopilot.mission.progress import MissionProgress, MissionState
 
 TAKEOFF = MissionItem(22, 3, z=10.0)
 WAYPOINT = MissionItem(16, 3, z=10.0)

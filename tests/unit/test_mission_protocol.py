@@ -9,14 +9,14 @@ import random
 
 import pytest
 
-from autopilot.results import Result
+from firefly.autopilot.results import Result
 
-from autopilot.mavlink.dialect import mavlink as mav
-from autopilot.mavlink.dialect import new_codec
-from autopilot.mavlink.session import Session
-from autopilot.mission import MissionItem, MissionStore
-from autopilot.results import Result
-from autopilot.vehicle import Vehicle, VehicleConfig
+from firefly.autopilot.mavlink.dialect import mavlink as mav
+from firefly.autopilot.mavlink.dialect import new_codec
+from firefly.autopilot.mavlink.session import Session
+from firefly.autopilot.mission import MissionItem, MissionStore
+from firefly.autopilot.results import Result
+from firefly.autopilot.vehicle import Vehicle, VehicleConfig
 
 TICK_S = 0.05  # link-clock step between exchanges
 CLIENT_RETRY_S = 1.0

@@ -7,9 +7,9 @@ import pytest
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
-from autopilot.control.allocation import Allocator
-from sim.airframe import Airframe
-from sim.rotors import mix_forces, unmix
+from firefly.autopilot.control.allocation import Allocator
+from firefly.sim.airframe import Airframe
+from firefly.sim.rotors import mix_forces, unmix
 
 AF = Airframe()
 L, C = AF.arm_length_m, AF.torque_ratio_c

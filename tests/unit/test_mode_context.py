@@ -6,9 +6,9 @@ from pathlib import Path
 
 import pytest
 
-from autopilot.modes import MODE_CLASSES, ModeNumber
-from autopilot.modes.context import ModeContext
-from autopilot.results import Result
+from firefly.autopilot.modes import MODE_CLASSES, ModeNumber
+from firefly.autopilot.modes.context import ModeContext
+from firefly.autopilot.results import Result
 
 from ._util import altitude, fly_until, ready_vehicle
 

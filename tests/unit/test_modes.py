@@ -6,15 +6,15 @@ from types import SimpleNamespace
 
 import pytest
 
-from autopilot.modes import AltHold, Brake, Guided, Land, Loiter, PosHold, Rtl, Setpoint, Stabilize
-from autopilot.modes.base import stick_deadzone
-from autopilot.modes.guided import VELOCITY_TIMEOUT_S
-from autopilot.modes.land import descent_rate_m_s
-from autopilot.modes.manual import pilot_climb_rate
-from autopilot.params import ParamStore
-from autopilot.pilot import PilotInput
-from autopilot.results import Result
-from sim.rigid_body import BodyState
+from firefly.autopilot.modes import AltHold, Brake, Guided, Land, Loiter, PosHold, Rtl, Setpoint, Stabilize
+from firefly.autopilot.modes.base import stick_deadzone
+from firefly.autopilot.modes.guided import VELOCITY_TIMEOUT_S
+from firefly.autopilot.modes.land import descent_rate_m_s
+from firefly.autopilot.modes.manual import pilot_climb_rate
+from firefly.autopilot.params import ParamStore
+from firefly.autopilot.pilot import PilotInput
+from firefly.autopilot.results import Result
+from firefly.sim.rigid_body import BodyState
 
 from ._util import altitude, fly_until, hovering_vehicle
 
@@ -230,8 +230,8 @@ def test_centred_sticks_give_the_very_setpoint_the_stick_expressions_give(centre
     bits, signed zeros included, as the sticks' expressions give for a copy of the centred input."""
     import dataclasses
 
-    from autopilot import pilot as pilot_module
-    from autopilot.modes.manual import pilot_lean_and_yaw
+    from firefly.autopilot import pilot as pilot_module
+    from firefly.autopilot.modes.manual import pilot_lean_and_yaw
     params = ParamStore()
     params.set("ANGLE_MAX", angle_max)
     params.set("PILOT_Y_RATE", yaw_rate)

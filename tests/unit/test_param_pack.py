@@ -11,8 +11,8 @@ import pytest
 from MAVProxy.modules.lib import param_ftp
 from pymavlink.mavftp import MAVFTP
 
-from autopilot.mavlink import param_files, param_pack
-from autopilot.params import SERVED_BY_NAME, ParamStore
+from firefly.autopilot.mavlink import param_files, param_pack
+from firefly.autopilot.params import SERVED_BY_NAME, ParamStore
 
 RECORDED = Path(__file__).resolve().parents[1] / "parity" / "recorded" / "ftp_reference.json"
 

@@ -7,10 +7,10 @@ import math
 
 import pytest
 
-from autopilot.mavlink.dialect import mavlink as mav
-from autopilot.params import PARAM_TABLE, SERVED, SPEC_BY_NAME, ParamError, ParamStore
-from autopilot.params_differences import DEFAULT_DIFFERENCES, FIREFLY_ONLY, RENAMED, SEMANTIC_DIFFERENCES
-from autopilot.reference_params import recording, reference_params
+from firefly.autopilot.mavlink.dialect import mavlink as mav
+from firefly.autopilot.params import PARAM_TABLE, SERVED, SPEC_BY_NAME, ParamError, ParamStore
+from firefly.autopilot.params_differences import DEFAULT_DIFFERENCES, FIREFLY_ONLY, RENAMED, SEMANTIC_DIFFERENCES
+from firefly.autopilot.reference_params import recording, reference_params
 
 REFERENCE = {ref.name: ref for ref in reference_params()}
 
@@ -245,7 +245,7 @@ def test_setting_the_value_in_force_changes_nothing_and_notifies_no_one(tmp_path
 
 
 def test_a_store_writes_at_most_once_per_interval_and_the_last_change_after_it(tmp_path):
-    from autopilot.io.persist import JsonFile
+    from firefly.autopilot.io.persist import JsonFile
     (tmp_path / "d").mkdir()
     f = JsonFile(tmp_path / "d" / "x.json")
     now = [100.0]

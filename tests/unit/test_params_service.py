@@ -2,7 +2,7 @@
 however many PARAM_REQUEST_LISTs arrive (as ArduPilot streams one list per link)."""
 from __future__ import annotations
 
-from autopilot.mavlink.params_service import LIST_BURST, LIST_RATE_PER_S
+from firefly.autopilot.mavlink.params_service import LIST_BURST, LIST_RATE_PER_S
 
 from ._session_link import SYSTEM_ID, gcs, link  # noqa: F401 - link is a fixture
 from ._util import of_type, wire

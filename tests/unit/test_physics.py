@@ -8,15 +8,15 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from sim.airframe import GRAVITY_M_S2, Airframe
-from sim.battery import (BatteryState, open_circuit_volts_per_cell, remaining_fraction,
+from firefly.sim.airframe import GRAVITY_M_S2, Airframe
+from firefly.sim.battery import (BatteryState, open_circuit_volts_per_cell, remaining_fraction,
                          step_battery)
-from sim.physics import PhysicsState, initial_state, step
-from sim.rigid_body import (BodyState, apply_ground, euler_from_quaternion, quaternion_from_euler,
+from firefly.sim.physics import PhysicsState, initial_state, step
+from firefly.sim.rigid_body import (BodyState, apply_ground, euler_from_quaternion, quaternion_from_euler,
                             step_body)
-from sim.rotors import mix_forces, motor_lag_factor, rotor_forces, step_motors
-from sim.sensors import Gps, NoiseConfig
-from sim.wind import SteadyWind
+from firefly.sim.rotors import mix_forces, motor_lag_factor, rotor_forces, step_motors
+from firefly.sim.sensors import Gps, NoiseConfig
+from firefly.sim.wind import SteadyWind
 
 AF = Airframe()
 DT = 1.0 / 400.0
@@ -340,8 +340,8 @@ def test_fast_step_agrees_with_the_reference_step():
     """The inlined hot path and the readable composition of motors, mixer and rigid body agree."""
     import random
 
-    from sim.physics import make_fast_step
-    from sim.rotors import motor_lag_factor
+    from firefly.sim.physics import make_fast_step
+    from firefly.sim.rotors import motor_lag_factor
     rng = random.Random(5)
     dt = 1 / 400
     fast = make_fast_step(AF, dt)

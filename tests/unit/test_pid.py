@@ -5,7 +5,7 @@ import math
 
 import pytest
 
-from autopilot.control.pid import Pid
+from firefly.autopilot.control.pid import Pid
 
 DT = 0.01
 

@@ -5,7 +5,7 @@ import math
 
 import pytest
 
-from autopilot.io.runner import Runner
+from firefly.autopilot.io.runner import Runner
 
 
 @pytest.mark.parametrize("duration_s", [0.3, 5.0, 60.0, 3600.0])
@@ -19,9 +19,9 @@ def test_a_run_of_s_seconds_is_exactly_s_over_tick_ticks(duration_s):
 def _swarm(count: int, tmp_path, name: str, monkeypatch):
     """`count` vehicles of the scripted flight, built as `autopilot --count` builds them (their
     UNIX epoch, read from the wall clock, pinned), with every frame each one queues kept."""
-    from autopilot.cli import main
-    from autopilot.cli.main import build, build_parser
-    from autopilot.testing.run import free_port_bases
+    from firefly.autopilot.cli import main
+    from firefly.autopilot.cli.main import build, build_parser
+    from firefly.autopilot.testing.run import free_port_bases
 
     listen, out = free_port_bases(2, count)
     args = build_parser().parse_args([

@@ -7,10 +7,10 @@ from pathlib import Path
 
 import pytest
 
-from autopilot.cli import main as cli
-from autopilot.cli.scenario import (DEFAULT_HOME, Scenario, ScenarioError, load_scenario, parse_home,
+from firefly.autopilot.cli import main as cli
+from firefly.autopilot.cli.scenario import (DEFAULT_HOME, Scenario, ScenarioError, load_scenario, parse_home,
                                 scenario_from_dict)
-from sim.airframe import Airframe
+from firefly.sim.airframe import Airframe
 
 
 def one_line_error(data: dict) -> str:
@@ -183,7 +183,7 @@ class FakeEndpoint:
 
 @pytest.fixture
 def no_sockets(monkeypatch):
-    monkeypatch.setattr("autopilot.io.udp.UdpEndpoint", FakeEndpoint)
+    monkeypatch.setattr("firefly.autopilot.io.udp.UdpEndpoint", FakeEndpoint)
 
 
 def build(*argv):
@@ -235,7 +235,7 @@ def test_scenario_home_and_seed_override(no_sockets, tmp_path):
 @pytest.mark.parametrize("argv", [("--instance", "201"), ("--scenario", "/nonexistent/x.toml"),
                                   ("--home", "0,0"), ("--out", "nowhere")])
 def test_build_errors_are_cli_or_scenario_errors(no_sockets, tmp_path, argv):
-    from autopilot.cli.scenario import ScenarioError as SE
+    from firefly.autopilot.cli.scenario import ScenarioError as SE
     with pytest.raises((cli.CliError, SE)) as info:
         build(*argv, "--state-dir", str(tmp_path))
     assert "\n" not in str(info.value)
@@ -272,7 +272,7 @@ def test_default_scenario_file_matches_the_built_in_defaults():
     """`autopilot` without --scenario and scenarios/default.toml describe the same world."""
     from pathlib import Path
 
-    from autopilot.cli.scenario import Scenario, load_scenario
+    from firefly.autopilot.cli.scenario import Scenario, load_scenario
     from_file = load_scenario(Path(__file__).resolve().parents[2] / "scenarios" / "default.toml")
     built_in = Scenario()
     assert from_file.world == built_in.world

@@ -6,9 +6,9 @@ import math
 
 import pytest
 
-from autopilot.control.scurve import SCurve, peak_speed
-from autopilot.control.wpnav import NavLimits, WaypointNav
-from autopilot.params import ParamStore
+from firefly.autopilot.control.scurve import SCurve, peak_speed
+from firefly.autopilot.control.wpnav import NavLimits, WaypointNav
+from firefly.autopilot.params import ParamStore
 
 DT = 0.01
 

@@ -5,12 +5,12 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from groundstation.evaluation.episodes import EpisodeConfig, episode_world, policy_rng, run_episode
-from groundstation.flight.survey import Survey
-from groundstation.strategy import Geometry, make_policy
-from groundstation.strategy.controller import Goto, SearchConfig, SearchController
-from groundstation.strategy.stopping import Declaration
-from sim.fire import FireWorld
+from firefly.groundstation.evaluation.episodes import EpisodeConfig, episode_world, policy_rng, run_episode
+from firefly.groundstation.flight.survey import Survey
+from firefly.groundstation.strategy import Geometry, make_policy
+from firefly.groundstation.strategy.controller import Goto, SearchConfig, SearchController
+from firefly.groundstation.strategy.stopping import Declaration
+from firefly.sim.fire import FireWorld
 
 
 def replayed_through_the_flight_feed(world: FireWorld, seed: int, index: int, name: str, config: EpisodeConfig):

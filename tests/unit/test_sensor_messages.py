@@ -6,11 +6,11 @@ import math
 
 import pytest
 
-from autopilot.mavlink import sensor_messages, terrain
-from autopilot.mavlink.streams import StreamScheduler
-from autopilot.mavlink.telemetry import BUILDERS, STREAM_GROUPS
-from sim.vehicle import SimConfig
-from sim.wind import SteadyWind
+from firefly.autopilot.mavlink import sensor_messages, terrain
+from firefly.autopilot.mavlink.streams import StreamScheduler
+from firefly.autopilot.mavlink.telemetry import BUILDERS, STREAM_GROUPS
+from firefly.sim.vehicle import SimConfig
+from firefly.sim.wind import SteadyWind
 
 from ._util import client_codec, hovering_vehicle, mav, ready_vehicle
 

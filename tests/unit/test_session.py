@@ -5,10 +5,10 @@ import math
 
 import pytest
 
-from autopilot.modes import Brake, Guided, Land, Loiter
-from autopilot.mavlink.params_service import LIST_BURST, LIST_RATE_PER_S
-from autopilot.params import SERVED
-from autopilot.safety.arming import FORCE_DISARM_MAGIC
+from firefly.autopilot.modes import Brake, Guided, Land, Loiter
+from firefly.autopilot.mavlink.params_service import LIST_BURST, LIST_RATE_PER_S
+from firefly.autopilot.params import SERVED
+from firefly.autopilot.safety.arming import FORCE_DISARM_MAGIC
 
 from ._session_link import SYSTEM_ID, Link, gcs, link  # noqa: F401 - link is a fixture
 from ._util import GCS_COMPONENT, GCS_SYSTEM, command_long, mav, of_type, statustexts, wire

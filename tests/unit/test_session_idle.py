@@ -5,8 +5,8 @@ streams, a parameter list, a mission upload, arming and takeoff (status texts) a
 falls silent (the failsafe's timing)."""
 from __future__ import annotations
 
-from autopilot.mavlink.dialect import new_codec
-from autopilot.mavlink.session import Session
+from firefly.autopilot.mavlink.dialect import new_codec
+from firefly.autopilot.mavlink.session import Session
 
 from ._util import client_codec, command_long, ready_vehicle, wire
 

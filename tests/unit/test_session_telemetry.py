@@ -5,10 +5,10 @@ import math
 
 import pytest
 
-from autopilot.modes import Brake, Guided, Loiter
+from firefly.autopilot.modes import Brake, Guided, Loiter
 
 from ._session_link import SYSTEM_ID, Link, gcs, link  # noqa: F401 - link is a fixture
-from autopilot.results import Result
+from firefly.autopilot.results import Result
 
 from ._util import fly_until, hovering_vehicle, mav, of_type, ready_vehicle, statustexts, wire
 
@@ -235,9 +235,9 @@ def test_extended_sys_state_on_the_ground(link):
 
 
 def test_stream_rate_parameter_applies_at_once():
-    from autopilot.mavlink.dialect import new_codec
-    from autopilot.mavlink.session import Session
-    from autopilot.vehicle import Vehicle, VehicleConfig
+    from firefly.autopilot.mavlink.dialect import new_codec
+    from firefly.autopilot.mavlink.session import Session
+    from firefly.autopilot.vehicle import Vehicle, VehicleConfig
     v = Vehicle(VehicleConfig())
     s = Session(v, new_codec(1))
 

@@ -8,11 +8,11 @@ import math
 import numpy as np
 import pytest
 
-from groundstation.evaluation.episodes import EpisodeConfig, judge_all, run_episode
-from groundstation.strategy import Belief, Geometry, make_policy
-from groundstation.strategy.belief import symmetric_inverse
-from groundstation.strategy.refine import refine_hot_spots
-from sim.fire import Fire, FireWorld, true_temperature
+from firefly.groundstation.evaluation.episodes import EpisodeConfig, judge_all, run_episode
+from firefly.groundstation.strategy import Belief, Geometry, make_policy
+from firefly.groundstation.strategy.belief import symmetric_inverse
+from firefly.groundstation.strategy.refine import refine_hot_spots
+from firefly.sim.fire import Fire, FireWorld, true_temperature
 
 FIRE_A = Fire(120.0, 110.0, 50.0)
 FIRE_B = Fire(300.0, 280.0, 40.0)
@@ -130,7 +130,7 @@ def test_looking_for_two_in_a_world_with_one_ends_confident_there_is_no_other():
 
 def test_one_fire_to_look_for_is_the_plain_search():
     """max_fires 1 (the default) never builds the several-fire machinery: no null, no known fires."""
-    from groundstation.strategy.controller import SearchConfig, SearchController
+    from firefly.groundstation.strategy.controller import SearchConfig, SearchController
     c = SearchController(Geometry(), make_policy("gig"), SearchConfig(), (0.0, 0.0), np.random.default_rng(0))
     assert c.belief.null_prior == 0.0 and len(c.belief.known) == 0 and c.belief.p_fire == 1.0
     with pytest.raises(ValueError, match="max_fires"):
@@ -138,7 +138,7 @@ def test_one_fire_to_look_for_is_the_plain_search():
 
 
 def test_evaluate_refuses_a_fire_spacing_it_cannot_draw_in_one_line(capsys):
-    from groundstation import cli
+    from firefly.groundstation import cli
     assert cli.main(["evaluate", "--episodes", "1", "--fire-spacing", "40"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "needs two fires" in err[0]
@@ -147,7 +147,7 @@ def test_evaluate_refuses_a_fire_spacing_it_cannot_draw_in_one_line(capsys):
 
 
 def test_twin_fires_are_drawn_at_the_spacing_and_equally_strong():
-    from groundstation.evaluation.episodes import episode_world
+    from firefly.groundstation.evaluation.episodes import episode_world
     w = FireWorld()
     for index in range(20):
         a, b = episode_world(w, 3, index, EpisodeConfig(fires=2, fire_spacing_m=40.0)).fires

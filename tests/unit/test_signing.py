@@ -10,9 +10,9 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from autopilot.mavlink.dialect import new_codec
-from autopilot.mavlink.session import Session
-from autopilot.mavlink.signing import (FUTURE_WINDOW, MAX_STREAMS, NEW_STREAM_WINDOW, RESERVE, SAVE_EVERY,
+from firefly.autopilot.mavlink.dialect import new_codec
+from firefly.autopilot.mavlink.session import Session
+from firefly.autopilot.mavlink.signing import (FUTURE_WINDOW, MAX_STREAMS, NEW_STREAM_WINDOW, RESERVE, SAVE_EVERY,
                                        TICKS_PER_S, LinkSigning, frame_signature, signing_time)
 
 from ._util import GCS_COMPONENT, GCS_SYSTEM, mav, ready_vehicle, wire

@@ -9,13 +9,13 @@ from types import SimpleNamespace
 
 import pytest
 
-from autopilot.cli import main as cli
-from autopilot.mavlink.dialect import new_codec
-from autopilot.mavlink.session import Session
-from autopilot.mavlink.signing import RESERVE, LinkSigning, signing_time
-from autopilot.io.persist import read_json
-from autopilot.cli.scenario import ScenarioError, load_scenario, scenario_from_dict
-from autopilot.io.signing_keys import (MAX_KEY_FILE_BYTES, SigningKeyError, attach_state, key_from_text,
+from firefly.autopilot.cli import main as cli
+from firefly.autopilot.mavlink.dialect import new_codec
+from firefly.autopilot.mavlink.session import Session
+from firefly.autopilot.mavlink.signing import RESERVE, LinkSigning, signing_time
+from firefly.autopilot.io.persist import read_json
+from firefly.autopilot.cli.scenario import ScenarioError, load_scenario, scenario_from_dict
+from firefly.autopilot.io.signing_keys import (MAX_KEY_FILE_BYTES, SigningKeyError, attach_state, key_from_text,
                                     read_key_file)
 
 from ._util import ready_vehicle

@@ -7,13 +7,13 @@ import statistics
 
 import pytest
 
-from sim.airframe import Airframe
-from sim.battery import open_circuit_volts_per_cell, soc_at_open_circuit_volts
-from sim.rigid_body import BodyState
-from sim.rotors import motor_lag_factor, step_motors
-from sim.sensors import FIX_3D, NO_FIX, Barometer, Gps, NoiseConfig
-from sim.vehicle import BATTERY_EVERY, SimConfig, SimVehicle
-from sim.wind import TURBULENCE_TC_S, SteadyWind, Wind
+from firefly.sim.airframe import Airframe
+from firefly.sim.battery import open_circuit_volts_per_cell, soc_at_open_circuit_volts
+from firefly.sim.rigid_body import BodyState
+from firefly.sim.rotors import motor_lag_factor, step_motors
+from firefly.sim.sensors import FIX_3D, NO_FIX, Barometer, Gps, NoiseConfig
+from firefly.sim.vehicle import BATTERY_EVERY, SimConfig, SimVehicle
+from firefly.sim.wind import TURBULENCE_TC_S, SteadyWind, Wind
 
 AF = Airframe()
 DT = 1.0 / 400.0

@@ -4,13 +4,13 @@ from __future__ import annotations
 
 import pytest
 
-from autopilot.cli import main as cli
-from autopilot.cli.scenario import ScenarioError, scenario_from_dict
-from autopilot.mavlink import telemetry
-from autopilot.modes import ModeNumber
-from autopilot.results import Result
-from autopilot.startup import StartupTimeline
-from autopilot.vehicle import Vehicle, VehicleConfig
+from firefly.autopilot.cli import main as cli
+from firefly.autopilot.cli.scenario import ScenarioError, scenario_from_dict
+from firefly.autopilot.mavlink import telemetry
+from firefly.autopilot.modes import ModeNumber
+from firefly.autopilot.results import Result
+from firefly.autopilot.startup import StartupTimeline
+from firefly.autopilot.vehicle import Vehicle, VehicleConfig
 
 from ._util import client_codec, mav
 from .test_fault_scenarios import FakeEndpoint
@@ -94,7 +94,7 @@ def test_startup_mistakes_name_the_table_and_key(table, words):
 
 
 def test_the_command_line_flag_chooses_the_startup(monkeypatch, tmp_path):
-    monkeypatch.setattr("autopilot.io.udp.UdpEndpoint", FakeEndpoint)
+    monkeypatch.setattr("firefly.autopilot.io.udp.UdpEndpoint", FakeEndpoint)
     path = tmp_path / "slow.toml"
     path.write_text("[startup]\ngps_in_use_s = 30\n")
     build = lambda *flags: cli.build(cli.build_parser().parse_args(  # noqa: E731

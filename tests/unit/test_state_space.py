@@ -162,7 +162,7 @@ def test_a_known_reproduction_is_sent_in_every_state_the_walk_reaches():
 def test_a_failure_names_state_message_traceback_and_reproduction(monkeypatch):
     """The machinery itself: a handler that raises is reported with the state, the message, its
     traceback and Python that reproduces it; replaying the trace fails the same way."""
-    from autopilot.mavlink import commands
+    from firefly.autopilot.mavlink import commands
 
     def broken(session, command):
         raise ZeroDivisionError("planted")
@@ -186,8 +186,8 @@ def test_a_failure_names_state_message_traceback_and_reproduction(monkeypatch):
 
 
 def test_a_refused_command_that_changed_the_mode_is_caught(monkeypatch):
-    from autopilot.mavlink import commands
-    from autopilot.results import Result
+    from firefly.autopilot.mavlink import commands
+    from firefly.autopilot.results import Result
 
     def half_done(session, command):
         session.vehicle.set_mode(4)  # GUIDED, then refused

@@ -12,13 +12,13 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from groundstation import cli
-from groundstation.evaluation.episodes import EpisodeConfig, run_episode
-from groundstation.strategy import Belief, Geometry, Planner, PlannerConfig, StoppingRule, make_policy
-from groundstation.strategy.belief import PLUME_RISE_M_S, plume_tilts
-from groundstation.strategy.controller import SearchConfig
-from groundstation.strategy.policies import POLICIES, lanes
-from sim.fire import Fire, FireWorld, true_temperature
+from firefly.groundstation import cli
+from firefly.groundstation.evaluation.episodes import EpisodeConfig, run_episode
+from firefly.groundstation.strategy import Belief, Geometry, Planner, PlannerConfig, StoppingRule, make_policy
+from firefly.groundstation.strategy.belief import PLUME_RISE_M_S, plume_tilts
+from firefly.groundstation.strategy.controller import SearchConfig
+from firefly.groundstation.strategy.policies import POLICIES, lanes
+from firefly.sim.fire import Fire, FireWorld, true_temperature
 
 AREA = 400.0
 DEFAULT_SCENARIO = Path(__file__).parents[2] / "scenarios" / "default.toml"
@@ -273,7 +273,7 @@ def test_episode_is_deterministic(name):
 
 
 def test_episode_worlds_follow_the_recipe():
-    from groundstation.evaluation.episodes import episode_world
+    from firefly.groundstation.evaluation.episodes import episode_world
     base = FireWorld(kernel="G", noise_k=3.0)
     for k in range(50):
         ew = episode_world(base, 5, k)
@@ -286,7 +286,7 @@ def test_episode_worlds_follow_the_recipe():
 
 
 def test_gig_succeeds_on_seeded_default_world_episodes():
-    from sim.scenario import load_scenario
+    from firefly.sim.scenario import load_scenario
     scenario = load_scenario(DEFAULT_SCENARIO)
     results = [run_episode(scenario.world, scenario.seed, k, make_policy("gig")) for k in range(5)]
     for r in results:
@@ -323,7 +323,7 @@ def test_evaluate_writes_table_json_and_plot(tmp_path, capsys):
     assert len(data["results"]["gig"]) == 2 and data["summary"]["gig"]["episodes"] == 2
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert "path minus gig's" in text and set(data["paired_path_differences"]["policies"]) == {"greedy"}
-    from groundstation.evaluation import report
+    from firefly.groundstation.evaluation import report
     assert report.main([str(out)]) == 0
     tables = capsys.readouterr().out
     assert "| gig | " in tables and "| greedy | " in tables and "95 % CI" in tables
@@ -368,9 +368,9 @@ def test_block_masses_match_mass_around_and_the_declared_cell_holds_the_most():
 
 def test_a_flown_episode_scenario_file_keeps_the_scenario_and_loads_back_as_the_episode_world():
     import tomllib
-    from autopilot.cli.scenario import scenario_from_dict
-    from groundstation.evaluation.flown_episodes import scenario_text
-    from groundstation.evaluation.episodes import EpisodeConfig, episode_world
+    from firefly.autopilot.cli.scenario import scenario_from_dict
+    from firefly.groundstation.evaluation.flown_episodes import scenario_text
+    from firefly.groundstation.evaluation.episodes import EpisodeConfig, episode_world
     base = tomllib.loads(DEFAULT_SCENARIO.read_text())
     base |= {"wind": {"speed_m_s": 4.0, "from_direction_deg": 250.0}, "airframe": {"mass_kg": 1.6},
              "script": {"steps": [[0.5, "arm"]]}}
@@ -386,7 +386,7 @@ def test_a_flown_episode_scenario_file_keeps_the_scenario_and_loads_back_as_the_
 
 
 def test_paired_path_differences_pair_by_episode_and_bound_the_mean():
-    from groundstation.evaluation.evaluate import paired_path_differences
+    from firefly.groundstation.evaluation.evaluate import paired_path_differences
     rng = np.random.default_rng(4)
     worlds = rng.uniform(300, 900, 50)  # what the episodes' worlds cost every policy alike
     results = {"gig": [{"episode": k, "path_m": float(w)} for k, w in enumerate(worlds)],
@@ -399,7 +399,7 @@ def test_paired_path_differences_pair_by_episode_and_bound_the_mean():
 
 
 def test_a_spread_belief_is_planned_on_pooled_blocks_that_keep_its_mass():
-    from groundstation.strategy.planner import coarse_support
+    from firefly.groundstation.strategy.planner import coarse_support
     w = FireWorld(fires=(Fire(590.0, 450.0, 50.0),), area_m=800.0)
     b = belief_from(w, [(5.0, 5.0 + 5 * k, 22.0) for k in range(8)], subcells=1)
     cells = b.support()
@@ -415,7 +415,7 @@ def test_a_spread_belief_is_planned_on_pooled_blocks_that_keep_its_mass():
 
 
 def test_episodes_with_several_fires_keep_the_first_and_count_fires_found():
-    from groundstation.evaluation.episodes import episode_world, fires_found
+    from firefly.groundstation.evaluation.episodes import episode_world, fires_found
     base = FireWorld()
     one = episode_world(base, 2, 5, EpisodeConfig())
     two = episode_world(base, 2, 5, EpisodeConfig(fires=2))

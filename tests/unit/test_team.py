@@ -9,13 +9,13 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from groundstation.evaluation.episodes import EpisodeConfig, run_episode
-from groundstation.evaluation.team_episodes import run_team_episode, team_starts
-from groundstation.strategy.belief import Geometry
-from groundstation.strategy.controller import Goto, SearchConfig
-from groundstation.strategy.policies import lanes, make_policy
-from groundstation.strategy.team import SEPARATION_M, JointGig, TeamController, make_team_policy, survey_heights
-from sim.scenario import load_scenario
+from firefly.groundstation.evaluation.episodes import EpisodeConfig, run_episode
+from firefly.groundstation.evaluation.team_episodes import run_team_episode, team_starts
+from firefly.groundstation.strategy.belief import Geometry
+from firefly.groundstation.strategy.controller import Goto, SearchConfig
+from firefly.groundstation.strategy.policies import lanes, make_policy
+from firefly.groundstation.strategy.team import SEPARATION_M, JointGig, TeamController, make_team_policy, survey_heights
+from firefly.sim.scenario import load_scenario
 
 REPO = Path(__file__).resolve().parents[2]
 WORLD = load_scenario(REPO / "scenarios" / "default.toml").world
@@ -72,7 +72,7 @@ def test_the_team_flight_feed_pairs_each_vehicles_readings_with_its_own_position
     """TeamSurvey (sans-IO): readings of each vehicle, paired with that vehicle's positions at
     their timestamps, reach the one team controller with that vehicle's height; moves come for
     every vehicle; a dropped vehicle's later readings count no more."""
-    from groundstation.flight.team_survey import TeamSurvey
+    from firefly.groundstation.flight.team_survey import TeamSurvey
     geometry = Geometry.from_world(WORLD)
     config = SearchConfig()
     survey = TeamSurvey(geometry, config, 2)

@@ -9,9 +9,9 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from autopilot.io.state_log import COLUMNS, HEADER
-from autopilot.testing.settings import FireflySettings, SettingsError, parse_speedup, seed_for, settings
-from autopilot.testing.state import StateLogReader
+from firefly.autopilot.io.state_log import COLUMNS, HEADER
+from firefly.autopilot.testing.settings import FireflySettings, SettingsError, parse_speedup, seed_for, settings
+from firefly.autopilot.testing.state import StateLogReader
 
 RUN_DEFAULTS = FireflySettings(speedup=10.0, seed=5)  # what the command line gives every test
 

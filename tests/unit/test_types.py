@@ -17,7 +17,7 @@ import types
 import typing
 from pathlib import Path
 
-from autopilot import views
+from firefly.autopilot import views
 
 from ._util import hovering_vehicle
 
@@ -31,8 +31,8 @@ def test_mypy_finds_nothing():
 
 
 UNCHECKED_READS = '''
-from autopilot.modes.context import ModeContext
-from autopilot.views import FailsafeView
+from firefly.autopilot.modes.context import ModeContext
+from firefly.autopilot.views import FailsafeView
 
 
 def height_above_home(ctx: ModeContext) -> float:
@@ -61,10 +61,10 @@ def test_mypy_refuses_an_unchecked_home_and_a_reach_into_the_vehicle(tmp_path):
 
 def _names_for_annotations() -> dict:
     """What the annotations name, though their modules import it for the type checker only."""
-    from sim.battery import BatteryState
-    from sim.rigid_body import BodyState
-    from sim.sensors import GpsReading, RcReceiver
-    from autopilot.pilot import PilotInput
+    from firefly.sim.battery import BatteryState
+    from firefly.sim.rigid_body import BodyState
+    from firefly.sim.sensors import GpsReading, RcReceiver
+    from firefly.autopilot.pilot import PilotInput
     return {"ReadThrough": views.ReadThrough, "Vector3": views.Vector3, "BatteryState": BatteryState,
             "BodyState": BodyState, "GpsReading": GpsReading, "PilotInput": PilotInput, "RcReceiver": RcReceiver}
 

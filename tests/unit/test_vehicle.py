@@ -5,10 +5,10 @@ import math
 
 import pytest
 
-from autopilot.modes import Auto, Brake, Guided, Land, Loiter, Rtl, Stabilize
-from autopilot.results import Result, Severity
-from autopilot.vehicle import Vehicle, VehicleConfig
-from sim.vehicle import SimConfig
+from firefly.autopilot.modes import Auto, Brake, Guided, Land, Loiter, Rtl, Stabilize
+from firefly.autopilot.results import Result, Severity
+from firefly.autopilot.vehicle import Vehicle, VehicleConfig
+from firefly.sim.vehicle import SimConfig
 
 from ._util import altitude, fly_until, hovering_vehicle, ready_vehicle
 
@@ -95,7 +95,7 @@ def test_auto_without_a_mission_is_refused_armed_with_a_reason_and_entered_disar
 
 
 def test_mode_numbers_are_arducopters():
-    from autopilot.modes import MODE_BY_NAME
+    from firefly.autopilot.modes import MODE_BY_NAME
     assert {name: cls.number for name, cls in MODE_BY_NAME.items()} == {
         "STABILIZE": 0, "ALT_HOLD": 2, "AUTO": 3, "GUIDED": 4, "LOITER": 5, "RTL": 6,
         "LAND": 9, "POSHOLD": 16, "BRAKE": 17}
@@ -306,7 +306,7 @@ def test_a_velocity_target_turns_the_nose_the_way_it_flies():
 
 
 def test_position_hold_in_steady_wind():
-    from sim.wind import SteadyWind
+    from firefly.sim.wind import SteadyWind
     v = hovering_vehicle(10.0, sim=SimConfig(wind=SteadyWind(6.0, 45.0)))
     n0, e0 = v.body.n_m, v.body.e_m
     v.run_until(v.time_s + 10.0)

@@ -16,7 +16,7 @@ from mavsdk.asyncio.plugins.action import ActionAsync, ActionError
 from mavsdk.asyncio.plugins.mission import MissionAsync, MissionError, MissionItem, MissionPlan
 from mavsdk.asyncio.plugins.telemetry import TelemetryAsync
 
-from groundstation.flight.reference_flight import connect
+from firefly.groundstation.flight.reference_flight import connect
 
 from ..facts import Trace
 
