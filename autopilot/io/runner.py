@@ -21,10 +21,11 @@ from .state_log import state_line
 
 if TYPE_CHECKING:
     from ..mavlink.link import Link
+    from ..mavlink.routing import Router
     from ..mavlink.session import Session
     from ..vehicle import Vehicle
+    from .ports import Ports
     from .tlog import TlogWriter
-    from .udp import UdpEndpoint
 
 MAX_LAG_WALL_S = 0.5  # if the sim falls further behind than this, pacing restarts from now
 READ_EVERY_WALL_S = 0.0002  # flat out, sockets are read this often (wall): a command waits no longer
@@ -39,12 +40,12 @@ STATE_LOG_EVERY = 10  # ticks (0.1 s of sim time)
 
 
 def incoming(datagrams: list, link, answer):
-    """Each message of `datagrams` ((bytes, sender) pairs) that gets through `link`, judged when
-    drawn; `answer(sender)` once for a datagram of which the link found a message may be answered
-    (also when a link fault then lost it)."""
+    """(message, link key) for each message of `datagrams` ((bytes, link key) pairs) that gets
+    through `link`, judged when drawn; `answer(key)` once for a datagram of which the link found a
+    message may be answered (also when a link fault then lost it)."""
     for data, sender in datagrams:
         for msg, _ in link.receive(data, sender):
-            yield msg
+            yield msg, sender
         if link.sender_answerable:
             answer(sender)
 
@@ -53,8 +54,9 @@ def incoming(datagrams: list, link, answer):
 class Node:
     vehicle: Vehicle
     session: Session
-    endpoint: UdpEndpoint  # the socket and who it answers
+    endpoint: Ports  # the vehicle's serial ports: its sockets and who they answer
     link: Link  # (autopilot/mavlink/link.py): decodes, judges and packs, between the two
+    router: Router  # (autopilot/mavlink/routing.py): which messages go on to the other links
     tlog: TlogWriter | None = None
     state_log: TextIO | None = None  # open text file (state_log.py): a line every STATE_LOG_EVERY ticks, or None
 
@@ -72,8 +74,9 @@ class Runner:
         self.speedup = speedup
         self.tick_s = tick_s
         self.sim_time_s = 0.0
-        self._fds = [n.endpoint.fileno() for n in nodes]  # raw descriptors: select need not ask each endpoint
-        self._endpoint_of = {n.endpoint.fileno(): n.endpoint for n in nodes}
+        self._fds: list[int] = []  # raw descriptors: select need not ask each endpoint
+        self._endpoint_of: dict = {}
+        self._fds_version = -1
         self._stop = False
         self.ticks = 0
         # At a finite speedup a swarm's loop sleeps between ticks, and each tick then finds its
@@ -103,27 +106,71 @@ class Runner:
                     continue
                 link.advance(unix_s, link_s)
                 datagrams = () if unread else endpoint.receive()
-                received: Sequence[Any]
+                received: Sequence[Any] = ()
+                replies: dict = {}
+                forwards: dict = {}
                 if datagrams:  # most ticks have none
                     heard = True
                     got: list[Any] = []
-                    out = []
+                    route = node.router.route
                     # each message is judged only after the one before it was handled
-                    for msg in incoming(datagrams, link, endpoint.answer):
+                    for msg, key in incoming(datagrams, link, endpoint.answer):
                         got.append(msg)
-                        out.extend(session.receive(msg, now, link_s))
-                    out.extend(session.poll(now, link_s))
+                        if msg.get_type() != "BAD_DATA":
+                            local, onward = route(msg, key)
+                            if onward:
+                                frame = bytes(msg.get_msgbuf())
+                                for to in onward:
+                                    forwards.setdefault(to, []).append(frame)
+                                if not local:  # for a component served on another link
+                                    continue
+                        answer = session.receive(msg, now, link_s, key)
+                        if answer:
+                            replies.setdefault(key, []).extend(answer)
                     received = got
-                else:
-                    received, out = (), session.poll(now, link_s)
-                frames = link.pack(out) if out else out
-                if frames:
-                    endpoint.queue(frames)  # sent at the next flush (see run())
+                if endpoint.closed:  # a TCP client went: its routes and numbering go too
+                    for key in endpoint.take_closed():
+                        node.router.forget(key)
+                        link.forget(key)
+                if replies and node.state_log is not None:
+                    # the true state as it is when the answer leaves: a harness reading the state
+                    # log after an ACK never finds a state older than the ACK (what it changed)
+                    node.state_log.write(state_line(node.vehicle))  # line buffered: on disk now
+                out = session.poll(now, link_s)
+                directed, announced = session.take_directed(), session.take_announced()
+                sent = self._send(node, out, replies, directed, announced, forwards)
                 if node.tlog is not None:
-                    self._log(node, received, frames)
+                    self._log(node, received, sent)
             except Exception as exc:  # noqa: BLE001 - one vehicle's bug never takes the others down
                 node.vehicle.internal_error(exc, "exchange", in_flight_code=False)
         return heard
+
+    @staticmethod
+    def _send(node: Node, out: list, replies: dict, directed: dict | None, announced: list | None,
+              forwards: dict) -> list:
+        """Pack and queue for each link: its answers, what was made for it alone, parameter values
+        another link set if it has spoken, what is due for every link, then others' messages routed to it.
+        Returns the frames the tlog keeps: the shared output once, the rest for every link."""
+        endpoint, link = node.endpoint, node.link
+        logged: list = []
+        for n, key in enumerate(endpoint.links):
+            own = replies.get(key)
+            if directed and key in directed:
+                own = (own or []) + directed[key]
+            if announced and endpoint.heard(key):
+                own = (own or []) + [m for asker, m in announced if asker != key]
+            frames = link.pack(own, key) if own else []
+            logged += frames
+            if out:
+                shared = link.pack(out, key)
+                if n == 0:
+                    logged += shared
+                frames += shared
+            if forwards and key in forwards:
+                frames += forwards[key]
+            if frames:
+                endpoint.queue(key, frames)  # sent at the next flush (see run())
+        return logged
 
     @staticmethod
     def _log(node: Node, received: Sequence[Any], sent: list) -> None:
@@ -178,6 +225,11 @@ class Runner:
 
     def _readable(self, wait_s: float) -> set:
         """The endpoints with something to read, waiting up to wait_s for one."""
+        version = sum(n.endpoint.version for n in self.nodes)  # a TCP client came or went
+        if version != self._fds_version:
+            self._fds_version = version
+            self._endpoint_of = {fd: n.endpoint for n in self.nodes for fd in n.endpoint.filenos()}
+            self._fds = list(self._endpoint_of)
         ready, _, _ = select.select(self._fds, [], [], wait_s)
         by_fd = self._endpoint_of
         return {by_fd[fd] for fd in ready}
