@@ -243,7 +243,21 @@ def build_vehicle(args, scenario, k: int, outs, listen, epoch_us: int):
             raise CliError(f"--state-log: cannot open {path}: {exc.strerror}") from None
     link = Link(session.codec, session.signing, LinkFaults(params, sim.seed))
     link.on_unpackable = lambda exc, what: vehicle.internal_error(exc, f"packing {what}", in_flight_code=False)
-    return Node(vehicle, session, endpoint, link, Router(n + 1), tlog, state_log), vehicle_outs
+    recorder, log_files = attach_dataflash(vehicle, session, state_root / f"instance-{n}" / "logs")
+    return Node(vehicle, session, endpoint, link, Router(n + 1), tlog, state_log, recorder, log_files), vehicle_outs
+
+
+def attach_dataflash(vehicle, session, directory: Path):
+    """The vehicle's dataflash logs in `directory`: the recorder that writes them, and the files,
+    which LOG_REQUEST_* and FTP's logs/ read."""
+    from ..dataflash.recorder import Recorder
+    from ..io.dataflash_files import LogFiles
+    log_files = LogFiles(directory, vehicle.params)
+    recorder = Recorder(vehicle, log_files)
+    vehicle.text_listener = recorder.text
+    session.logs.store = log_files
+    session.ftp.tree.logs = log_files
+    return recorder, log_files
 
 
 DEFAULT_PORT_TRIES = 20  # a default port held by another process: the next in steps of 10, this many times
@@ -363,6 +377,8 @@ def main(argv=None) -> int:
                 node.tlog.close()
             if node.state_log is not None:
                 node.state_log.close()
+            if node.log_files is not None:
+                node.log_files.stop()
     return 0
 
 

@@ -20,10 +20,12 @@ from typing import TYPE_CHECKING, Any, TextIO
 from .state_log import state_line
 
 if TYPE_CHECKING:
+    from ..dataflash.recorder import Recorder
     from ..mavlink.link import Link
     from ..mavlink.routing import Router
     from ..mavlink.session import Session
     from ..vehicle import Vehicle
+    from .dataflash_files import LogFiles
     from .ports import Ports
     from .tlog import TlogWriter
 
@@ -59,6 +61,8 @@ class Node:
     router: Router  # (autopilot/mavlink/routing.py): which messages go on to the other links
     tlog: TlogWriter | None = None
     state_log: TextIO | None = None  # open text file (state_log.py): a line every STATE_LOG_EVERY ticks, or None
+    dataflash: Recorder | None = None  # the dataflash log's recorder, told of each tick, or None
+    log_files: LogFiles | None = None  # its files (the recorder's sink), flushed every STATE_LOG_EVERY ticks
 
     @property
     def link_faults(self):
@@ -192,12 +196,16 @@ class Runner:
         for node in self.nodes:
             try:  # a bug that escapes the vehicle's own guards: its internal error, the rest go on
                 node.vehicle.run_until(target)
+                if node.dataflash is not None:
+                    node.dataflash.tick()
             except Exception as exc:  # noqa: BLE001
                 node.vehicle.internal_error(exc, "step")
         if self.ticks % STATE_LOG_EVERY == 0:
             for node in self.nodes:
                 if node.state_log is not None:
                     node.state_log.write(state_line(node.vehicle))
+                if node.log_files is not None:
+                    node.log_files.maybe_flush()
 
     def _batch(self, ticks: int) -> None:
         """`ticks` ticks of every vehicle, one vehicle after another: each vehicle's exchange and
@@ -206,15 +214,19 @@ class Runner:
         readable = self._readable(0.0)
         first = self.ticks
         for node in self.nodes:
-            vehicle, state_log, one = node.vehicle, node.state_log, (node,)
+            vehicle, state_log, dataflash, one = node.vehicle, node.state_log, node.dataflash, (node,)
             for tick in range(first + 1, first + ticks + 1):
                 self._exchange(readable if tick == first + 1 else (), one)
                 try:
                     vehicle.run_until(tick * self.tick_s)
+                    if dataflash is not None:
+                        dataflash.tick()
                 except Exception as exc:  # noqa: BLE001 - as in _advance
                     vehicle.internal_error(exc, "step")
                 if state_log is not None and tick % STATE_LOG_EVERY == 0:
                     state_log.write(state_line(vehicle))
+            if node.log_files is not None:
+                node.log_files.maybe_flush()
         self.ticks = first + ticks
         self.sim_time_s = self.ticks * self.tick_s
 

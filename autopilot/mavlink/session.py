@@ -16,6 +16,7 @@ from .dialect import mavlink as mav
 from .fast_pack import FastCodec
 from .ftp import FtpServer
 from .guided_setpoints import handle_global_int, handle_local_ned
+from .log_service import LogService
 from .mission_service import MissionService
 from .params_service import ParamService
 from .signing import LinkSigning
@@ -38,11 +39,12 @@ class Session:
         self.commands = CommandService()
         self.missions = MissionService(vehicle.mission, vehicle, codec)
         self.ftp = FtpServer(vehicle.params, vehicle.notify)
+        self.logs = LogService(vehicle, codec)  # the I/O edge gives it the log files (logs.store)
         self.link_s = 0.0  # link clock (wall time from the I/O layer) for transfer retries
         self._stores_waiting = vehicle.stores_waiting  # the vehicle's files with a write waiting
         self._out: list = []
         self._link = None  # the link of the message being handled
-        self._params_link = self._missions_link = None  # the links the transfers in progress answer
+        self._params_link = self._missions_link = self._logs_link = None  # the links the transfers answer
         self._directed: dict = {}  # link -> what poll made for it alone
         self._announced: list = []  # (link, message) for every other link that has spoken (a new value)
         self.counters = {"received": 0, "ignored_other_system": 0, "bad_data": 0, "refused": 0,
@@ -59,6 +61,10 @@ class Session:
             "PARAM_SET": self._on_param_set,
             "REQUEST_DATA_STREAM": self._on_request_data_stream,
             "FILE_TRANSFER_PROTOCOL": self._on_ftp,
+            "LOG_REQUEST_LIST": self._on_log_request,
+            "LOG_REQUEST_DATA": self._on_log_request,
+            "LOG_ERASE": self._on_log_request,
+            "LOG_REQUEST_END": self._on_log_request,
             "MISSION_REQUEST_LIST": lambda m, now: self._out.extend(self.missions.on_request_list(m)),
             "MISSION_COUNT": self._on_mission_count,
             "MISSION_ITEM_INT": lambda m, now: self._out.extend(self.missions.on_item(m, self.link_s)),
@@ -148,6 +154,13 @@ class Session:
         self._missions_link = self._link
         self._out.extend(self.missions.on_count(msg, self.link_s))
 
+    def _on_log_request(self, msg, now_s):
+        # as ArduPilot's _log_sending_link: the rest of a transfer goes to the link that began it
+        idle = not self.logs.busy
+        self._out.extend(self.logs.handle(msg))
+        if idle and self.logs.busy:
+            self._logs_link = self._link
+
     def take_directed(self) -> dict | None:
         """{link: messages} that poll made for one link alone; None (most ticks) if none."""
         directed = self._directed
@@ -229,7 +242,7 @@ class Session:
         last = self.gcs_last_heartbeat_s
         return (now_s + 1e-9 < self.streams.next_due_s and not self.vehicle.events
                 and not self.missions.uploads and not self.params.streaming and not self._stores_waiting
-                and not self.vehicle.mission_progress.has_reached
+                and not self.vehicle.mission_progress.has_reached and not self.logs.busy
                 and (last is None or link_s - last <= self.vehicle.params["FS_GCS_TIMEOUT"]))
 
     def poll(self, now_s: float, link_s: float | None = None) -> list:
@@ -239,6 +252,8 @@ class Session:
             self._direct(self._missions_link, self.missions.poll(link_s))
         if self.params.streaming:
             self._direct(self._params_link, self.params.poll(link_s))
+        if self.logs.busy:
+            self._direct(self._logs_link, self.logs.poll())
         if self._stores_waiting:
             vehicle.poll_stores(link_s)
         last = self.gcs_last_heartbeat_s
