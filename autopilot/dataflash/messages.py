@@ -13,6 +13,8 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass
 
+from firefly.sim.rigid_body import BodyState
+
 from ..views import StreamedView
 from . import flight_data as fd
 from .encoding import FMT, LogFormat
@@ -39,11 +41,14 @@ MULTS = {  # MULT records: id -> multiplier
 @dataclass(frozen=True)
 class Periodic:
     """A flight data message: logged every `every_s` of sim time while its LOG_BITMASK bit (mask;
-    ALWAYS: none) is set and, if `when` is given, while when(vehicle) holds."""
+    ALWAYS: none) is set and, if `when` is given, while when(vehicle) holds. With `instances`
+    n > 1 its second column is the instance number and it is logged n times, with the same values
+    (Firefly simulates one IMU and one barometer where ArduCopter SITL logs two)."""
     every_s: float
     mask: int
-    build: Callable[[StreamedView], list[tuple]]
+    build: Callable[[StreamedView, BodyState], tuple]
     when: Callable[[StreamedView], bool] | None = None
+    instances: int = 1
 
 
 @dataclass(frozen=True)
@@ -83,9 +88,9 @@ MESSAGES: dict[str, LogMessage] = {m.format.name: m for m in (
     _row(94, "GPS", "QBBIHBcLLeffffB", "TimeUS,I,Status,GMS,GWk,NSats,HDop,Lat,Lng,Alt,Spd,GCrs,VZ,Yaw,U",
          "s#-s-S-DUmnhnh-", "F--C-0BGGB000--", Periodic(FIVE_HZ, GPS, fd.gps)),
     _row(64, "BARO", "QBfffcfIffBf", "TimeUS,I,Alt,AltAMSL,Press,Temp,CRt,SMS,Offset,GndTemp,H,CPress",
-         "s#mmPOnsmO-P", "F-000B0C?0-0", Periodic(TEN_HZ, IMU, fd.baro)),
+         "s#mmPOnsmO-P", "F-000B0C?0-0", Periodic(TEN_HZ, IMU, fd.baro, instances=fd.BARO_INSTANCES)),
     _row(163, "IMU", "QBffffffIIfBBHH", "TimeUS,I,GyrX,GyrY,GyrZ,AccX,AccY,AccZ,EG,EA,T,GH,AH,GHz,AHz",
-         "s#EEEooo--O--zz", "F-000000-----00", Periodic(TWENTY_FIVE_HZ, IMU, fd.imu)),
+         "s#EEEooo--O--zz", "F-000000-----00", Periodic(TWENTY_FIVE_HZ, IMU, fd.imu, instances=fd.IMU_INSTANCES)),
     _row(88, "BAT", "QBfffffcfBBB", "TimeUS,Inst,Volt,VoltR,Curr,CurrTot,EnrgTot,Temp,Res,RemPct,H,SH",
          "s#vvAaXOw%-%", "F-000C0?0000", Periodic(TEN_HZ, CURRENT, fd.bat)),
     _row(0, "CTUN", "Qffffffefffhh", "TimeUS,ThI,ABst,ThO,ThH,DAlt,Alt,BAlt,DSAlt,SAlt,TAlt,DCRt,CRt",

@@ -30,6 +30,7 @@ from ..views import DataflashView
 from .encoding import fmt_record
 from .messages import FORMATS, MESSAGES, MULTS, PERIODIC, UNITS
 
+INSTANCE_AT = 11  # offset of a per-instance record's instance number: after the header and TimeUS
 ARM_PERSIST_S = 15.0  # ArduPilot's HAL_LOGGER_ARM_PERSIST
 BACKEND_FILE = 1
 # EV ids (AP_Logger's LogEvent)
@@ -56,6 +57,23 @@ def _us(t_s: float) -> int:
     return int(round(t_s * 1e6))
 
 
+class _Group:
+    """The flight data messages logged at one rate, and when they are next due [sim us]."""
+
+    def __init__(self, every_us: int):
+        self.every_us = every_us
+        self.next_us = 0
+        self.members: list = []
+
+
+def _schedule() -> list[_Group]:
+    groups: dict[int, _Group] = {}
+    for fmt, p in PERIODIC:
+        every = _us(p.every_s)
+        groups.setdefault(every, _Group(every)).members.append((fmt, p))
+    return list(groups.values())
+
+
 def _header(t_us: int) -> bytes:
     """FMT, UNIT, MULT and FMTU records: the log's description of itself."""
     out = [fmt_record(f) for f in FORMATS.values()]
@@ -80,7 +98,8 @@ class Recorder:
         self._arm_change_s: float | None = None
         self._arm_failure_s: float | None = None
         self._rotate_pending = False
-        self._next_us = [0] * len(PERIODIC)
+        self._groups = _schedule()
+        self._due_s = 0.0  # sim time of the next flight data records
         self.records = 0  # flight data records written (for the cost measurements)
         vehicle.params.on_change(self._param_changed)
         self._parm = FORMATS["PARM"]
@@ -105,7 +124,14 @@ class Recorder:
 
     # ----- the loop ---------------------------------------------------------------------------
     def tick(self) -> None:
+        """After a loop tick. Most ticks nothing changed and nothing is due: a few reads."""
         v = self.v
+        if (v.armed == self._armed and v.time_s < self._due_s and not self._pending
+                and v.mode_number == self._mode and v.landed == self._landed):
+            return
+        self._update(v)
+
+    def _update(self, v: DataflashView) -> None:
         now = v.time_s
         t_us = _us(now)
         armed = v.armed
@@ -133,6 +159,7 @@ class Recorder:
                 sink.stop()
         if not logging or sink.paused:  # a download pauses logging, as ArduPilot's does
             self._pending.clear()
+            self._periodic(t_us, write=False)
             return
         if not sink.open:
             sink.start()
@@ -144,18 +171,28 @@ class Recorder:
             self._pending.clear()
         self._periodic(t_us)
 
-    def _periodic(self, t_us: int) -> None:
+    def _periodic(self, t_us: int, write: bool = True) -> None:
+        """The flight data records due at t_us (written only with `write`); sets when the next
+        are due."""
         bitmask = self._settings["LOG_BITMASK"]
-        next_us, v, out = self._next_us, self.v, []
-        for i, (fmt, p) in enumerate(PERIODIC):
-            if t_us < next_us[i]:
-                continue
-            due = next_us[i] + _us(p.every_s)
-            next_us[i] = due if due > t_us else t_us + _us(p.every_s)
-            if (p.mask and not bitmask & p.mask) or (p.when is not None and not p.when(v)):
-                continue
-            for row in p.build(v):
-                out.append(fmt.pack(t_us, *row))
+        v, out, body, due = self.v, [], None, math.inf
+        for group in self._groups:
+            if t_us >= group.next_us:
+                group.next_us = max(group.next_us + group.every_us, t_us + 1)
+                if write:
+                    body = body or v.body
+                    for fmt, p in group.members:
+                        if (p.mask and not bitmask & p.mask) or (p.when is not None and not p.when(v)):
+                            continue
+                        if p.instances == 1:
+                            out.append(fmt.pack(t_us, *p.build(v, body)))
+                        else:  # the same values for each instance: packed once, the number patched
+                            record = fmt.pack(t_us, 0, *p.build(v, body))
+                            out.append(record)
+                            out.extend(record[:INSTANCE_AT] + bytes((i,)) + record[INSTANCE_AT + 1:]
+                                       for i in range(1, p.instances))
+            due = min(due, group.next_us)
+        self._due_s = due / 1e6 - 1e-9
         if out:
             self.records += len(out)
             self.sink.write(b"".join(out))
