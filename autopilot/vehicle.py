@@ -154,6 +154,7 @@ class Vehicle:
     attitude: ReadThrough[Vector3] = property(attrgetter("estimate.attitude"), doc="(roll, pitch, yaw) [rad].")
     gps: ReadThrough[GpsReading] = property(attrgetter("estimate.gps"), doc="The last GPS sample.")
     armed: ReadThrough[bool] = property(attrgetter("arming.armed"))
+    arm_changes: ReadThrough[int] = property(attrgetter("arming.changes"), doc="Arms and disarms so far.")
     landed: ReadThrough[bool] = property(attrgetter("land_detector.landed"))
     # ... the rest of the estimate and the sensors, as telemetry reports them
     true_body: ReadThrough[BodyState] = property(attrgetter("estimate.true_body"), doc="The sim's own state.")

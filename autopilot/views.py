@@ -325,10 +325,13 @@ class StreamedView(TelemetryView, SensorView, Protocol):
 
 class DataflashView(StreamedView, Protocol):
     """What the dataflash log reads (dataflash/recorder.py, dataflash/flight_data.py): what
-    telemetry reads, and the landed state and the mission."""
+    telemetry reads, the landed state, the count of arms and disarms (an arm and a disarm between
+    two of its ticks are both logged) and the mission."""
 
     @property
     def landed(self) -> bool: ...
+    @property
+    def arm_changes(self) -> int: ...
     @property
     def mission_version(self) -> int: ...
 

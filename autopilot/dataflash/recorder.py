@@ -91,7 +91,7 @@ class Recorder:
         self._pending: list[bytes] = []  # events since the last tick, packed
         self._settings: dict[str, int] = {}
         self._read_settings()
-        self._armed = vehicle.armed
+        self._arm_changes = vehicle.arm_changes
         self._landed = vehicle.landed
         self._mode = vehicle.mode_number
         self._mission_version = vehicle.mission_version
@@ -126,7 +126,7 @@ class Recorder:
     def tick(self) -> None:
         """After a loop tick. Most ticks nothing changed and nothing is due: a few reads."""
         v = self.v
-        if (v.armed == self._armed and v.time_s < self._due_s and not self._pending
+        if (v.arm_changes == self._arm_changes and v.time_s < self._due_s and not self._pending
                 and v.mode_number == self._mode and v.landed == self._landed):
             return
         self._update(v)
@@ -134,12 +134,14 @@ class Recorder:
     def _update(self, v: DataflashView) -> None:
         now = v.time_s
         t_us = _us(now)
-        armed = v.armed
-        if armed != self._armed:
-            self._armed, self._arm_change_s = armed, now
-            self._queue(FORMATS["EV"].pack(t_us, EV_ARMED if armed else EV_DISARMED))
-            if not armed and self._settings["LOG_FILE_DSRMROT"]:
-                self._rotate_pending = True
+        armed, changes = v.armed, v.arm_changes
+        if changes != self._arm_changes:  # each arm and disarm since the last tick, in order
+            count, self._arm_changes, self._arm_change_s = changes - self._arm_changes, changes, now
+            for k in range(count):
+                now_armed = armed if (count - 1 - k) % 2 == 0 else not armed
+                self._queue(FORMATS["EV"].pack(t_us, EV_ARMED if now_armed else EV_DISARMED))
+                if not now_armed and self._settings["LOG_FILE_DSRMROT"]:
+                    self._rotate_pending = True
         landed = v.landed
         if landed != self._landed:
             self._landed = landed

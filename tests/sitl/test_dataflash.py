@@ -190,3 +190,26 @@ def test_armed_requests_are_refused_and_nothing_changes(flown):
     assert gcs.command(mav.MAV_CMD_COMPONENT_ARM_DISARM, 0) == mav.MAV_RESULT_ACCEPTED
     assert before == sorted(p.name for p in logs_dir(ap).iterdir())[:len(before)]
     assert (logs_dir(ap) / "00000001.BIN").exists()
+
+
+def test_rotation_wraps_at_log_max_files(autopilot):
+    """With LOG_DISARMED and LOG_FILE_DSRMROT each disarm starts a new log; past LOG_MAX_FILES the
+    numbering starts again at 1 and overwrites the oldest, and the listing follows ArduPilot's:
+    the oldest log first."""
+    gcs = Gcs(autopilot.pymavlink_url)
+    logs = logs_dir(autopilot)
+    try:
+        for name, value in (("LOG_MAX_FILES", 2), ("LOG_FILE_DSRMROT", 1), ("LOG_DISARMED", 1)):
+            set_param(gcs, name, value)
+        wait_for(lambda: (logs / "00000001.BIN").exists(), 10, "the first log")
+        for cycle in range(2):
+            assert gcs.command(mav.MAV_CMD_COMPONENT_ARM_DISARM, 1) == mav.MAV_RESULT_ACCEPTED
+            assert gcs.command(mav.MAV_CMD_COMPONENT_ARM_DISARM, 0) == mav.MAV_RESULT_ACCEPTED
+            wait_for(lambda: (logs / "LASTLOG.TXT").read_bytes() == f"{(cycle + 1) % 2 + 1}\r\n".encode(),
+                     10, f"log {(cycle + 1) % 2 + 1}")
+        assert sorted(p.name for p in logs.iterdir()) == ["00000001.BIN", "00000002.BIN", "LASTLOG.TXT"]
+        listed = entries(gcs)
+        assert [(e.id, e.num_logs, e.last_log_num) for e in listed] == [(1, 2, 2), (2, 2, 2)]
+        assert listed[0].size == (logs / "00000002.BIN").stat().st_size  # the oldest: log 2
+    finally:
+        gcs.close()

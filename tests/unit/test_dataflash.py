@@ -258,3 +258,13 @@ def test_unwritable_directory_counts_an_error(tmp_path):
     f.write(b"x" * 70_000)
     f.stop()
     assert f.write_errors >= 1 and math.isfinite(f.count())
+
+
+def test_an_arm_and_disarm_between_two_ticks_are_both_logged(tmp_path):
+    v = ready_vehicle()
+    sink = MemorySink()
+    rec = Recorder(v, sink)
+    run(v, rec, 0.5)
+    assert v.arm() == Result.ACCEPTED and v.disarm() == Result.ACCEPTED  # both within one exchange
+    run(v, rec, 0.5)
+    assert [e.Id for e in read_log(tmp_path, sink.logs[0])["EV"]] == [10, 11]
