@@ -21,9 +21,10 @@ from firefly.autopilot.dataflash.recorder import Recorder
 from firefly.autopilot.io.dataflash_files import LogFiles
 from firefly.autopilot.vehicle import Vehicle, VehicleConfig
 from report import summary  # bench/report.py, beside this script
-from telemetry import rtf_with_client_run
+from telemetry import ROOT, rtf_with_client_run
 
 TICK_S = 0.01
+CLIENT_LOGS = ROOT / "bench" / "tmp" / "telemetry" / "instance-0" / "logs"  # the client runs' logs
 
 
 def headless_run(logging: bool) -> float:
@@ -92,6 +93,7 @@ def main() -> None:
     for _ in range(args.runs):
         off.append(rtf_with_client_run(5.0, {"LOG_BACKEND_TYPE": 0}))
         on.append(rtf_with_client_run(5.0, {"LOG_DISARMED": 1}))
+        shutil.rmtree(CLIENT_LOGS, ignore_errors=True)
     print(f"with a client, flat out: logging {summary(on)}; none {summary(off)}")
 
 

@@ -110,7 +110,7 @@ class Recorder:
         """A status text the vehicle sends (Vehicle.notify)."""
         t_us = _us(self.v.time_s)
         self._queue(FORMATS["MSG"].pack_text(t_us, text[:64]))
-        if severity <= Severity.CRITICAL and text.startswith(("Arm: ", "PreArm: ")):
+        if severity <= Severity.CRITICAL and text.startswith("Arm: "):  # a refused ARM (AP_Arming)
             self._arm_failure_s = self.v.time_s
         if text.startswith("Mode change to ") and " failed" in text:
             mode = MODE_BY_NAME.get(text[len("Mode change to "):text.index(" failed")])

@@ -326,7 +326,7 @@ class FtpServer:
             return _nak(reply, INVALID_DATA_SIZE)
         if request.opcode == CALC_FILE_CRC32:
             try:
-                crc = param_files.crc32(self.params, path)
+                crc = param_files.file_crc32(self._open_path(path))
             except FsError as exc:
                 return _nak(reply, FAIL_ERRNO, exc.errno)
             return replace(reply, opcode=ACK, size=4, data=struct.pack("<I", crc))

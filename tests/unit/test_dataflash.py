@@ -268,3 +268,21 @@ def test_an_arm_and_disarm_between_two_ticks_are_both_logged(tmp_path):
     assert v.arm() == Result.ACCEPTED and v.disarm() == Result.ACCEPTED  # both within one exchange
     run(v, rec, 0.5)
     assert [e.Id for e in read_log(tmp_path, sink.logs[0])["EV"]] == [10, 11]
+
+
+def test_a_refused_arming_logs_for_15_s(tmp_path):
+    v = ready_vehicle()
+    sink = MemorySink()
+    rec = Recorder(v, sink)
+    v.text_listener = rec.text
+    v.set_mode(Land.number)  # not armable
+    assert v.arm() != Result.ACCEPTED
+    run(v, rec, ARM_PERSIST_S - 0.5)
+    size = len(sink.logs[0])
+    run(v, rec, 1.0)
+    assert len(sink.logs[0]) > size  # records up to the 15th second, then none
+    msgs = read_log(tmp_path, sink.logs[0])
+    assert msgs["MSG"][0].Message.startswith("Arm: ")
+    end = msgs["ATT"][-1].TimeUS / 1e6
+    run(v, rec, 1.0)
+    assert read_log(tmp_path, sink.logs[0])["ATT"][-1].TimeUS / 1e6 == end

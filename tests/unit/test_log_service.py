@@ -3,6 +3,9 @@ ArduCopter 4.7 SITL gives (measured: listing, 90-byte LOG_DATA chunks, the hosti
 and FTP's listing of the root and logs/."""
 from __future__ import annotations
 
+import struct
+import zlib
+
 import pytest
 
 from firefly.autopilot.io.dataflash_files import LogFiles
@@ -126,3 +129,13 @@ def test_ftp_lists_the_root_and_logs_as_the_reference(logs_link):
     assert not_dir.opcode == ftp.NAK and not_dir.data[:2] == bytes([ftp.FAIL_ERRNO, 20])
     for empty in (b"@SYS", b"@ROMFS"):
         assert ftp_list(logs_link, empty).data[0] == ftp.END_OF_FILE
+
+
+def test_ftp_crc_of_a_log_is_arducopters(logs_link):
+    logs_link.ftp_seq = 100
+    path = b"logs/00000002.BIN"
+    payload = ftp.Packet(logs_link.ftp_seq, 0, ftp.CALC_FILE_CRC32, len(path), data=path).encode()
+    msg = wire(client_codec().file_transfer_protocol_encode(0, 1, 1, payload))
+    reply = ftp.Packet.parse(of_type(logs_link.send(msg), "FILE_TRANSFER_PROTOCOL")[0].payload)
+    expected = zlib.crc32(LOG_BYTES, 0xFFFFFFFF) ^ 0xFFFFFFFF  # no initial or final inversion
+    assert reply.opcode == ftp.ACK and struct.unpack("<I", reply.data[:4])[0] == expected
