@@ -162,6 +162,8 @@ class Recorder:
         if not logging or sink.paused:  # a download pauses logging, as ArduPilot's does
             self._pending.clear()
             self._periodic(t_us, write=False)
+            if not logging:  # nothing to do until something changes (which takes the slow path)
+                self._due_s = math.inf
             return
         if not sink.open:
             sink.start()
