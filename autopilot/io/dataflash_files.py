@@ -244,20 +244,28 @@ class LogFiles:
         if self._number and path == self.path(self._number):
             self.flush()
         try:
-            return LogFileReader(path.read_bytes())
+            return LogFileReader(open(path, "rb"))
         except OSError as exc:
             raise FsError(exc.errno or errno.EIO) from None
 
 
 class LogFileReader:
-    """A snapshot of a file, as FTP reads it: its size at the open and reads by offset."""
+    """A file as FTP reads it: its size at the open, and reads by offset from the open file
+    (closed when the reader is dropped, as CPython does at once)."""
 
-    def __init__(self, data: bytes):
-        self.data = data
-        self.size_estimate = len(data)
+    def __init__(self, file: IO[bytes]):
+        self.file = file
+        self.size_estimate = os.fstat(file.fileno()).st_size
 
     def read(self, offset: int, length: int) -> bytes:
-        return self.data[offset:offset + length]
+        try:
+            self.file.seek(offset)
+            return self.file.read(length)
+        except (OSError, OverflowError, ValueError) as exc:
+            raise FsError(getattr(exc, "errno", None) or errno.EIO) from None
+
+    def __del__(self) -> None:
+        self.file.close()
 
 
 class _Discard:

@@ -139,3 +139,29 @@ def test_ftp_crc_of_a_log_is_arducopters(logs_link):
     reply = ftp.Packet.parse(of_type(logs_link.send(msg), "FILE_TRANSFER_PROTOCOL")[0].payload)
     expected = zlib.crc32(LOG_BYTES, 0xFFFFFFFF) ^ 0xFFFFFFFF  # no initial or final inversion
     assert reply.opcode == ftp.ACK and struct.unpack("<I", reply.data[:4])[0] == expected
+
+
+def ftp_request(link, opcode, data=b"", size=None, offset=0) -> list[ftp.Packet]:
+    link.ftp_seq = getattr(link, "ftp_seq", 0) + 2
+    size = len(data) if size is None else size
+    payload = ftp.Packet(link.ftp_seq, 1, opcode, size, offset=offset, data=data).encode()
+    msg = wire(client_codec().file_transfer_protocol_encode(0, 1, 1, payload))
+    replies = of_type(link.send(msg, link.vehicle.time_s + link.ftp_seq), "FILE_TRANSFER_PROTOCOL")
+    return [ftp.Packet.parse(r.payload) for r in replies]
+
+
+def test_ftp_reads_a_log(logs_link):
+    opened = ftp_request(logs_link, ftp.OPEN_FILE_RO, b"/logs/00000002.BIN")[0]
+    assert opened.opcode == ftp.ACK and struct.unpack("<I", opened.data[:4])[0] == len(LOG_BYTES)
+    got = b""
+    while True:
+        reply = ftp_request(logs_link, ftp.READ_FILE, size=ftp.DATA_SIZE, offset=len(got))[0]
+        if reply.opcode == ftp.NAK:
+            assert reply.data[0] == ftp.END_OF_FILE
+            break
+        got += reply.data[:reply.size]
+    assert got == LOG_BYTES
+    assert ftp_request(logs_link, ftp.TERMINATE_SESSION)[0].opcode == ftp.ACK
+    for missing in (b"logs/00000009.BIN", b"logs/../params.json", b"logs/", b"terrain/x"):
+        reply = ftp_request(logs_link, ftp.OPEN_FILE_RO, missing)[0]
+        assert reply.opcode == ftp.NAK and reply.data[0] == ftp.FILE_NOT_FOUND, missing
