@@ -24,8 +24,7 @@ AEKF_EKF3 = 3  # the active estimator ArduCopter reports: EKF3
 IMU_INSTANCES = 2  # as ArduCopter SITL logs: two IMUs (Firefly simulates one and logs it twice)
 IMU_SAMPLE_HZ = 1000  # ArduCopter SITL's first IMU's gyro and accelerometer rates (its IMU record)
 BARO_INSTANCES = 2  # likewise two barometers
-GPS_HDOP = 121  # hundredths: ArduPilot SITL's simulated GPS
-GPS_FIX_TYPE_RTK_FIXED = 6
+GPS_HDOP = 80  # hundredths: the eph Firefly's GPS_RAW_INT reports
 GPS_EPOCH_UNIX_S = 315_964_800  # 1980-01-06
 GPS_LEAP_S = 18
 WEEK_MS = 7 * 86_400_000
@@ -69,8 +68,7 @@ def gps(v: StreamedView, b: BodyState) -> tuple:
     speed = math.hypot(g.vn_m_s, g.ve_m_s)
     course = _heading_deg(math.atan2(g.ve_m_s, g.vn_m_s)) if speed > 0.2 else 0.0
     gps_ms = (v.unix_time_us() // 1000) - (GPS_EPOCH_UNIX_S - GPS_LEAP_S) * 1000
-    status = GPS_FIX_TYPE_RTK_FIXED if g.fix_type >= 3 else g.fix_type  # SITL's GPS reports RTK fixed
-    return (0, status, gps_ms % WEEK_MS, gps_ms // WEEK_MS, g.satellites, GPS_HDOP,
+    return (0, g.fix_type, gps_ms % WEEK_MS, gps_ms // WEEK_MS, g.satellites, GPS_HDOP,
             round(p.lat_deg * 1e7), round(p.lon_deg * 1e7), round(p.alt_m * 100), speed, course,
             g.vd_m_s, 0.0, 1)
 

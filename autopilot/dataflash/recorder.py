@@ -182,7 +182,7 @@ class Recorder:
         v, out, body, due = self.v, [], None, math.inf
         for group in self._groups:
             if t_us >= group.next_us:
-                group.next_us = max(group.next_us + group.every_us, t_us + 1)
+                group.next_us = (t_us // group.every_us + 1) * group.every_us  # on multiples of the period
                 if write:
                     body = body or v.body
                     for fmt, p in group.members:

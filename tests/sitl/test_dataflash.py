@@ -213,3 +213,40 @@ def test_rotation_wraps_at_log_max_files(autopilot):
         assert listed[0].size == (logs / "00000002.BIN").stat().st_size  # the oldest: log 2
     finally:
         gcs.close()
+
+
+def test_attitude_and_height_are_the_vehicles(autopilot_factory, tmp_path):
+    """ATT and POS against the vehicle's true state (--state-log, every 0.1 s of vehicle time):
+    the records at the same vehicle time hold the same attitude and height."""
+    import csv
+    import math
+
+    from firefly.sim.rigid_body import euler_from_quaternion
+    states = tmp_path / "state.csv"
+    ap = autopilot_factory(extra=("--state-log", str(states)))
+    gcs = Gcs(ap.pymavlink_url)
+    try:
+        fly_and_land(gcs)
+    finally:
+        gcs.close()
+    ap.stop()  # the log is complete once the process has exited
+    truth = {round(float(r["time_s"]) * 10): r for r in csv.DictReader(states.open())}
+    log = DFReader.DFReader_binary(str(logs_dir(ap) / "00000001.BIN"))
+    compared = 0
+    home_d = None
+    while (m := log.recv_msg()) is not None:
+        if m.get_type() not in ("ATT", "POS") or m.TimeUS % 100_000:
+            continue
+        row = truth.get(m.TimeUS // 100_000)
+        if row is None:
+            continue
+        if m.get_type() == "ATT":
+            roll, pitch, yaw = (math.degrees(a) for a in euler_from_quaternion(
+                *(float(row[k]) for k in ("qw", "qx", "qy", "qz"))))
+            assert (m.Roll, m.Pitch) == (pytest.approx(roll, abs=0.01), pytest.approx(pitch, abs=0.01))
+            assert math.cos(math.radians(m.Yaw - yaw)) > 0.9999
+        else:
+            home_d = float(row["home_d_m"])
+            assert m.RelHomeAlt == pytest.approx(home_d - float(row["d_m"]), abs=0.01)
+        compared += 1
+    assert compared > 200 and home_d is not None
