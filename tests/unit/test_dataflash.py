@@ -286,3 +286,27 @@ def test_a_refused_arming_logs_for_15_s(tmp_path):
     end = msgs["ATT"][-1].TimeUS / 1e6
     run(v, rec, 1.0)
     assert read_log(tmp_path, sink.logs[0])["ATT"][-1].TimeUS / 1e6 == end
+
+
+def test_mission_and_refused_modes_are_logged(tmp_path):
+    from firefly.autopilot.mission import MISSION, MissionItem
+    v = ready_vehicle()
+    v.params.set("LOG_DISARMED", 1)
+    sink = MemorySink()
+    rec = Recorder(v, sink)
+    v.text_listener = rec.text
+    run(v, rec, 0.5)
+    items = [MissionItem(16, 0, x=-353632610, y=1491652300), MissionItem(22, 3, z=10.0),
+             MissionItem(16, 3, p1=2.0, x=-353630000, y=1491655000, z=20.0)]
+    v.mission.replace(MISSION, items)
+    assert v.arm() == Result.ACCEPTED
+    run(v, rec, 0.5)
+    refused = v.set_mode(3)  # AUTO, armed on the ground
+    run(v, rec, 0.5)
+    msgs = read_log(tmp_path, sink.logs[0])
+    cmds = [(c.CTot, c.CNum, c.CId, c.Prm1, c.Lat, c.Lng, c.Alt) for c in msgs["CMD"]]
+    assert cmds == [(3, 0, 16, 0.0, -35.363261, 149.16523, 0.0), (3, 1, 22, 0.0, 0.0, 0.0, 10.0),
+                    (3, 2, 16, 2.0, -35.363, 149.1655, 20.0)]
+    texts = [m.Message for m in msgs["MSG"]]
+    assert refused != Result.ACCEPTED and "Mode change to AUTO failed" in " ".join(texts), texts
+    assert [(e.Subsys, e.ECode) for e in msgs["ERR"]] == [(10, 3)]
