@@ -165,3 +165,12 @@ def test_ftp_reads_a_log(logs_link):
     for missing in (b"logs/00000009.BIN", b"logs/../params.json", b"logs/", b"terrain/x"):
         reply = ftp_request(logs_link, ftp.OPEN_FILE_RO, missing)[0]
         assert reply.opcode == ftp.NAK and reply.data[0] == ftp.FILE_NOT_FOUND, missing
+
+
+def test_a_download_goes_to_the_link_that_asked(logs_link):
+    session = logs_link.session
+    first = session.receive(request_data(2), logs_link.vehicle.time_s, link="tcp-1")
+    assert len(first) == DATA_PER_POLL  # the answer itself goes where the request came from
+    assert not of_type(session.poll(logs_link.vehicle.time_s), "LOG_DATA")  # the rest is not for every link
+    directed = session.take_directed()
+    assert set(directed) == {"tcp-1"} and all(m.get_type() == "LOG_DATA" for m in directed["tcp-1"])
