@@ -110,10 +110,12 @@ class FireflyVehicle:
 
     def mavlink(self, timeout_s: float = CONNECT_WALL_S):
         """A pymavlink connection (system 255, ardupilotmega dialect) that has seen this
-        vehicle's HEARTBEAT; the same one on every call, closed after the test."""
+        vehicle's HEARTBEAT; the same one on every call, closed after the test. A thread of its
+        own reads the socket as datagrams arrive, so nothing is lost while the test does
+        something else (mavlink_client.py)."""
         if self._mavlink is None:
-            from pymavlink import mavutil
-            connection = mavutil.mavlink_connection(self.mavlink_url, source_system=255, dialect="ardupilotmega")
+            from .mavlink_client import queued_connection
+            connection = queued_connection(self.mavlink_url, source_system=255)
             try:
                 deadline = time.monotonic() + timeout_s
                 while connection.recv_match(type="HEARTBEAT", blocking=True, timeout=0.1) is None:
