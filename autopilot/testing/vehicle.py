@@ -131,7 +131,9 @@ class FireflyVehicle:
 
     # ----- the true state and waits in vehicle time ----------------------------------------
     def state(self) -> VehicleState:
-        """The vehicle's newest true state (at most 0.1 s of vehicle time old)."""
+        """The vehicle's newest true state: the state log's last complete line, read at each call.
+        The vehicle writes one every 0.1 s of vehicle time and one for the moment of each answer
+        it sends a client, before sending it, so this is never older than a reply received."""
         state = self._state.latest_state()
         if state is None:
             self.check_alive()
