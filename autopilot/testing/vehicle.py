@@ -9,11 +9,14 @@ from __future__ import annotations
 import asyncio
 import time
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from .control import ControlLink
 from .errors import FireflyError
 from .state import StateLogReader, VehicleState
+
+if TYPE_CHECKING:
+    from .mavlink_client import QueuedUdpConnection  # imports pymavlink: only when a test asks for it
 
 POLL_WALL_S = 0.005  # how often a wait looks at the state log
 STALL_WALL_S = 30.0  # a wait fails if vehicle time stands still this long (the process hung)
@@ -71,7 +74,7 @@ class FireflyVehicle:
         self._state = StateLogReader(state_log)
         self._control: ControlLink | None = None
         self._mavsdk: tuple[Any, Any] | None = None  # (Mavsdk, System)
-        self._mavlink = None
+        self._mavlink: QueuedUdpConnection | None = None
 
     # ----- where clients connect ------------------------------------------------------------
     @property
