@@ -84,6 +84,10 @@ class QueuedUdpConnection(mavutil.mavudp):
             return self._arrived.wait_for(lambda: bool(self._queue), timeout)
 
     def close(self) -> None:
+        """Stop the reader and close the socket; again is harmless (a test may close it before
+        the fixture does)."""
+        if self._stop_w.fileno() < 0:
+            return
         self._stop_w.send(b"x")
         self._reader.join(timeout=2.0)
         self._stop_r.close()

@@ -8,6 +8,10 @@ directory with no pytest configuration (as a user's project). At speedup inf an 
 on the ground disarms itself after 10 s of vehicle time, about 20 ms of wall time: the client has
 that long in vehicle time but must not lose the HEARTBEATs sent meanwhile, however far behind it
 reads. tests/plugin/test_armed_heartbeat.py runs a short version in `make test`.
+
+Measured on 2 cores, --tests 100: with a plain pymavlink connection, 46 of 200 tests failed with
+--busy 300 (0 of 200 with --busy 0: arming at once, the socket has not overflowed yet); with
+the connection's reader thread (mavlink_client.py), 0 of 300 with --busy 300.
 """
 from __future__ import annotations
 

@@ -55,3 +55,17 @@ def test_nothing_is_lost_during_a_sleep(firefly, speedup, seconds):
     assert "Arming motors" in texts and "Disarming motors" in texts, texts
     assert conn.dropped_datagrams == 0
     print(f"speedup {speedup}, sleep {seconds:g} s: {len(messages)} messages up to t = {slept.time_s:.1f} s, none lost")
+
+
+@pytest.mark.firefly(speedup="inf")
+def test_it_is_a_pymavlink_connection_a_test_may_close(firefly):
+    """What a pymavlink user does with it works: wait_heartbeat, recv_msg, sending a request and
+    reading its answer, closing it (the fixture's own close after that is harmless)."""
+    conn = firefly.mavlink()
+    assert conn.wait_heartbeat(timeout=5).get_srcSystem() == firefly.system_id
+    assert conn.recv_msg() is not None or conn.recv_match(blocking=True, timeout=5) is not None
+    conn.mav.param_request_read_send(firefly.system_id, 1, b"DISARM_DELAY", -1)
+    value = conn.recv_match(type="PARAM_VALUE", blocking=True, timeout=5)
+    assert value is not None and value.param_id == "DISARM_DELAY" and value.param_value == 10
+    conn.close()
+    conn.close()
