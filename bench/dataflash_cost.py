@@ -1,4 +1,4 @@
-"""What the dataflash log costs (docs/logs.md quotes these figures). Not part of `make bench`.
+"""What the dataflash log costs (docs/logs.md quotes these figures); `make bench` runs measure().
 
 - headless: the bench's headless flight (take-off, a 20 m square, land) ticked every 10 ms as the
   loop ticks it, with the recorder writing real files, against the same without a recorder;
@@ -79,22 +79,31 @@ def tick_cost_us(ticks: int = 20_000) -> float:
     return spent / ticks * 1e6
 
 
-def main() -> None:
-    ap = argparse.ArgumentParser()
-    ap.add_argument("--runs", type=int, default=5)
-    args = ap.parse_args()
+def measure(runs: int, progress=print) -> dict:
+    """Logging against not, each pair alternated: headless, per tick, and with a client."""
     on, off = [], []
-    for _ in range(args.runs):
+    for i in range(runs):
         off.append(headless_run(False))
         on.append(headless_run(True))
-    print(f"headless, ticked at 100 Hz: logging {summary(on)}; none {summary(off)}")
-    print(f"recorder tick: {tick_cost_us():.1f} us")
+        progress(f"dataflash headless run {i + 1}/{runs}: logging {on[-1]:.0f}x, none {off[-1]:.0f}x")
+    result = {"headless_logging": summary(on), "headless_none": summary(off), "recorder_tick_us": tick_cost_us()}
     on, off = [], []
-    for _ in range(args.runs):
+    for i in range(runs):
         off.append(rtf_with_client_run(5.0, {"LOG_BACKEND_TYPE": 0}))
         on.append(rtf_with_client_run(5.0, {"LOG_DISARMED": 1}))
         shutil.rmtree(CLIENT_LOGS, ignore_errors=True)
-    print(f"with a client, flat out: logging {summary(on)}; none {summary(off)}")
+        progress(f"dataflash client run {i + 1}/{runs}: logging {on[-1]:.0f}x, none {off[-1]:.0f}x")
+    result.update(client_logging=summary(on), client_none=summary(off))
+    return result
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--runs", type=int, default=5)
+    r = measure(ap.parse_args().runs)
+    print(f"headless, ticked at 100 Hz: logging {r['headless_logging']}; none {r['headless_none']}")
+    print(f"recorder tick: {r['recorder_tick_us']:.1f} us")
+    print(f"with a client, flat out: logging {r['client_logging']}; none {r['client_none']}")
 
 
 if __name__ == "__main__":

@@ -57,6 +57,12 @@ def speed_rows(r: dict) -> list[str]:
     if "rtf_headless_python_reference" in r:
         rows.append(f"| rtf_headless with the Python reference cascade | "
                     f"{fmt(r['rtf_headless_python_reference'], '', 0)} |")
+    if "dataflash_cost" in r:
+        d = r["dataflash_cost"]
+        rows.append(f"| dataflash .BIN log cost: headless flight ticked at 100 Hz, logging / not (the recorder's tick "
+                    f"{d['recorder_tick_us']:.1f} µs) | {fmt(d['headless_logging'], 'x', 0)} / {fmt(d['headless_none'], 'x', 0)} |")
+        rows.append(f"| dataflash .BIN log cost: speedup inf with one client, disarmed, LOG_DISARMED 1 / "
+                    f"LOG_BACKEND_TYPE 0 | {fmt(d['client_logging'], 'x', 0)} / {fmt(d['client_none'], 'x', 0)} |")
     if "rtf_with_client" in r:
         rows.append(f"| rtf_with_client (sim s per wall s, speedup inf, one client on --out, default streams, "
                     f"from the sim-time stamps the client receives) | {fmt(r['rtf_with_client'], '', 0)} |")

@@ -389,7 +389,7 @@ def main() -> int:
     ap.add_argument("--runs", type=int, default=5)
     ap.add_argument("--reference-runs", type=int, default=None, help="runs of the speedup-1 flight (default --runs)")
     ap.add_argument("--ladder", default="10,20,50,100,200,500,inf")
-    ap.add_argument("--skip", default="", help="comma list of: rtf,telemetry,startup,plugin,campaign,mavsdk,mission,swarm")
+    ap.add_argument("--skip", default="", help="comma list of: rtf,telemetry,dataflash,startup,plugin,campaign,mavsdk,mission,swarm")
     ap.add_argument("--swarm", default="50,100,150,200,250",
                     help="vehicle counts tried, in order (MAVLink system ids stop at 255)")
     ap.add_argument("--batch", default="1,10,100,1000", help="vehicle counts of the batched step cost")
@@ -420,6 +420,11 @@ def main() -> int:
         print("telemetry: real-time factor with a client, cost per message ...", flush=True)
         results["rtf_with_client"] = rtf_with_client(args.runs, progress=progress)
         results["telemetry_message_cost_us"] = message_cost_us(args.runs, progress=progress)
+        save(results)
+    if "dataflash" not in skip:
+        from dataflash_cost import measure
+        print("dataflash log cost: logging against not, headless and with a client ...", flush=True)
+        results["dataflash_cost"] = measure(args.runs, progress=progress)
         save(results)
     if "startup" not in skip:
         print("start-up ...", flush=True)
