@@ -228,6 +228,10 @@ class ParamStore:
     def __init__(self, path: Path | None = None, wipe: bool = False):
         self.path = path
         self._values = dict(DEFAULTS)
+        # Values still in use whose saved copy PREFLIGHT_STORAGE erased: left out of the file
+        # until they are set again, so that the next boot starts from the defaults (as ArduPilot's
+        # AP_Param::erase_all leaves the values in RAM and writes only those set after it).
+        self._erased: set[str] = set()
         self._listeners: list[Callable[[str, float], None]] = []
         self.file = JsonFile(path)
         if path is not None and path.exists() and not wipe:
@@ -281,6 +285,7 @@ class ParamStore:
         if value == self._values[name]:
             return value  # nothing changes: a GCS re-sending its whole list must not re-trigger faults
         self._values[name] = value
+        self._erased.discard(name)
         if is_saved(name):
             self._save()
         for callback in self._listeners:
@@ -289,6 +294,17 @@ class ParamStore:
 
     def save_all(self) -> None:
         self._save()
+
+    def erase_saved(self) -> bool:
+        """Forget every saved value (the values in use stay until the next boot); whether the
+        file took it."""
+        self._erased = {n for n, v in self._values.items() if v != DEFAULTS[n]}
+        return self._save()
+
+    def report(self, name: str, value: float) -> None:
+        """Set a value the vehicle only reports (as SITL reports SIM_SPEEDUP, its command line's
+        --speedup): not range-checked, not saved, no listener told."""
+        self._values[STORED_AS[name]] = float(value)
 
     @property
     def save_errors(self) -> int:
@@ -301,4 +317,6 @@ class ParamStore:
     def _save(self) -> bool:
         """Persist (persist.JsonFile: a refused save is counted, the value still takes effect in
         flight: the vehicle must not stop or half-apply a change for it)."""
-        return self.file.save(lambda: {n: v for n, v in self._values.items() if v != DEFAULTS[n] and is_saved(n)})
+        erased = self._erased
+        return self.file.save(lambda: {n: v for n, v in self._values.items()
+                                       if v != DEFAULTS[n] and is_saved(n) and n not in erased})

@@ -24,11 +24,14 @@ def test_request_message_autopilot_version_has_mission_int_capability(link):
     assert caps & mav.MAV_PROTOCOL_CAPABILITY_MISSION_INT
     assert caps & mav.MAV_PROTOCOL_CAPABILITY_MAVLINK2
     assert caps & mav.MAV_PROTOCOL_CAPABILITY_COMMAND_INT
-    # Integer parameters travel by value in the float field (C cast), not bytewise.
     assert caps & mav.MAV_PROTOCOL_CAPABILITY_FTP  # @PARAM/param.pck is served
-    assert caps & mav.MAV_PROTOCOL_CAPABILITY_PARAM_ENCODE_C_CAST
+    # Integers travel by value in the float field, as ArduPilot sends them, which (like the
+    # reference) claims neither encoding bit: ground stations know ArduPilot's way by its type.
     assert not caps & mav.MAV_PROTOCOL_CAPABILITY_PARAM_ENCODE_BYTEWISE
-    assert versions[0].uid == link.vehicle.system_id
+    assert caps == 64495  # the reference ArduCopter 4.7.0-dev SITL's, measured (autopilot/version.py)
+    assert versions[0].flight_sw_version == 0x04070000  # 4.7.0, FIRMWARE_VERSION_TYPE_DEV
+    assert bytes(versions[0].flight_custom_version) == b"90700977"
+    assert versions[0].uid == 0 and bytes(versions[0].uid2).rstrip(b"\0") == link.vehicle.board_id.encode()[:17]
 
 
 def test_request_message_of_unknown_id_fails(link):
