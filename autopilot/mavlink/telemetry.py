@@ -239,23 +239,23 @@ BUILDERS: dict[int, Builder] = {
     **TERRAIN_BUILDERS,
 }
 
-# ArduPilot's stream groups (REQUEST_DATA_STREAM ids), the SRn_ parameter that sets each rate,
+# ArduPilot's stream groups (REQUEST_DATA_STREAM ids), the MAV1_ parameter that sets each rate,
 # and their messages, as ArduCopter fills them (GCS_MAVLink_Parameters.cpp) for what Firefly has.
 _ID = mav.__dict__
 _STREAM_GROUP_NAMES = {
-    mav.MAV_DATA_STREAM_RAW_SENSORS: ("SR0_RAW_SENS", ("RAW_IMU", "SCALED_IMU2", "SCALED_IMU3",
+    mav.MAV_DATA_STREAM_RAW_SENSORS: ("MAV1_RAW_SENS", ("RAW_IMU", "SCALED_IMU2", "SCALED_IMU3",
                                                       "SCALED_PRESSURE", "SCALED_PRESSURE2")),
-    mav.MAV_DATA_STREAM_EXTENDED_STATUS: ("SR0_EXT_STAT", ("SYS_STATUS", "POWER_STATUS", "MEMINFO",
+    mav.MAV_DATA_STREAM_EXTENDED_STATUS: ("MAV1_EXT_STAT", ("SYS_STATUS", "POWER_STATUS", "MEMINFO",
                                                           "MISSION_CURRENT", "GPS_RAW_INT",
                                                           "NAV_CONTROLLER_OUTPUT", "POSITION_TARGET_GLOBAL_INT")),
-    mav.MAV_DATA_STREAM_POSITION: ("SR0_POSITION", ("GLOBAL_POSITION_INT", "LOCAL_POSITION_NED")),
-    mav.MAV_DATA_STREAM_RC_CHANNELS: ("SR0_RC_CHAN", ("SERVO_OUTPUT_RAW", "RC_CHANNELS")),
+    mav.MAV_DATA_STREAM_POSITION: ("MAV1_POSITION", ("GLOBAL_POSITION_INT", "LOCAL_POSITION_NED")),
+    mav.MAV_DATA_STREAM_RC_CHANNELS: ("MAV1_RC_CHAN", ("SERVO_OUTPUT_RAW", "RC_CHANNELS")),
     # ATTITUDE_QUATERNION is Firefly's addition to EXTRA1 (ArduCopter sends it only when asked).
-    mav.MAV_DATA_STREAM_EXTRA1: ("SR0_EXTRA1", ("ATTITUDE", "ATTITUDE_QUATERNION", "SIMSTATE", "AHRS2",
+    mav.MAV_DATA_STREAM_EXTRA1: ("MAV1_EXTRA1", ("ATTITUDE", "ATTITUDE_QUATERNION", "SIMSTATE", "AHRS2",
                                                "ESC_TELEMETRY_1_TO_4")),
-    mav.MAV_DATA_STREAM_EXTRA2: ("SR0_EXTRA2", ("VFR_HUD",)),
+    mav.MAV_DATA_STREAM_EXTRA2: ("MAV1_EXTRA2", ("VFR_HUD",)),
     # EXTENDED_SYS_STATE is Firefly's addition to EXTRA3 (ArduCopter sends it only when asked).
-    mav.MAV_DATA_STREAM_EXTRA3: ("SR0_EXTRA3", ("AHRS", "WIND", "SYSTEM_TIME", "TERRAIN_REPORT",
+    mav.MAV_DATA_STREAM_EXTRA3: ("MAV1_EXTRA3", ("AHRS", "WIND", "SYSTEM_TIME", "TERRAIN_REPORT",
                                                "TERRAIN_REQUEST", "BATTERY_STATUS", "EKF_STATUS_REPORT",
                                                "VIBRATION", "EXTENDED_SYS_STATE")),
 }

@@ -48,7 +48,7 @@ def count_over(link, msg_type: str, t0: float, seconds: float, rate_hz: int = 10
 
 
 def test_set_message_interval_changes_the_stream_rate(link):
-    default_hz = link.vehicle.params["SR0_POSITION"]
+    default_hz = link.vehicle.params["MAV1_POSITION"]
     assert count_over(link, "GLOBAL_POSITION_INT", 0.0, 2.0) == pytest.approx(2 * default_hz, abs=1)
     ack, _ = link.command(mav.MAV_CMD_SET_MESSAGE_INTERVAL, mav.MAVLINK_MSG_ID_GLOBAL_POSITION_INT,
                           50_000, now=2.0)
@@ -251,7 +251,7 @@ def test_stream_rate_parameter_applies_at_once():
             n += sum(1 for m in s.poll(v.time_s) if m.get_type() == "ATTITUDE")
         return n
     assert 18 <= count_attitude(2.0) <= 22  # SR0_EXTRA1 default 10 Hz
-    v.params.set("SR0_EXTRA1", 2)
+    v.params.set("MAV1_EXTRA1", 2)
     assert 3 <= count_attitude(2.0) <= 5
-    v.params.set("SR0_EXTRA1", 0)
+    v.params.set("MAV1_EXTRA1", 0)
     assert count_attitude(2.0) == 0
