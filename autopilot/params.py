@@ -206,6 +206,17 @@ STORED_AS = {name: OLD_NAMES.get(name, name) for name in KNOWN_BY_NAME}  # where
 DEFAULTS = {STORED_AS[name]: spec.default for name, spec in KNOWN_BY_NAME.items()}
 
 
+INVERSE_OLD_NAMES = {"SIM_GPS_DISABLE": "SIM_GPS1_ENABLE"}  # 4.5's name of a 0/1 that 4.7 inverted
+
+
+def served_equivalent(name: str, value: float) -> tuple[str, float]:
+    """The served parameter and value that mean what setting `name` to `value` means: for a
+    caller that sets a name known in-process only (IN_PROCESS_ONLY) over MAVLink."""
+    if name in INVERSE_OLD_NAMES:
+        return INVERSE_OLD_NAMES[name], 0.0 if value else 1.0
+    return OLD_NAMES.get(name, name), value
+
+
 class ParamError(ValueError):
     pass
 
