@@ -16,6 +16,8 @@ from firefly.groundstation.flight.reference_flight import connect
 from firefly.groundstation.flight.vehicle_link import first
 
 from .pymav import GUIDED, Gcs, mav, set_param, upload_mission
+from .test_signing import KEY as SIGNING_KEY
+from .test_signing import answers_before_probe, intruder, signing_now
 
 pytestmark = pytest.mark.sitl
 
@@ -195,3 +197,22 @@ async def test_mavsdk_reconnects_after_a_reboot_and_flies_again(autopilot):
         await first(telemetry.subscribe_position(), lambda p: p.relative_altitude_m > 4.5, 30, "5 m altitude")
     finally:
         mavsdk.destroy()
+
+
+def test_a_key_set_over_the_link_survives_the_reboot(autopilot):
+    """SETUP_SIGNING's key is kept as ArduPilot keeps it in storage: after the reboot the vehicle
+    signs what it sends and drops unsigned commands, and the client's signed reboot went through."""
+    gcs = Gcs(autopilot.pymavlink_url)
+    try:
+        gcs.mav.setup_signing_send(1, 1, list(SIGNING_KEY), signing_now())
+        gcs.conn.setup_signing(SIGNING_KEY, sign_outgoing=True, link_id=1)
+        assert gcs.recv("HEARTBEAT", 5, lambda m: m.get_signed()) is not None  # it took the key
+        reboot_and_wait(gcs)
+        fresh = gcs.recv("HEARTBEAT", 5)
+        assert fresh is not None and fresh.get_signed()
+        unsigned = intruder(gcs)
+        unsigned.mav.command_long_send(1, 1, ARM, 0, 1, 0, 0, 0, 0, 0, 0)
+        unsigned.close()
+        assert answers_before_probe(gcs) == []  # the unsigned ARM was dropped, the signed probe answered
+    finally:
+        gcs.close()
