@@ -29,6 +29,7 @@ REFERENCE = {
     "param1_2": mav.MAV_RESULT_UNSUPPORTED,
     "reboot": mav.MAV_RESULT_ACCEPTED,
     "first_heartbeat_wall_s_at_10x": 0.124,  # after the ACK
+    "first_heartbeat_status": mav.MAV_STATE_BOOT,  # until "ArduPilot Ready", then STANDBY
     "boot_texts": ["EKF3 IMU0 initialised", "AHRS: EKF3 active", "EKF3 IMU0 tilt alignment complete"],
     "storage_erase_text": "All parameters reset, reboot board",  # PREFLIGHT_STORAGE param 1 = 2, ACCEPTED
 }
@@ -105,7 +106,7 @@ def test_reboot_in_place_keeps_saved_state_and_the_link(autopilot):
         # silent, then back on the same socket, its clock started again from zero
         first_beat = gcs.recv("HEARTBEAT", 10)
         silent_s = time.monotonic() - wall0
-        assert first_beat is not None
+        assert first_beat is not None and first_beat.system_status == REFERENCE["first_heartbeat_status"]
         assert 0.5 * REFERENCE["first_heartbeat_wall_s_at_10x"] < silent_s < 1.0, silent_s
         after = boot_time_ms(gcs)
         assert after < before and after < 5000, (before, after)
