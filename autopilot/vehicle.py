@@ -11,6 +11,7 @@ queue what ArduCopter would announce in `events`.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from functools import partial
 from operator import attrgetter
@@ -25,7 +26,7 @@ from .version import board_id_for
 from .control.compiled import make_cascade
 from .estimate import StateEstimate
 from .faults.world import Faults, world_values
-from .mission import FENCE, MissionStore
+from .mission import FENCE, MISSION, MissionStore
 from .mission.progress import MissionProgress
 from .modes import MODE_BY_NUMBER, Mode, ModeNumber, Setpoint
 from .modes.context import ModeContext
@@ -123,6 +124,7 @@ class Vehicle:
         self.internal_error_fields = self.internal_errors.sys_status_fields
         self.mission_status = self.mission_progress.status
         self.fence_items = partial(self.mission.items, FENCE)
+        self.mission_items = partial(self.mission.items, MISSION)
         self.modes: dict[int, Mode] = {number: cls() for number, cls in MODE_BY_NUMBER.items()}
         self.mode = self.modes[ModeNumber.STABILIZE]
         # A mode entered before what it needs is there (disarmed before home, as ArduCopter
@@ -136,6 +138,9 @@ class Vehicle:
         self.home_sets = 0  # times home was set: a cleared mission lists home again after the next
         self.pilot_input = PilotInput()
         self.events: list[tuple[int, str]] = []
+        # Who else hears each status text as it is made (the dataflash log's MSG records): set by
+        # the I/O edge, None when nothing logs.
+        self.text_listener: Callable[[int, str], None] | None = None
         self.nav_speed_m_s = self.params["WPNAV_SPEED"] / 100.0
         self._loiter_speed_max = self.params["LOIT_SPEED"] / 100.0 * 2.0
         self._mode_every = config.rates.ratio(config.rates.mode_hz)
@@ -155,6 +160,7 @@ class Vehicle:
     attitude: ReadThrough[Vector3] = property(attrgetter("estimate.attitude"), doc="(roll, pitch, yaw) [rad].")
     gps: ReadThrough[GpsReading] = property(attrgetter("estimate.gps"), doc="The last GPS sample.")
     armed: ReadThrough[bool] = property(attrgetter("arming.armed"))
+    arm_changes: ReadThrough[int] = property(attrgetter("arming.changes"), doc="Arms and disarms so far.")
     landed: ReadThrough[bool] = property(attrgetter("land_detector.landed"))
     # ... the rest of the estimate and the sensors, as telemetry reports them
     true_body: ReadThrough[BodyState] = property(attrgetter("estimate.true_body"), doc="The sim's own state.")
@@ -267,6 +273,8 @@ class Vehicle:
         if len(events) >= MAX_PENDING_TEXTS:  # as ArduPilot's queue: the oldest gives way
             del events[0]
         events.append((int(severity), text))
+        if self.text_listener is not None:
+            self.text_listener(int(severity), text)
 
     def poll_stores(self, link_s: float) -> None:
         """The link time now, for the stores' writes; the writes that are due."""

@@ -324,3 +324,18 @@ class ModeHost(Protocol):
 class StreamedView(TelemetryView, SensorView, Protocol):
     """What every streamed message together reads: the type the telemetry table's builders are
     called with (mavlink/telemetry.py BUILDERS)."""
+
+
+class DataflashView(StreamedView, Protocol):
+    """What the dataflash log reads (dataflash/recorder.py, dataflash/flight_data.py): what
+    telemetry reads, the landed state, the count of arms and disarms (an arm and a disarm between
+    two of its ticks are both logged) and the mission."""
+
+    @property
+    def landed(self) -> bool: ...
+    @property
+    def arm_changes(self) -> int: ...
+    @property
+    def mission_version(self) -> int: ...
+
+    def mission_items(self) -> list[MissionItem]: ...

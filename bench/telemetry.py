@@ -38,7 +38,9 @@ def frames_stamps(datagram: bytes) -> list[int]:
     return out
 
 
-def rtf_with_client_run(window_s: float) -> float:
+def rtf_with_client_run(window_s: float, params: dict | None = None) -> float:
+    """One run; with `params`, the vehicle starts with those parameter values (its saved file)."""
+    import json
     from pymavlink.dialects.v20 import ardupilotmega as mavlink
     client = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
     client.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 1 << 22)
@@ -47,9 +49,13 @@ def rtf_with_client_run(window_s: float) -> float:
     port = client.getsockname()[1]
     gcs = mavlink.MAVLink(None, srcSystem=255, srcComponent=190)
     heartbeat = gcs.heartbeat_encode(6, 8, 0, 0, 0).pack(gcs)
+    state = ROOT / "bench" / "tmp" / "telemetry"
+    if params is not None:
+        (state / "instance-0").mkdir(parents=True, exist_ok=True)
+        (state / "instance-0" / "params.json").write_text(json.dumps(params))
     proc = subprocess.Popen([sys.executable, "-m", "firefly.autopilot", "--speedup", "inf", "--listen", "udp:127.0.0.1:0",
-                             "--out", f"udp:127.0.0.1:{port}", "--quiet", "--wipe",
-                             "--state-dir", str(ROOT / "bench" / "tmp" / "telemetry")], cwd=ROOT)
+                             "--out", f"udp:127.0.0.1:{port}", "--quiet", *(() if params is not None else ("--wipe",)),
+                             "--state-dir", str(state)], cwd=ROOT)
     try:
         first = last = None
         sent_s = 0.0

@@ -172,6 +172,18 @@ def main(argv=None) -> int:
         return 2
     if args.command not in ("evaluate", "campaign") or getattr(args, "flight", None):
         quiet_mavsdk_logs()
+    try:
+        return guarded(args)
+    except ModuleNotFoundError as exc:
+        if (exc.name or "").split(".")[0] not in EXPLORE_EXTRA:
+            raise
+        print(f"groundstation: error: {args.command} needs {exc.name.split('.')[0]}, which comes with the "
+              f"explore extra: pip install 'firefly-sitl[explore]'", file=sys.stderr)
+        return 2
+
+
+def guarded(args) -> int:
+    """The command, its expected failures said in one line."""
     from .evaluation.evaluate import EvaluateError
     from .flight.autopilot_process import AutopilotExited
     from .flight.mission_files import MissionFileError
@@ -186,6 +198,9 @@ def main(argv=None) -> int:
         return 1
     except KeyboardInterrupt:
         return 130
+
+
+EXPLORE_EXTRA = ("scipy", "matplotlib")  # pyproject.toml's `explore` extra: the search's science and plots
 
 
 def run_command(args) -> int:

@@ -6,8 +6,8 @@ from __future__ import annotations
 
 from typing import NamedTuple
 
-from .airframe import Airframe
-from .rigid_body import BodyState, apply_ground, step_body
+from .airframe import GRAVITY_M_S2, Airframe
+from .rigid_body import BodyState, apply_ground, ned_to_body, step_body
 from .rotors import HEALTHY, mix_forces, rotor_forces, step_motors
 
 
@@ -39,7 +39,6 @@ def fast_step_constants(airframe: Airframe, dt: float) -> dict:
     """The numbers the hot path binds, by the names make_fast_step gives them. The compiled twin
     reads the same dict by the same names (physics.h's PhysicsConstants, autopilot/control/by_name.h),
     so a number added or renamed on one side only is a KeyError, not a silent mix-up."""
-    from .airframe import GRAVITY_M_S2
     from .rotors import motor_lag_factor
     return {"m": airframe.mass_kg, "ixx": airframe.ixx_kg_m2, "iyy": airframe.iyy_kg_m2,
             "izz": airframe.izz_kg_m2, "b": airframe.thrust_coeff_b, "arm": airframe.arm_length_m,
@@ -102,8 +101,6 @@ def specific_force_body(state: PhysicsState, airframe: Airframe, wind_ned: tuple
     """What an accelerometer at the centre of mass reads (FRD body frame, m/s^2): every force
     but gravity, per unit mass. Resting on the ground the ground's push reads as 1 g up; in the
     air, the rotors' thrust along body -z and the drag of the air moving past."""
-    from .airframe import GRAVITY_M_S2
-    from .rigid_body import ned_to_body
     s = state.body
     if state.on_ground:
         return ned_to_body(s, (0.0, 0.0, -GRAVITY_M_S2))

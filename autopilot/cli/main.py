@@ -1,7 +1,10 @@
-"""`autopilot`: start a simulated ArduCopter-compatible vehicle and serve MAVLink over UDP.
+"""`autopilot`: start a simulated ArduCopter-compatible vehicle and serve MAVLink over TCP and UDP.
 
-Ports follow ArduPilot SITL's instance convention: instance N is system id N+1, listens on UDP
-5760+10N and sends to 14550+10N and 14540+10N (what MAVProxy's default outputs give SITL users).
+Ports follow ArduPilot SITL's instance convention: instance N is system id N+1, serves TCP
+5760+10N (SERIAL0, as ArduPilot SITL does), listens on UDP 5760+10N and sends to 14550+10N and
+14540+10N (what MAVProxy's default outputs give SITL users). --serialN adds ports as ArduPilot
+SITL's option of that name does. A default port another process holds is not an error: the
+vehicle takes the next free one in steps of 10 and says so.
 """
 from __future__ import annotations
 
@@ -33,6 +36,27 @@ def parse_udp(text: str, option: str) -> tuple:
     return host, port_n
 
 
+SERIAL_PORTS = 8  # --serial0 .. --serial7
+SERIAL_KINDS = ("tcp", "tcpclient", "udp", "udpclient")
+
+
+def parse_serial(text: str, option: str) -> tuple | None:
+    """ArduPilot SITL's port spec: tcp:[HOST:]PORT (a server), tcpclient:HOST:PORT,
+    udpclient:HOST:PORT (an output), udp:HOST:PORT (the UDP socket's own address), or none.
+    (kind, host, port), or None for none."""
+    if text == "none":
+        return None
+    kind, sep, rest = text.partition(":")
+    if not sep or kind not in SERIAL_KINDS:
+        raise CliError(f"{option}: expected none or {', '.join(k + ':...' for k in SERIAL_KINDS)}, got {text!r}")
+    if kind == "tcp" and ":" not in rest:
+        rest = f"0.0.0.0:{rest}"
+    host, port = parse_udp(rest, option)
+    if kind in ("tcpclient", "udpclient") and port == 0:
+        raise CliError(f"{option}: {kind} needs a port to connect to, got {text!r}")
+    return kind, host, port
+
+
 def parse_speedup(text: str) -> float:
     try:
         value = float(text)
@@ -54,6 +78,11 @@ def build_parser() -> argparse.ArgumentParser:
                    help="send MAVLink here (repeatable; default 127.0.0.1:14550 and :14540, +10 per instance)")
     p.add_argument("--listen", default=None, metavar="udp:HOST:PORT",
                    help="local UDP address to bind (default 0.0.0.0:5760+10*instance; port 0 = any)")
+    for n in range(SERIAL_PORTS):
+        p.add_argument(f"--serial{n}", default=None, metavar="SPEC",
+                       help="SERIAL0: tcp server on 5760+10*instance by default; SPEC is none, tcp:[HOST:]PORT, "
+                            "tcpclient:HOST:PORT, udpclient:HOST:PORT or udp:HOST:PORT (ports +10 per vehicle)"
+                       if n == 0 else argparse.SUPPRESS)
     p.add_argument("--speedup", default="1", help="sim seconds per wall second; 'inf' runs flat out")
     p.add_argument("--instance", type=int, default=0, help="instance number N: system id N+1, ports +10N")
     p.add_argument("--count", type=int, default=1,
@@ -113,6 +142,17 @@ def build(args) -> list:
         scenario.startup = StartupTimeline()
     outs = [parse_udp(o, "--out") for o in args.out] if args.out else None
     listen = parse_udp(args.listen, "--listen") if args.listen else None
+    serials = {n: parse_serial(spec, f"--serial{n}") for n in range(SERIAL_PORTS)
+               if (spec := getattr(args, f"serial{n}")) is not None}
+    for n, spec in serials.items():
+        if spec is not None and spec[0] == "udp":
+            if listen is not None:
+                raise CliError(f"--serial{n}: one UDP socket per vehicle, and --listen (or another --serialN udp:) "
+                               "already names it")
+            listen = spec[1:]
+        elif spec is not None and spec[0] == "udpclient":
+            outs = (outs or []) + [spec[1:]]
+    args.serials = serials
     epoch_us = int(time.time() * 1e6)
     built = []
     try:
@@ -143,8 +183,8 @@ def build_vehicle(args, scenario, k: int, outs, listen, epoch_us: int):
     from ..io.board_id import read_machine_id
     from ..io.reboot import bind_link
     from ..io.runner import Node
-    from ..io.udp import UdpEndpoint
     from ..mavlink.link import Link
+    from ..mavlink.routing import Router
     from ..startup import StartupTimeline
     from ..version import board_id_for
 
@@ -152,18 +192,14 @@ def build_vehicle(args, scenario, k: int, outs, listen, epoch_us: int):
     offset = 10 * n
     vehicle_outs = [_offset_port(o, 10 * k) for o in outs] if outs else \
         [("127.0.0.1", 14550 + offset), ("127.0.0.1", 14540 + offset)]
-    bind = _offset_port(listen, 10 * k) if listen else ("0.0.0.0", 5760 + offset)
     state_root = Path(args.state_dir) if args.state_dir else \
         Path(os.environ.get("XDG_STATE_HOME", Path.home() / ".local" / "state")) / "firefly"
     # What a reboot builds again from the saved state (io/reboot.py): the same vehicle, not wiped,
     # booting as ArduCopter boots (startup.py), its clock and the world starting again.
     power_on = functools.partial(assemble, args, scenario, k, state_root / f"instance-{n}",
                                  board_id_for(read_machine_id(), n))
-    vehicle, session = power_on(epoch_us=epoch_us, wipe=args.wipe, startup=scenario.startup)
-    try:
-        endpoint = UdpEndpoint(bind, vehicle_outs)
-    except OSError as exc:
-        raise CliError(f"--listen: cannot bind udp:{bind[0]}:{bind[1]}: {exc.strerror}") from None
+    vehicle, session, recorder, log_files = power_on(epoch_us=epoch_us, wipe=args.wipe, startup=scenario.startup)
+    endpoint = open_ports(args, k, offset, listen, vehicle_outs)
     tlog = None
     if args.tlog:
         from ..io.tlog import TlogWriter
@@ -185,15 +221,15 @@ def build_vehicle(args, scenario, k: int, outs, listen, epoch_us: int):
     link = Link(session.codec, session.signing, LinkFaults(vehicle.params, vehicle.config.sim.seed))
     bind_link(link, vehicle, session)
     reboot_startup = scenario.startup or StartupTimeline()
-    node = Node(vehicle, session, endpoint, link, tlog, state_log,
+    node = Node(vehicle, session, endpoint, link, Router(n + 1), tlog, state_log, recorder, log_files,
                 power_on=functools.partial(power_on, wipe=False, startup=reboot_startup))
     return node, vehicle_outs
 
 
 def assemble(args, scenario, k: int, state_dir: Path, board_id: str, *, epoch_us: int, wipe: bool,
              startup, powered_on_at_s: float = 0.0):
-    """Vehicle k's vehicle and MAVLink session, from its saved state in `state_dir` (or wiped):
-    at start, and again at each reboot (io/reboot.py)."""
+    """Vehicle k's vehicle, MAVLink session and dataflash log (recorder, files), from its saved
+    state in `state_dir` (or wiped): at start, and again at each reboot (io/reboot.py)."""
     import dataclasses
 
     from ..io.signing_keys import attach_state
@@ -230,7 +266,8 @@ def assemble(args, scenario, k: int, state_dir: Path, board_id: str, *, epoch_us
         vehicle.script = Script(scenario.script)
     session = Session(vehicle, new_codec(n + 1))
     attach_state(session.signing, state_dir / "signing.json", scenario.signing_key, wipe)
-    return vehicle, session
+    recorder, log_files = attach_dataflash(vehicle, session, state_dir / "logs")
+    return vehicle, session, recorder, log_files
 
 
 # What SIM_SPEEDUP reads when the vehicle runs flat out (--speedup inf): ArduPilot's SITL keeps
@@ -242,6 +279,85 @@ FLAT_OUT_SPEEDUP = 1000.0
 
 def reported_speedup(speedup: float) -> float:
     return FLAT_OUT_SPEEDUP if speedup == math.inf else speedup
+
+
+def attach_dataflash(vehicle, session, directory: Path):
+    """The vehicle's dataflash logs in `directory`: the recorder that writes them, and the files,
+    which LOG_REQUEST_* and FTP's logs/ read."""
+    from ..dataflash.recorder import Recorder
+    from ..io.dataflash_files import LogFiles
+    log_files = LogFiles(directory, vehicle.params)
+    recorder = Recorder(vehicle, log_files)
+    vehicle.text_listener = recorder.text
+    session.logs.store = log_files
+    session.ftp.tree.logs = log_files
+    return recorder, log_files
+
+
+DEFAULT_PORT_TRIES = 20  # a default port held by another process: the next in steps of 10, this many times
+
+
+def open_ports(args, k: int, offset: int, listen, outs):
+    """Vehicle k's serial ports (io/ports.py): the UDP socket (--listen, its outputs) and the TCP ones."""
+    from ..io.ports import Ports
+    from ..io.tcp import TcpClient, TcpServer
+    from ..io.udp import UdpEndpoint
+    notes = []
+
+    def bind_default(make, kind: str, host: str, port: int):
+        """A default port: if another process has it, the next free one 10 up (as the next instance's)."""
+        for step in range(DEFAULT_PORT_TRIES):
+            try:
+                made = make((host, port + 10 * step))
+            except OSError:
+                continue
+            if step:
+                notes.append(f"{kind}:{port} in use: {kind}:{port + 10 * step} instead")
+            return made
+        notes.append(f"{kind}:{port} and the {DEFAULT_PORT_TRIES - 1} ports above it in steps of 10 are in use: "
+                     f"no {kind} port")
+        return None
+
+    opened: list = []
+    try:
+        if listen is not None:
+            bind = _offset_port(listen, 10 * k)
+            try:
+                udp = UdpEndpoint(bind, outs)
+            except OSError as exc:
+                raise CliError(f"--listen: cannot bind udp:{bind[0]}:{bind[1]}: {exc.strerror}") from None
+        else:
+            udp = bind_default(lambda a: UdpEndpoint(a, outs), "udp", "0.0.0.0", 5760 + offset) \
+                or UdpEndpoint(("0.0.0.0", 0), outs)
+        opened.append(udp)
+        servers, clients = [], []
+        serials = getattr(args, "serials", {})
+        if 0 not in serials:  # SERIAL0: ArduPilot SITL's TCP server
+            server = bind_default(TcpServer, "tcp", "0.0.0.0", 5760 + offset)
+            if server is not None:
+                servers.append(server)
+                opened.append(server)
+        for n, spec in sorted(serials.items()):
+            if spec is None or spec[0] not in ("tcp", "tcpclient"):
+                continue
+            kind, host, port = spec
+            address = _offset_port((host, port), 10 * k)
+            if kind == "tcpclient":
+                clients.append(TcpClient(address))
+                continue
+            try:
+                servers.append(TcpServer(address))
+            except OSError as exc:
+                raise CliError(f"--serial{n}: cannot listen on tcp:{address[0]}:{address[1]}: {exc.strerror}") from None
+            opened.append(servers[-1])
+    except BaseException:
+        for port in opened:
+            port.close()
+        raise
+    for note in notes:
+        if not args.quiet:
+            print(f"autopilot: system {k + args.instance + 1}: {note}", file=sys.stderr, flush=True)
+    return Ports(udp, servers, clients)
 
 
 def main(argv=None) -> int:
@@ -266,7 +382,8 @@ def main(argv=None) -> int:
         for node, outs in built[:10]:
             host, port = node.endpoint.address
             signed = ", MAVLink 2 signing on" if node.session.signing.enabled else ""
-            print(f"Firefly autopilot: system {node.vehicle.system_id}, udp:{host}:{port}, "
+            tcp = "".join(f"tcp:{h}:{p}, " for h, p in node.endpoint.tcp_addresses)
+            print(f"Firefly autopilot: system {node.vehicle.system_id}, {tcp}udp:{host}:{port}, "
                   f"out {' '.join(f'{h}:{p}' for h, p in outs)}, speedup {args.speedup}{signed}", flush=True)
         if len(built) > 10:
             print(f"... and {len(built) - 10} more vehicles", flush=True)
@@ -294,6 +411,8 @@ def main(argv=None) -> int:
                 node.tlog.close()
             if node.state_log is not None:
                 node.state_log.close()
+            if node.log_files is not None:
+                node.log_files.stop()
     return 0
 
 

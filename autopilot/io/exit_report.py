@@ -23,6 +23,8 @@ def report(runner, nodes, exception: BaseException | None, wall_s: float) -> dic
         counters["param_save_errors"] = v.params.save_errors
         counters["mission_save_errors"] = v.mission.file.save_errors
         counters["mission_uploads_refused"] = session.missions.refused
+        if node.log_files is not None:
+            counters["log_write_errors"] = node.log_files.write_errors
         if node.link_faults is not None:
             counters.update({f"link_dropped_{way}": n for way, n in node.link_faults.dropped.items()})
         counters.update({f"signing_{k}": n for k, n in session.signing.counters.items()})

@@ -9,9 +9,10 @@ after the ACK at speedup 1, 0.12 s at speedup 10; boot time about 1.0 s then, th
 started some 0.2 s after the ACK; the boot texts and the EKF's again after it, and nothing
 streamed until asked; what was sent to it meanwhile is lost).
 
-Here the process, its sockets and each Node's link stay; the vehicle and its MAVLink session are
-built again from the state directory, by the same code that built them at start (the Node's
-power_on, from cli/main.py), with ArduCopter's start-up (startup.py). Sim time goes on: the new
+Here the process, its ports and each Node's link and router stay; the vehicle, its MAVLink
+session and its dataflash recorder are built again from the state directory, by the same code
+that built them at start (the Node's power_on, from cli/main.py), with ArduCopter's start-up
+(startup.py); the dataflash log of the boot that ends is closed, as a reboot ends ArduPilot's. Sim time goes on: the new
 vehicle's clock starts at zero REBOOT_GAP_S after the ACK, and it says nothing before
 FIRST_HEARTBEAT_S of its own time.
 """
@@ -59,7 +60,9 @@ def reboot(node: Node) -> None:
     powered_on_at_s = round(old_vehicle.powered_on_at_s + old_vehicle.time_s + REBOOT_GAP_S, POWER_ON_DECIMALS)
     # The vehicle's UNIX time goes on from where it was (SYSTEM_TIME's time_unix_usec; GPS time).
     epoch_us = old_vehicle.unix_time_us() + int(REBOOT_GAP_S * 1e6)
-    vehicle, session = power_on(epoch_us=epoch_us, powered_on_at_s=powered_on_at_s)
+    if node.log_files is not None:
+        node.log_files.stop()
+    vehicle, session, node.dataflash, node.log_files = power_on(epoch_us=epoch_us, powered_on_at_s=powered_on_at_s)
     session.silent_until_s = FIRST_HEARTBEAT_S
     bind_link(node.link, vehicle, session)
     node.vehicle, node.session = vehicle, session

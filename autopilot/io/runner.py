@@ -20,11 +20,14 @@ from typing import TYPE_CHECKING, Any, TextIO
 from .state_log import state_line
 
 if TYPE_CHECKING:
+    from ..dataflash.recorder import Recorder
     from ..mavlink.link import Link
+    from ..mavlink.routing import Router
     from ..mavlink.session import Session
     from ..vehicle import Vehicle
+    from .dataflash_files import LogFiles
+    from .ports import Ports
     from .tlog import TlogWriter
-    from .udp import UdpEndpoint
 
 MAX_LAG_WALL_S = 0.5  # if the sim falls further behind than this, pacing restarts from now
 READ_EVERY_WALL_S = 0.0002  # flat out, sockets are read this often (wall): a command waits no longer
@@ -39,12 +42,12 @@ STATE_LOG_EVERY = 10  # ticks (0.1 s of sim time)
 
 
 def incoming(datagrams: list, link, answer):
-    """Each message of `datagrams` ((bytes, sender) pairs) that gets through `link`, judged when
-    drawn; `answer(sender)` once for a datagram of which the link found a message may be answered
-    (also when a link fault then lost it)."""
+    """(message, link key) for each message of `datagrams` ((bytes, link key) pairs) that gets
+    through `link`, judged when drawn; `answer(key)` once for a datagram of which the link found a
+    message may be answered (also when a link fault then lost it)."""
     for data, sender in datagrams:
         for msg, _ in link.receive(data, sender):
-            yield msg
+            yield msg, sender
         if link.sender_answerable:
             answer(sender)
 
@@ -53,10 +56,13 @@ def incoming(datagrams: list, link, answer):
 class Node:
     vehicle: Vehicle
     session: Session
-    endpoint: UdpEndpoint  # the socket and who it answers
+    endpoint: Ports  # the vehicle's serial ports: its sockets and who they answer
     link: Link  # (autopilot/mavlink/link.py): decodes, judges and packs, between the two
+    router: Router  # (autopilot/mavlink/routing.py): which messages go on to the other links
     tlog: TlogWriter | None = None
     state_log: TextIO | None = None  # open text file (state_log.py): a line every STATE_LOG_EVERY ticks, or None
+    dataflash: Recorder | None = None  # the dataflash log's recorder, told of each tick, or None
+    log_files: LogFiles | None = None  # its files (the recorder's sink), flushed every STATE_LOG_EVERY ticks
     # builds the vehicle and session again from the saved state: power_on(epoch_us=, powered_on_at_s=)
     power_on: Callable[..., tuple] | None = None
     reboots: int = 0
@@ -82,8 +88,9 @@ class Runner:
         self.speedup = speedup
         self.tick_s = tick_s
         self.sim_time_s = 0.0
-        self._fds = [n.endpoint.fileno() for n in nodes]  # raw descriptors: select need not ask each endpoint
-        self._endpoint_of = {n.endpoint.fileno(): n.endpoint for n in nodes}
+        self._fds: list[int] = []  # raw descriptors: select need not ask each endpoint
+        self._endpoint_of: dict = {}
+        self._fds_version = -1
         self._stop = False
         self.ticks = 0
         # At a finite speedup a swarm's loop sleeps between ticks, and each tick then finds its
@@ -113,29 +120,73 @@ class Runner:
                     continue
                 link.advance(unix_s, link_s)
                 datagrams = () if unread else endpoint.receive()
-                received: Sequence[Any]
+                received: Sequence[Any] = ()
+                replies: dict = {}
+                forwards: dict = {}
                 if datagrams:  # most ticks have none
                     heard = True
                     got: list[Any] = []
-                    out = []
+                    route = node.router.route
                     # each message is judged only after the one before it was handled
-                    for msg in incoming(datagrams, link, endpoint.answer):
+                    for msg, key in incoming(datagrams, link, endpoint.answer):
                         got.append(msg)
-                        out.extend(session.receive(msg, now, link_s))
-                    out.extend(session.poll(now, link_s))
+                        if msg.get_type() != "BAD_DATA":
+                            local, onward = route(msg, key)
+                            if onward:
+                                frame = bytes(msg.get_msgbuf())
+                                for to in onward:
+                                    forwards.setdefault(to, []).append(frame)
+                                if not local:  # for a component served on another link
+                                    continue
+                        answer = session.receive(msg, now, link_s, key)
+                        if answer:
+                            replies.setdefault(key, []).extend(answer)
                     received = got
-                else:
-                    received, out = (), session.poll(now, link_s)
-                frames = link.pack(out) if out else out
-                if frames:
-                    endpoint.queue(frames)  # sent at the next flush (see run())
+                if endpoint.closed:  # a TCP client went: its routes and numbering go too
+                    for key in endpoint.take_closed():
+                        node.router.forget(key)
+                        link.forget(key)
+                if replies and node.state_log is not None:
+                    # the true state as it is when the answer leaves: a harness reading the state
+                    # log after an ACK never finds a state older than the ACK (what it changed)
+                    node.state_log.write(state_line(node.vehicle))  # line buffered: on disk now
+                out = session.poll(now, link_s)
+                directed, announced = session.take_directed(), session.take_announced()
+                sent = self._send(node, out, replies, directed, announced, forwards)
                 if node.tlog is not None:
-                    self._log(node, received, frames)
+                    self._log(node, received, sent)
                 if node.vehicle.reboot_requested:  # its ACK is queued: now it boots again
                     node.reboot()
             except Exception as exc:  # noqa: BLE001 - one vehicle's bug never takes the others down
                 node.vehicle.internal_error(exc, "exchange", in_flight_code=False)
         return heard
+
+    @staticmethod
+    def _send(node: Node, out: list, replies: dict, directed: dict | None, announced: list | None,
+              forwards: dict) -> list:
+        """Pack and queue for each link: its answers, what was made for it alone, parameter values
+        another link set if it has spoken, what is due for every link, then others' messages routed to it.
+        Returns the frames the tlog keeps: the shared output once, the rest for every link."""
+        endpoint, link = node.endpoint, node.link
+        logged: list = []
+        for n, key in enumerate(endpoint.links):
+            own = replies.get(key)
+            if directed and key in directed:
+                own = (own or []) + directed[key]
+            if announced and endpoint.heard(key):
+                own = (own or []) + [m for asker, m in announced if asker != key]
+            frames = link.pack(own, key) if own else []
+            logged += frames
+            if out:
+                shared = link.pack(out, key)
+                if n == 0:
+                    logged += shared
+                frames += shared
+            if forwards and key in forwards:
+                frames += forwards[key]
+            if frames:
+                endpoint.queue(key, frames)  # sent at the next flush (see run())
+        return logged
 
     @staticmethod
     def _log(node: Node, received: Sequence[Any], sent: list) -> None:
@@ -157,12 +208,16 @@ class Runner:
         for node in self.nodes:
             try:  # a bug that escapes the vehicle's own guards: its internal error, the rest go on
                 node.vehicle.run_until(target)
+                if node.dataflash is not None:
+                    node.dataflash.tick()
             except Exception as exc:  # noqa: BLE001
                 node.vehicle.internal_error(exc, "step")
         if self.ticks % STATE_LOG_EVERY == 0:
             for node in self.nodes:
                 if node.state_log is not None:
                     node.state_log.write(state_line(node.vehicle))
+                if node.log_files is not None:
+                    node.log_files.maybe_flush()
 
     def _batch(self, ticks: int) -> None:
         """`ticks` ticks of every vehicle, one vehicle after another: each vehicle's exchange and
@@ -174,13 +229,17 @@ class Runner:
             state_log, one = node.state_log, (node,)
             for tick in range(first + 1, first + ticks + 1):
                 self._exchange(readable if tick == first + 1 else (), one)
-                vehicle = node.vehicle  # a new one after a reboot
+                vehicle, dataflash = node.vehicle, node.dataflash  # new ones after a reboot
                 try:
                     vehicle.run_until(tick * self.tick_s)
+                    if dataflash is not None:
+                        dataflash.tick()
                 except Exception as exc:  # noqa: BLE001 - as in _advance
                     vehicle.internal_error(exc, "step")
                 if state_log is not None and tick % STATE_LOG_EVERY == 0:
                     state_log.write(state_line(vehicle))
+            if node.log_files is not None:
+                node.log_files.maybe_flush()
         self.ticks = first + ticks
         self.sim_time_s = self.ticks * self.tick_s
 
@@ -191,6 +250,11 @@ class Runner:
 
     def _readable(self, wait_s: float) -> set:
         """The endpoints with something to read, waiting up to wait_s for one."""
+        version = sum(n.endpoint.version for n in self.nodes)  # a TCP client came or went
+        if version != self._fds_version:
+            self._fds_version = version
+            self._endpoint_of = {fd: n.endpoint for n in self.nodes for fd in n.endpoint.filenos()}
+            self._fds = list(self._endpoint_of)
         ready, _, _ = select.select(self._fds, [], [], wait_s)
         by_fd = self._endpoint_of
         return {by_fd[fd] for fd in ready}

@@ -1,8 +1,10 @@
-"""`--state-log`: the vehicle's true state as CSV, one line every 0.1 s of sim time.
+"""`--state-log`: the vehicle's true state as CSV, one line every 0.1 s of sim time, and one more
+whenever the vehicle answers a client (io/runner.py), written before the answer leaves.
 
 What truly happened, not what the vehicle believes: the simulator's body state (metres from the
 shared origin, NED), whether it rests on the ground, and beside it what the autopilot holds
-(armed, flight-mode number, home). The determinism checks compare these files byte for byte, and
+(armed, flight-mode number, home). The determinism checks compare these files byte for byte (of
+runs no client talks to), and
 the pytest plugin (autopilot/testing) reads them to wait in vehicle time; the file is line
 buffered so that a reader sees each line as it is written. time_s is the process's sim time,
 which goes on across a reboot (io/reboot.py) while the rebooted vehicle's own clock starts again.

@@ -1,10 +1,10 @@
-"""The only module with sockets: one UDP socket per vehicle, and the table of who it answers.
+"""A vehicle's UDP socket, and the table of who it answers (tcp.py has its TCP links).
 
 It reads and sends datagrams and knows nothing of MAVLink: what a datagram holds, whether its
 frames pass signing and whether its sender may be answered is the vehicle's sans-IO link's to say
-(autopilot/mavlink/link.py). It sends to the configured outputs (like MAVProxy's --out behind
-ArduPilot SITL) and to every address the link found may be answered (`answer`), so whoever talks
-to the vehicle is answered.
+(autopilot/mavlink/link.py). Each peer is a link of its own: the configured outputs (like
+ArduPilot SITL's udpclient serial ports, or MAVProxy's --out) and every address the link found may
+be answered (`answer`), each sent what is queued for it.
 
 Floods: what one receive hands the loop is bounded, so that no sender can stall it: at most
 MAX_DATAGRAMS_PER_RECEIVE datagrams and, past the first, MAX_BYTES_PER_RECEIVE bytes (decoding
@@ -43,8 +43,8 @@ class UdpEndpoint:
         self._outs = list(dict.fromkeys(outs))
         self._heard: OrderedDict = OrderedDict()  # senders the link let be answered, least recent first
         self.counters = {"datagrams": 0, "oversize_dropped": 0, "send_errors": 0, "peers_evicted": 0}
-        self._queued: list[bytes] = []  # frames waiting for a flush (runner.py says when)
-        self._queued_bytes = 0
+        self._peers = list(self._outs)
+        self._queued: dict = {}  # peer -> [frames waiting for a flush (runner.py says when), their bytes]
 
     def totals(self) -> dict:
         """The counters, with the datagrams the kernel dropped for a full buffer (None if unknown)."""
@@ -65,7 +65,14 @@ class UdpEndpoint:
     @property
     def peers(self) -> list[tuple]:
         """Where telemetry goes: the configured outputs, then everyone recently answered."""
-        return self._outs + [p for p in self._heard if p not in self._outs]
+        return self._peers
+
+    def _update_peers(self) -> None:
+        self._peers = self._outs + [p for p in self._heard if p not in self._outs]
+
+    def heard(self, peer: tuple) -> bool:
+        """Whether `peer` has sent something answerable (ArduPilot's 'active' channel)."""
+        return peer in self._heard
 
     @property
     def address(self) -> tuple:
@@ -107,31 +114,37 @@ class UdpEndpoint:
             heard.move_to_end(sender)
             return
         if len(heard) >= MAX_PEERS:
-            heard.popitem(last=False)
+            gone, _ = heard.popitem(last=False)
+            self._queued.pop(gone, None)
             self.counters["peers_evicted"] += 1
         heard[sender] = True
+        self._update_peers()
 
-    def queue(self, frames: list[bytes]) -> None:
-        """Keep packed frames for the next flush; a datagram's worth goes at once."""
+    def queue(self, frames: list[bytes], peer: tuple) -> None:
+        """Keep packed frames for `peer` until the next flush; a datagram's worth goes at once."""
+        waiting = self._queued.get(peer)
+        if waiting is None:
+            waiting = self._queued[peer] = [[], 0]
         for frame in frames:
-            if self._queued and self._queued_bytes + len(frame) > MAX_DATAGRAM:
-                self._send(b"".join(self._queued))
-                self._queued, self._queued_bytes = [], 0
-            self._queued.append(frame)
-            self._queued_bytes += len(frame)
+            if waiting[0] and waiting[1] + len(frame) > MAX_DATAGRAM:
+                self._send(b"".join(waiting[0]), peer)
+                waiting[0], waiting[1] = [], 0
+            waiting[0].append(frame)
+            waiting[1] += len(frame)
 
     def flush(self) -> None:
-        """Send what is queued, several frames per datagram, to every peer."""
+        """Send what is queued, several frames per datagram, to each peer."""
         if self._queued:
-            self._send(b"".join(self._queued))
-            self._queued, self._queued_bytes = [], 0
+            for peer, (frames, _) in self._queued.items():
+                if frames:
+                    self._send(b"".join(frames), peer)
+            self._queued = {}
 
-    def _send(self, datagram: bytes) -> None:
-        for peer in self.peers:
-            try:
-                self.sock.sendto(datagram, peer)
-            except OSError:
-                self.counters["send_errors"] += 1
+    def _send(self, datagram: bytes, peer: tuple) -> None:
+        try:
+            self.sock.sendto(datagram, peer)
+        except OSError:
+            self.counters["send_errors"] += 1
 
     def close(self) -> None:
         self.sock.close()

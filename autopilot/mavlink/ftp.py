@@ -26,10 +26,12 @@ most a few milliseconds an exchange and a fraction of the loop's time, while a c
 for each answer (one request an exchange) is served: the allowance holds several downloads.
 
 Served: `@PARAM/param.pck` (param_files.py) read by ReadFile and BurstReadFile, written by
-CreateFile/OpenFileWO + WriteFile (applied at TerminateSession or ResetSessions). The rest answers
-what the reference answers for a vehicle with no files: ListDirectory ends at once (EndOfFile for
-the root, FileNotFound otherwise), remove/rename/mkdir find nothing, TruncateFile and unknown
-opcodes fail (with ArduPilot's "Unsupported FTP" debug text).
+CreateFile/OpenFileWO + WriteFile (applied at TerminateSession or ResetSessions); the root and
+`logs/` (the dataflash logs, read-only) listed and read as ftp_tree.py describes. ListDirectory
+packs whole entries from the `offset`-th on, each followed by two zero bytes as ArduPilot's are,
+and answers EndOfFile when none is left. The rest answers what the reference answers for a
+vehicle with no files: remove/rename/mkdir find nothing, TruncateFile and unknown opcodes fail
+(with ArduPilot's "Unsupported FTP" debug text).
 
 Time: the session timeout runs on the link clock (wall seconds) handed in, as every link timeout
 in Firefly does; ArduPilot's SITL counts it in sim milliseconds. The I/O edge reads that clock
@@ -42,6 +44,7 @@ from dataclasses import dataclass, replace
 
 from ..results import Severity
 from . import param_files
+from .ftp_tree import FtpTree, is_tree_path
 from .param_files import FsError
 
 # opcodes
@@ -115,7 +118,8 @@ class FtpServer:
         """`params`: the vehicle's ParamStore; `notify(text, severity)`: status texts."""
         self.params = params
         self.notify = notify
-        self.file: param_files.ParamFile | param_files.ParamUpload | None = None  # read or write
+        self.tree = FtpTree()  # the I/O edge gives it the vehicle's logs (tree.logs)
+        self.file = None  # a ParamFile or log reader (read) or a ParamUpload (write)
         self.session = NO_SESSION
         self.owner: tuple | None = None  # (system, component) that opened the session
         self.last_send_s = float("-inf")  # the open session's last reply
@@ -247,13 +251,16 @@ class FtpServer:
     def _open_read(self, request: Packet, reply: Packet, sender: tuple, now_s: float) -> Packet:
         if self.file is not None and now_s - self.last_send_s > SESSION_TIMEOUT_S:
             self._close()  # its client never saw our open reply and gave up
-        refused = self._open(request, reply, sender, lambda path: param_files.open_read(self.params, path))
+        refused = self._open(request, reply, sender, self._open_path)
         if refused is not None:
             return refused
         # As ArduPilot: the parameter file's download starts with the banner a PARAM_REQUEST_LIST gets
         self.banner_due = (_path(request) or "").startswith(PARAM_FILE_BANNER_PREFIX)
-        assert isinstance(self.file, param_files.ParamFile)  # just opened for reading
+        assert self.file is not None  # just opened for reading
         return replace(reply, opcode=ACK, size=4, data=struct.pack("<I", self.file.size_estimate))
+
+    def _open_path(self, path: str):
+        return self.tree.open(path) if is_tree_path(path) else param_files.open_read(self.params, path)
 
     def _open_write(self, request: Packet, reply: Packet, sender: tuple) -> Packet:
         refused = self._open(request, reply, sender,
@@ -276,7 +283,7 @@ class FtpServer:
         return None
 
     def _read(self, request: Packet, reply: Packet) -> Packet:
-        assert isinstance(self.file, param_files.ParamFile)  # _dispatch checked
+        assert self.file is not None  # _dispatch checked
         try:
             data = self.file.read(request.offset, min(DATA_SIZE, request.size))
         except FsError as exc:
@@ -289,7 +296,7 @@ class FtpServer:
         """Blocks from the requested offset to the end of the file (at most `limit`), then the
         EndOfFile NAK; the last block is flagged burst_complete. The NAK keeps the last block's
         flag and the offset after it, as ArduPilot's reuse of one reply buffer gives."""
-        assert isinstance(self.file, param_files.ParamFile)  # _dispatch checked
+        assert self.file is not None  # _dispatch checked
         block = request.size or DATA_SIZE
         out = []
         for i in range(limit):
@@ -323,15 +330,28 @@ class FtpServer:
             return _nak(reply, INVALID_DATA_SIZE)
         if request.opcode == CALC_FILE_CRC32:
             try:
-                crc = param_files.crc32(self.params, path)
+                crc = param_files.file_crc32(self._open_path(path))
             except FsError as exc:
                 return _nak(reply, FAIL_ERRNO, exc.errno)
             return replace(reply, opcode=ACK, size=4, data=struct.pack("<I", crc))
         if request.opcode == LIST_DIRECTORY:
-            reply = replace(reply, offset=request.offset)
-            if path.rstrip("/") == "":  # the root exists but lists nothing (@PARAM cannot be listed)
-                return _nak(reply, END_OF_FILE)
+            return self._list(path, replace(reply, offset=request.offset))
         return _nak(reply, FILE_NOT_FOUND)
+
+    def _list(self, path: str, reply: Packet) -> Packet:
+        try:
+            entries = self.tree.list(path)
+        except FsError as exc:
+            return _nak(reply, FAIL_ERRNO, exc.errno)
+        data = b""
+        for entry in entries[reply.offset:]:
+            packed = entry.encode("latin-1") + b"\0\0"
+            if len(data) + len(packed) > DATA_SIZE:
+                break
+            data += packed
+        if not data:
+            return _nak(reply, END_OF_FILE)
+        return replace(reply, opcode=ACK, size=len(data), data=data)
 
     def _rename(self, request: Packet, reply: Packet) -> Packet:
         first_end = request.data.find(b"\0", 0, DATA_SIZE - 2)

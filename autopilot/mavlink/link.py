@@ -17,9 +17,10 @@ session before drawing the next has every frame judged against the key as it is 
 before it, so the frames after a SETUP_SIGNING, in the same datagram or later, are judged under the
 key it set. (Drawing the whole datagram into a list first would judge them under the old key.)
 
-Sending, `pack(messages)`: the session's codec packs them and signs them when a key is set, each
-frame with the next sequence number (a client counts the gaps as lost frames); then the
-link-fault stage may lose frames, which leaves gaps as a lossy radio would.
+Sending, `pack(messages, to)`: the session's codec packs them and signs them when a key is set, each
+frame with the next sequence number of the link `to` (as ArduPilot numbers each channel's frames:
+a client counts the gaps as lost frames, and a client does not see what another link is answered);
+then the link-fault stage may lose frames, which leaves gaps as a lossy radio would.
 
 Time: nothing here reads a clock. The I/O edge calls `advance(unix_s, link_s)` before each
 exchange with the wall clock it read: the signing timestamp follows that wall-clock time (Unix
@@ -50,6 +51,7 @@ class Link:
         # error (cli/main.py wires it), so that a test fails on it
         self.on_unpackable = None
         self.sender_answerable = False  # whether the last datagram's sender may be answered
+        self._seq: dict = {}  # link key -> the sequence number of its next frame
 
     def advance(self, unix_s: float, link_s: float) -> None:
         """The time now, handed in by the I/O edge: wall clock (Unix s) and link clock (s)."""
@@ -87,6 +89,11 @@ class Link:
                 continue
             yield msg, answerable
 
+    def forget(self, sender) -> None:
+        """A link that closed: its parser and numbering go."""
+        self._parsers.pop(sender, None)
+        self._seq.pop(sender, None)
+
     def _decode(self, data: bytes, sender) -> list:
         parser = self._parsers.get(sender)
         if parser is None:
@@ -105,9 +112,11 @@ class Link:
             return []
 
     # ----- outgoing ---------------------------------------------------------------------------
-    def pack(self, messages: list) -> list:
-        """The frames to send for `messages`, signed when a key is set, less what the link loses."""
+    def pack(self, messages: list, to=None) -> list:
+        """The frames to send on link `to` for `messages`, signed when a key is set, less what the
+        link loses."""
         codec = self.codec
+        codec.seq = self._seq.get(to, 0)
         frames = []
         for m in messages:
             try:  # costs nothing until a message carries a value its field cannot hold (a bug)
@@ -117,7 +126,11 @@ class Link:
                 if self.on_unpackable is not None:
                     self.on_unpackable(exc, m.get_type())
                 continue
-            codec.seq = (codec.seq + 1) & 0xFF  # as ArduPilot numbers a channel's frames
+            codec.seq = (codec.seq + 1) & 0xFF
+        seqs = self._seq
+        if to not in seqs and len(seqs) >= MAX_PARSERS:  # links come and go: the oldest known goes
+            del seqs[next(iter(seqs))]
+        seqs[to] = codec.seq
         faults = self.faults
         if frames and faults is not None and faults.active:
             return faults.pass_out(frames)

@@ -174,10 +174,6 @@ def open_write(params, path: str, notify) -> ParamUpload:
     return ParamUpload(params, notify)
 
 
-def crc32(params, path: str) -> int:
-    return file_crc32(open_read(params, path))
-
-
 def file_crc32(f: ParamFile) -> int:
     """ArduPilot's file CRC: the CRC-32 table without the initial and final inversion, over the
     file read in CRC_READ_SIZE blocks."""

@@ -113,7 +113,7 @@ def power_status(v: SensorView, codec):
     return codec.power_status_encode(BOARD_VCC_MV, 0, 0)
 
 
-def rc_channels(v: SensorView, codec):
+def rc_pwm(v: SensorView) -> list[int]:
     """The sticks as PWM: MANUAL_CONTROL or RC_CHANNELS_OVERRIDE input while it lasts, else SITL's
     idle RC (centred sticks, throttle low). Pitch forward is low PWM, as on a transmitter."""
     chans = list(RC_IDLE)
@@ -121,6 +121,11 @@ def rc_channels(v: SensorView, codec):
     if p.present(v.time_s):
         chans[:4] = [int(round(1500 + 500 * p.roll)), int(round(1500 - 500 * p.pitch)),
                      int(round(1000 + 1000 * p.throttle)), int(round(1500 + 500 * p.yaw))]
+    return chans
+
+
+def rc_channels(v: SensorView, codec):
+    chans = rc_pwm(v)
     return codec.rc_channels_encode(time_boot_ms(v), RC_CHANNELS_USED, *chans, *([0] * (18 - len(chans))), 255)
 
 

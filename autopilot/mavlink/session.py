@@ -1,7 +1,11 @@
 """One vehicle's MAVLink session, sans-IO.
 
-`receive(msg, now_s)` consumes one decoded message and returns the messages to send in answer;
-`poll(now_s)` returns what is due (heartbeat, telemetry streams, status texts). The link layer
+`receive(msg, now_s, link_s, link)` consumes one decoded message from link `link` (an opaque key
+the I/O edge gives) and returns the messages that answer it, which go to that link only, as
+ArduCopter answers the channel that asked; `poll(now_s)` returns what is due for every link
+(heartbeat, telemetry streams, status texts). What a transfer sends later (the parameter list's
+stream, a mission upload's retries) goes to the link that started it: `take_directed()`; a
+parameter's new value goes to every other link that has spoken too: `take_announced()`. The link layer
 (link.py) packs them and the I/O edge sends them; this class never touches a socket or a wall clock.
 """
 from __future__ import annotations
@@ -13,6 +17,7 @@ from .dialect import mavlink as mav
 from .fast_pack import FastCodec
 from .ftp import FtpServer
 from .guided_setpoints import handle_global_int, handle_local_ned
+from .log_service import LogService
 from .mission_service import MissionService
 from .params_service import ParamService
 from .signing import LinkSigning
@@ -35,9 +40,14 @@ class Session:
         self.commands = CommandService()
         self.missions = MissionService(vehicle.mission, vehicle, codec)
         self.ftp = FtpServer(vehicle.params, vehicle.notify)
+        self.logs = LogService(vehicle, codec)  # the I/O edge gives it the log files (logs.store)
         self.link_s = 0.0  # link clock (wall time from the I/O layer) for transfer retries
         self._stores_waiting = vehicle.stores_waiting  # the vehicle's files with a write waiting
         self._out: list = []
+        self._link = None  # the link of the message being handled
+        self._params_link = self._missions_link = self._logs_link = None  # the links the transfers answer
+        self._directed: dict = {}  # link -> what poll made for it alone
+        self._announced: list = []  # (link, message) for every other link that has spoken (a new value)
         self.counters = {"received": 0, "ignored_other_system": 0, "bad_data": 0, "refused": 0,
                          "handler_errors": 0}
         self.last_handler_error = ""
@@ -53,11 +63,15 @@ class Session:
             "SET_MODE": self._on_set_mode,
             "PARAM_REQUEST_LIST": self._on_param_request_list,
             "PARAM_REQUEST_READ": lambda m, now: self._out.extend(self.params.request_read(m)),
-            "PARAM_SET": lambda m, now: self._out.extend(self.params.set(m, self.vehicle.notify)),
+            "PARAM_SET": self._on_param_set,
             "REQUEST_DATA_STREAM": self._on_request_data_stream,
             "FILE_TRANSFER_PROTOCOL": self._on_ftp,
+            "LOG_REQUEST_LIST": self._on_log_request,
+            "LOG_REQUEST_DATA": self._on_log_request,
+            "LOG_ERASE": self._on_log_request,
+            "LOG_REQUEST_END": self._on_log_request,
             "MISSION_REQUEST_LIST": lambda m, now: self._out.extend(self.missions.on_request_list(m)),
-            "MISSION_COUNT": lambda m, now: self._out.extend(self.missions.on_count(m, self.link_s)),
+            "MISSION_COUNT": self._on_mission_count,
             "MISSION_ITEM_INT": lambda m, now: self._out.extend(self.missions.on_item(m, self.link_s)),
             "MISSION_ITEM": lambda m, now: self._out.extend(self.missions.on_item(m, self.link_s)),
             "MISSION_REQUEST_INT": lambda m, now: self._out.extend(self.missions.on_request(m)),
@@ -101,9 +115,10 @@ class Session:
         target = getattr(msg, "target_system", getattr(msg, "target", 0))
         return target in (0, self.system_id)
 
-    def receive(self, msg, now_s: float, link_s: float | None = None) -> list:
+    def receive(self, msg, now_s: float, link_s: float | None = None, link=None) -> list:
         if now_s < self.silent_until_s:  # still booting: what was sent meanwhile is lost
             return []
+        self._link = link
         if msg.get_type() == "BAD_DATA":
             self.counters["bad_data"] += 1
             return []
@@ -131,6 +146,44 @@ class Session:
         if msg.type == mav.MAV_TYPE_GCS:
             self.gcs_last_heartbeat_s = self.link_s
             self.vehicle.failsafes.gcs_regained(self.vehicle)
+
+    def _on_param_request_list(self, msg, now_s):
+        self._params_link = self._link
+        self.send_banner()  # as ArduPilot: "a convenient way to get extra information"
+        self._out.extend(self.params.request_list(msg, self.link_s))
+
+    def _on_param_set(self, msg, now_s):
+        # ArduCopter sends a parameter's new value to every active channel, not the setter alone
+        answer = self.params.set(msg, self.vehicle.notify)
+        self._out.extend(answer)
+        self._announced.extend((self._link, m) for m in answer)
+
+    def _on_mission_count(self, msg, now_s):
+        self._missions_link = self._link
+        self._out.extend(self.missions.on_count(msg, self.link_s))
+
+    def _on_log_request(self, msg, now_s):
+        # as ArduPilot's _log_sending_link: the rest of a transfer goes to the link that began it
+        idle = not self.logs.busy
+        self._out.extend(self.logs.handle(msg))
+        if idle and self.logs.busy:
+            self._logs_link = self._link
+
+    def take_directed(self) -> dict | None:
+        """{link: messages} that poll made for one link alone; None (most ticks) if none."""
+        directed = self._directed
+        if not directed:
+            return None
+        self._directed = {}
+        return directed
+
+    def take_announced(self) -> list | None:
+        """(link it answered, message) for every other link that has spoken; None (most ticks)."""
+        announced = self._announced
+        if not announced:
+            return None
+        self._announced = []
+        return announced
 
     def _on_command(self, c: Command, now_s):
         ack = self.commands.handle(self, c, now_s, self.link_s)
@@ -161,14 +214,11 @@ class Session:
             self.ftp.banner_due = False
             self.send_banner()
 
-    def _on_param_request_list(self, msg, now_s):
-        self.send_banner()  # as ArduPilot: "a convenient way to get extra information"
-        self._out.extend(self.params.request_list(msg, self.link_s))
-
     def send_banner(self) -> None:
-        """The banner texts (autopilot/version.py), queued with the vehicle's other texts."""
+        """The banner texts (autopilot/version.py), in answer to the link that asked (as
+        ArduPilot sends them on the channel that asked)."""
         for severity, text in version.banner(self.vehicle.board_id, self.vehicle.params):
-            self.vehicle.notify(text, severity)
+            self._out.append(self.codec.statustext_encode(severity, text.encode()[:MAX_STATUSTEXT]))
 
     def _on_manual_control(self, msg, now_s):
         x, y, z, r = msg.x, msg.y, msg.z, msg.r
@@ -199,13 +249,17 @@ class Session:
             self._out.append(self.codec.timesync_encode(int(now_s * 1e9), msg.ts1))
 
     # ----- output -----------------------------------------------------------------------------
+    def _direct(self, link, messages: list) -> None:
+        if messages:  # a transfer started by a message from no link in particular: everyone's
+            (self._out if link is None else self._directed.setdefault(link, [])).extend(messages)
+
     def idle(self, now_s: float, link_s: float) -> bool:
         """Whether poll(now_s, link_s) would send nothing and change nothing: no stream due yet,
         no transfer, no status text or reached item waiting, no GCS silent for too long."""
         last = self.gcs_last_heartbeat_s
         return (now_s + 1e-9 < self.streams.next_due_s and not self.vehicle.events
                 and not self.missions.uploads and not self.params.streaming and not self._stores_waiting
-                and not self.vehicle.mission_progress.has_reached
+                and not self.vehicle.mission_progress.has_reached and not self.logs.busy
                 and (last is None or link_s - last <= self.vehicle.params["FS_GCS_TIMEOUT"]))
 
     def poll(self, now_s: float, link_s: float | None = None) -> list:
@@ -213,8 +267,12 @@ class Session:
             return []
         link_s = self.link_s = now_s if link_s is None else link_s
         out, vehicle = self._out, self.vehicle
-        out.extend(self.missions.poll(link_s))
-        out.extend(self.params.poll(link_s))
+        if self.missions.uploads:
+            self._direct(self._missions_link, self.missions.poll(link_s))
+        if self.params.streaming:
+            self._direct(self._params_link, self.params.poll(link_s))
+        if self.logs.busy:
+            self._direct(self._logs_link, self.logs.poll())
         if self._stores_waiting:
             vehicle.poll_stores(link_s)
         last = self.gcs_last_heartbeat_s

@@ -106,10 +106,13 @@ class Arming:
     def __init__(self) -> None:
         self.armed = False
         self.auto_armed = False
+        self.changes = 0  # arms and disarms so far: a reader that looks now and then sees each one
 
     def arm(self) -> None:
         self.armed = True
+        self.changes += 1
 
     def disarm(self) -> None:
         self.armed = False
         self.auto_armed = False
+        self.changes += 1

@@ -53,7 +53,9 @@ class ControlLink:
     def _await(self, send, match, what: str):
         """send(), then the first message for which match(msg) is not None, retried ATTEMPTS times."""
         for _ in range(ATTEMPTS):
-            if self.conn.last_address is not None:  # else nothing can be sent yet: wait for the first datagram
+            # nothing can be sent before the vehicle's first datagram (pymavlink >= 2.4.4x keeps
+            # a udpin link's peers in `clients`, older ones in `last_address`)
+            if getattr(self.conn, "clients", None) or self.conn.last_address is not None:
                 self._drain()
             send()
             deadline = time.monotonic() + REPLY_WALL_S

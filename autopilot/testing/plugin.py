@@ -12,14 +12,14 @@ test that uses neither. See the README, "Testing your own drone code".
 """
 from __future__ import annotations
 
-import re
+import inspect
 import shutil
-import tempfile
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 import pytest
 
+from . import evidence
 from .settings import KEYS, FireflySettings, SettingsError, parse_speedup, seed_for, settings
 
 if TYPE_CHECKING:
@@ -28,6 +28,7 @@ if TYPE_CHECKING:
 RUN_KEY = pytest.StashKey["FireflyRun"]()  # on a test item: its FireflyRun
 REPORTS_KEY = pytest.StashKey[dict[str, pytest.TestReport]]()  # on a test item: its reports so far, by phase
 SPEEDUP_KEY = pytest.StashKey[float]()  # on the config: --firefly-speedup
+EVIDENCE_KEY = pytest.StashKey[Path]()  # on the config: the evidence root, made when a test first needs it
 
 
 def pytest_addoption(parser):
@@ -38,7 +39,10 @@ def pytest_addoption(parser):
     group.addoption("--firefly-keep", action="store_true",
                     help="keep every test's .tlog, state log and autopilot stderr, not only a failed test's")
     group.addoption("--firefly-evidence", default=None, metavar="DIR",
-                    help="put each test's evidence directory under DIR (default: pytest's temporary directory)")
+                    help="put each test's evidence directory under DIR (default: the ini setting firefly_evidence, "
+                         "else <rootdir>/.firefly/evidence)")
+    parser.addini(evidence.INI, "where Firefly keeps failed tests' evidence, relative to this file "
+                                "(default <rootdir>/.firefly/evidence)", default="")
 
 
 def pytest_configure(config):
@@ -49,6 +53,27 @@ def pytest_configure(config):
         config.stash[SPEEDUP_KEY] = parse_speedup(config.getoption("--firefly-speedup"), "--firefly-speedup")
     except SettingsError as exc:
         raise pytest.UsageError(str(exc)) from None
+
+
+FIXTURES = ("firefly", "firefly_fleet")
+OTHER_ASYNC_MARKERS = ("anyio", "trio")  # another plugin runs these coroutines
+
+
+@pytest.hookimpl(wrapper=True, trylast=True)
+def pytest_pycollect_makeitem(collector, name, obj):
+    """An `async def` test that uses a vehicle runs under pytest-asyncio whatever its mode: in a
+    project with no pytest configuration (pytest-asyncio's strict mode) the test is given the
+    `asyncio` marker, as the user would otherwise have to. trylast makes this wrapper the
+    innermost, so the marker is there when pytest-asyncio's own wrapper decides which items to
+    take; a test already marked, or marked for anyio or trio, is left as it is."""
+    collected = yield
+    if not inspect.iscoroutinefunction(obj):
+        return collected
+    for item in collected if isinstance(collected, list) else [collected]:
+        if (isinstance(item, pytest.Function) and any(f in item.fixturenames for f in FIXTURES)
+                and not any(item.get_closest_marker(m) for m in ("asyncio", *OTHER_ASYNC_MARKERS))):
+            item.add_marker(pytest.mark.asyncio)
+    return collected
 
 
 @pytest.hookimpl(wrapper=True, tryfirst=True)
@@ -89,26 +114,23 @@ def _settings(request) -> FireflySettings:
     pytest.fail(problem, pytrace=False)  # outside the except: one line, no chained traceback
 
 
-def _evidence_dir(request, tmp_path_factory) -> Path:
-    name = re.sub(r"[^A-Za-z0-9_.-]+", "_", request.node.name)[:60]
-    root = request.config.getoption("--firefly-evidence")
-    if root:
-        root = Path(request.config.invocation_params.dir, root)  # as the user typed it, not from a worker's cwd
-        root.mkdir(parents=True, exist_ok=True)
-        return Path(tempfile.mkdtemp(prefix=f"{name}-", dir=root))
-    return tmp_path_factory.mktemp(f"firefly-{name}", numbered=True)
+def _evidence_dir(request) -> Path:
+    config = request.config
+    if EVIDENCE_KEY not in config.stash:
+        config.stash[EVIDENCE_KEY] = evidence.evidence_root(config)
+    return evidence.fresh_directory(config.stash[EVIDENCE_KEY], request.node.nodeid)
 
 
 @pytest.fixture
-def firefly_fleet(request, tmp_path_factory):
+def firefly_fleet(request):
     """Every vehicle of this test's autopilot process (one unless the marker says count=N)."""
     from .run import FireflyRun
     from .errors import FireflyError
     settings = _settings(request)
-    evidence = _evidence_dir(request, tmp_path_factory)
+    kept = _evidence_dir(request)
     run = None
     try:
-        run = FireflyRun(settings, evidence)
+        run = FireflyRun(settings, kept)
         request.node.stash[RUN_KEY] = run
         run.start()
         run.prepare()
@@ -122,6 +144,7 @@ def firefly_fleet(request, tmp_path_factory):
     if problem is not None:
         if run is not None:
             run.stop()
+            run.copy_dataflash_logs()
         pytest.fail(problem, pytrace=False)
     assert run is not None  # started without a problem
     yield run.vehicles
@@ -129,8 +152,10 @@ def firefly_fleet(request, tmp_path_factory):
     internal = run.internal_errors()
     reports = request.node.stash.get(REPORTS_KEY, {})
     failed = code != 0 or bool(internal) or any(r.failed for r in reports.values())
-    if not failed and not request.config.getoption("--firefly-keep"):
-        shutil.rmtree(evidence, ignore_errors=True)
+    if failed:
+        run.copy_dataflash_logs()
+    elif not request.config.getoption("--firefly-keep"):
+        shutil.rmtree(kept, ignore_errors=True)
     if code != 0:
         pytest.fail(f"firefly: the autopilot ended with status {code} (0 expected after SIGTERM): "
                     f"{run.stderr_tail() or 'it said nothing'}", pytrace=False)

@@ -1,8 +1,9 @@
 """One test's autopilot process: started on free ports with its own state, logs and seed, made
 ready as the test asked, stopped after it with a check of how it ended.
 
-Everything the process writes (state directory, .tlog, state log, stderr) lives in one evidence
-directory per test; the plugin keeps it when the test fails and removes it when it passes.
+Everything the process writes (state directory, .tlog, state log, stderr, dataflash logs) lives
+in one evidence directory per test (evidence.py); the plugin keeps it when the test fails and
+removes it when it passes.
 """
 from __future__ import annotations
 
@@ -14,6 +15,7 @@ import sys
 import time
 from pathlib import Path
 
+from . import evidence
 from .settings import FireflySettings
 from .errors import FireflyError
 from .vehicle import FireflyVehicle
@@ -62,6 +64,7 @@ class FireflyRun:
         self.settings = settings
         self.evidence_dir = Path(evidence_dir)
         self.stderr_path = self.evidence_dir / "autopilot.stderr"
+        self.state_dir = self.evidence_dir / "state"  # parameters, and the vehicles' logs/*.BIN
         ports = free_port_blocks(settings.count)
         several = settings.count > 1
         self.vehicles = [
@@ -78,7 +81,7 @@ class FireflyRun:
         cmd = [sys.executable, "-m", "firefly.autopilot", "--listen", "udp:127.0.0.1:0",
                *[a for kind in PORT_KINDS for a in ("--out", f"udp:127.0.0.1:{ports[kind]}")],
                "--speedup", s.speedup_text, "--seed", str(s.seed), "--count", str(s.count),
-               "--startup", s.startup, "--state-dir", str(self.evidence_dir / "state"), "--wipe", "--quiet",
+               "--startup", s.startup, "--state-dir", str(self.state_dir), "--wipe", "--quiet",
                f"--exit-with-parent={os.getpid()}",
                "--tlog", str(self.evidence_dir / "vehicle.tlog"),
                "--state-log", str(self.evidence_dir / "state.csv")]
@@ -159,7 +162,8 @@ class FireflyRun:
     def describe(self) -> str:
         s = self.settings
         lines = [f"seed {s.seed}, speedup {s.speedup_text}, {s.count} vehicle{'s' if s.count > 1 else ''}"
-                 + (f", scenario {s.scenario}" if s.scenario else "")]
+                 + (f", scenario {s.scenario}" if s.scenario else ""),
+                 f"evidence kept in {self.evidence_dir}"]
         for v in self.vehicles:
             lines.append(f"vehicle {v.system_id}: tlog {v.tlog_path}")
             lines.append(f"vehicle {v.system_id}: state log {v.state_log_path}")
@@ -168,10 +172,16 @@ class FireflyRun:
             if latest is not None:
                 lines.append(f"vehicle {v.system_id}: last state {latest}")
         lines.append(f"autopilot stderr: {self.stderr_path}")
+        for log in evidence.dataflash_logs(self.state_dir):  # copied when the process has stopped
+            lines.append(f"dataflash log: {self.evidence_dir / evidence.copy_name(self.state_dir, log)}")
         lines.append("reproduce: " + shlex.join(self.reproduce_command()))
         if s.params or s.faults:
             lines.append("then set: " + ", ".join(f"{k}={v:g}" for k, v in {**s.params, **s.faults}.items()))
         return "\n".join(lines)
+
+    def copy_dataflash_logs(self) -> list[Path]:
+        """Copy the vehicles' dataflash logs (complete once the process has stopped) beside the .tlog."""
+        return evidence.copy_dataflash_logs(self.state_dir, self.evidence_dir)
 
     def reproduce_command(self) -> list[str]:
         """The same vehicle for a person at a ground station: its seed, speed, scenario and home,

@@ -9,12 +9,15 @@ from __future__ import annotations
 import asyncio
 import time
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from ..params import INVERSE_OLD_NAMES, served_equivalent
 from .control import ControlLink
 from .errors import FireflyError
 from .state import StateLogReader, VehicleState
+
+if TYPE_CHECKING:
+    from .mavlink_client import QueuedUdpConnection  # imports pymavlink: only when a test asks for it
 
 POLL_WALL_S = 0.005  # how often a wait looks at the state log
 STALL_WALL_S = 30.0  # a wait fails if vehicle time stands still this long (the process hung)
@@ -72,7 +75,7 @@ class FireflyVehicle:
         self._state = StateLogReader(state_log)
         self._control: ControlLink | None = None
         self._mavsdk: tuple[Any, Any] | None = None  # (Mavsdk, System)
-        self._mavlink = None
+        self._mavlink: QueuedUdpConnection | None = None
 
     # ----- where clients connect ------------------------------------------------------------
     @property
@@ -111,10 +114,12 @@ class FireflyVehicle:
 
     def mavlink(self, timeout_s: float = CONNECT_WALL_S):
         """A pymavlink connection (system 255, ardupilotmega dialect) that has seen this
-        vehicle's HEARTBEAT; the same one on every call, closed after the test."""
+        vehicle's HEARTBEAT; the same one on every call, closed after the test. A thread of its
+        own reads the socket as datagrams arrive, so nothing is lost while the test does
+        something else (mavlink_client.py)."""
         if self._mavlink is None:
-            from pymavlink import mavutil
-            connection = mavutil.mavlink_connection(self.mavlink_url, source_system=255, dialect="ardupilotmega")
+            from .mavlink_client import queued_connection
+            connection = queued_connection(self.mavlink_url, source_system=255)
             try:
                 deadline = time.monotonic() + timeout_s
                 while connection.recv_match(type="HEARTBEAT", blocking=True, timeout=0.1) is None:
@@ -130,7 +135,9 @@ class FireflyVehicle:
 
     # ----- the true state and waits in vehicle time ----------------------------------------
     def state(self) -> VehicleState:
-        """The vehicle's newest true state (at most 0.1 s of vehicle time old)."""
+        """The vehicle's newest true state: the state log's last complete line, read at each call.
+        The vehicle writes one every 0.1 s of vehicle time and one for the moment of each answer
+        it sends a client, before sending it, so this is never older than a reply received."""
         state = self._state.latest_state()
         if state is None:
             self.check_alive()

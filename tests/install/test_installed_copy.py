@@ -116,6 +116,12 @@ def test_the_vehicle_and_plugin_need_no_science_or_plots(installed, wheel):
         "import sys; sys.modules.update(scipy=None, matplotlib=None); "
         "import firefly.autopilot.cli.main, firefly.autopilot.testing.plugin, firefly.autopilot.vehicle"))
     assert probe.returncode == 0, probe.stderr
+    search = run_installed(installed, "-c", (
+        "import sys; sys.modules.update(scipy=None, matplotlib=None); "
+        "from firefly.groundstation.cli import main; sys.exit(main(['evaluate', '--episodes', '1']))"))
+    assert search.returncode == 2 and search.stderr.strip().splitlines() == [
+        "groundstation: error: evaluate needs scipy, which comes with the explore extra: "
+        "pip install 'firefly-sitl[explore]'"], search.stderr
 
 
 def test_every_package_comes_from_the_installed_copy(installed):
@@ -177,3 +183,37 @@ def test_the_installed_autopilot_answers_and_arms_in_guided(installed, tmp_path)
         if process.poll() is None:
             process.terminate()
             process.wait(timeout=10)
+
+
+def test_the_container_recipe_runs_as_written(installed, tmp_path):
+    """The Dockerfile's ENTRYPOINT and CMD, run by the installed `autopilot` command (no Docker
+    engine here: docs/container.md says what was and was not tested), serve TCP: a client there
+    gets a HEARTBEAT. Only the published port and the volume's path are changed for the test."""
+    text = (REPO / "Dockerfile").read_text()
+    entrypoint = json.loads(next(line for line in text.splitlines() if line.startswith("ENTRYPOINT"))[len("ENTRYPOINT"):])
+    command = json.loads(next(line for line in text.splitlines() if line.startswith("CMD"))[len("CMD"):])
+    assert entrypoint[0] == "autopilot" and "tcp:0.0.0.0:5760" in entrypoint
+    import socket
+    with socket.socket() as probe:
+        probe.bind(("127.0.0.1", 0))
+        port = probe.getsockname()[1]
+    argv = [a.replace("tcp:0.0.0.0:5760", f"tcp:127.0.0.1:{port}").replace("/var/lib/firefly", str(tmp_path / "state"))
+            for a in entrypoint[1:] + command]
+    process = subprocess.Popen([str(installed.parent / "autopilot"), *argv, "--out", f"udp:127.0.0.1:{free_udp_port()}"],
+                               cwd=tmp_path, env=without_pythonpath(), stderr=subprocess.PIPE, text=True)
+    try:
+        deadline = time.monotonic() + 20
+        conn = None
+        while conn is None and time.monotonic() < deadline and process.poll() is None:
+            try:
+                conn = mavutil.mavlink_connection(f"tcp:127.0.0.1:{port}", source_system=255, retries=0)
+            except OSError:
+                time.sleep(0.1)  # the server is not listening yet: nothing else to wait on
+        assert conn is not None, f"no TCP server (exit {process.poll()})"
+        try:
+            assert conn.recv_match(type="HEARTBEAT", blocking=True, timeout=10) is not None
+        finally:
+            conn.close()
+    finally:
+        process.terminate()
+        process.wait(timeout=10)

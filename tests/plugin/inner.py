@@ -22,12 +22,12 @@ import pytest
 INNER_WALL_S = 180  # one inner session; a hung vehicle fails the test instead of hanging the suite
 
 
-def run_inner(pytester: pytest.Pytester, *args: str, asyncio_mode: str = "auto") -> pytest.RunResult:
+def run_inner(pytester: pytest.Pytester, *args: str, asyncio_mode: str | None = "auto") -> pytest.RunResult:
     """pytest in its own process in pytester's directory, then the check that it left no
-    autopilot running."""
+    autopilot running. asyncio_mode None: pytest-asyncio as a project with no configuration has it."""
+    asyncio = ["-o", f"asyncio_mode={asyncio_mode}", "-o", "asyncio_default_fixture_loop_scope=function"]
     result = pytester.runpytest_subprocess(
-        "-p", "no:cacheprovider", "-o", f"asyncio_mode={asyncio_mode}",
-        "-o", "asyncio_default_fixture_loop_scope=function", *args, timeout=INNER_WALL_S)
+        "-p", "no:cacheprovider", *(asyncio if asyncio_mode is not None else []), *args, timeout=INNER_WALL_S)
     assert_no_autopilot_left(pytester.path)
     return result
 

@@ -84,7 +84,7 @@ def test_bad_markers_and_refused_settings_fail_at_setup_in_one_line(pytester):
     out_of_range = "\n".join(block(result, "ERROR at setup of test_a_parameter_out_of_range"))
     assert "WPNAV_SPEED = 1e+09 refused" in out_of_range and "out of range" in out_of_range, out_of_range
 
-    started = sorted(p.name.rsplit("-", 1)[0] for p in evidence.iterdir())
+    started = sorted(p.name.split("__", 1)[1] for p in evidence.iterdir())  # "test_refused.py__<test>"
     assert started == ["test_a_parameter_out_of_range", "test_a_scenario_the_autopilot_refuses",
                        "test_an_unknown_parameter"], "a bad marker started a process"
 

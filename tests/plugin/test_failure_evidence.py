@@ -111,7 +111,8 @@ def test_a_failed_test_keeps_its_evidence_and_a_passing_one_deletes_it(pytester)
     assert tlog.is_file() and tlog.stat().st_size > 0
     assert state_log.is_file() and len(state_log.read_text().splitlines()) > 30  # > 3 s of 0.1 s lines
     (kept,) = evidence.iterdir()
-    assert kept == tlog.parent and kept.name.startswith("test_a_wait_that_never_ends-")
+    assert kept == tlog.parent and kept.name == "test_outcomes.py__test_a_wait_that_never_ends"
+    assert section[1] == f"evidence kept in {kept}"
     reproduce_runs_beside_the_evidence(section, tlog, state_log)
 
     passed_dir = Path(re.search(r"EVIDENCE (\S+)", result.stdout.str()).group(1))
@@ -123,3 +124,44 @@ def test_a_failed_test_keeps_its_evidence_and_a_passing_one_deletes_it(pytester)
     kept_dir = Path(re.search(r"EVIDENCE (\S+)", keep.stdout.str()).group(1))
     assert (kept_dir / "vehicle.tlog").stat().st_size > 0
     assert (kept_dir / "state.csv").stat().st_size > 0
+
+
+DATAFLASH = '''
+def test_fails_with_a_dataflash_log(firefly):
+    logs = firefly.run.state_dir / "instance-0" / "logs"  # where the vehicle writes its own
+    logs.mkdir(parents=True, exist_ok=True)
+    (logs / "firefly-test.BIN").write_bytes(b"a dataflash log")
+    assert firefly.state().armed, "the vehicle is not armed"
+
+
+def test_passes(firefly):
+    assert not firefly.state().armed
+'''
+
+
+def test_evidence_outlives_later_runs_under_the_rootdir_or_the_ini_setting(pytester):
+    """By default a failed test's evidence goes to <rootdir>/.firefly/evidence/<node id>/ (a
+    .gitignore beside it), the report names the directory, and the dataflash logs found under
+    the vehicle's state directory are copied in beside the .tlog. A later run that does not
+    fail that test leaves it there. The ini setting firefly_evidence moves the root."""
+    pytester.makepyfile(test_evidence=DATAFLASH)
+    result = run_inner(pytester)
+    result.assert_outcomes(failed=1, passed=1)
+    root = pytester.path / ".firefly" / "evidence"
+    kept = root / "test_evidence.py__test_fails_with_a_dataflash_log"
+    assert sorted(p.name for p in root.iterdir()) == [kept.name]  # the passing test's is gone
+    assert (pytester.path / ".firefly" / ".gitignore").read_text().splitlines()[-1] == "*"
+    section = firefly_section(result, "test_fails_with_a_dataflash_log")
+    copy = kept / "instance-0-firefly-test.BIN"
+    assert f"evidence kept in {kept}" in section and f"dataflash log: {copy}" in section, section
+    assert copy.read_bytes() == b"a dataflash log"
+    assert (kept / "vehicle.tlog").stat().st_size > 0 and (kept / "state.csv").stat().st_size > 0
+
+    later = run_inner(pytester, "-k", "test_passes")
+    later.assert_outcomes(passed=1)
+    assert copy.read_bytes() == b"a dataflash log" and (kept / "vehicle.tlog").stat().st_size > 0
+
+    pytester.makeini("[pytest]\nfirefly_evidence = ci-artifacts\n")
+    moved = run_inner(pytester, "-k", "test_fails")
+    moved.assert_outcomes(failed=1)
+    assert (pytester.path / "ci-artifacts" / kept.name / copy.name).is_file()

@@ -26,7 +26,7 @@ def report_seed(request, firefly):
             words = (entry / "cmdline").read_bytes().decode(errors="replace").split("\\0")
         except OSError:
             continue
-        if "autopilot" in words and str(firefly.tlog_path) in words:
+        if "firefly.autopilot" in words and str(firefly.tlog_path) in words:
             print(f"SEED {request.node.nodeid} {firefly.seed} {words[words.index('--seed') + 1]}")
             return
     raise AssertionError("no autopilot process found")

@@ -86,3 +86,28 @@ def statustexts(messages) -> list[str]:
 __all__ = ["mav", "ready_vehicle", "altitude", "fly_until", "hovering_vehicle", "body_speed",
            "client_codec", "wire", "command_long", "of_type", "statustexts",
            "GCS_SYSTEM", "GCS_COMPONENT"]
+
+
+class FakeSocketPort:
+    """A stand-in for the vehicle's UDP socket or a TCP server: what the command line bound, no socket."""
+
+    def __init__(self, bind, outs=()):
+        self.bind, self.outs = bind, list(outs)
+        self.address = bind
+        self.peers = self.outs
+        self.connections: list = []
+
+    def fileno(self) -> int:
+        return -1
+
+    def filenos(self) -> list[int]:
+        return []
+
+    def close(self) -> None:
+        pass
+
+
+def no_sockets(monkeypatch) -> None:
+    """Build vehicles from the command line without opening a socket."""
+    monkeypatch.setattr("firefly.autopilot.io.udp.UdpEndpoint", FakeSocketPort)
+    monkeypatch.setattr("firefly.autopilot.io.tcp.TcpServer", FakeSocketPort)

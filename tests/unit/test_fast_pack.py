@@ -63,7 +63,7 @@ def test_a_packed_message_reads_like_the_pymavlink_one():
     assert defaults.mavlink_version == 3, "pymavlink's default arguments hold"
 
 
-def test_the_link_numbers_its_frames_one_more_each_as_ardupilot_does():
+def test_each_link_numbers_its_frames_one_more_each_as_ardupilot_does():
     codec = new_codec(1)
     link = Link(codec, LinkSigning(codec))
     fast = FastCodec(codec)
@@ -73,7 +73,10 @@ def test_the_link_numbers_its_frames_one_more_each_as_ardupilot_does():
     decoder = new_codec(255)
     seqs = [decoder.parse_buffer(f)[0].get_seq() for f in frames]
     assert seqs == [0, 1, 2, 3]
-    codec.seq = 255
+    for _ in range(251):
+        link.pack([fast.heartbeat_encode(2, 3, 4, 5, 6)])
     (frame,) = link.pack([fast.heartbeat_encode(2, 3, 4, 5, 6)])
     assert new_codec(255).parse_buffer(frame)[0].get_seq() == 255 and codec.seq == 0, "it wraps at 256"
+    (other,) = link.pack([fast.heartbeat_encode(2, 3, 4, 5, 6)], ("tcp", 5760, 1))
+    assert new_codec(255).parse_buffer(other)[0].get_seq() == 0, "each link numbers its own frames"
     assert mav.MAVLINK_MSG_ID_HEARTBEAT == 0

@@ -8,6 +8,7 @@ from firefly.autopilot.cli import main as cli
 from firefly.autopilot.cli.script import Script, ScriptError, parse_steps
 from firefly.autopilot.cli.scenario import ScenarioError, scenario_from_dict
 from firefly.autopilot.vehicle import Vehicle, VehicleConfig
+from ._util import no_sockets
 
 
 def one_line_error(data: dict) -> str:
@@ -78,13 +79,8 @@ def test_script_param_mistakes_are_found_when_the_file_is_read(step, words):
         assert word in str(info.value)
 
 
-class FakeEndpoint:
-    def __init__(self, bind, outs):
-        self.address = bind
-
-
 def test_the_command_line_flies_the_scenario_faults(monkeypatch, tmp_path):
-    monkeypatch.setattr("firefly.autopilot.io.udp.UdpEndpoint", FakeEndpoint)
+    no_sockets(monkeypatch)
     path = tmp_path / "faulty.toml"
     path.write_text("[wind]\nspeed_m_s = 5.0\n[faults]\nSIM_GPS_DISABLE = 1\nSIM_LINK_LOSS = 20\n")
     node, _ = cli.build(cli.build_parser().parse_args(["--scenario", str(path), "--state-dir", str(tmp_path)]))[0]

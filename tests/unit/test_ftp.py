@@ -172,7 +172,7 @@ def test_a_lost_reply_is_sent_again_for_a_repeated_request(client):
     (dict(opcode=ftp.BURST_READ_FILE, size=239), bytes([ftp.FILE_NOT_FOUND])),
     (dict(opcode=ftp.WRITE_FILE, data=b"abc"), bytes([ftp.FILE_NOT_FOUND])),
     (dict(opcode=ftp.READ_FILE, size=240), bytes([ftp.INVALID_DATA_SIZE])),
-    (dict(opcode=ftp.LIST_DIRECTORY, data=b"/"), bytes([ftp.END_OF_FILE])),
+    (dict(opcode=ftp.LIST_DIRECTORY, data=b"/nothing"), bytes([ftp.FILE_NOT_FOUND])),
     (dict(opcode=ftp.LIST_DIRECTORY, data=b""), bytes([ftp.INVALID_DATA_SIZE])),
     (dict(opcode=ftp.LIST_DIRECTORY, data=b"@PARAM"), bytes([ftp.FILE_NOT_FOUND])),
     (dict(opcode=ftp.CALC_FILE_CRC32, data=b"@PARAM/x"), bytes([ftp.FILE_NOT_FOUND])),

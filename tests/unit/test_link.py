@@ -112,7 +112,7 @@ def test_unsigned_radio_status_passes_but_does_not_make_a_peer():
     datagram = radio_status_frame(plain_client()) + heartbeat_frame(plain_client())
     assert types(link.receive(datagram, A)) == [("RADIO_STATUS", False)]
     answered = []
-    got = list(incoming([(radio_status_frame(plain_client()), B)], link, answered.append))
+    got = list(msg for msg, _ in incoming([(radio_status_frame(plain_client()), B)], link, answered.append))
     assert [m.get_type() for m in got] == ["RADIO_STATUS"] and answered == []
 
 
@@ -135,7 +135,7 @@ def test_frames_after_setup_signing_are_judged_under_the_key_it_set():
     datagram = (_setup_signing_frame(plain, KEY) + arm_frame(plain)
                 + arm_frame(signing_client(timestamp=NOW + 1)))
     passed = []
-    for msg in incoming([(datagram, A)], link, lambda sender: None):
+    for msg, _ in incoming([(datagram, A)], link, lambda sender: None):
         passed.append(msg.get_type())
         session.receive(msg, 0.0)  # handled before the next frame is judged, as the runner does
     assert passed == ["SETUP_SIGNING", "COMMAND_LONG"]  # the unsigned ARM after it was dropped ...

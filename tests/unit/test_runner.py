@@ -34,7 +34,7 @@ def _swarm(count: int, tmp_path, name: str, monkeypatch):
     sent = [[] for _ in nodes]
     for node, frames in zip(nodes, sent):
         queue = node.endpoint.queue
-        node.endpoint.queue = lambda fs, queue=queue, frames=frames: (frames.extend(fs), queue(fs))
+        node.endpoint.queue = lambda key, fs, queue=queue, frames=frames: (frames.extend(fs), queue(key, fs))
     return nodes, sent
 
 

@@ -12,6 +12,8 @@ from firefly.autopilot.cli.scenario import (DEFAULT_HOME, Scenario, ScenarioErro
                                 scenario_from_dict)
 from firefly.sim.airframe import Airframe
 
+from ._util import no_sockets as stand_ins
+
 
 def one_line_error(data: dict) -> str:
     with pytest.raises(ScenarioError) as info:
@@ -175,15 +177,9 @@ def test_parse_home_errors_are_one_line(text):
 
 
 # ----- command line (no sockets: the endpoint is a stand-in) ----------------------------------------
-class FakeEndpoint:
-    def __init__(self, bind, outs):
-        self.bind, self.outs = bind, outs
-        self.address = bind
-
-
 @pytest.fixture
 def no_sockets(monkeypatch):
-    monkeypatch.setattr("firefly.autopilot.io.udp.UdpEndpoint", FakeEndpoint)
+    stand_ins(monkeypatch)
 
 
 def build(*argv):
@@ -223,7 +219,8 @@ def test_instance_sets_system_id_ports_and_state_dir(no_sockets, tmp_path):
     node, outs = build("--instance", "2", "--state-dir", str(tmp_path))
     assert node.vehicle.system_id == 3
     assert node.session.system_id == 3
-    assert node.endpoint.bind == ("0.0.0.0", 5780)
+    assert node.endpoint.udp.bind == ("0.0.0.0", 5780)
+    assert [s.bind for s in node.endpoint.tcp_servers] == [("0.0.0.0", 5780)]  # SERIAL0, as SITL's -I2
     assert outs == [("127.0.0.1", 14570), ("127.0.0.1", 14560)]
     assert node.vehicle.params.path == tmp_path / "instance-2" / "params.json"
 

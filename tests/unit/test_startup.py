@@ -12,8 +12,7 @@ from firefly.autopilot.results import Result
 from firefly.autopilot.startup import StartupTimeline
 from firefly.autopilot.vehicle import Vehicle, VehicleConfig
 
-from ._util import client_codec, mav
-from .test_fault_scenarios import FakeEndpoint
+from ._util import client_codec, mav, no_sockets
 
 CODEC = client_codec()
 
@@ -94,7 +93,7 @@ def test_startup_mistakes_name_the_table_and_key(table, words):
 
 
 def test_the_command_line_flag_chooses_the_startup(monkeypatch, tmp_path):
-    monkeypatch.setattr("firefly.autopilot.io.udp.UdpEndpoint", FakeEndpoint)
+    no_sockets(monkeypatch)
     path = tmp_path / "slow.toml"
     path.write_text("[startup]\ngps_in_use_s = 30\n")
     build = lambda *flags: cli.build(cli.build_parser().parse_args(  # noqa: E731
