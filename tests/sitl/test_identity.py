@@ -51,8 +51,12 @@ def test_autopilot_version_and_banner_are_the_references(autopilot):
         assert all(getattr(version, name) == 0 for name in REFERENCE["zeros"])
         assert bytes(version.uid2) == board_id.encode()[:17].ljust(18, b"\0")
         expected = [board_id if text == "<board id>" else text for text in REFERENCE["banner"]]
-        assert gcs.command(mav.MAV_CMD_DO_SEND_BANNER) == mav.MAV_RESULT_ACCEPTED
-        said = texts(gcs, 3)
+        # as ArduPilot: the texts, then the ACK, to the link that asked
+        gcs.mav.command_long_send(1, 1, mav.MAV_CMD_DO_SEND_BANNER, 0, 0, 0, 0, 0, 0, 0, 0)
+        said = []
+        while (m := gcs.recv(["STATUSTEXT", "COMMAND_ACK"], 3)) is not None and m.get_type() == "STATUSTEXT":
+            said.append(m)
+        assert m is not None and m.command == mav.MAV_CMD_DO_SEND_BANNER and m.result == mav.MAV_RESULT_ACCEPTED
         assert [m.text for m in said] == expected and {m.severity for m in said} == {mav.MAV_SEVERITY_INFO}
         gcs.mav.param_request_list_send(1, 1)  # ArduPilot sends its banner with a parameter download
         assert [m.text for m in texts(gcs, 3)] == expected
