@@ -9,12 +9,13 @@ after the ACK at speedup 1, 0.12 s at speedup 10; boot time about 1.0 s then, th
 started some 0.2 s after the ACK; the boot texts and the EKF's again after it, and nothing
 streamed until asked; what was sent to it meanwhile is lost).
 
-Here the process, its ports and each Node's link and router stay; the vehicle, its MAVLink
-session and its dataflash recorder are built again from the state directory, by the same code
-that built them at start (the Node's power_on, from cli/main.py), with ArduCopter's start-up
-(startup.py); the dataflash log of the boot that ends is closed, as a reboot ends ArduPilot's. Sim time goes on: the new
-vehicle's clock starts at zero REBOOT_GAP_S after the ACK, and it says nothing before
-FIRST_HEARTBEAT_S of its own time.
+Here the process, its ports and each Node's link and router stay (so TCP clients stay connected,
+where ArduPilot's restarted process makes them reconnect; frame sequence numbers go on); the
+vehicle, its MAVLink session and its dataflash recorder are built again from the state directory,
+by the same code that built them at start (the Node's power_on, from cli/main.py), with
+ArduCopter's start-up (startup.py); the dataflash log of the boot that ends is closed, as a reboot
+ends ArduPilot's. Sim time goes on: the new vehicle's clock starts at zero REBOOT_GAP_S after the
+ACK, and it hears and says nothing before FIRST_HEARTBEAT_S of its own time.
 """
 from __future__ import annotations
 
@@ -52,8 +53,8 @@ def save_before_reboot(vehicle: Vehicle, session: Session) -> None:
 
 
 def reboot(node: Node) -> None:
-    """Replace the node's vehicle and session by freshly booted ones (keeping the node's socket,
-    link, logs); the old ones are dropped."""
+    """Replace the node's vehicle, session and dataflash recorder by freshly booted ones (keeping
+    its ports, link, router, tlog and state log); the old ones are dropped."""
     old_vehicle, old_session, power_on = node.vehicle, node.session, node.power_on
     assert power_on is not None  # Node.reboot calls this only for a node that can be built again
     save_before_reboot(old_vehicle, old_session)
