@@ -1,9 +1,11 @@
 """Parameters: the table of those that act, the full set served, and a store that persists them.
 
 PARAM_TABLE holds the parameters Firefly models (each acts on the vehicle), with ArduCopter's
-names, units and ranges. The vehicle serves more: every parameter the reference ArduCopter serves
-(autopilot/reference_params.py), in the reference's order and with its MAVLink types, then
-Firefly's own. One that Firefly does not model is stored, persisted and reported, and does nothing.
+names, units and ranges. Over MAVLink the vehicle serves exactly the reference ArduCopter's set
+(autopilot/reference_params.py), in its order and with its MAVLink types, then Firefly's own link
+faults; one that Firefly does not model is stored, persisted and reported, and does nothing.
+ArduPilot 4.5's names of parameters 4.7 renamed stay known in-process only (scenarios, scripts,
+the Python API, older saved files), as ArduPilot converts them when it loads old storage.
 Where the two tables disagree is written down in autopilot/params_differences.py.
 
 Values follow ArduCopter's units (cm, cm/s, centidegrees) so that ground stations show what they
@@ -22,7 +24,7 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 
 from .io.persist import JsonFile, read_json
-from .params_differences import RENAMED
+from .params_differences import FIREFLY_ONLY, OLD_NAMES
 from .reference_params import reference_params
 
 # MAV_PARAM_TYPE numbers ArduPilot uses (INT8, INT16, INT32, REAL32), and what each integer type holds.
@@ -61,7 +63,7 @@ def _i(name, default, low, high, doc=""):
 
 PARAM_TABLE: tuple[ParamSpec, ...] = (
     # Identity
-    _i("SYSID_THISMAV", 1, 1, 255, "MAVLink system id of this vehicle"),
+    _i("MAV_SYSID", 1, 1, 255, "MAVLink system id of this vehicle"),
     _i("FRAME_CLASS", 1, 0, 15, "1 = quad"),
     _i("FRAME_TYPE", 0, 0, 18, "0 = plus"),
     # Position controller (ArduCopter AC_PosControl)
@@ -126,7 +128,7 @@ PARAM_TABLE: tuple[ParamSpec, ...] = (
     _i("FS_OPTIONS", 16, 0, 0x7FFFFFFF, "failsafe options: bit 0 continue AUTO, 2 continue GUIDED, "
                                       "3 continue landing on a radio failsafe"),
     _i("FS_GCS_ENABLE", 0, 0, 7), _f("FS_GCS_TIMEOUT", 5, 2, 120),
-    _i("FS_BATT_ENABLE", 0, 0, 6), _i("BATT_FS_CRT_ACT", 0, 0, 7, "critical battery action (as BATT_FS_LOW_ACT)"),
+    _i("BATT_FS_LOW_ACT", 0, 0, 6), _i("BATT_FS_CRT_ACT", 0, 0, 7, "critical battery action (as BATT_FS_LOW_ACT)"),
     _f("BATT_LOW_VOLT", 10.5, 0, 120), _f("BATT_CRT_VOLT", 0, 0, 120),
     _i("BATT_LOW_TIMER", 10, 0, 120, "seconds a voltage must stay below BATT_LOW/CRT_VOLT to count, 0 = never"),
     _f("BATT_LOW_MAH", 0, 0, 500000), _f("BATT_CRT_MAH", 0, 0, 500000),
@@ -135,19 +137,19 @@ PARAM_TABLE: tuple[ParamSpec, ...] = (
     _f("FENCE_ALT_MAX", 100, 10, 1000), _f("FENCE_RADIUS", 300, 30, 10000),
     _i("FS_EKF_ACTION", 1, 1, 3, "EKF failsafe: 1 LAND, 2 ALT_HOLD, 3 LAND even in STABILIZE"),
     _f("FS_EKF_THRESH", 0.8, 0, 1, "EKF failsafe variance threshold, 0 = no EKF failsafe"),
-    # Telemetry stream rates (ArduPilot SRn_ names, Hz; SITL streams by default)
-    _i("SR0_RAW_SENS", 2, 0, 50), _i("SR0_EXT_STAT", 2, 0, 50), _i("SR0_POSITION", 4, 0, 50), _i("SR0_EXTRA1", 10, 0, 50),
-    _i("SR0_EXTRA2", 4, 0, 50), _i("SR0_EXTRA3", 2, 0, 50),
-    _i("SR0_RC_CHAN", 0, 0, 50, "RC_CHANNELS and SERVO_OUTPUT_RAW: not streamed unasked"),
-    # Simulation faults (ArduPilot SITL 4.5's SIM_ names; SIM_LINK_* are Firefly's own)
+    # Telemetry stream rates of the first link (Hz; ArduPilot 4.5 named them SR0_*; Firefly streams unasked)
+    _i("MAV1_RAW_SENS", 2, 0, 50), _i("MAV1_EXT_STAT", 2, 0, 50), _i("MAV1_POSITION", 4, 0, 50), _i("MAV1_EXTRA1", 10, 0, 50),
+    _i("MAV1_EXTRA2", 4, 0, 50), _i("MAV1_EXTRA3", 2, 0, 50),
+    _i("MAV1_RC_CHAN", 0, 0, 50, "RC_CHANNELS and SERVO_OUTPUT_RAW: not streamed unasked"),
+    # Simulation faults (ArduPilot SITL's SIM_ names; SIM_GPS_DISABLE is 4.5's, SIM_LINK_* are Firefly's own)
     _i("SIM_ENGINE_FAIL", 0, 0, 3, "motor SIM_ENGINE_MUL applies to, 0 = motor 1 (front)"),
     _f("SIM_ENGINE_MUL", 1, 0, 1, "thrust multiplier of motor SIM_ENGINE_FAIL, 0 = failed"),
     _i("SIM_GPS_DISABLE", 0, 0, 1, "1 = the GPS has no fix"),
     _i("SIM_GPS1_ENABLE", 1, 0, 1, "0 = the GPS has no fix (ArduPilot 4.7's inverse of SIM_GPS_DISABLE)"),
-    _f("SIM_GPS_GLITCH_X", 0, -1, 1, "GPS latitude offset [deg]"),
-    _f("SIM_GPS_GLITCH_Y", 0, -1, 1, "GPS longitude offset [deg]"),
-    _f("SIM_GPS_GLITCH_Z", 0, -1000, 1000, "GPS altitude offset [m]"),
-    _i("SIM_GPS_NUMSATS", 10, 0, 40, "satellites the GPS reports (the fix does not depend on them, as in SITL)"),
+    _f("SIM_GPS1_GLTCH_X", 0, -1, 1, "GPS latitude offset [deg]"),
+    _f("SIM_GPS1_GLTCH_Y", 0, -1, 1, "GPS longitude offset [deg]"),
+    _f("SIM_GPS1_GLTCH_Z", 0, -1000, 1000, "GPS altitude offset [m]"),
+    _i("SIM_GPS1_NUMSATS", 10, 0, 40, "satellites the GPS reports (the fix does not depend on them, as in SITL)"),
     _f("SIM_BARO_DRIFT", 0, -10, 10, "barometer altitude drift [m/s], 0 = none"),
     _f("SIM_WIND_SPD", 0, 0, 100, "mean wind speed [m/s], from the scenario's [wind]"),
     _f("SIM_WIND_DIR", 0, 0, 360, "direction the wind blows from [deg], from the scenario's [wind]"),
@@ -176,10 +178,10 @@ def _stored_spec(ref) -> ParamSpec:
 
 def _served_table() -> tuple[ParamSpec, ...]:
     """The reference's parameters in its order (a modelled one keeps Firefly's default and range,
-    under the reference's name and type), then the modelled ones the reference does not have."""
+    under the reference's name and type), then Firefly's own (FIREFLY_ONLY)."""
     served = []
     for ref in reference_params():
-        modelled = SPEC_BY_NAME.get(RENAMED.get(ref.name, ref.name))
+        modelled = SPEC_BY_NAME.get(ref.name)
         if modelled is None:
             served.append(_stored_spec(ref))
         else:
@@ -187,7 +189,7 @@ def _served_table() -> tuple[ParamSpec, ...]:
                                   is_int=modelled.is_int or ref.mav_type in INT_TYPE_BOUNDS))
     names = {spec.name for spec in served}
     served.extend(replace(spec, mav_type=MAV_PARAM_TYPE_INT32 if spec.is_int else MAV_PARAM_TYPE_REAL32)
-                  for spec in PARAM_TABLE if spec.name not in names)
+                  for spec in PARAM_TABLE if spec.name not in names and spec.name in FIREFLY_ONLY)
     return tuple(served)
 
 
@@ -195,9 +197,24 @@ SERVED: tuple[ParamSpec, ...] = _served_table()  # every parameter served, in PA
 SERVED_BY_NAME = {spec.name: spec for spec in SERVED}
 SERVED_NAMES = [spec.name for spec in SERVED]
 INDEX_BY_NAME = {name: i for i, name in enumerate(SERVED_NAMES)}
-# Where each value is kept: a renamed parameter's two names share the modelled one's value.
-STORED_AS = {spec.name: RENAMED.get(spec.name, spec.name) for spec in SERVED}
-DEFAULTS = {STORED_AS[spec.name]: spec.default for spec in SERVED}
+# Names known to set() and reads but not served (params_differences.IN_PROCESS_ONLY): modelled
+# ones the reference does not have, and ArduPilot 4.5's names of renamed ones (sharing their value).
+UNSERVED = tuple(spec for spec in PARAM_TABLE if spec.name not in SERVED_BY_NAME)
+KNOWN_BY_NAME = SERVED_BY_NAME | {spec.name: spec for spec in UNSERVED} \
+    | {old: SERVED_BY_NAME[new] for old, new in OLD_NAMES.items()}
+STORED_AS = {name: OLD_NAMES.get(name, name) for name in KNOWN_BY_NAME}  # where each value is kept
+DEFAULTS = {STORED_AS[name]: spec.default for name, spec in KNOWN_BY_NAME.items()}
+
+
+INVERSE_OLD_NAMES = {"SIM_GPS_DISABLE": "SIM_GPS1_ENABLE"}  # 4.5's name of a 0/1 that 4.7 inverted
+
+
+def served_equivalent(name: str, value: float) -> tuple[str, float]:
+    """The served parameter and value that mean what setting `name` to `value` means: for a
+    caller that sets a name known in-process only (IN_PROCESS_ONLY) over MAVLink."""
+    if name in INVERSE_OLD_NAMES:
+        return INVERSE_OLD_NAMES[name], 0.0 if value else 1.0
+    return OLD_NAMES.get(name, name), value
 
 
 class ParamError(ValueError):
@@ -206,7 +223,7 @@ class ParamError(ValueError):
 
 def checked_value(name: str, value) -> float:
     """The value `name` would take (integers rounded), or ParamError naming what is wrong."""
-    spec = SERVED_BY_NAME.get(name)
+    spec = KNOWN_BY_NAME.get(name)
     if spec is None:
         raise ParamError(f"unknown parameter {name}")
     try:
@@ -221,13 +238,17 @@ def checked_value(name: str, value) -> float:
 
 
 class ParamStore:
-    """Current values of every served parameter by name, with range checks and atomic persistence
-    of those that differ from their default to a JSON file. Listeners hear a renamed parameter's
-    change under the modelled name (the one the vehicle's code reads)."""
+    """Current values of every known parameter by name, with range checks and atomic persistence
+    of those that differ from their default to a JSON file. Listeners hear a change made under an
+    old name (OLD_NAMES) under the reference's (the one the vehicle's code reads)."""
 
     def __init__(self, path: Path | None = None, wipe: bool = False):
         self.path = path
         self._values = dict(DEFAULTS)
+        # Values still in use whose saved copy PREFLIGHT_STORAGE erased: left out of the file
+        # until they are set again, so that the next boot starts from the defaults (as ArduPilot's
+        # AP_Param::erase_all leaves the values in RAM and writes only those set after it).
+        self._erased: set[str] = set()
         self._listeners: list[Callable[[str, float], None]] = []
         self.file = JsonFile(path)
         if path is not None and path.exists() and not wipe:
@@ -251,6 +272,7 @@ class ParamStore:
         return len(SERVED)
 
     def __contains__(self, name: str) -> bool:
+        """Whether `name` is served (over MAVLink); set() and reads know IN_PROCESS_ONLY's too."""
         return name in SERVED_BY_NAME
 
     def __getitem__(self, name: str) -> float:
@@ -281,6 +303,7 @@ class ParamStore:
         if value == self._values[name]:
             return value  # nothing changes: a GCS re-sending its whole list must not re-trigger faults
         self._values[name] = value
+        self._erased.discard(name)
         if is_saved(name):
             self._save()
         for callback in self._listeners:
@@ -289,6 +312,17 @@ class ParamStore:
 
     def save_all(self) -> None:
         self._save()
+
+    def erase_saved(self) -> bool:
+        """Forget every saved value (the values in use stay until the next boot); whether the
+        file took it."""
+        self._erased = {n for n, v in self._values.items() if v != DEFAULTS[n]}
+        return self._save()
+
+    def report(self, name: str, value: float) -> None:
+        """Set a value the vehicle only reports (as SITL reports SIM_SPEEDUP, its command line's
+        --speedup): not range-checked, not saved, no listener told."""
+        self._values[STORED_AS[name]] = float(value)
 
     @property
     def save_errors(self) -> int:
@@ -301,4 +335,6 @@ class ParamStore:
     def _save(self) -> bool:
         """Persist (persist.JsonFile: a refused save is counted, the value still takes effect in
         flight: the vehicle must not stop or half-apply a change for it)."""
-        return self.file.save(lambda: {n: v for n, v in self._values.items() if v != DEFAULTS[n] and is_saved(n)})
+        erased = self._erased
+        return self.file.save(lambda: {n: v for n, v in self._values.items()
+                                       if v != DEFAULTS[n] and is_saved(n) and n not in erased})

@@ -1,37 +1,42 @@
 """Where Firefly's parameters knowingly differ from the reference ArduCopter's (one place; the
 parity suite reads it).
 
-RENAMED: the reference's name -> Firefly's modelled parameter of the same meaning. Firefly kept
-ArduPilot 4.5's names (which scripts written for that release still set); the reference, 4.7, renamed
-them. Both names are served and share one value.
+OLD_NAMES: ArduPilot 4.5's name -> the reference's (4.7's) name of the same parameter. Firefly
+models the reference's; the old name, which scenarios and scripts written for 4.5 still set, is
+known in-process (it shares the value) but not served over MAVLink, as the reference does not
+serve it; values saved under it are taken up, as ArduPilot converts old storage.
 
 DEFAULT_DIFFERENCES: a parameter the reference serves whose Firefly default is not the
 reference's, and why. The reference's defaults are those of SITL's `--model quad` with copter.parm.
 
-FIREFLY_ONLY: modelled parameters the reference does not serve, and why they exist.
+FIREFLY_ONLY: parameters Firefly serves that the reference does not, and why they exist.
+
+IN_PROCESS_ONLY: modelled names known to scenarios, scripts, the Python API and older saved files
+but not served over MAVLink (the reference does not serve them: a ground station sees exactly its
+parameter set, plus FIREFLY_ONLY), and why they are kept.
 
 SEMANTIC_DIFFERENCES: served under the reference's name, but meaning something else in Firefly.
 """
 from __future__ import annotations
 
-RENAMED: dict[str, str] = {
-    "MAV_SYSID": "SYSID_THISMAV",
-    "MAV1_RAW_SENS": "SR0_RAW_SENS",
-    "MAV1_EXT_STAT": "SR0_EXT_STAT",
-    "MAV1_POSITION": "SR0_POSITION",
-    "MAV1_EXTRA1": "SR0_EXTRA1",
-    "MAV1_EXTRA2": "SR0_EXTRA2",
-    "MAV1_EXTRA3": "SR0_EXTRA3",
-    "MAV1_RC_CHAN": "SR0_RC_CHAN",
-    "BATT_FS_LOW_ACT": "FS_BATT_ENABLE",
-    "SIM_GPS1_NUMSATS": "SIM_GPS_NUMSATS",
-    "SIM_GPS1_GLTCH_X": "SIM_GPS_GLITCH_X",
-    "SIM_GPS1_GLTCH_Y": "SIM_GPS_GLITCH_Y",
-    "SIM_GPS1_GLTCH_Z": "SIM_GPS_GLITCH_Z",
+OLD_NAMES: dict[str, str] = {
+    "SYSID_THISMAV": "MAV_SYSID",
+    "SR0_RAW_SENS": "MAV1_RAW_SENS",
+    "SR0_EXT_STAT": "MAV1_EXT_STAT",
+    "SR0_POSITION": "MAV1_POSITION",
+    "SR0_EXTRA1": "MAV1_EXTRA1",
+    "SR0_EXTRA2": "MAV1_EXTRA2",
+    "SR0_EXTRA3": "MAV1_EXTRA3",
+    "SR0_RC_CHAN": "MAV1_RC_CHAN",
+    "FS_BATT_ENABLE": "BATT_FS_LOW_ACT",
+    "SIM_GPS_NUMSATS": "SIM_GPS1_NUMSATS",
+    "SIM_GPS_GLITCH_X": "SIM_GPS1_GLTCH_X",
+    "SIM_GPS_GLITCH_Y": "SIM_GPS1_GLTCH_Y",
+    "SIM_GPS_GLITCH_Z": "SIM_GPS1_GLTCH_Z",
 }
 
 _AIRFRAME = "tuned for Firefly's airframe (sim/airframe.py: 1.5 kg, 10-inch props), not SITL's quad model"
-_STREAMS = ("Firefly streams telemetry unasked, as ArduPilot SITL 4.5 did with SR0_*; the reference "
+_STREAMS = ("Firefly streams telemetry unasked, as ArduPilot SITL 4.5 did (SR0_*); the reference "
             "streams nothing until a ground station asks")
 
 DEFAULT_DIFFERENCES: dict[str, str] = {
@@ -54,22 +59,14 @@ DEFAULT_DIFFERENCES: dict[str, str] = {
 }
 
 FIREFLY_ONLY: dict[str, str] = {
-    "SYSID_THISMAV": "ArduPilot 4.5's name of MAV_SYSID",
-    "SR0_RAW_SENS": "ArduPilot 4.5's name of MAV1_RAW_SENS",
-    "SR0_EXT_STAT": "ArduPilot 4.5's name of MAV1_EXT_STAT",
-    "SR0_POSITION": "ArduPilot 4.5's name of MAV1_POSITION",
-    "SR0_EXTRA1": "ArduPilot 4.5's name of MAV1_EXTRA1",
-    "SR0_EXTRA2": "ArduPilot 4.5's name of MAV1_EXTRA2",
-    "SR0_EXTRA3": "ArduPilot 4.5's name of MAV1_EXTRA3",
-    "SR0_RC_CHAN": "ArduPilot 4.5's name of MAV1_RC_CHAN",
-    "FS_BATT_ENABLE": "ArduPilot's older name of BATT_FS_LOW_ACT",
-    "SIM_GPS_NUMSATS": "ArduPilot 4.5's name of SIM_GPS1_NUMSATS",
-    "SIM_GPS_GLITCH_X": "ArduPilot 4.5's name of SIM_GPS1_GLTCH_X",
-    "SIM_GPS_GLITCH_Y": "ArduPilot 4.5's name of SIM_GPS1_GLTCH_Y",
-    "SIM_GPS_GLITCH_Z": "ArduPilot 4.5's name of SIM_GPS1_GLTCH_Z",
-    "SIM_GPS_DISABLE": "ArduPilot 4.5's inverse of SIM_GPS1_ENABLE (both act)",
     "SIM_LINK_DOWN": "Firefly's own link fault: the ground-station link cut for some wall seconds",
     "SIM_LINK_LOSS": "Firefly's own link fault: a share of MAVLink frames lost each way",
+}
+
+_OLD_NAME = "ArduPilot 4.5's name of {}, which scenarios and scripts written for 4.5 set"
+IN_PROCESS_ONLY: dict[str, str] = {
+    **{old: _OLD_NAME.format(new) for old, new in OLD_NAMES.items()},
+    "SIM_GPS_DISABLE": "ArduPilot 4.5's inverse of SIM_GPS1_ENABLE (both act), which scenarios written for 4.5 set",
 }
 
 SEMANTIC_DIFFERENCES: dict[str, str] = {

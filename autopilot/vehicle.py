@@ -22,6 +22,7 @@ from firefly.sim.vehicle import BATTERY_EVERY, SimConfig, SimVehicle
 
 from .control.attitude import wrap_pi
 from .startup import Startup, StartupTimeline
+from .version import board_id_for
 from .control.compiled import make_cascade
 from .estimate import StateEstimate
 from .faults.world import Faults, world_values
@@ -66,6 +67,8 @@ class VehicleConfig:
     compiled: bool = True  # fly the compiled cascade when it is built (False: the Python reference)
     faults: dict = field(default_factory=dict)  # SIM_* parameter values to start with (a scenario's [faults])
     startup: StartupTimeline | None = None  # None: armable at once; else ArduCopter's start-up (startup.py)
+    board_id: str = ""  # SITL's system id (version.py), read at the I/O edge; "" = SITL's fallback
+    powered_on_at_s: float = 0.0  # the runner's sim time at power-on: a rebooted vehicle's clock starts again
 
 
 class Vehicle:
@@ -76,6 +79,9 @@ class Vehicle:
             raise ValueError("sim physics rate and loop-rate table disagree")
         self.config = config
         self.system_id = config.system_id
+        self.board_id = config.board_id or board_id_for(None, config.system_id - 1)
+        self.powered_on_at_s = config.powered_on_at_s
+        self.reboot_requested = False  # a PREFLIGHT_REBOOT_SHUTDOWN accepted: the I/O edge reboots it (io/reboot.py)
         self.params = params or ParamStore()
         self.mission = mission or MissionStore()
         self.mission_progress = MissionProgress(self.mission, self.notify)
@@ -439,6 +445,7 @@ class Vehicle:
     def run_until(self, t_s: float) -> None:
         """Step until sim time reaches t_s (to within 1 ns), in as few cascade runs as it takes."""
         dt, steps = self.sim.dt, self.sim.steps
+        t_s -= self.powered_on_at_s  # the runner's clock -> this vehicle's, which started at its power-on
         target = max(steps, math.floor((t_s - 1e-9) / dt) - 1)
         while target * dt < t_s - 1e-9:  # the same test as time_s < t_s - 1e-9, step by step
             target += 1

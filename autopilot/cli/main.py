@@ -9,6 +9,7 @@ vehicle takes the next free one in steps of 10 and says so.
 from __future__ import annotations
 
 import argparse
+import functools
 import math
 import os
 import signal
@@ -178,19 +179,14 @@ def _offset_port(address: tuple, offset: int) -> tuple:
 
 def build_vehicle(args, scenario, k: int, outs, listen, epoch_us: int):
     """Vehicle k of this process: instance args.instance + k, its own ports, state and seed."""
-    import dataclasses
-
     from ..faults.link import LinkFaults
-    from ..mavlink.dialect import new_codec
-    from ..mavlink.link import Link
-    from ..mavlink.session import Session
-    from ..mission import MissionStore
-    from ..params import ParamStore
-    from ..rates import LoopRates
+    from ..io.board_id import read_machine_id
+    from ..io.reboot import bind_link
     from ..io.runner import Node
-    from ..io.signing_keys import attach_state
+    from ..mavlink.link import Link
     from ..mavlink.routing import Router
-    from ..vehicle import Vehicle, VehicleConfig
+    from ..startup import StartupTimeline
+    from ..version import board_id_for
 
     n = args.instance + k
     offset = 10 * n
@@ -198,30 +194,11 @@ def build_vehicle(args, scenario, k: int, outs, listen, epoch_us: int):
         [("127.0.0.1", 14550 + offset), ("127.0.0.1", 14540 + offset)]
     state_root = Path(args.state_dir) if args.state_dir else \
         Path(os.environ.get("XDG_STATE_HOME", Path.home() / ".local" / "state")) / "firefly"
-    params = ParamStore(state_root / f"instance-{n}" / "params.json", wipe=args.wipe)
-    missions_path = state_root / f"instance-{n}" / "missions.json"
-    if args.wipe:
-        params.save_all()
-        missions_path.unlink(missing_ok=True)
-    mission = MissionStore(missions_path)
-    for store_file in (params.file, mission.file):
-        store_file.min_interval_s, store_file.clock = SAVE_EVERY_S, time.monotonic  # the link clock
-    rate = scenario.sim.physics_rate_hz
-    cols = math.ceil(math.sqrt(args.count))
-    sim = dataclasses.replace(scenario.sim, seed=scenario.seed + k)
-    config = VehicleConfig(home=scenario.home, home_yaw_deg=scenario.home_yaw_deg, sim=sim,
-                           offset_ne_m=(GRID_SPACING_M * (k // cols), GRID_SPACING_M * (k % cols)),
-                           rates=LoopRates(rate, min(400, rate), 100), system_id=n + 1,
-                           epoch_unix_us=epoch_us, faults=scenario.faults, startup=scenario.startup)
-    vehicle = Vehicle(config, params, mission)
-    vehicle.internal_errors.report = lambda text, n=n: print(
-        f"autopilot: system {n + 1}: internal error: {text}", file=sys.stderr, flush=True)
-    if scenario.script:
-        from .script import Script
-        vehicle.script = Script(scenario.script)
-    session = Session(vehicle, new_codec(n + 1))
-    attach_state(session.signing, state_root / f"instance-{n}" / "signing.json", scenario.signing_key,
-                 args.wipe)
+    # What a reboot builds again from the saved state (io/reboot.py): the same vehicle, not wiped,
+    # booting as ArduCopter boots (startup.py), its clock and the world starting again.
+    power_on = functools.partial(assemble, args, scenario, k, state_root / f"instance-{n}",
+                                 board_id_for(read_machine_id(), n))
+    vehicle, session, recorder, log_files = power_on(epoch_us=epoch_us, wipe=args.wipe, startup=scenario.startup)
     endpoint = open_ports(args, k, offset, listen, vehicle_outs)
     tlog = None
     if args.tlog:
@@ -241,10 +218,67 @@ def build_vehicle(args, scenario, k: int, outs, listen, epoch_us: int):
         except OSError as exc:
             endpoint.close()
             raise CliError(f"--state-log: cannot open {path}: {exc.strerror}") from None
-    link = Link(session.codec, session.signing, LinkFaults(params, sim.seed))
-    link.on_unpackable = lambda exc, what: vehicle.internal_error(exc, f"packing {what}", in_flight_code=False)
-    recorder, log_files = attach_dataflash(vehicle, session, state_root / f"instance-{n}" / "logs")
-    return Node(vehicle, session, endpoint, link, Router(n + 1), tlog, state_log, recorder, log_files), vehicle_outs
+    link = Link(session.codec, session.signing, LinkFaults(vehicle.params, vehicle.config.sim.seed))
+    bind_link(link, vehicle, session)
+    reboot_startup = scenario.startup or StartupTimeline()
+    node = Node(vehicle, session, endpoint, link, Router(n + 1), tlog, state_log, recorder, log_files,
+                power_on=functools.partial(power_on, wipe=False, startup=reboot_startup))
+    return node, vehicle_outs
+
+
+def assemble(args, scenario, k: int, state_dir: Path, board_id: str, *, epoch_us: int, wipe: bool,
+             startup, powered_on_at_s: float = 0.0):
+    """Vehicle k's vehicle, MAVLink session and dataflash log (recorder, files), from its saved
+    state in `state_dir` (or wiped): at start, and again at each reboot (io/reboot.py)."""
+    import dataclasses
+
+    from ..io.signing_keys import attach_state
+    from ..mavlink.dialect import new_codec
+    from ..mavlink.session import Session
+    from ..mission import MissionStore
+    from ..params import ParamStore
+    from ..rates import LoopRates
+    from ..vehicle import Vehicle, VehicleConfig
+
+    n = args.instance + k
+    params = ParamStore(state_dir / "params.json", wipe=wipe)
+    missions_path = state_dir / "missions.json"
+    if wipe:
+        params.save_all()
+        missions_path.unlink(missing_ok=True)
+    mission = MissionStore(missions_path)
+    for store_file in (params.file, mission.file):
+        store_file.min_interval_s, store_file.clock = SAVE_EVERY_S, time.monotonic  # the link clock
+    rate = scenario.sim.physics_rate_hz
+    cols = math.ceil(math.sqrt(args.count))
+    sim = dataclasses.replace(scenario.sim, seed=scenario.seed + k)
+    config = VehicleConfig(home=scenario.home, home_yaw_deg=scenario.home_yaw_deg, sim=sim,
+                           offset_ne_m=(GRID_SPACING_M * (k // cols), GRID_SPACING_M * (k % cols)),
+                           rates=LoopRates(rate, min(400, rate), 100), system_id=n + 1,
+                           epoch_unix_us=epoch_us, faults=scenario.faults, startup=startup,
+                           board_id=board_id, powered_on_at_s=powered_on_at_s)
+    vehicle = Vehicle(config, params, mission)
+    params.report("SIM_SPEEDUP", reported_speedup(parse_speedup(args.speedup)))
+    vehicle.internal_errors.report = lambda text, n=n: print(
+        f"autopilot: system {n + 1}: internal error: {text}", file=sys.stderr, flush=True)
+    if scenario.script and not powered_on_at_s:  # a scenario's script runs once, from the first boot
+        from .script import Script
+        vehicle.script = Script(scenario.script)
+    session = Session(vehicle, new_codec(n + 1))
+    attach_state(session.signing, state_dir / "signing.json", scenario.signing_key, wipe)
+    recorder, log_files = attach_dataflash(vehicle, session, state_dir / "logs")
+    return vehicle, session, recorder, log_files
+
+
+# What SIM_SPEEDUP reads when the vehicle runs flat out (--speedup inf): ArduPilot's SITL keeps
+# its --speedup there, and a ground station or script divides its timeouts by it; a float that
+# is inf would reach it as inf. A finite stand-in of the order one vehicle reaches flat out
+# (roughly 1000x on one core, runner.py).
+FLAT_OUT_SPEEDUP = 1000.0
+
+
+def reported_speedup(speedup: float) -> float:
+    return FLAT_OUT_SPEEDUP if speedup == math.inf else speedup
 
 
 def attach_dataflash(vehicle, session, directory: Path):

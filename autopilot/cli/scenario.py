@@ -12,9 +12,11 @@ from firefly.sim.scenario import DEFAULT_HOME, ScenarioError, parse_home  # noqa
 
 from ..faults.world import world_values
 from ..params import SPEC_BY_NAME, ParamError, checked_value
+from ..params_differences import OLD_NAMES
 from ..startup import StartupTimeline
 
-FAULT_NAMES = tuple(name for name in SPEC_BY_NAME if name.startswith("SIM_"))
+# the modelled faults, and ArduPilot 4.5's names of those 4.7 renamed
+FAULT_NAMES = tuple(name for name in (*SPEC_BY_NAME, *OLD_NAMES) if name.startswith("SIM_"))
 # SIM_* values the scenario's own tables give, and where a scenario sets them instead of [faults].
 WORLD_SOURCES = {"SIM_WIND_SPD": "[wind].speed_m_s", "SIM_WIND_DIR": "[wind].from_direction_deg",
                  "SIM_BATT_VOLTAGE": "[airframe].battery_cells"}

@@ -17,12 +17,16 @@ from firefly.sim.sensors import sensor_rng
 
 class LinkFaults:
     def __init__(self, params, seed: int):
-        self.params = params
         self._rng = sensor_rng(seed, "link")
         self.dropped = {"in": 0, "out": 0}
         self._loss = 0.0  # probability of losing one frame
         self._cut_s = 0.0  # a requested outage not yet started, in link-clock seconds
         self._down_until: float | None = None  # link clock time the outage ends
+        self.rebind(params)
+
+    def rebind(self, params) -> None:
+        """Follow `params` (a rebooted vehicle's, io/reboot.py); the counts go on."""
+        self.params = params
         params.on_change(self._changed)
         for name in ("SIM_LINK_DOWN", "SIM_LINK_LOSS"):
             self._changed(name, params[name])

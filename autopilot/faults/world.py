@@ -45,10 +45,10 @@ class Faults:
     def _gps(self) -> None:
         p, gps = self.params, self.sim.gps
         gps.enabled = bool(p["SIM_GPS1_ENABLE"]) and not p["SIM_GPS_DISABLE"]  # 4.7's name and 4.5's, both act
-        gps.satellites = int(p["SIM_GPS_NUMSATS"])
+        gps.satellites = int(p["SIM_GPS1_NUMSATS"])
         o = self.origin
-        n, e, d = ned_from_global(o, o.lat_deg + p["SIM_GPS_GLITCH_X"], o.lon_deg + p["SIM_GPS_GLITCH_Y"],
-                                  o.alt_m + p["SIM_GPS_GLITCH_Z"])
+        n, e, d = ned_from_global(o, o.lat_deg + p["SIM_GPS1_GLTCH_X"], o.lon_deg + p["SIM_GPS1_GLTCH_Y"],
+                                  o.alt_m + p["SIM_GPS1_GLTCH_Z"])
         gps.glitch_ned = (n, e, d)
 
     def _baro(self) -> None:
@@ -72,8 +72,8 @@ class Faults:
 
 APPLY = {
     "SIM_ENGINE_FAIL": Faults._motors, "SIM_ENGINE_MUL": Faults._motors,
-    "SIM_GPS_DISABLE": Faults._gps, "SIM_GPS1_ENABLE": Faults._gps, "SIM_GPS_NUMSATS": Faults._gps, "SIM_GPS_GLITCH_X": Faults._gps,
-    "SIM_GPS_GLITCH_Y": Faults._gps, "SIM_GPS_GLITCH_Z": Faults._gps,
+    "SIM_GPS_DISABLE": Faults._gps, "SIM_GPS1_ENABLE": Faults._gps, "SIM_GPS1_NUMSATS": Faults._gps, "SIM_GPS1_GLTCH_X": Faults._gps,
+    "SIM_GPS1_GLTCH_Y": Faults._gps, "SIM_GPS1_GLTCH_Z": Faults._gps,
     "SIM_BARO_DRIFT": Faults._baro,
     "SIM_WIND_SPD": Faults._wind, "SIM_WIND_DIR": Faults._wind, "SIM_WIND_TURB": Faults._wind,
     "SIM_WIND_TC": Faults._wind,

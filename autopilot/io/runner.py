@@ -13,7 +13,7 @@ from __future__ import annotations
 import math
 import select
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, TextIO
 
@@ -63,6 +63,16 @@ class Node:
     state_log: TextIO | None = None  # open text file (state_log.py): a line every STATE_LOG_EVERY ticks, or None
     dataflash: Recorder | None = None  # the dataflash log's recorder, told of each tick, or None
     log_files: LogFiles | None = None  # its files (the recorder's sink), flushed every STATE_LOG_EVERY ticks
+    # builds the vehicle and session again from the saved state: power_on(epoch_us=, powered_on_at_s=)
+    power_on: Callable[..., tuple] | None = None
+    reboots: int = 0
+
+    def reboot(self) -> None:
+        """Boot the vehicle again in place (io/reboot.py); without power_on, it just carries on."""
+        self.vehicle.reboot_requested = False
+        if self.power_on is not None:
+            from .reboot import reboot
+            reboot(self)
 
     @property
     def link_faults(self):
@@ -145,6 +155,8 @@ class Runner:
                 sent = self._send(node, out, replies, directed, announced, forwards)
                 if node.tlog is not None:
                     self._log(node, received, sent)
+                if node.vehicle.reboot_requested:  # its ACK is queued: now it boots again
+                    node.reboot()
             except Exception as exc:  # noqa: BLE001 - one vehicle's bug never takes the others down
                 node.vehicle.internal_error(exc, "exchange", in_flight_code=False)
         return heard
@@ -214,9 +226,10 @@ class Runner:
         readable = self._readable(0.0)
         first = self.ticks
         for node in self.nodes:
-            vehicle, state_log, dataflash, one = node.vehicle, node.state_log, node.dataflash, (node,)
+            state_log, one = node.state_log, (node,)
             for tick in range(first + 1, first + ticks + 1):
                 self._exchange(readable if tick == first + 1 else (), one)
+                vehicle, dataflash = node.vehicle, node.dataflash  # new ones after a reboot
                 try:
                     vehicle.run_until(tick * self.tick_s)
                     if dataflash is not None:

@@ -6,7 +6,8 @@ shared origin, NED), whether it rests on the ground, and beside it what the auto
 (armed, flight-mode number, home). The determinism checks compare these files byte for byte (of
 runs no client talks to), and
 the pytest plugin (autopilot/testing) reads them to wait in vehicle time; the file is line
-buffered so that a reader sees each line as it is written.
+buffered so that a reader sees each line as it is written. time_s is the process's sim time,
+which goes on across a reboot (io/reboot.py) while the rebooted vehicle's own clock starts again.
 """
 from __future__ import annotations
 
@@ -25,6 +26,6 @@ def open_state_log(path):
 def state_line(vehicle) -> str:
     sim = vehicle.sim
     home = vehicle.home_ned
-    return (f"{sim.time_s!r}," + ",".join(repr(x) for x in sim.state.body)
+    return (f"{vehicle.powered_on_at_s + sim.time_s!r}," + ",".join(repr(x) for x in sim.state.body)
             + f",{int(sim.state.on_ground)},{int(vehicle.armed)},{int(vehicle.mode.number)},"
             + (",".join(map(repr, home)) if home else ",,") + "\n")  # empty until home is set

@@ -16,6 +16,7 @@ from ..results import Result, Severity
 from ..safety.arming import FORCE_ARM_MAGIC, FORCE_DISARM_MAGIC, prearm_failures
 from ..vehicle import LOCATION_ALT_MAX_M
 from .dialect import mavlink as mav
+from .preflight import HANDLERS as PREFLIGHT_HANDLERS
 
 RETRY_WINDOW_S = 1.5  # an unconfirmed repeat this close, in wall and in sim time, is a retry
 INT32_MAX = 2**31 - 1
@@ -292,6 +293,7 @@ HANDLERS = {
     # A multicopter flies the VTOL takeoff and landing as the plain ones (ArduCopter does too).
     mav.MAV_CMD_NAV_VTOL_TAKEOFF: takeoff,
     mav.MAV_CMD_NAV_VTOL_LAND: land,
+    **PREFLIGHT_HANDLERS,  # reboot, storage, calibrations, banner (preflight.py)
     **{command: no_such_device for command in (
         mav.MAV_CMD_DO_MOUNT_CONFIGURE, mav.MAV_CMD_DO_MOUNT_CONTROL, mav.MAV_CMD_DO_GIMBAL_MANAGER_PITCHYAW,
         mav.MAV_CMD_DO_GIMBAL_MANAGER_CONFIGURE, mav.MAV_CMD_SET_CAMERA_FOCUS, mav.MAV_CMD_IMAGE_START_CAPTURE,
@@ -302,6 +304,7 @@ HANDLERS = {
 
 # Queries answer with fresh data every time; everything else replays its result on a retry.
 QUERIES = {mav.MAV_CMD_GET_HOME_POSITION, mav.MAV_CMD_REQUEST_AUTOPILOT_CAPABILITIES, mav.MAV_CMD_RUN_PREARM_CHECKS,
+           mav.MAV_CMD_DO_SEND_BANNER,
            mav.MAV_CMD_REQUEST_MESSAGE, mav.MAV_CMD_SET_MESSAGE_INTERVAL,
            mav.MAV_CMD_GET_MESSAGE_INTERVAL}
 

@@ -60,6 +60,7 @@ HEADER = struct.Struct("<HBBBBBxI")  # seq, session, opcode, size, req_opcode, b
 PAYLOAD_SIZE = 251
 DATA_SIZE = PAYLOAD_SIZE - HEADER.size  # 239
 SESSION_TIMEOUT_S = 3.0
+PARAM_FILE_BANNER_PREFIX = "@PARAM/param.pck"  # opening it (with or without ?withdefaults=1) sends the banner
 MAX_BURST = 500  # replies to one BurstReadFile (ArduPilot's: enough for a full parameter file)
 NO_SESSION = -1
 # Work in replies' worth (a reply: 30-40 µs of encoding and packing).
@@ -113,6 +114,7 @@ def _path(request: Packet) -> str | None:
 
 class FtpServer:
     def __init__(self, params, notify):
+        self.banner_due = False  # an open of the parameter file: the session sends the banner after its reply
         """`params`: the vehicle's ParamStore; `notify(text, severity)`: status texts."""
         self.params = params
         self.notify = notify
@@ -252,6 +254,8 @@ class FtpServer:
         refused = self._open(request, reply, sender, self._open_path)
         if refused is not None:
             return refused
+        # As ArduPilot: the parameter file's download starts with the banner a PARAM_REQUEST_LIST gets
+        self.banner_due = (_path(request) or "").startswith(PARAM_FILE_BANNER_PREFIX)
         assert self.file is not None  # just opened for reading
         return replace(reply, opcode=ACK, size=4, data=struct.pack("<I", self.file.size_estimate))
 

@@ -10,6 +10,7 @@ parameter's new value goes to every other link that has spoken too: `take_announ
 """
 from __future__ import annotations
 
+from .. import version
 from ..results import Result
 from .commands import Command, CommandService
 from .dialect import mavlink as mav
@@ -51,6 +52,10 @@ class Session:
                          "handler_errors": 0}
         self.last_handler_error = ""
         self.gcs_last_heartbeat_s: float | None = None
+        # Vehicle time before which this session neither hears nor says anything: a rebooted
+        # vehicle's boot (autopilot/io/reboot.py); 0 at a first start.
+        self.silent_until_s = 0.0
+        self.accel_calibrated_s = 0.0  # vehicle time of the last level or accelerometer calibration (preflight.py)
         self._handlers = {
             "HEARTBEAT": self._on_heartbeat,
             "COMMAND_LONG": lambda m, now: self._on_command(Command.from_long(m), now),
@@ -111,6 +116,8 @@ class Session:
         return target in (0, self.system_id)
 
     def receive(self, msg, now_s: float, link_s: float | None = None, link=None) -> list:
+        if now_s < self.silent_until_s:  # still booting: what was sent meanwhile is lost
+            return []
         self._link = link
         if msg.get_type() == "BAD_DATA":
             self.counters["bad_data"] += 1
@@ -142,6 +149,7 @@ class Session:
 
     def _on_param_request_list(self, msg, now_s):
         self._params_link = self._link
+        self.send_banner()  # as ArduPilot: "a convenient way to get extra information"
         self._out.extend(self.params.request_list(msg, self.link_s))
 
     def _on_param_set(self, msg, now_s):
@@ -202,6 +210,15 @@ class Session:
         sender = (msg.get_srcSystem(), msg.get_srcComponent())
         for reply in self.ftp.handle(msg.payload, sender, self.link_s):
             self._out.append(self.codec.file_transfer_protocol_encode(0, *sender, reply.encode()))
+        if self.ftp.banner_due:
+            self.ftp.banner_due = False
+            self.send_banner()
+
+    def send_banner(self) -> None:
+        """The banner texts (autopilot/version.py), in answer to the link that asked (as
+        ArduPilot sends them on the channel that asked)."""
+        for severity, text in version.banner(self.vehicle.board_id, self.vehicle.params):
+            self._out.append(self.codec.statustext_encode(severity, text.encode()[:MAX_STATUSTEXT]))
 
     def _on_manual_control(self, msg, now_s):
         x, y, z, r = msg.x, msg.y, msg.z, msg.r
@@ -246,6 +263,8 @@ class Session:
                 and (last is None or link_s - last <= self.vehicle.params["FS_GCS_TIMEOUT"]))
 
     def poll(self, now_s: float, link_s: float | None = None) -> list:
+        if now_s < self.silent_until_s:
+            return []
         link_s = self.link_s = now_s if link_s is None else link_s
         out, vehicle = self._out, self.vehicle
         if self.missions.uploads:

@@ -28,7 +28,7 @@ class StreamScheduler:
                                  if msg_id in UNASKED or msg_id in FIXED_RATES_HZ})
 
     def param_changed(self, name: str, value: float) -> None:
-        """An SRn_ parameter set over PARAM_SET applies at once, as on ArduPilot."""
+        """A MAV1_ stream-rate parameter set over PARAM_SET applies at once, as on ArduPilot."""
         for stream_id, (param, _) in STREAM_GROUPS.items():
             if param == name:
                 self.set_group_rate(stream_id, value, value > 0)

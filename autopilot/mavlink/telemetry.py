@@ -6,6 +6,7 @@ from collections.abc import Callable
 from typing import Any
 
 from ..mission.progress import MissionState
+from .. import version
 from ..modes import MODE_BY_NUMBER
 from ..views import StreamedView, TelemetryView
 from .dialect import mavlink as mav
@@ -33,16 +34,6 @@ ALWAYS_ON = (mav.MAV_SYS_STATUS_SENSOR_RC_RECEIVER | mav.MAV_SYS_STATUS_TERRAIN
              | mav.MAV_SYS_STATUS_LOGGING | mav.MAV_SYS_STATUS_SENSOR_PROPULSION)
 CONTROL = mav.MAV_SYS_STATUS_SENSOR_Z_ALTITUDE_CONTROL | mav.MAV_SYS_STATUS_SENSOR_XY_POSITION_CONTROL
 
-CAPABILITIES = (mav.MAV_PROTOCOL_CAPABILITY_MISSION_FLOAT | mav.MAV_PROTOCOL_CAPABILITY_PARAM_FLOAT
-                | mav.MAV_PROTOCOL_CAPABILITY_MISSION_INT | mav.MAV_PROTOCOL_CAPABILITY_COMMAND_INT
-                | mav.MAV_PROTOCOL_CAPABILITY_SET_POSITION_TARGET_LOCAL_NED
-                | mav.MAV_PROTOCOL_CAPABILITY_SET_POSITION_TARGET_GLOBAL_INT
-                | mav.MAV_PROTOCOL_CAPABILITY_MAVLINK2 | mav.MAV_PROTOCOL_CAPABILITY_PARAM_ENCODE_C_CAST
-                | mav.MAV_PROTOCOL_CAPABILITY_FTP)
-# Reported as ArduCopter 4.5.0 official, so ground stations pick their ArduPilot code paths.
-FIRMWARE_VERSION = (4 << 24) | (5 << 16) | (0 << 8) | mav.FIRMWARE_VERSION_TYPE_OFFICIAL
-
-
 def heartbeat(v: TelemetryView, codec):
     base = mav.MAV_MODE_FLAG_CUSTOM_MODE_ENABLED | mav.MAV_MODE_FLAG_STABILIZE_ENABLED \
         | mav.MAV_MODE_FLAG_MANUAL_INPUT_ENABLED
@@ -50,9 +41,11 @@ def heartbeat(v: TelemetryView, codec):
         base |= mav.MAV_MODE_FLAG_GUIDED_ENABLED
     if v.armed:
         base |= mav.MAV_MODE_FLAG_SAFETY_ARMED
-    # As ArduCopter: any failsafe or internal error makes it CRITICAL, on the ground (armed or
-    # not) it is STANDBY.
-    if v.failsafe_active or v.internal_error_bits:
+    # As ArduCopter: BOOT while it starts, then any failsafe or internal error makes it CRITICAL,
+    # on the ground (armed or not) it is STANDBY.
+    if v.startup_initialising(v.time_s):  # as ArduCopter until "ArduPilot Ready" (startup.py)
+        status = mav.MAV_STATE_BOOT
+    elif v.failsafe_active or v.internal_error_bits:
         status = mav.MAV_STATE_CRITICAL
     elif v.landed:
         status = mav.MAV_STATE_STANDBY
@@ -189,9 +182,10 @@ def mission_current(v: TelemetryView, codec, seq: int | None = None):
 
 
 def autopilot_version(v: TelemetryView, codec):
-    return codec.autopilot_version_encode(CAPABILITIES, FIRMWARE_VERSION, 0, 0, 0,
-                                          list(b"firefly\0"), [0] * 8, [0] * 8, 0, 0,
-                                          v.system_id)
+    """As the reference ArduCopter SITL fills it (version.py)."""
+    return codec.autopilot_version_encode(version.CAPABILITIES, version.FLIGHT_SW_VERSION, 0, 0, 0,
+                                          version.FLIGHT_CUSTOM_VERSION, [0] * 8, [0] * 8, 0, 0, 0,
+                                          version.uid2(v.board_id))
 
 
 TEMPERATURE_NAME = b"GND_TEMP"  # downward radiometer reading, degrees C; time_boot_ms = sample time
@@ -245,23 +239,23 @@ BUILDERS: dict[int, Builder] = {
     **TERRAIN_BUILDERS,
 }
 
-# ArduPilot's stream groups (REQUEST_DATA_STREAM ids), the SRn_ parameter that sets each rate,
+# ArduPilot's stream groups (REQUEST_DATA_STREAM ids), the MAV1_ parameter that sets each rate,
 # and their messages, as ArduCopter fills them (GCS_MAVLink_Parameters.cpp) for what Firefly has.
 _ID = mav.__dict__
 _STREAM_GROUP_NAMES = {
-    mav.MAV_DATA_STREAM_RAW_SENSORS: ("SR0_RAW_SENS", ("RAW_IMU", "SCALED_IMU2", "SCALED_IMU3",
+    mav.MAV_DATA_STREAM_RAW_SENSORS: ("MAV1_RAW_SENS", ("RAW_IMU", "SCALED_IMU2", "SCALED_IMU3",
                                                       "SCALED_PRESSURE", "SCALED_PRESSURE2")),
-    mav.MAV_DATA_STREAM_EXTENDED_STATUS: ("SR0_EXT_STAT", ("SYS_STATUS", "POWER_STATUS", "MEMINFO",
+    mav.MAV_DATA_STREAM_EXTENDED_STATUS: ("MAV1_EXT_STAT", ("SYS_STATUS", "POWER_STATUS", "MEMINFO",
                                                           "MISSION_CURRENT", "GPS_RAW_INT",
                                                           "NAV_CONTROLLER_OUTPUT", "POSITION_TARGET_GLOBAL_INT")),
-    mav.MAV_DATA_STREAM_POSITION: ("SR0_POSITION", ("GLOBAL_POSITION_INT", "LOCAL_POSITION_NED")),
-    mav.MAV_DATA_STREAM_RC_CHANNELS: ("SR0_RC_CHAN", ("SERVO_OUTPUT_RAW", "RC_CHANNELS")),
+    mav.MAV_DATA_STREAM_POSITION: ("MAV1_POSITION", ("GLOBAL_POSITION_INT", "LOCAL_POSITION_NED")),
+    mav.MAV_DATA_STREAM_RC_CHANNELS: ("MAV1_RC_CHAN", ("SERVO_OUTPUT_RAW", "RC_CHANNELS")),
     # ATTITUDE_QUATERNION is Firefly's addition to EXTRA1 (ArduCopter sends it only when asked).
-    mav.MAV_DATA_STREAM_EXTRA1: ("SR0_EXTRA1", ("ATTITUDE", "ATTITUDE_QUATERNION", "SIMSTATE", "AHRS2",
+    mav.MAV_DATA_STREAM_EXTRA1: ("MAV1_EXTRA1", ("ATTITUDE", "ATTITUDE_QUATERNION", "SIMSTATE", "AHRS2",
                                                "ESC_TELEMETRY_1_TO_4")),
-    mav.MAV_DATA_STREAM_EXTRA2: ("SR0_EXTRA2", ("VFR_HUD",)),
+    mav.MAV_DATA_STREAM_EXTRA2: ("MAV1_EXTRA2", ("VFR_HUD",)),
     # EXTENDED_SYS_STATE is Firefly's addition to EXTRA3 (ArduCopter sends it only when asked).
-    mav.MAV_DATA_STREAM_EXTRA3: ("SR0_EXTRA3", ("AHRS", "WIND", "SYSTEM_TIME", "TERRAIN_REPORT",
+    mav.MAV_DATA_STREAM_EXTRA3: ("MAV1_EXTRA3", ("AHRS", "WIND", "SYSTEM_TIME", "TERRAIN_REPORT",
                                                "TERRAIN_REQUEST", "BATTERY_STATUS", "EKF_STATUS_REPORT",
                                                "VIBRATION", "EXTENDED_SYS_STATE")),
 }

@@ -15,7 +15,7 @@ from ..views import FailsafeView
 from .ekf_check import EkfCheck
 
 RTL, LAND, AUTO = ModeNumber.RTL, ModeNumber.LAND, ModeNumber.AUTO
-# BATT_FS_LOW_ACT (stored as FS_BATT_ENABLE) and BATT_FS_CRT_ACT / FS_GCS_ENABLE values -> mode to
+# BATT_FS_LOW_ACT and BATT_FS_CRT_ACT / FS_GCS_ENABLE values -> mode to
 # switch to (SmartRTL and AUTO's DO_LAND_START are flown as RTL here, Brake-then-Land as LAND).
 BATT_ACTIONS = {1: LAND, 2: RTL, 3: RTL, 4: RTL, 6: RTL, 7: LAND}
 GCS_ACTIONS = {1: RTL, 2: RTL, 3: RTL, 4: RTL, 5: LAND}
@@ -109,7 +109,7 @@ class Failsafes:
         v.notify(f"Battery 1 is {word} {volts:.2f}V used {used:.0f} mAh", Severity.CRITICAL)
         # As ArduCopter: each level has its own action (AP_BattMonitor's low and critical), and
         # its handler announces the failsafe whatever the action (handle_battery_failsafe)
-        action = int(p["BATT_FS_CRT_ACT"] if level == 2 else p["FS_BATT_ENABLE"])
+        action = int(p["BATT_FS_CRT_ACT"] if level == 2 else p["BATT_FS_LOW_ACT"])
         if v.landed:
             v.notify("Battery Failsafe - Disarming", Severity.WARNING)
             v.disarm("battery failsafe", force=True)

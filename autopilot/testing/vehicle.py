@@ -11,6 +11,7 @@ import time
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from ..params import INVERSE_OLD_NAMES, served_equivalent
 from .control import ControlLink
 from .errors import FireflyError
 from .state import StateLogReader, VehicleState
@@ -170,8 +171,11 @@ class FireflyVehicle:
     # ----- acting on the vehicle from the side ---------------------------------------------
     def set_param(self, name: str, value: float) -> float:
         """Set a parameter (a SIM_* fault among them) now, over the plugin's own link; returns the
-        value held, FireflyError with the vehicle's reason if it refuses."""
-        return self.control().set_param(name, value)
+        value held, FireflyError with the vehicle's reason if it refuses. ArduPilot 4.5's names,
+        which the vehicle does not serve, are set as their 4.7 equivalents (params.served_equivalent)."""
+        served, served_value = served_equivalent(name, value)
+        held = self.control().set_param(served, served_value)
+        return float(not held) if name in INVERSE_OLD_NAMES else held
 
     def control(self) -> ControlLink:
         if self._control is None:

@@ -2,7 +2,7 @@
 the EKF failsafe switches it to LAND, it says so, and it comes down where it was.
 
 `airborne=15` starts the test with the vehicle already hovering at 15 m in GUIDED, and
-`set_param("SIM_GPS_DISABLE", 1)` is the fault ArduPilot's own SITL uses for a GPS loss.
+`set_param("SIM_GPS1_ENABLE", 0)` is the fault ArduPilot's own SITL uses for a GPS loss.
 """
 import pytest
 
@@ -19,7 +19,7 @@ def test_gps_loss_mid_flight_lands_the_vehicle(firefly):
                                                 50, 0, -15, 0, 0, 0, 0, 0, 0, 0, 0)
     firefly.wait_until(lambda s: s.north_m > 20, timeout=30, what="the leg north under way")
 
-    firefly.set_param("SIM_GPS_DISABLE", 1)
+    firefly.set_param("SIM_GPS1_ENABLE", 0)
     # As ArduCopter's EKF, the estimate dead-reckons for a few seconds first: LAND about 8 s later.
     firefly.wait_until(lambda s: s.mode == "LAND", timeout=12, what="the EKF failsafe")
     text = conn.recv_match(type="STATUSTEXT", blocking=True, timeout=5,

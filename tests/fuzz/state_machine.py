@@ -707,9 +707,9 @@ def act_gcs(w: Walk, r) -> None:
 
 
 def act_gps(w: Walk, r) -> None:
-    name, value = r.choice((("SIM_GPS_DISABLE", 1.0), ("SIM_GPS_DISABLE", 0.0), ("SIM_GPS1_ENABLE", 0.0),
-                            ("SIM_GPS1_ENABLE", 1.0), ("SIM_GPS_NUMSATS", 3.0), ("SIM_GPS_NUMSATS", 10.0),
-                            ("SIM_GPS_GLITCH_X", 0.0005), ("SIM_GPS_GLITCH_X", 0.0), ("FS_EKF_ACTION", 2.0)))
+    name, value = r.choice((("SIM_GPS1_ENABLE", 0.0), ("SIM_GPS1_ENABLE", 1.0), ("SIM_GPS1_ENABLE", 0.0),
+                            ("SIM_GPS1_ENABLE", 1.0), ("SIM_GPS1_NUMSATS", 3.0), ("SIM_GPS1_NUMSATS", 10.0),
+                            ("SIM_GPS1_GLTCH_X", 0.0005), ("SIM_GPS1_GLTCH_X", 0.0), ("FS_EKF_ACTION", 2.0)))
     w.set_param(name, value)
 
 

@@ -17,7 +17,7 @@ def test_battery_drained_by_scenario_triggers_rtl(autopilot_factory, tmp_path):
     scenario.write_text("[airframe]\nbattery_capacity_mah = 500.0\n")
     ap = autopilot_factory(speedup="20", extra=("--scenario", str(scenario)))
     gcs = Gcs(ap.pymavlink_url)
-    for name, value in (("BATT_CAPACITY", 500), ("BATT_LOW_MAH", 350), ("FS_BATT_ENABLE", 2)):
+    for name, value in (("BATT_CAPACITY", 500), ("BATT_LOW_MAH", 350), ("BATT_FS_LOW_ACT", 2)):
         set_param(gcs, name, value)
     take_off(gcs)
     expect_failsafe(gcs, "Battery 1 is low", RTL, timeout=60)

@@ -26,12 +26,12 @@ def sys_status_healthy(gcs: Gcs, bit: int, healthy: bool, timeout: float = 5.0):
 def test_gps_disabled_mid_flight_lands_by_ekf_failsafe_and_recovers(autopilot_factory):
     gcs = Gcs(autopilot_factory(speedup="10").pymavlink_url)
     take_off(gcs)
-    set_param(gcs, "SIM_GPS_DISABLE", 1)
+    set_param(gcs, "SIM_GPS1_ENABLE", 0)
     raw = gcs.recv("GPS_RAW_INT", 5, lambda m: m.fix_type < 3)
     assert raw is not None and raw.satellites_visible == 0
     sys_status_healthy(gcs, GPS_BIT, False)
     expect_failsafe(gcs, "EKF Failsafe: changed to LAND Mode", LAND, timeout=10)
-    set_param(gcs, "SIM_GPS_DISABLE", 0)
+    set_param(gcs, "SIM_GPS1_ENABLE", 1)
     assert gcs.recv("STATUSTEXT", 10, lambda m: "EKF Failsafe Cleared" in m.text) is not None
     sys_status_healthy(gcs, GPS_BIT, True)
     gcs.close()

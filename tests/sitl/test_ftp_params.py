@@ -16,10 +16,11 @@ from .test_mavproxy import MavProxy
 pytestmark = pytest.mark.sitl
 CHANGED = {"WPNAV_SPEED": 1234.5, "FENCE_TYPE": 3.0}  # set over MAVLink before the download
 DEFAULTS = {spec.name: spec.default for spec in SERVED}
+REPORTED = {"SIM_SPEEDUP": 10.0}  # the process's --speedup (the autopilot fixture's), as SITL reports it
 
 
 def _expected() -> dict:
-    return {**DEFAULTS, **CHANGED}
+    return {**DEFAULTS, **REPORTED, **CHANGED}
 
 
 def _read_parm(path) -> dict:

@@ -124,8 +124,10 @@ class Attacker:
 
 def harmless_to_the_link(msg) -> bool:
     """Hostile, but not what would cut this test off from the vehicle by design: a signing key
-    (the vehicle then refuses unsigned messages), the link-fault parameters, or the HEARTBEAT
-    switched off with SET_MESSAGE_INTERVAL. The sans-IO walk sends those too."""
+    (the vehicle then refuses unsigned messages), the link-fault parameters, the HEARTBEAT
+    switched off with SET_MESSAGE_INTERVAL, or a reboot (the vehicle that was, and the state this
+    test built, are gone: tests/sitl/test_reboot.py attacks reboots). The sans-IO walk sends
+    those too."""
     kind = msg.get_type()
     if kind == "SETUP_SIGNING":
         return False
@@ -134,6 +136,8 @@ def harmless_to_the_link(msg) -> bool:
         return not name.startswith(b"SIM_LINK")
     if kind in ("COMMAND_LONG", "COMMAND_INT") and msg.command == mav.MAV_CMD_SET_MESSAGE_INTERVAL:
         return msg.param1 != 0
+    if kind in ("COMMAND_LONG", "COMMAND_INT") and msg.command == mav.MAV_CMD_PREFLIGHT_REBOOT_SHUTDOWN:
+        return False
     return True
 
 

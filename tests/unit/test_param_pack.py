@@ -35,7 +35,7 @@ def params():
     store = ParamStore()
     store.set("WPNAV_SPEED", 1234.5)
     store.set("FENCE_TYPE", 3)
-    store.set("SR0_EXTRA1", 7)
+    store.set("MAV1_EXTRA1", 7)
     return store
 
 
@@ -64,7 +64,7 @@ def test_with_defaults_carries_the_default_of_each_changed_parameter(params):
     for name in params.names():
         assert defaults[name] == _f32(SERVED_BY_NAME[name].default), name
     flagged = {e.name for e in param_pack.unpack(data)[2] if e.default is not None}
-    assert flagged == {"WPNAV_SPEED", "FENCE_TYPE", "SR0_EXTRA1", "MAV1_EXTRA1"}  # only what differs (SR0_EXTRA1 is MAV1_EXTRA1 renamed: one value)
+    assert flagged == {"WPNAV_SPEED", "FENCE_TYPE", "MAV1_EXTRA1"}  # only what differs
 
 
 @pytest.mark.parametrize("read_size", [239, 80, 64, 33, 5])

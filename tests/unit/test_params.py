@@ -9,7 +9,8 @@ import pytest
 
 from firefly.autopilot.mavlink.dialect import mavlink as mav
 from firefly.autopilot.params import PARAM_TABLE, SERVED, SPEC_BY_NAME, ParamError, ParamStore
-from firefly.autopilot.params_differences import DEFAULT_DIFFERENCES, FIREFLY_ONLY, RENAMED, SEMANTIC_DIFFERENCES
+from firefly.autopilot.params_differences import (DEFAULT_DIFFERENCES, FIREFLY_ONLY, IN_PROCESS_ONLY, OLD_NAMES,
+                                                  SEMANTIC_DIFFERENCES)
 from firefly.autopilot.reference_params import recording, reference_params
 
 REFERENCE = {ref.name: ref for ref in reference_params()}
@@ -49,8 +50,15 @@ def test_every_reference_parameter_is_served_first_in_its_order_with_its_type():
     assert names[:len(REFERENCE)] == [ref.name for ref in reference_params()]
     for ref in reference_params():
         assert store.mav_type(ref.name) == ref.mav_type, ref.name
-    # then the modelled parameters the reference does not have, each with its reason
-    assert set(names[len(REFERENCE):]) == set(FIREFLY_ONLY) == {s.name for s in PARAM_TABLE} - set(REFERENCE)
+    # then Firefly's own, each with its reason; the other modelled names the reference does not
+    # have (4.5's) are known in-process only
+    assert set(names[len(REFERENCE):]) == set(FIREFLY_ONLY)
+    assert {s.name for s in PARAM_TABLE} - set(REFERENCE) == set(FIREFLY_ONLY) | (set(IN_PROCESS_ONLY) - set(OLD_NAMES))
+    assert set(OLD_NAMES) <= set(IN_PROCESS_ONLY)
+    assert all(FIREFLY_ONLY.values()) and all(IN_PROCESS_ONLY.values())
+    for name in IN_PROCESS_ONLY:
+        assert name not in store and name not in names
+        store.set(name, store[name])  # known to set() and reads
     for name in FIREFLY_ONLY:
         expected = mav.MAV_PARAM_TYPE_INT32 if SPEC_BY_NAME[name].is_int else mav.MAV_PARAM_TYPE_REAL32
         assert store.mav_type(name) == expected
@@ -65,17 +73,21 @@ def test_defaults_are_the_references_but_where_a_difference_is_written_down():
     assert set(SEMANTIC_DIFFERENCES) <= set(REFERENCE) & set(SPEC_BY_NAME)
 
 
-def test_a_renamed_parameter_shares_the_modelled_ones_value_and_effect(tmp_path):
-    assert set(RENAMED) <= set(REFERENCE) and set(RENAMED.values()) <= set(SPEC_BY_NAME)
+def test_an_old_name_shares_the_references_value_in_process_only(tmp_path):
+    assert set(OLD_NAMES.values()) <= set(REFERENCE) & set(SPEC_BY_NAME) and not set(OLD_NAMES) & set(REFERENCE)
     store = ParamStore(tmp_path / "params.json")
     heard = []
     store.on_change(lambda name, value: heard.append((name, value)))
-    assert store.set("MAV1_EXTRA1", 20) == 20.0
+    assert "SR0_EXTRA1" not in store  # not served: the reference's name is
+    assert store.set("SR0_EXTRA1", 20) == 20.0  # as a scenario written for 4.5 sets it
     assert store["SR0_EXTRA1"] == store["MAV1_EXTRA1"] == 20.0
-    assert heard == [("SR0_EXTRA1", 20.0)]  # the vehicle's code reads the modelled name
+    assert heard == [("MAV1_EXTRA1", 20.0)]  # the vehicle's code reads the reference's name
     with pytest.raises(ParamError, match="MAV1_EXTRA1"):
         store.set("MAV1_EXTRA1", 51)  # the modelled range
     assert ParamStore(tmp_path / "params.json")["MAV1_EXTRA1"] == 20.0
+    # a file saved under the old name (before Firefly served 4.7's names) is taken up
+    (tmp_path / "old.json").write_text(json.dumps({"SR0_EXTRA1": 7}))
+    assert ParamStore(tmp_path / "old.json")["MAV1_EXTRA1"] == 7.0
 
 
 def test_a_parameter_firefly_does_not_model_is_stored_checked_and_persisted(tmp_path):
@@ -158,14 +170,14 @@ def test_persistence_across_stores(tmp_path):
     path = tmp_path / "state" / "params.json"
     first = ParamStore(path)
     first.set("RTL_ALT", 3000)
-    first.set("SR0_EXTRA1", 20)
+    first.set("MAV1_EXTRA1", 20)
     assert path.exists()
     second = ParamStore(path)
     assert second["RTL_ALT"] == 3000.0
-    assert second["SR0_EXTRA1"] == 20.0
+    assert second["MAV1_EXTRA1"] == 20.0
     assert second["WPNAV_SPEED"] == SPEC_BY_NAME["WPNAV_SPEED"].default
     # Only changed values are written.
-    assert set(json.loads(path.read_text())) == {"RTL_ALT", "SR0_EXTRA1"}
+    assert set(json.loads(path.read_text())) == {"RTL_ALT", "MAV1_EXTRA1"}
 
 
 def test_wipe_resets_to_defaults(tmp_path):

@@ -84,3 +84,26 @@ def test_a_bug_in_one_vehicle_of_a_swarm_never_stops_the_others(tmp_path, monkey
     for node, frames in zip(nodes[1:], sent[1:]):
         assert node.vehicle.time_s == pytest.approx(3.0) and not node.vehicle.internal_errors
         assert len(frames) > 50
+
+
+def test_a_reboot_in_a_swarm_restarts_that_vehicle_alone_ticked_either_way(tmp_path, monkeypatch):
+    """A vehicle that accepted PREFLIGHT_REBOOT_SHUTDOWN boots again at the exchange that sent its
+    ACK (io/reboot.py): its clock starts 0.2 s later from zero and then follows the runner's; the
+    other vehicles fly on; batched or tick by tick, the same trajectories."""
+    runs = []
+    for name, batch in (("by_tick", 1), ("batched", 5)):
+        nodes, _ = _swarm(10, tmp_path, name, monkeypatch)
+        runner = Runner(nodes, 1000.0)
+        runner.batch_ticks = batch
+        nodes[3].vehicle.reboot_requested = True  # as the command handler leaves it
+        try:
+            runner.run(3.0)
+        finally:
+            for node in nodes:
+                node.endpoint.close()
+        assert [node.reboots for node in nodes] == [0, 0, 0, 1] + [0] * 6
+        rebooted = nodes[3].vehicle
+        assert rebooted.powered_on_at_s == pytest.approx(0.2) and rebooted.time_s == pytest.approx(2.8)
+        assert all(node.vehicle.time_s == pytest.approx(3.0) for i, node in enumerate(nodes) if i != 3)
+        runs.append([(n.vehicle.time_s, n.vehicle.sim.state) for n in nodes])
+    assert runs[0] == runs[1]

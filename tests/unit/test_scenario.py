@@ -203,6 +203,13 @@ def test_parse_speedup():
             cli.parse_speedup(bad)
 
 
+@pytest.mark.parametrize("speedup,reads", [("1", 1.0), ("0.5", 0.5), ("37", 37.0), ("inf", cli.FLAT_OUT_SPEEDUP)])
+def test_sim_speedup_reads_the_process_speedup(no_sockets, tmp_path, speedup, reads):
+    """As ArduPilot's SITL keeps its --speedup in SIM_SPEEDUP; flat out, a finite stand-in."""
+    node, _ = build("--speedup", speedup, "--state-dir", str(tmp_path))
+    assert node.vehicle.params["SIM_SPEEDUP"] == reads
+
+
 def test_unknown_flag_is_a_cli_error_not_an_exit():
     with pytest.raises(cli.CliError):
         cli.build_parser().parse_args(["--bogus"])

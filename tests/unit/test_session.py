@@ -268,10 +268,10 @@ def test_param_set_echoes_the_new_value(link):
 
 
 def test_param_set_of_an_integer_rounds(link):
-    out = link.send(wire(gcs().param_set_encode(SYSTEM_ID, 1, b"SR0_POSITION", 6.6,
+    out = link.send(wire(gcs().param_set_encode(SYSTEM_ID, 1, b"MAV1_POSITION", 6.6,
                                                 mav.MAV_PARAM_TYPE_INT32)))
     assert out[0].param_value == 7.0
-    assert link.vehicle.params["SR0_POSITION"] == 7.0
+    assert link.vehicle.params["MAV1_POSITION"] == 7.0
 
 
 @pytest.mark.parametrize("value", [5000.0, -1.0, math.nan, math.inf])

@@ -24,11 +24,14 @@ def test_request_message_autopilot_version_has_mission_int_capability(link):
     assert caps & mav.MAV_PROTOCOL_CAPABILITY_MISSION_INT
     assert caps & mav.MAV_PROTOCOL_CAPABILITY_MAVLINK2
     assert caps & mav.MAV_PROTOCOL_CAPABILITY_COMMAND_INT
-    # Integer parameters travel by value in the float field (C cast), not bytewise.
     assert caps & mav.MAV_PROTOCOL_CAPABILITY_FTP  # @PARAM/param.pck is served
-    assert caps & mav.MAV_PROTOCOL_CAPABILITY_PARAM_ENCODE_C_CAST
+    # Integers travel by value in the float field, as ArduPilot sends them, which (like the
+    # reference) claims neither encoding bit: ground stations know ArduPilot's way by its type.
     assert not caps & mav.MAV_PROTOCOL_CAPABILITY_PARAM_ENCODE_BYTEWISE
-    assert versions[0].uid == link.vehicle.system_id
+    assert caps == 64495  # the reference ArduCopter 4.7.0-dev SITL's, measured (autopilot/version.py)
+    assert versions[0].flight_sw_version == 0x04070000  # 4.7.0, FIRMWARE_VERSION_TYPE_DEV
+    assert bytes(versions[0].flight_custom_version) == b"90700977"
+    assert versions[0].uid == 0 and bytes(versions[0].uid2).rstrip(b"\0") == link.vehicle.board_id.encode()[:17]
 
 
 def test_request_message_of_unknown_id_fails(link):
@@ -45,7 +48,7 @@ def count_over(link, msg_type: str, t0: float, seconds: float, rate_hz: int = 10
 
 
 def test_set_message_interval_changes_the_stream_rate(link):
-    default_hz = link.vehicle.params["SR0_POSITION"]
+    default_hz = link.vehicle.params["MAV1_POSITION"]
     assert count_over(link, "GLOBAL_POSITION_INT", 0.0, 2.0) == pytest.approx(2 * default_hz, abs=1)
     ack, _ = link.command(mav.MAV_CMD_SET_MESSAGE_INTERVAL, mav.MAVLINK_MSG_ID_GLOBAL_POSITION_INT,
                           50_000, now=2.0)
@@ -248,7 +251,7 @@ def test_stream_rate_parameter_applies_at_once():
             n += sum(1 for m in s.poll(v.time_s) if m.get_type() == "ATTITUDE")
         return n
     assert 18 <= count_attitude(2.0) <= 22  # SR0_EXTRA1 default 10 Hz
-    v.params.set("SR0_EXTRA1", 2)
+    v.params.set("MAV1_EXTRA1", 2)
     assert 3 <= count_attitude(2.0) <= 5
-    v.params.set("SR0_EXTRA1", 0)
+    v.params.set("MAV1_EXTRA1", 0)
     assert count_attitude(2.0) == 0
