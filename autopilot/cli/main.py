@@ -354,10 +354,9 @@ def open_ports(args, k: int, offset: int, listen, outs):
         for port in opened:
             port.close()
         raise
-    for note in notes:
-        if not args.quiet:
-            print(f"autopilot: system {k + args.instance + 1}: {note}", file=sys.stderr, flush=True)
-    return Ports(udp, servers, clients)
+    ports = Ports(udp, servers, clients)
+    ports.notes = [f"autopilot: system {k + args.instance + 1}: {note}" for note in notes]  # said once all is built
+    return ports
 
 
 def main(argv=None) -> int:
@@ -366,9 +365,9 @@ def main(argv=None) -> int:
     try:
         args = build_parser().parse_args(argv)
         speedup = parse_speedup(args.speedup)
-        built = build(args)
         if args.stats:
             check_writable(Path(args.stats), "--stats")
+        built = build(args)
     except (CliError, ScenarioError) as exc:
         print(f"autopilot: error: {exc}", file=sys.stderr)
         return 2
@@ -379,6 +378,9 @@ def main(argv=None) -> int:
     if args.exit_with_parent is not None:
         watch_parent(parent, args.exit_with_parent, runner.stop)
     if not args.quiet:
+        for node, _ in built:
+            for note in node.endpoint.notes:
+                print(note, file=sys.stderr, flush=True)
         for node, outs in built[:10]:
             host, port = node.endpoint.address
             signed = ", MAVLink 2 signing on" if node.session.signing.enabled else ""

@@ -23,6 +23,7 @@ class Ports:
         self._spoken: set = set()  # TCP links that have sent something answerable
         self.closed: list = []  # keys of links that closed since take_closed()
         self.version = 0  # changes whenever the set of sockets to wait on changes
+        self.notes: list[str] = []  # what a person starting the vehicle should hear (a default port taken)
         self._links: list = []
         self._filenos: list[int] = []
         self._refresh()

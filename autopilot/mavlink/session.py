@@ -178,12 +178,17 @@ class Session:
         return directed
 
     def take_announced(self) -> list | None:
-        """(link it answered, message) for every other link that has spoken; None (most ticks)."""
+        """(link it answered, message) for every other link that has spoken; None (most ticks).
+        A parameter set several times since the last call is announced once, with its last value
+        (and to its last setter's the other links): a flood of sets from many links costs one
+        message per link, not one per set and link."""
         announced = self._announced
         if not announced:
             return None
         self._announced = []
-        return announced
+        if len(announced) == 1:
+            return announced
+        return list({m.param_id: (asker, m) for asker, m in announced}.values())
 
     def _on_command(self, c: Command, now_s):
         ack = self.commands.handle(self, c, now_s, self.link_s)

@@ -161,11 +161,12 @@ class Listener:
 
 
 class Prober:
-    """A legitimate client: a PROBE command every `every_s` from its own socket."""
+    """A legitimate client: a PROBE command every `every_s`, sent from the Listener's socket as a
+    ground station listening on the --out port sends (the vehicle answers the link that asked)."""
 
-    def __init__(self, address: tuple, every_s: float = 0.25):
+    def __init__(self, address: tuple, sock: socket.socket, every_s: float = 0.25):
         self.address, self.every_s, self.sent = address, every_s, 0
-        self.sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+        self.sock = sock
         self._stop = threading.Event()
         c = _codec(255, 190)
         self._codec = c
@@ -184,7 +185,6 @@ class Prober:
     def stop(self):
         self._stop.set()
         self._thread.join()
-        self.sock.close()
 
 
 def main(argv=None) -> int:

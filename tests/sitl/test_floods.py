@@ -46,7 +46,7 @@ def test_a_flood_does_not_silence_the_heartbeat_nor_the_answers(tmp_path, kind, 
     listener = Listener(ap.port)
     try:
         assert listener.wait(lambda lst: lst.heartbeats, 30), "no HEARTBEAT before the flood"
-        prober = Prober(address)
+        prober = Prober(address, listener.sock)
         start = time.monotonic()
         flood = start_flood(kind, address, rate, FLOOD_S, ports)
         prober.start()
