@@ -9,8 +9,12 @@ a link has spoken (ArduPilot's active channel). Links that closed since the last
 """
 from __future__ import annotations
 
+import time
+
 from .tcp import TcpClient, TcpServer
 from .udp import UdpEndpoint
+
+ACCEPT_EVERY_S = 0.005  # wall time between looks for new TCP clients
 
 
 class Ports:
@@ -23,6 +27,7 @@ class Ports:
         self._spoken: set = set()  # TCP links that have sent something answerable
         self.closed: list = []  # keys of links that closed since take_closed()
         self.version = 0  # changes whenever the set of sockets to wait on changes
+        self._next_accept_s = 0.0
         self.notes: list[str] = []  # what a person starting the vehicle should hear (a default port taken)
         self._links: list = []
         self._filenos: list[int] = []
@@ -77,11 +82,17 @@ class Ports:
         """(bytes, link key) for what is waiting on every port; accepts and connects as it goes."""
         got = self.udp.receive() if self.udp is not None else []
         changed = False
-        for server in self.tcp_servers:
-            if server.accept():
-                for c in server.connections:
-                    self._connections.setdefault(c.key, c)
-                changed = True
+        if self.tcp_servers:
+            # an accept that finds nobody raises inside the socket module: flat out, asking at every
+            # receive cost a tenth of the loop; a client waits at most ACCEPT_EVERY_S to be taken
+            now = time.monotonic()
+            if now >= self._next_accept_s:
+                self._next_accept_s = now + ACCEPT_EVERY_S
+                for server in self.tcp_servers:
+                    if server.accept():
+                        for c in server.connections:
+                            self._connections.setdefault(c.key, c)
+                        changed = True
         for client in self.tcp_clients:
             if client.poll() and client.connection is not None:
                 self._connections[client.connection.key] = client.connection
