@@ -200,24 +200,13 @@ def build_vehicle(args, scenario, k: int, outs, listen, epoch_us: int):
                                  board_id_for(read_machine_id(), n))
     vehicle, session, recorder, log_files = power_on(epoch_us=epoch_us, wipe=args.wipe, startup=scenario.startup)
     endpoint = open_ports(args, k, offset, listen, vehicle_outs)
-    tlog = None
+    tlog = state_log = None
     if args.tlog:
         from ..io.tlog import TlogWriter
-        path = Path(args.tlog) if args.count == 1 else Path(args.tlog).with_suffix(f".{n}.tlog")
-        try:
-            tlog = TlogWriter(path)
-        except OSError as exc:
-            endpoint.close()
-            raise CliError(f"--tlog: cannot open {path}: {exc.strerror}") from None
-    state_log = None
+        tlog = open_output(TlogWriter, args.tlog, "--tlog", f".{n}.tlog", args.count, endpoint)
     if args.state_log:
         from ..io.state_log import open_state_log
-        path = Path(args.state_log) if args.count == 1 else Path(args.state_log).with_suffix(f".{n}.csv")
-        try:
-            state_log = open_state_log(path)
-        except OSError as exc:
-            endpoint.close()
-            raise CliError(f"--state-log: cannot open {path}: {exc.strerror}") from None
+        state_log = open_output(open_state_log, args.state_log, "--state-log", f".{n}.csv", args.count, endpoint)
     link = Link(session.codec, session.signing, LinkFaults(vehicle.params, vehicle.config.sim.seed))
     bind_link(link, vehicle, session)
     reboot_startup = scenario.startup or StartupTimeline()
@@ -292,6 +281,17 @@ def attach_dataflash(vehicle, session, directory: Path):
     session.logs.store = log_files
     session.ftp.tree.logs = log_files
     return recorder, log_files
+
+
+def open_output(opener, option_value: str, option: str, per_vehicle_suffix: str, count: int, endpoint):
+    """A file a command-line option names (one per vehicle of a --count process, by suffix);
+    a file that cannot be opened is the option's one-line error, the ports closed again."""
+    path = Path(option_value) if count == 1 else Path(option_value).with_suffix(per_vehicle_suffix)
+    try:
+        return opener(path)
+    except OSError as exc:
+        endpoint.close()
+        raise CliError(f"{option}: cannot open {path}: {exc.strerror}") from None
 
 
 DEFAULT_PORT_TRIES = 20  # a default port held by another process: the next in steps of 10, this many times

@@ -54,10 +54,6 @@ class Ports:
     def filenos(self) -> list[int]:
         return self._filenos
 
-    def fileno(self) -> int:
-        """The UDP socket's (or the first TCP server's) descriptor: the one a banner names."""
-        return self._filenos[0]
-
     @property
     def address(self) -> tuple:
         if self.udp is not None:
@@ -120,11 +116,11 @@ class Ports:
         """`key` has sent something answerable: a UDP sender becomes a peer (answered from now on)."""
         if key in self._connections:
             self._spoken.add(key)
-        elif self.udp is not None and not self.udp.heard(key):
-            self.udp.answer(key)
-            self._refresh()
         elif self.udp is not None:
+            new_peer = not self.udp.heard(key)
             self.udp.answer(key)
+            if new_peer:  # the links to send on changed (and a long-silent peer may have gone)
+                self._refresh()
 
     # ----- out -------------------------------------------------------------------------------
     def queue(self, key, frames: list[bytes]) -> None:
@@ -155,10 +151,6 @@ class Ports:
                 totals[name] = totals.get(name, 0) + n
         totals["tcp_dropped_bytes"] = sum(c.dropped_bytes for c in self._connections.values())
         return totals
-
-    @property
-    def counters(self) -> dict:
-        return self.udp.counters if self.udp is not None else {}
 
     def close(self) -> None:
         if self.udp is not None:

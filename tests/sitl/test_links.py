@@ -195,3 +195,24 @@ def test_answers_go_to_the_link_that_asked(autopilot_factory):
         asker.close()
         spoken.close()
         silent.close()
+
+
+def test_a_tcpclient_port_connects_out_and_is_a_link(autopilot_factory):
+    """--serial1 tcpclient:HOST:PORT, as SITL's: the vehicle connects to a waiting server (a
+    ground station listening, as `mavproxy.py --master tcpin:`) and is answered over it."""
+    with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as server:
+        server.bind(("127.0.0.1", 0))
+        server.listen(1)
+        server.settimeout(20)
+        autopilot_factory("10", ("--serial1", f"tcpclient:127.0.0.1:{server.getsockname()[1]}"))
+        connection, _ = server.accept()
+    codec = mav.MAVLink(None, srcSystem=255, srcComponent=190)
+    with connection:
+        connection.settimeout(10)
+        connection.sendall(codec.command_long_encode(1, 1, mav.MAV_CMD_REQUEST_MESSAGE, 0,
+                                                     mav.MAVLINK_MSG_ID_AUTOPILOT_VERSION, 0, 0, 0, 0, 0, 0).pack(codec))
+        seen: set[str] = set()
+        deadline = time.monotonic() + 10
+        while not {"HEARTBEAT", "COMMAND_ACK", "AUTOPILOT_VERSION"} <= seen and time.monotonic() < deadline:
+            seen.update(m.get_type() for m in codec.parse_buffer(connection.recv(65536)) or [])
+    assert {"HEARTBEAT", "COMMAND_ACK", "AUTOPILOT_VERSION"} <= seen, seen
