@@ -209,6 +209,15 @@ def hostile_message(c, r, awaiting=None):
             key = bytes(r.getrandbits(8) for _ in range(32)) if r.random() < 0.5 else bytes(32)
             return c.setup_signing_encode(target(r), 1, key, r.getrandbits(64))
         return c.system_time_encode(r.getrandbits(64), 0)  # not handled
+    if r.random() < 0.7:  # the dataflash log's download, in any state (armed, mid-flight, mid-transfer)
+        return r.choice((
+            lambda: c.log_request_list_encode(target(r), 1, u16(r) if r.random() < 0.3 else 0,
+                                              u16(r) if r.random() < 0.5 else 0xFFFF),
+            lambda: c.log_request_data_encode(target(r), 1, r.choice((0, 1, 2, u16(r))),
+                                              r.getrandbits(32) if r.random() < 0.3 else 90 * u8(r),
+                                              r.getrandbits(32) if r.random() < 0.3 else 90 * r.randint(0, 20)),
+            lambda: c.log_erase_encode(target(r), 1),
+            lambda: c.log_request_end_encode(target(r), 1)))()
     return c.named_value_float_encode(0, b"GND_TEMP", f32(r))  # not for the vehicle
 
 
