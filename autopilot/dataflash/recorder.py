@@ -91,10 +91,13 @@ class Recorder:
         self._pending: list[bytes] = []  # events since the last tick, packed
         self._settings: dict[str, int] = {}
         self._read_settings()
-        self._arm_changes = vehicle.arm_changes
+        self.arm_changes = vehicle.arm_changes  # the arms and disarms seen
         self._landed = vehicle.landed
         self._mode = vehicle.mode_number
         self._mission_version = vehicle.mission_version
+        # False while nothing is logged and nothing waits: a tick then only looks for an arm or
+        # disarm; a status text or parameter change (which queue a record) wakes it too.
+        self.awake = True
         self._arm_change_s: float | None = None
         self._arm_failure_s: float | None = None
         self._rotate_pending = False
@@ -124,9 +127,16 @@ class Recorder:
 
     # ----- the loop ---------------------------------------------------------------------------
     def tick(self) -> None:
-        """After a loop tick. Most ticks nothing changed and nothing is due: a few reads."""
+        """After a loop tick. Most ticks nothing changed and nothing is due: a few reads; asleep,
+        one (a vehicle that never arms does not pay for a log it does not write)."""
         v = self.v
-        if (v.arm_changes == self._arm_changes and v.time_s < self._due_s and not self._pending
+        if not self.awake:
+            if v.arm_changes == self.arm_changes:
+                return
+            # what changed while nothing was logged is not logged, as on ArduPilot
+            self.awake = True
+            self._landed, self._mode, self._mission_version = v.landed, v.mode_number, v.mission_version
+        if (v.arm_changes == self.arm_changes and v.time_s < self._due_s and not self._pending
                 and v.mode_number == self._mode and v.landed == self._landed):
             return
         self._update(v)
@@ -135,8 +145,8 @@ class Recorder:
         now = v.time_s
         t_us = _us(now)
         armed, changes = v.armed, v.arm_changes
-        if changes != self._arm_changes:  # each arm and disarm since the last tick, in order
-            count, self._arm_changes, self._arm_change_s = changes - self._arm_changes, changes, now
+        if changes != self.arm_changes:  # each arm and disarm since the last tick, in order
+            count, self.arm_changes, self._arm_change_s = changes - self.arm_changes, changes, now
             for k in range(count):
                 now_armed = armed if (count - 1 - k) % 2 == 0 else not armed
                 self._queue(FORMATS["EV"].pack(t_us, EV_ARMED if now_armed else EV_DISARMED))
@@ -162,8 +172,9 @@ class Recorder:
         if not logging or sink.paused:  # a download pauses logging, as ArduPilot's does
             self._pending.clear()
             self._periodic(t_us, write=False)
-            if not logging:  # nothing to do until something changes (which takes the slow path)
+            if not logging:  # asleep until something changes (which takes the slow path)
                 self._due_s = math.inf
+                self.awake = self._rotate_pending
             return
         if not sink.open:
             sink.start()
@@ -217,6 +228,7 @@ class Recorder:
                 or (failed is not None and now - failed < ARM_PERSIST_S))
 
     def _queue(self, record: bytes) -> None:
+        self.awake = True
         if len(self._pending) < MAX_PENDING:
             self._pending.append(record)
 

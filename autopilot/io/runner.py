@@ -168,7 +168,16 @@ class Runner:
         another link set if it has spoken, what is due for every link, then others' messages routed to it.
         Returns the frames the tlog keeps: the shared output once, the rest for every link."""
         endpoint, link = node.endpoint, node.link
-        logged: list = []
+        if not (replies or directed or announced or forwards):  # most exchanges: telemetry alone
+            logged = []
+            for n, key in enumerate(endpoint.links if out else ()):
+                frames = link.pack(out, key)
+                if n == 0:
+                    logged = frames
+                if frames:
+                    endpoint.queue(key, frames)
+            return logged
+        logged = []
         for n, key in enumerate(endpoint.links):
             own = replies.get(key)
             if directed and key in directed:

@@ -45,16 +45,12 @@ class LogService:
         self.vehicle = vehicle
         self.codec = codec
         self.store = store
-        self.activity = IDLE
+        self.activity = IDLE  # IDLE is 0: `if service.activity` asks whether it is busy, as cheaply as can be
         self._warned_armed = False
         self._num_logs = 0
         self._next_entry = self._last_entry = 0
         self._data_id = 0
         self._offset = self._remaining = 0
-
-    @property
-    def busy(self) -> bool:
-        return self.activity != IDLE
 
     # ----- requests ---------------------------------------------------------------------------
     def handle(self, msg) -> list:

@@ -164,9 +164,9 @@ class Session:
 
     def _on_log_request(self, msg, now_s):
         # as ArduPilot's _log_sending_link: the rest of a transfer goes to the link that began it
-        idle = not self.logs.busy
+        idle = not self.logs.activity
         self._out.extend(self.logs.handle(msg))
-        if idle and self.logs.busy:
+        if idle and self.logs.activity:
             self._logs_link = self._link
 
     def take_directed(self) -> dict | None:
@@ -264,7 +264,7 @@ class Session:
         last = self.gcs_last_heartbeat_s
         return (now_s + 1e-9 < self.streams.next_due_s and not self.vehicle.events
                 and not self.missions.uploads and not self.params.streaming and not self._stores_waiting
-                and not self.vehicle.mission_progress.has_reached and not self.logs.busy
+                and not self.vehicle.mission_progress.has_reached and not self.logs.activity
                 and (last is None or link_s - last <= self.vehicle.params["FS_GCS_TIMEOUT"]))
 
     def poll(self, now_s: float, link_s: float | None = None) -> list:
@@ -276,7 +276,7 @@ class Session:
             self._direct(self._missions_link, self.missions.poll(link_s))
         if self.params.streaming:
             self._direct(self._params_link, self.params.poll(link_s))
-        if self.logs.busy:
+        if self.logs.activity:
             self._direct(self._logs_link, self.logs.poll())
         if self._stores_waiting:
             vehicle.poll_stores(link_s)

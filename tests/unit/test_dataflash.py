@@ -136,6 +136,28 @@ def test_nothing_is_logged_disarmed_until_an_arming(tmp_path):
     assert stopped > size and len(sink.logs[0]) == stopped and len(sink.logs) == 1 and sink.open
 
 
+def test_a_recorder_sleeps_while_nothing_is_logged_and_wakes_on_arming(tmp_path):
+    from firefly.autopilot.modes import Loiter, Stabilize
+    v = ready_vehicle()
+    sink = MemorySink()
+    rec = Recorder(v, sink)
+    v.text_listener = rec.text
+    run(v, rec, 0.5)
+    assert not rec.awake  # a never-armed vehicle's loop pays one read a tick for its log
+    v.params.set("WPNAV_SPEED", 600.0)  # a PARM record to make: awake, then asleep
+    assert rec.awake
+    run(v, rec, 0.1)
+    assert not rec.awake
+    assert v.set_mode(Loiter.number) == Result.ACCEPTED and v.set_mode(Stabilize.number) == Result.ACCEPTED
+    run(v, rec, 0.5)  # mode changes before the arming: not logged (nothing was), the log starts in STABILIZE
+    assert v.arm() == Result.ACCEPTED
+    run(v, rec, 0.5)
+    assert rec.awake
+    log = read_log(tmp_path, sink.logs[0])
+    assert [m.Mode for m in log["MODE"]] == [Stabilize.number]
+    assert [e.Id for e in log["EV"]][:1] == [10]
+
+
 def test_log_disarmed_logs_from_the_start_and_backend_0_never(tmp_path):
     for params, expect_logs in (({"LOG_DISARMED": 1}, 1), ({"LOG_BACKEND_TYPE": 0, "LOG_DISARMED": 1}, 0)):
         v = ready_vehicle()

@@ -44,7 +44,7 @@ def drain(link, kind, most=1000) -> list:
     out = []
     for _ in range(most):
         got = of_type(link.poll(), kind)
-        if not got and not link.session.logs.busy:
+        if not got and not link.session.logs.activity:
             break
         out.extend(got)
     return out
@@ -61,7 +61,7 @@ def test_no_logs_lists_one_empty_entry(tmp_path):
     link.session.logs.store = LogFiles(tmp_path / "none", link.vehicle.params)
     out = of_type(link.send(request_list()), "LOG_ENTRY")
     assert [(e.id, e.num_logs, e.last_log_num, e.size) for e in out] == [(0, 0, 0, 0)]
-    assert not link.session.logs.busy
+    assert not link.session.logs.activity
 
 
 def test_download_is_the_file_in_90_byte_chunks(logs_link):
@@ -70,7 +70,7 @@ def test_download_is_the_file_in_90_byte_chunks(logs_link):
     chunks = first + drain(logs_link, "LOG_DATA")
     assert [c.ofs for c in chunks] == list(range(0, len(LOG_BYTES), CHUNK))
     assert b"".join(bytes(c.data[:c.count]) for c in chunks) == LOG_BYTES
-    assert chunks[-1].count == len(LOG_BYTES) % CHUNK and not logs_link.session.logs.busy
+    assert chunks[-1].count == len(LOG_BYTES) % CHUNK and not logs_link.session.logs.activity
 
 
 @pytest.mark.parametrize("ofs, count, expected", [
@@ -94,7 +94,7 @@ def test_list_with_start_past_end_counts_up_and_end_stops_it(logs_link):
     assert [e.id for e in out] == list(range(5, 5 + len(out))) and all(e.size == 0 for e in out)
     assert statustexts(logs_link.send(request_list())) == ["Log download in progress"]
     logs_link.send(wire(client_codec().log_request_end_encode(1, 1)))
-    assert not logs_link.session.logs.busy
+    assert not logs_link.session.logs.activity
 
 
 def test_armed_requests_get_one_warning_and_change_nothing(logs_link):
