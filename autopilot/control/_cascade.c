@@ -156,7 +156,8 @@ static PyObject *Loop_state(LoopObject *self, PyObject *unused)
 }
 
 /* Setpoint attribute names, interned once. */
-static PyObject *s_lean, *s_pos_ne, *s_vel_ne, *s_accel_ne, *s_throttle, *s_pos_d, *s_vel_d, *s_speed_dn, *s_yaw, *s_yaw_rate;
+static PyObject *s_lean, *s_pos_ne, *s_vel_ne, *s_accel_ne, *s_throttle, *s_pos_d, *s_vel_d, *s_speed_dn, *s_yaw, *s_yaw_rate,
+    *s_rates;
 
 /* Read sp.<name> (None -> NaN) into n doubles. */
 static int read_setpoint(PyObject *sp, PyObject *name, double *out, int n)
@@ -172,7 +173,7 @@ static int read_setpoint(PyObject *sp, PyObject *name, double *out, int n)
         out[0] = PyFloat_AsDouble(v);
         rc = out[0] == -1.0 && PyErr_Occurred() ? -1 : 0;
     } else {
-        double *slots[2] = {&out[0], &out[1]};
+        double *slots[3] = {&out[0], &out[1], n > 2 ? &out[2] : NULL};
         rc = read_doubles(v, slots, n, PyUnicode_AsUTF8(name));
     }
     Py_DECREF(v);
@@ -199,7 +200,7 @@ static PyObject *Loop_command(LoopObject *self, PyObject *const *args, Py_ssize_
         read_setpoint(sp, s_throttle, &cmd.throttle, 1) < 0 ||
         read_setpoint(sp, s_pos_d, &cmd.pos_d, 1) < 0 || read_setpoint(sp, s_vel_d, &cmd.vel_d, 1) < 0 ||
         read_setpoint(sp, s_speed_dn, &cmd.speed_dn, 1) < 0 || read_setpoint(sp, s_yaw, &cmd.yaw, 1) < 0 ||
-        read_setpoint(sp, s_yaw_rate, &cmd.yaw_rate, 1) < 0)
+        read_setpoint(sp, s_yaw_rate, &cmd.yaw_rate, 1) < 0 || read_setpoint(sp, s_rates, cmd.rates, 3) < 0)
         return NULL;
     self->c.cmd = cmd;
     Py_RETURN_NONE;
@@ -347,8 +348,10 @@ static struct PyModuleDef module = {PyModuleDef_HEAD_INIT, "_cascade", "Firefly'
 
 PyMODINIT_FUNC PyInit__cascade(void)
 {
-    PyObject **names[] = {&s_lean, &s_pos_ne, &s_vel_ne, &s_accel_ne, &s_throttle, &s_pos_d, &s_vel_d, &s_speed_dn, &s_yaw, &s_yaw_rate};
-    const char *text[] = {"lean", "pos_ne", "vel_ne", "accel_ne", "throttle", "pos_d", "vel_d", "speed_dn", "yaw", "yaw_rate"};
+    PyObject **names[] = {&s_lean, &s_pos_ne, &s_vel_ne, &s_accel_ne, &s_throttle, &s_pos_d, &s_vel_d, &s_speed_dn, &s_yaw, &s_yaw_rate,
+                          &s_rates};
+    const char *text[] = {"lean", "pos_ne", "vel_ne", "accel_ne", "throttle", "pos_d", "vel_d", "speed_dn", "yaw", "yaw_rate",
+                          "rates"};
     for (size_t i = 0; i < sizeof names / sizeof *names; i++)
         if (!(*names[i] = PyUnicode_InternFromString(text[i])))
             return NULL;

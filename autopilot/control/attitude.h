@@ -19,6 +19,18 @@ static void attitude_reset(AttitudeController *a)
         pid_reset(&a->rate[i]);
 }
 
+/* The rate loop alone: body-rate targets (p, q, r) [rad/s] -> torques (attitude.py rate_update). */
+static void attitude_rate_update(AttitudeController *a, const double targets[3], const double rates[3], double dt,
+                                 double torques[3])
+{
+    double out_r = pid_update(&a->rate[0], targets[0], rates[0], dt);
+    double out_p = pid_update(&a->rate[1], targets[1], rates[1], dt);
+    double out_y = pid_update(&a->rate[2], targets[2], rates[2], dt);
+    torques[0] = out_r * a->roll_torque_max;
+    torques[1] = out_p * a->pitch_torque_max;
+    torques[2] = out_y * a->yaw_torque_max;
+}
+
 static void attitude_update(AttitudeController *a, double roll_t, double pitch_t, double yaw_t,
                             double yaw_rate_t, double roll, double pitch, double yaw,
                             const double rates[3], double dt, double torques[3])
@@ -32,15 +44,8 @@ static void attitude_update(AttitudeController *a, double roll_t, double pitch_t
     yaw_dot = py_max(-yl, py_min(yl, yaw_dot));
     double sr = sin(roll), cr = cos(roll);
     double sp = sin(pitch), cp = cos(pitch);
-    double p_t = roll_dot - sp * yaw_dot;
-    double q_t = cr * pitch_dot + sr * cp * yaw_dot;
-    double r_t = -sr * pitch_dot + cr * cp * yaw_dot;
-    double out_r = pid_update(&a->rate[0], p_t, rates[0], dt);
-    double out_p = pid_update(&a->rate[1], q_t, rates[1], dt);
-    double out_y = pid_update(&a->rate[2], r_t, rates[2], dt);
-    torques[0] = out_r * a->roll_torque_max;
-    torques[1] = out_p * a->pitch_torque_max;
-    torques[2] = out_y * a->yaw_torque_max;
+    double targets[3] = {roll_dot - sp * yaw_dot, cr * pitch_dot + sr * cp * yaw_dot, -sr * pitch_dot + cr * cp * yaw_dot};
+    attitude_rate_update(a, targets, rates, dt, torques);
 }
 
 #endif

@@ -57,6 +57,11 @@ class AttitudeController:
         p_t = roll_dot - sp * yaw_dot
         q_t = cr * pitch_dot + sr * cp * yaw_dot
         r_t = -sr * pitch_dot + cr * cp * yaw_dot
+        return self.rate_update((p_t, q_t, r_t), rates, dt)
+
+    def rate_update(self, targets: tuple, rates: tuple, dt: float) -> tuple:
+        """Body-rate targets (p, q, r) [rad/s] -> torques (U2, U3, U4): the rate loop alone."""
+        p_t, q_t, r_t = targets
         p, q, r = rates
         out_r = self.rate_pids[0].update(p_t, p, dt)
         out_p = self.rate_pids[1].update(q_t, q, dt)

@@ -12,6 +12,7 @@
 typedef struct { /* the Setpoint handed over by command(); NaN = None */
     int armed, landed;
     double lean[2], pos_ne[2], vel_ne[2], accel_ne[2], speed_xy, throttle, pos_d, vel_d, speed_dn, yaw, yaw_rate;
+    double rates[3]; /* body-rate targets replacing the angle loop (ACRO, FLIP) */
 } Command;
 
 typedef struct {
@@ -84,7 +85,9 @@ static void position_step(Cascade *c, const double att[3])
         c->thrust_t = thrust_from_stick(pc, sp->throttle);
     else
         c->thrust_t = position_vertical(pc, sp->pos_d, sp->vel_d, b->d, b->vd, att[0], att[1], dt, sp->speed_dn);
-    if (!isnan(sp->yaw))
+    if (!isnan(sp->rates[0]))
+        c->yaw_t = att[2];
+    else if (!isnan(sp->yaw))
         c->yaw_t = sp->yaw;
     else
         c->yaw_t = wrap_pi(c->yaw_t + sp->yaw_rate * dt);
@@ -99,8 +102,11 @@ static void attitude_step(Cascade *c, const double att[3])
         return;
     }
     double rates[3] = {b->p, b->q, b->r}, u[3];
-    attitude_update(&c->attitude, c->lean_t[0], c->lean_t[1], c->yaw_t, 0.0, att[0], att[1], att[2],
-                    rates, c->dt_att, u);
+    if (!isnan(c->cmd.rates[0]))
+        attitude_rate_update(&c->attitude, c->cmd.rates, rates, c->dt_att, u);
+    else
+        attitude_update(&c->attitude, c->lean_t[0], c->lean_t[1], c->yaw_t, 0.0, att[0], att[1], att[2],
+                        rates, c->dt_att, u);
     allocator_omega_commands(&c->allocator, c->thrust_t, u[0], u[1], u[2], c->omega_cmd);
 }
 

@@ -42,6 +42,8 @@ class Command(Protocol):
     def yaw(self) -> float | None: ...
     @property
     def yaw_rate(self) -> float: ...
+    @property
+    def rates(self) -> tuple[float, float, float] | None: ...
 
     def wants_climb(self, d_m: float) -> bool: ...
 
@@ -156,7 +158,9 @@ class Cascade(CascadeSetup):
         else:
             self.thrust_t = pc.vertical(sp.pos_d, sp.vel_d, b.d_m, b.vd_m_s, roll, pitch, dt,
                                         speed_dn=sp.speed_dn)
-        if sp.yaw is not None:
+        if sp.rates is not None:  # body rates fly it: an angle mode taking over holds this heading
+            self.yaw_t = yaw
+        elif sp.yaw is not None:
             self.yaw_t = sp.yaw
         else:
             self.yaw_t = wrap_pi(self.yaw_t + sp.yaw_rate * dt)
@@ -167,7 +171,11 @@ class Cascade(CascadeSetup):
             self.omega_cmd = (idle, idle, idle, idle)
             return
         roll, pitch, yaw = attitude
-        u2, u3, u4 = self.attitude_ctl.update(self.lean_t[0], self.lean_t[1], self.yaw_t, 0.0,
-                                              roll, pitch, yaw, (b.p_rad_s, b.q_rad_s, b.r_rad_s),
-                                              self.dt_att)
+        body_rates = (b.p_rad_s, b.q_rad_s, b.r_rad_s)
+        sp = self._sp
+        if sp is not None and sp.rates is not None:
+            u2, u3, u4 = self.attitude_ctl.rate_update(sp.rates, body_rates, self.dt_att)
+        else:
+            u2, u3, u4 = self.attitude_ctl.update(self.lean_t[0], self.lean_t[1], self.yaw_t, 0.0,
+                                                  roll, pitch, yaw, body_rates, self.dt_att)
         self.omega_cmd = self.allocator.omega_commands(self.thrust_t, u2, u3, u4)

@@ -21,9 +21,11 @@ class Setpoint:
     lean (roll, pitch) for manual modes; accel_ne, when set, is the acceleration of a trajectory
     already shaped within the limits (waypoint navigation): followed as it is, not slewed. Vertical: pos_d with vel_d feed-forward, or vel_d alone,
     or throttle (0..1) for manual modes. Yaw: yaw (heading) plus yaw_rate feed-forward.
+    rates, when set, are body-rate targets (p, q, r) [rad/s] that replace the angle loop (ACRO,
+    FLIP): lean and yaw are then ignored and the heading target follows the vehicle.
     """
     __slots__ = ("pos_ne", "vel_ne", "accel_ne", "lean", "pos_d", "vel_d", "throttle", "yaw", "yaw_rate",
-                 "speed_xy", "speed_up", "speed_dn")
+                 "speed_xy", "speed_up", "speed_dn", "rates")
     pos_ne: tuple[float, float] | None
     vel_ne: tuple[float, float]
     accel_ne: tuple[float, float] | None
@@ -36,6 +38,7 @@ class Setpoint:
     speed_xy: float
     speed_up: float | None
     speed_dn: float | None
+    rates: tuple[float, float, float] | None
 
     def __init__(self) -> None:
         self.clear()
@@ -53,6 +56,7 @@ class Setpoint:
         self.speed_xy = math.inf
         self.speed_up = None
         self.speed_dn = None
+        self.rates = None
 
     def wants_climb(self, d_m: float) -> bool:
         """Whether this setpoint asks a landed vehicle to leave the ground."""
@@ -81,6 +85,7 @@ class Mode:
     takes_speed_change = False  # DO_CHANGE_SPEED accepted (ArduCopter: GUIDED, AUTO, RTL)
     has_user_takeoff = False
     manual_throttle = False
+    auto_disarms = True  # DISARM_DELAY disarms a vehicle landed in this mode (ArduCopter: all but THROW)
 
     def __init_subclass__(cls, **kwargs: object) -> None:
         super().__init_subclass__(**kwargs)
