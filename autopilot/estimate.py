@@ -102,7 +102,11 @@ class StateEstimate:
     def accel_body(self) -> tuple:
         """What the accelerometer reads (FRD, m/s^2): noise-free, as the rest of the estimate."""
         sim = self.sim
-        return specific_force_body(sim.state, sim.airframe, sim.wind_ned)
+        force = specific_force_body(sim.state, sim.airframe, sim.wind_ned)
+        push = sim.shove_accel_frd
+        if push is None:
+            return force
+        return (force[0] + push[0], force[1] + push[1], force[2] + push[2])
 
     @property
     def mag_body_mgauss(self) -> tuple:

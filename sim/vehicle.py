@@ -48,6 +48,10 @@ class SimVehicle:
         self.thermometer = TemperatureSensor(config.world, config.seed)
         self.time_s = 0.0
         self.steps = 0
+        # An outside push (a hand's throw; ArduPilot SITL's SIM_SHOVE_*): a body-frame (FRD)
+        # acceleration [m/s^2] until _shove_until_s, or None.
+        self.shove_accel_frd: tuple[float, float, float] | None = None
+        self._shove_until_s = 0.0
         af = self.airframe
         power_per_omega_cubed = shaft_power_per_thrust_1p5(af) * af.thrust_coeff_b ** 1.5 / af.motor_efficiency
         self._battery_constants = (power_per_omega_cubed, af.battery_cells, af.battery_capacity_mah,
@@ -74,6 +78,29 @@ class SimVehicle:
             if self.wind.changing:
                 self._wind_ned = self.wind.advance(self.dt * BATTERY_EVERY)
                 self.conditions_version += 1
+            if self.shove_accel_frd is not None:
+                self._push(self.dt * BATTERY_EVERY)
+
+    def shove(self, accel_frd: tuple[float, float, float], seconds: float) -> None:
+        """Push the body with a body-frame acceleration [m/s^2] for `seconds` (0: stop pushing),
+        as a hand throwing it would: the velocity changes at every battery step, and the
+        accelerometer feels the push while it lasts."""
+        self.shove_accel_frd = tuple(accel_frd) if seconds > 0 else None  # type: ignore[assignment]
+        self._shove_until_s = self.time_s + seconds
+
+    def _push(self, dt: float) -> None:
+        if self.time_s >= self._shove_until_s:
+            self.shove_accel_frd = None
+            return
+        ax, ay, az = self.shove_accel_frd  # type: ignore[misc]
+        b = self.state.body
+        qw, qx, qy, qz = b.qw, b.qx, b.qy, b.qz
+        # body (FRD) to NED: the transpose of rigid_body.ned_to_body's rotation
+        dvn = ((1.0 - 2.0 * (qy * qy + qz * qz)) * ax + 2.0 * (qx * qy - qw * qz) * ay + 2.0 * (qx * qz + qw * qy) * az) * dt
+        dve = (2.0 * (qx * qy + qw * qz) * ax + (1.0 - 2.0 * (qx * qx + qz * qz)) * ay + 2.0 * (qy * qz - qw * qx) * az) * dt
+        dvd = (2.0 * (qx * qz - qw * qy) * ax + 2.0 * (qy * qz + qw * qx) * ay + (1.0 - 2.0 * (qx * qx + qy * qy)) * az) * dt
+        body = b._replace(vn_m_s=b.vn_m_s + dvn, ve_m_s=b.ve_m_s + dve, vd_m_s=b.vd_m_s + dvd)
+        self.state = self.state._replace(body=body)
 
     def set_motor_thrust_scale(self, thrust_scale: tuple) -> None:
         """Each motor's share of the thrust it is asked for (1 healthy, 0.7 weak, 0 failed): its
