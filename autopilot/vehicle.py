@@ -501,7 +501,8 @@ class Vehicle:
                     self.auto_disarm.restart(now)
                 if armed:
                     landed = detector.landed
-                    wants_climb = landed and self.setpoint.wants_climb(body.d_m)
+                    # A mode that never auto-disarms (THROW, waiting armed) counts as wanting to climb.
+                    wants_climb = landed and (self.setpoint.wants_climb(body.d_m) or not self.mode.auto_disarms)
                     if self.auto_disarm.due(armed, landed, wants_climb, self.params["DISARM_DELAY"], now):
                         self.disarm("auto")
             if self.sim.steps % (self._mode_every * FAILSAFE_EVERY) == 0:

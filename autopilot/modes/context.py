@@ -34,6 +34,8 @@ class ModeContext:
         auto_armed    AUTO may start its mission from the ground
         origin_alt_m  altitude of the local frame's origin above sea level
         ned_of(lat, lon, alt_amsl) -> (n, e, d) in the local frame
+        accel_body    what the accelerometer reads (FRD, m/s^2): 1 g up at rest, 0 in free fall
+        mode_number   the vehicle's mode: while a mode's enter() runs, the one it would take over from
     Actions:
         notify(text, severity)   a STATUSTEXT
         disarm(reason)           a Result: FAILED while flying
@@ -41,9 +43,11 @@ class ModeContext:
                                  runner and drives it (start_or_resume, update, stop)
         set_speed(m_s)           as DO_CHANGE_SPEED
         set_home(ned or None)    as DO_SET_HOME (None = here)
+        set_mode(number)         hand over to another mode, with that mode's entry rules (a
+                                 Result); a mode that hands over stops filling the setpoint
     """
     __slots__ = ("_v", "_estimate", "_arming", "_land", "_sim", "params", "mission_progress", "notify", "disarm",
-                 "set_speed", "set_home", "ned_of")
+                 "set_speed", "set_home", "ned_of", "set_mode")
     params: ParamStore
     mission_progress: MissionProgress
     notify: Notify
@@ -51,6 +55,7 @@ class ModeContext:
     set_speed: Callable[[float], Result]
     set_home: Callable[[Vector3 | None], Result]
     ned_of: Callable[[float, float, float], Vector3]
+    set_mode: Callable[[int], Result]
 
     def __init__(self, vehicle: ModeHost):
         self._v = vehicle
@@ -65,6 +70,7 @@ class ModeContext:
         self.set_speed = vehicle.set_speed
         self.set_home = vehicle.set_home
         self.ned_of = vehicle.ned_of
+        self.set_mode = vehicle.set_mode
 
     # Read-through properties as C-level attribute getters: modes read them at 100 Hz per vehicle.
     body: ReadThrough[BodyState] = property(attrgetter("_estimate.body"))
@@ -79,6 +85,8 @@ class ModeContext:
     nav_speed_m_s: ReadThrough[float] = property(attrgetter("_v.nav_speed_m_s"))
     auto_armed: ReadThrough[bool] = property(attrgetter("_arming.auto_armed"))
     origin_alt_m: ReadThrough[float] = property(attrgetter("_v.origin.alt_m"))
+    accel_body: ReadThrough[Vector3] = property(attrgetter("_estimate.accel_body"))
+    mode_number: ReadThrough[int] = property(attrgetter("_v.mode_number"))
 
     def has_position(self) -> bool:
         return self._estimate.has_position()

@@ -6,11 +6,20 @@ from enum import IntEnum
 
 class ModeNumber(IntEnum):
     STABILIZE = 0
+    ACRO = 1
     ALT_HOLD = 2
     AUTO = 3
     GUIDED = 4
     LOITER = 5
     RTL = 6
     LAND = 9
+    DRIFT = 11
+    FLIP = 14
+    AUTOTUNE = 15
     POSHOLD = 16
     BRAKE = 17
+    THROW = 18
+    FLOWHOLD = 22
+    FOLLOW = 23
+    SYSTEMID = 25
+    TURTLE = 28

@@ -1,0 +1,123 @@
+"""THROW: armed on the ground (or in a hand), motors quiet, the vehicle waits to be thrown (or
+dropped: THROW_TYPE 1); once it is flying free it spools up, turns upright, climbs
+THROW_ALT_ACSND (or sinks THROW_ALT_DCSND), stops, and then hands over to THROW_NEXTMODE if that
+is a mode ArduCopter lets it go to. Entered only disarmed, as ArduCopter's. Never auto-disarms.
+
+The detection is ArduCopter's (mode_throw.cpp): moving fast or in free fall, going the right way
+up or down, nothing pushing it any more, and within THROW_ALT_MIN/MAX; confirmed when the
+vertical speed then drops 2.5 m/s within half a second. Firefly has no motor-stopped state while
+armed: THROW_MOT_START 0 waits at ground idle, as 1 does.
+"""
+from __future__ import annotations
+
+import math
+
+from firefly.sim.airframe import GRAVITY_M_S2
+
+from .base import Mode, Setpoint, stopping_point
+from .context import ModeContext
+from .motor_throttle import stick_from_motor
+from .numbers import ModeNumber
+
+HIGH_SPEED_M_S = 5.0
+VERTICAL_SPEED_M_S = 0.5
+CONFIRM_WITHIN_S = 0.5
+CONFIRM_DROP_M_S = 2.5  # of vertical speed lost within CONFIRM_WITHIN_S: falling free
+UPRIGHT_COS = 0.866  # tilted less than 30 degrees
+UPRIGHTING_THROTTLE = 0.5  # motor throttle, no angle boost: the most righting moment
+NEAR_M = 0.5  # height and position errors under which a stage is done
+DROP = 1  # THROW_TYPE
+NEXT_MODES = (ModeNumber.AUTO, ModeNumber.GUIDED, ModeNumber.RTL, ModeNumber.LAND, ModeNumber.BRAKE,
+              ModeNumber.LOITER)
+
+
+class Throw(Mode):
+    number = ModeNumber.THROW
+    requires_position = True
+    allows_arming = True
+    auto_disarms = False
+
+    def __init__(self) -> None:
+        self.stage = "DISARMED"  # DETECTING, SPOOLING, UPRIGHTING, HEIGHT, POSITION
+        self._next_tried = False
+        self._fall_start_s = -math.inf
+        self._fall_start_up = 0.0
+        self._spooled_at_s = 0.0
+        self._target_d = 0.0
+        self._hold_ne = (0.0, 0.0)
+
+    def enter(self, ctx: ModeContext) -> str | None:
+        if ctx.armed:
+            return "init failed"
+        self.stage = "DISARMED"
+        self._next_tried = False
+        self._fall_start_s = -math.inf
+        return None
+
+    def update(self, ctx: ModeContext, sp: Setpoint, dt: float) -> None:
+        sp.clear()
+        self._advance(ctx)
+        stage = self.stage
+        if stage in ("DISARMED", "DETECTING", "SPOOLING"):
+            sp.throttle, sp.rates = 0.0, (0.0, 0.0, 0.0)  # quiet: nothing steered until spooled up
+            return
+        sp.lean, sp.yaw_rate = (0.0, 0.0), 0.0
+        if stage == "UPRIGHTING":
+            sp.throttle = stick_from_motor(UPRIGHTING_THROTTLE, ctx.params)
+            return
+        sp.pos_d = self._target_d
+        if stage == "POSITION":
+            sp.lean = None
+            sp.pos_ne = self._hold_ne
+
+    def _advance(self, ctx: ModeContext) -> None:
+        """ArduCopter's stage machine: one step at most per update."""
+        stage, b, now = self.stage, ctx.body, ctx.time_s
+        if not ctx.armed:
+            self.stage = "DISARMED"
+        elif stage == "DISARMED":
+            ctx.notify("waiting for throw")
+            self.stage = "DETECTING"
+        elif stage == "DETECTING" and self._detected(ctx):
+            ctx.notify("throw detected - spooling motors")
+            self.stage = "SPOOLING"
+            self._spooled_at_s = now + ctx.params["MOT_SPOOL_TIME"]
+        elif stage == "SPOOLING" and now >= self._spooled_at_s:
+            ctx.notify("throttle is unlimited - uprighting")
+            self.stage = "UPRIGHTING"
+        elif stage == "UPRIGHTING" and math.cos(ctx.attitude[0]) * math.cos(ctx.attitude[1]) > UPRIGHT_COS:
+            ctx.notify("uprighted - controlling height")
+            self.stage = "HEIGHT"
+            params = ctx.params
+            drop = int(params["THROW_TYPE"]) == DROP
+            self._target_d = b.d_m + (params["THROW_ALT_DCSND"] if drop else -params["THROW_ALT_ACSND"])
+        elif stage == "HEIGHT" and b.d_m - self._target_d < NEAR_M:
+            ctx.notify("height achieved - controlling position")
+            self.stage = "POSITION"
+            self._hold_ne = stopping_point(ctx)[0]
+        elif stage == "POSITION" and not self._next_tried and \
+                math.hypot(b.n_m - self._hold_ne[0], b.e_m - self._hold_ne[1]) < NEAR_M:
+            self._next_tried = True
+            following = int(ctx.params["THROW_NEXTMODE"])
+            if following in NEXT_MODES:
+                ctx.set_mode(following)
+
+    def _detected(self, ctx: ModeContext) -> bool:
+        if not ctx.has_position():
+            return False
+        params, b, now = ctx.params, ctx.body, ctx.time_s
+        up = -b.vd_m_s
+        high_speed = b.vn_m_s ** 2 + b.ve_m_s ** 2 + b.vd_m_s ** 2 > HIGH_SPEED_M_S ** 2
+        changing = up < -VERTICAL_SPEED_M_S if int(params["THROW_TYPE"]) == DROP else up > VERTICAL_SPEED_M_S
+        fx, fy, fz = ctx.accel_body
+        qw, qx, qy, qz = b.qw, b.qx, b.qy, b.qz
+        down_force = 2.0 * (qx * qz - qw * qy) * fx + 2.0 * (qy * qz + qw * qx) * fy + (1.0 - 2.0 * (qx * qx + qy * qy)) * fz
+        free_falling = down_force > -0.25 * GRAVITY_M_S2
+        released = math.sqrt(fx * fx + fy * fy + fz * fz) < GRAVITY_M_S2
+        alt = ctx.height_ref_d - b.d_m
+        alt_min, alt_max = params["THROW_ALT_MIN"], params["THROW_ALT_MAX"]
+        in_band = (alt_min == 0 or alt > alt_min) and (alt_max == 0 or alt < alt_max)
+        if (free_falling or high_speed) and changing and released and in_band \
+                and now - self._fall_start_s > CONFIRM_WITHIN_S:
+            self._fall_start_s, self._fall_start_up = now, up
+        return now - self._fall_start_s < CONFIRM_WITHIN_S and up - self._fall_start_up < -CONFIRM_DROP_M_S
