@@ -77,7 +77,7 @@ def test_set_mode_unknown_number_fails_and_keeps_the_mode():
     v = ready_vehicle()
     before = v.mode
     assert v.set_mode(99) == Result.FAILED
-    assert v.set_mode(1) == Result.FAILED  # ACRO is not implemented
+    assert v.set_mode(13) == Result.FAILED  # SPORT: not built into ArduCopter SITL either
     assert v.mode is before
 
 
@@ -98,7 +98,9 @@ def test_mode_numbers_are_arducopters():
     from firefly.autopilot.modes import MODE_BY_NAME
     assert {name: cls.number for name, cls in MODE_BY_NAME.items()} == {
         "STABILIZE": 0, "ALT_HOLD": 2, "AUTO": 3, "GUIDED": 4, "LOITER": 5, "RTL": 6,
-        "LAND": 9, "POSHOLD": 16, "BRAKE": 17}
+        "LAND": 9, "POSHOLD": 16, "BRAKE": 17,
+        "ACRO": 1, "DRIFT": 11, "FLIP": 14, "AUTOTUNE": 15, "THROW": 18, "FLOWHOLD": 22, "FOLLOW": 23,
+        "SYSTEMID": 25, "TURTLE": 28}
 
 
 # ----- flying -----------------------------------------------------------------------------------
