@@ -29,7 +29,9 @@ from .faults.world import Faults, world_values
 from .mission import FENCE, MISSION, MissionStore
 from .mission.progress import MissionProgress
 from .modes import MODE_BY_NUMBER, Mode, ModeNumber, Setpoint
+from .modes.auto_rtl import EITHER, AutoRtl
 from .modes.context import ModeContext
+from .modes.return_path import ReturnPath
 from .params import ParamStore
 from .pilot import CENTRED, CENTRED_MANUAL, PilotInput
 from .rates import LoopRates
@@ -49,6 +51,8 @@ if TYPE_CHECKING:
     from .cli.script import Script
 
 FAILSAFE_EVERY = 10  # flight-mode ticks between failsafe checks (10 Hz at the default 100 Hz)
+RETURN_PATH_EVERY = 3  # failsafe checks between SmartRTL path updates (ArduCopter: 3 Hz)
+LAND_DETECTOR_ERROR_LINE = 66  # ArduCopter's land_detector.cpp line of its "climbed while landed" error
 MAX_PENDING_TEXTS = 64  # STATUSTEXTs waiting for the next poll; a loop of texts cannot grow memory
 HOME_RANGE_M = 50_000  # DO_SET_HOME farther than this from the origin is refused
 LOCATION_ALT_MAX_M = 83_000  # the largest altitude ArduPilot's Location holds: home and commands' positions
@@ -85,6 +89,8 @@ class Vehicle:
         self.params = params or ParamStore()
         self.mission = mission or MissionStore()
         self.mission_progress = MissionProgress(self.mission, self.notify)
+        self.return_path = ReturnPath(self.params, self.notify)  # SMART_RTL's way back
+        self._return_path_due = 0  # failsafe checks until the next path update
         self.script: Script | None = None  # a scenario's scripted commands (autopilot.cli.script.Script), if any
         n0, e0 = config.offset_ne_m
         # Where this vehicle's EKF origin lies in the sim's frame (its start, where ArduCopter sets
@@ -303,6 +309,8 @@ class Vehicle:
         if self.home_ned is None and self.estimate.origin_known():  # without a fix it stays unset
             self._set_home_here()
         self.arming.arm()
+        b = self.body
+        self.return_path.set_home(self.has_position(), (b.n_m, b.e_m, b.d_m), self.time_s)
         self.land_detector.set_landed()
         self.auto_disarm.restart(self.time_s)
         self.cascade.reset()
@@ -343,7 +351,7 @@ class Vehicle:
         if reason is None and ready:
             reason = new.enter(self.ctx)
         if reason is not None:
-            self.notify(f"Mode change to {new.name} failed: {reason}", Severity.WARNING)
+            self.notify(f"Mode change to {new.text_name} failed: {reason}", Severity.WARNING)
             return Result.FAILED
         if self._mode_entered:
             self.mode.exit(self.ctx)
@@ -432,10 +440,21 @@ class Vehicle:
                 self.mission_progress.start_or_resume(self.params["MIS_RESTART"] == 1)
         return result
 
+    def auto_rtl(self, via: str) -> Result:
+        """DO_LAND_START ("land_start") / DO_RETURN_PATH_START ("return_path"): AUTO RTL joining
+        the mission only that way (modes/auto_rtl.py)."""
+        mode = self.modes[ModeNumber.AUTO_RTL]
+        assert isinstance(mode, AutoRtl)
+        mode.via = via
+        try:
+            return self.set_mode(ModeNumber.AUTO_RTL)
+        finally:
+            mode.via = EITHER
+
     @property
     def in_mission_mode(self) -> bool:
         """MISSION_CURRENT's mission_mode: the current mode flies the mission."""
-        return self.mode.number == ModeNumber.AUTO
+        return self.mode.number in (ModeNumber.AUTO, ModeNumber.AUTO_RTL)
 
     # ----- the loop ----------------------------------------------------------------------------
     def step(self) -> None:
@@ -503,13 +522,31 @@ class Vehicle:
                     landed = detector.landed
                     # A mode that never auto-disarms (THROW, waiting armed) counts as wanting to climb.
                     wants_climb = landed and (self.setpoint.wants_climb(body.d_m) or not self.mode.auto_disarms)
+                    if wants_climb and self.mode.climbs_without_takeoff:
+                        self._climbed_while_landed()
                     if self.auto_disarm.due(armed, landed, wants_climb, self.params["DISARM_DELAY"], now):
                         self.disarm("auto")
             if self.sim.steps % (self._mode_every * FAILSAFE_EVERY) == 0:
                 self.failsafes.check(self)
                 self.thrust_loss.check(self, FAILSAFE_EVERY * dt)
+                self._return_path_due -= 1
+                if self._return_path_due <= 0:
+                    self._return_path_due = RETURN_PATH_EVERY
+                    self._update_return_path(now)
         except Exception as exc:  # noqa: BLE001 - a bug is an internal error, never an exit
             self.internal_error(exc, f"{self.mode.name} tick")
+
+    def _update_return_path(self, now: float) -> None:
+        """Offer the position to SMART_RTL's path: kept while armed in any other mode."""
+        b = self.estimate.body
+        save = self.arming.armed and self.mode.number != ModeNumber.SMART_RTL
+        self.return_path.update(self.has_position(), save, (b.n_m, b.e_m, b.d_m), now)
+
+    def _climbed_while_landed(self) -> None:
+        """ArduCopter's land detector finds the motors lifting a vehicle it thinks is landed while
+        no takeoff runs: it records an internal error (and lets the vehicle fly)."""
+        if self.internal_errors.flag("land detector: climbing while landed", LAND_DETECTOR_ERROR_LINE):
+            self.notify(self.internal_errors.announcement(), Severity.CRITICAL)
 
     def _enter_when_ready(self) -> bool:
         """A mode chosen before what it needs was there is entered once it is; until then the
@@ -519,7 +556,7 @@ class Vehicle:
             return False
         reason = self.mode.enter(self.ctx)
         if reason is not None:  # refused now (a disarmed mode never is today): STABILIZE takes over
-            self.notify(f"Mode change to {self.mode.name} failed: {reason}", Severity.WARNING)
+            self.notify(f"Mode change to {self.mode.text_name} failed: {reason}", Severity.WARNING)
             self.mode = self.modes[ModeNumber.STABILIZE]
             self.mode.enter(self.ctx)  # STABILIZE refuses nothing
         self._mode_entered = True

@@ -35,6 +35,7 @@ if TYPE_CHECKING:
     from .estimate import StateEstimate
     from .mission.progress import MissionProgress, MissionState
     from .mission.store import MissionItem
+    from .modes.return_path import ReturnPath
     from .params import ParamStore
     from .pilot import PilotInput
     from .results import Result
@@ -303,6 +304,8 @@ class ModeHost(Protocol):
     def params(self) -> ParamStore: ...
     @property
     def mission_progress(self) -> MissionProgress: ...
+    @property
+    def return_path(self) -> ReturnPath: ...
     @property
     def pilot(self) -> PilotInput: ...
     @property

@@ -86,6 +86,14 @@ def return_to_launch(s, c: Command) -> Result:
     return s.vehicle.set_mode(ModeNumber.RTL)
 
 
+def do_land_start(s, c: Command) -> Result:
+    return s.vehicle.auto_rtl("land_start")
+
+
+def do_return_path_start(s, c: Command) -> Result:
+    return s.vehicle.auto_rtl("return_path")
+
+
 def do_set_mode(s, c: Command) -> Result:
     base = _int_param(c.p1, 0, 255)
     custom = _int_param(c.p2, 0, 2**32 - 1)
@@ -277,6 +285,8 @@ HANDLERS = {
     mav.MAV_CMD_NAV_LAND: land,
     mav.MAV_CMD_NAV_RETURN_TO_LAUNCH: return_to_launch,
     mav.MAV_CMD_DO_SET_MODE: do_set_mode,
+    mav.MAV_CMD_DO_LAND_START: do_land_start,
+    mav.MAV_CMD_DO_RETURN_PATH_START: do_return_path_start,
     mav.MAV_CMD_DO_CHANGE_SPEED: do_change_speed,
     mav.MAV_CMD_DO_REPOSITION: do_reposition,
     mav.MAV_CMD_DO_SET_HOME: do_set_home,

@@ -21,16 +21,16 @@ from .log_service import LogService
 from .mission_service import MissionService
 from .params_service import ParamService
 from .signing import LinkSigning
+from .statustext import StatusTexts
 from .streams import StreamScheduler
 from .telemetry import BUILDERS
-
-MAX_STATUSTEXT = 50
 
 
 class Session:
     def __init__(self, vehicle, codec):
         self.vehicle = vehicle
         self.codec = codec
+        self.texts = StatusTexts(codec)  # STATUSTEXT, long texts in chunks
         self.telemetry_codec = FastCodec(codec)  # what the telemetry builders encode with
         self.signing = LinkSigning(codec)  # off until a key is set; the link layer admits frames
         self.system_id = codec.srcSystem
@@ -223,7 +223,7 @@ class Session:
         """The banner texts (autopilot/version.py), in answer to the link that asked (as
         ArduPilot sends them on the channel that asked)."""
         for severity, text in version.banner(self.vehicle.board_id, self.vehicle.params):
-            self._out.append(self.codec.statustext_encode(severity, text.encode()[:MAX_STATUSTEXT]))
+            self._out.extend(self.texts.encode(severity, text))
 
     def _on_manual_control(self, msg, now_s):
         x, y, z, r = msg.x, msg.y, msg.z, msg.r
@@ -293,7 +293,7 @@ class Session:
                 out.append(msg)
         if vehicle.events:
             for severity, text in vehicle.drain_events():
-                out.append(self.codec.statustext_encode(severity, text.encode()[:MAX_STATUSTEXT]))
+                out.extend(self.texts.encode(severity, text))
         if not out:
             return []
         self._out = []

@@ -13,6 +13,7 @@ from dataclasses import replace
 
 from ..mission.commands import (CMD_DO_CHANGE_SPEED, CMD_DO_SET_HOME, CMD_LAND, CMD_LOITER_TIME,
                                 CMD_LOITER_UNLIM, CMD_RTL, CMD_TAKEOFF, CMD_WAYPOINT, FLOWN_AS, is_nav)
+from ..mission.landing import CMD_DO_LAND_START, CMD_DO_RETURN_PATH_START
 from ..mission.progress import MissionProgress
 from ..mission.store import MissionItem
 from ..results import Severity
@@ -27,6 +28,8 @@ from .waypoint_legs import NAV_BY_LEGS, WaypointLegs, flies_through, next_nav_in
 # further on (or an upload writing the same items again) restarts nothing.
 CHANGE_WINDOW = 3
 NAV_COMMANDS = {CMD_WAYPOINT, CMD_LOITER_UNLIM, CMD_LOITER_TIME, CMD_RTL, CMD_LAND, CMD_TAKEOFF}
+# Places in the list, nothing to do (AUTO RTL jumps to them): passed over in silence.
+MARKERS = (CMD_DO_LAND_START, CMD_DO_RETURN_PATH_START)
 GLOBAL_AMSL_FRAMES = {0, 5}  # MAV_FRAME_GLOBAL, MAV_FRAME_GLOBAL_INT: altitude above sea level
 
 
@@ -112,7 +115,7 @@ class Auto(Mode):
         item = _flown(item)
         if item.command in NAV_COMMANDS:
             return index == self._index and self._nav_done
-        if item.command not in (CMD_DO_CHANGE_SPEED, CMD_DO_SET_HOME):
+        if item.command not in (CMD_DO_CHANGE_SPEED, CMD_DO_SET_HOME, *MARKERS):
             self._ctx.notify(f"Skipping invalid cmd #{item.command}", Severity.WARNING)
         return True
 

@@ -79,6 +79,7 @@ class Mode:
     """
     number: ModeNumber  # set by each mode; its name is the table's
     name: str = "?"
+    text_name: str = "?"  # what ArduCopter calls it in its texts (Mode::name(): "SMARTRTL", "AUTO RTL")
     requires_position = False
     requires_home = False
     allows_arming = False
@@ -86,11 +87,16 @@ class Mode:
     has_user_takeoff = False
     manual_throttle = False
     auto_disarms = True  # DISARM_DELAY disarms a vehicle landed in this mode (ArduCopter: all but THROW)
+    # Flies up from the ground with no takeoff of its own (SMART_RTL): ArduCopter's land detector
+    # reports that as an internal error, which then refuses arming until a reboot.
+    climbs_without_takeoff = False
 
     def __init_subclass__(cls, **kwargs: object) -> None:
         super().__init_subclass__(**kwargs)
         if "number" in cls.__dict__:
             cls.name = cls.number.name
+            if "text_name" not in cls.__dict__:
+                cls.text_name = cls.name
 
     def enter(self, ctx: ModeContext) -> str | None:
         """Prepare to take over; return None to accept, or the reason for refusing."""

@@ -18,6 +18,7 @@ if TYPE_CHECKING:
     from ..mission.progress import MissionProgress
     from ..params import ParamStore
     from ..pilot import PilotInput
+    from .return_path import ReturnPath
     from ..results import Result
 
 
@@ -41,15 +42,17 @@ class ModeContext:
         disarm(reason)           a Result: FAILED while flying
         mission_progress         mission/progress.py: AP_Mission's rules; AUTO binds itself as its
                                  runner and drives it (start_or_resume, update, stop)
+        return_path              modes/return_path.py: the way back SMART_RTL takes (pop, peek)
         set_speed(m_s)           as DO_CHANGE_SPEED
         set_home(ned or None)    as DO_SET_HOME (None = here)
         set_mode(number)         hand over to another mode, with that mode's entry rules (a
                                  Result); a mode that hands over stops filling the setpoint
     """
-    __slots__ = ("_v", "_estimate", "_arming", "_land", "_sim", "params", "mission_progress", "notify", "disarm",
-                 "set_speed", "set_home", "ned_of", "set_mode")
+    __slots__ = ("_v", "_estimate", "_arming", "_land", "_sim", "params", "mission_progress", "return_path",
+                 "notify", "disarm", "set_speed", "set_home", "ned_of", "set_mode")
     params: ParamStore
     mission_progress: MissionProgress
+    return_path: ReturnPath
     notify: Notify
     disarm: Callable[[str], Result]
     set_speed: Callable[[float], Result]
@@ -65,6 +68,7 @@ class ModeContext:
         self._sim = vehicle.sim
         self.params = vehicle.params
         self.mission_progress = vehicle.mission_progress
+        self.return_path = vehicle.return_path
         self.notify = vehicle.notify
         self.disarm = vehicle.disarm
         self.set_speed = vehicle.set_speed

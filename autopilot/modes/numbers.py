@@ -12,6 +12,7 @@ class ModeNumber(IntEnum):
     GUIDED = 4
     LOITER = 5
     RTL = 6
+    CIRCLE = 7
     LAND = 9
     DRIFT = 11
     FLIP = 14
@@ -19,7 +20,11 @@ class ModeNumber(IntEnum):
     POSHOLD = 16
     BRAKE = 17
     THROW = 18
+    AVOID_ADSB = 19
+    SMART_RTL = 21
     FLOWHOLD = 22
     FOLLOW = 23
+    ZIGZAG = 24
     SYSTEMID = 25
+    AUTO_RTL = 27
     TURTLE = 28

@@ -50,6 +50,16 @@ class InternalErrors:
                 pass
         return new
 
+    def flag(self, where: str, line: int, bit: int = FLOW_OF_CONTROL) -> bool:
+        """An error ArduPilot itself detects (no exception here), at ArduPilot's source `line`;
+        True the first time this kind of error is seen."""
+        new = not self.bits & bit
+        self.bits |= bit
+        self.count += 1
+        self.line = line
+        self.last = where
+        return new
+
     def names(self) -> str:
         return ",".join(name for bit, name in BIT_NAMES.items() if self.bits & bit)
 

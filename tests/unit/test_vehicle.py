@@ -100,7 +100,8 @@ def test_mode_numbers_are_arducopters():
         "STABILIZE": 0, "ALT_HOLD": 2, "AUTO": 3, "GUIDED": 4, "LOITER": 5, "RTL": 6,
         "LAND": 9, "POSHOLD": 16, "BRAKE": 17,
         "ACRO": 1, "DRIFT": 11, "FLIP": 14, "AUTOTUNE": 15, "THROW": 18, "FLOWHOLD": 22, "FOLLOW": 23,
-        "SYSTEMID": 25, "TURTLE": 28}
+        "SYSTEMID": 25, "TURTLE": 28,
+        "CIRCLE": 7, "AVOID_ADSB": 19, "SMART_RTL": 21, "ZIGZAG": 24, "AUTO_RTL": 27}
 
 
 # ----- flying -----------------------------------------------------------------------------------
