@@ -85,17 +85,20 @@ class Circle(Mode):
         cos_a, sin_a = math.cos(a), math.sin(a)
         tn, te = cn + r * cos_a, ce + r * sin_a
         self._target = (tn, te)
+        # The point alone, no velocity along the circle: ArduCopter's position controller chases
+        # it (input_pos_vel_accel with zero velocity), so the vehicle trails the point and flies
+        # a little inside the radius; its nose is set from where its controller is, not the point.
         sp.pos_ne = (tn, te)
-        sp.vel_ne = (-r * w * sin_a, r * w * cos_a)
-        sp.accel_ne = (-r * w * w * cos_a, -r * w * w * sin_a)
         if r > 0:
-            yaw = math.atan2(ce - te, cn - tn)  # the target point to the centre
+            yaw = math.atan2(ce - b.e_m, cn - b.n_m)  # the vehicle to the centre
             if int(params["CIRCLE_OPTIONS"]) & FACE_TRAVEL:
                 yaw += -math.pi / 2 if self.rate_deg_s > 0 else math.pi / 2
-            sp.yaw = wrap_pi(yaw)
         else:
-            sp.yaw = wrap_pi(a)
-        sp.yaw_rate = w if r <= 0 else 0.0
+            yaw = a
+        # The nose turns with the orbit: its rate fed forward, as a lead on the heading (the
+        # heading loop is P on the error), or the nose would trail the centre by degrees.
+        yaw_p = params["ATC_ANG_YAW_P"]
+        sp.yaw = wrap_pi(yaw + (w / yaw_p if yaw_p > 0 else 0.0))
         self._hold_d = pilot_vertical(ctx, sp, self._hold_d)
 
     def _advance(self, ctx: ModeContext, dt: float) -> None:

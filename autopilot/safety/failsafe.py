@@ -15,16 +15,22 @@ from ..views import FailsafeView
 from .ekf_check import EkfCheck
 
 RTL, LAND, AUTO = ModeNumber.RTL, ModeNumber.LAND, ModeNumber.AUTO
+# A mode tried first, what ArduCopter says when it is refused, and the mode then tried
+# (events.cpp's set_mode_SmartRTL_or_RTL, ..._or_land_with_pause, set_mode_auto_do_land_start_or_RTL).
+Fallback = tuple[ModeNumber, str, ModeNumber]
+SMART_RTL_OR_RTL: Fallback = (ModeNumber.SMART_RTL, "SmartRTL Unavailable, Trying RTL Mode", RTL)
+SMART_RTL_OR_LAND: Fallback = (ModeNumber.SMART_RTL, "SmartRTL Unavailable, Using Land Mode", LAND)
+AUTO_RTL_OR_RTL: Fallback = (ModeNumber.AUTO_RTL, "Trying RTL Mode", RTL)
 # BATT_FS_LOW_ACT and BATT_FS_CRT_ACT / FS_GCS_ENABLE values -> mode to
-# switch to (SmartRTL and AUTO's DO_LAND_START are flown as RTL here, Brake-then-Land as LAND).
-BATT_ACTIONS = {1: LAND, 2: RTL, 3: RTL, 4: RTL, 6: RTL, 7: LAND}
-GCS_ACTIONS = {1: RTL, 2: RTL, 3: RTL, 4: RTL, 5: LAND}
+# switch to (Brake-then-Land is flown as LAND here).
+BATT_ACTIONS = {1: LAND, 2: RTL, 3: SMART_RTL_OR_RTL, 4: SMART_RTL_OR_LAND, 6: AUTO_RTL_OR_RTL, 7: LAND}
+GCS_ACTIONS = {1: RTL, 2: RTL, 3: SMART_RTL_OR_RTL, 4: SMART_RTL_OR_LAND, 5: LAND, 6: AUTO_RTL_OR_RTL}
 # FS_THR_ENABLE -> mode (2, "continue the mission", is RTL in ArduCopter 4.7 too)
-RADIO_ACTIONS = {1: RTL, 2: RTL, 3: LAND, 4: RTL, 5: RTL, 6: RTL, 7: LAND}
+RADIO_ACTIONS = {1: RTL, 2: RTL, 3: LAND, 4: SMART_RTL_OR_RTL, 5: SMART_RTL_OR_LAND, 6: AUTO_RTL_OR_RTL, 7: LAND}
 # FS_OPTIONS bits the radio failsafe reads
 RC_CONTINUE_IF_AUTO, RC_CONTINUE_IF_GUIDED, CONTINUE_IF_LANDING = 1, 4, 8
 RADIO_LOW_THROTTLE_CHECKS = 3  # ArduCopter's FS_COUNTER: low throttle readings in a row
-FENCE_ACTIONS = {1: RTL, 2: LAND, 3: RTL, 4: RTL, 5: RTL}
+FENCE_ACTIONS = {1: RTL, 2: LAND, 3: SMART_RTL_OR_RTL, 4: RTL, 5: SMART_RTL_OR_LAND}
 GCS_CONTINUE_IN_AUTO = 2  # FS_GCS_ENABLE: a mission in AUTO flies on
 FENCE_ALT, FENCE_CIRCLE, FENCE_POLYGON = 1, 2, 4
 CMD_POLY_INCLUSION, CMD_POLY_EXCLUSION, CMD_CIRCLE_INCLUSION, CMD_CIRCLE_EXCLUSION = 5001, 5002, 5003, 5004
@@ -67,10 +73,15 @@ class Failsafes:
     def active(self) -> bool:
         return bool(self.battery_level or self.gcs or self.radio or self.fence_breached or self.ekf.failsafe)
 
-    def _act(self, v: FailsafeView, mode: int | None, reason: str) -> None:
-        if mode is None or not v.armed or v.landed:
+    def _act(self, v: FailsafeView, mode: int | Fallback | None, reason: str) -> None:
+        if mode is None or not v.armed or v.landed or v.mode_number == LAND:
             return
-        if v.mode_number == LAND or (mode == RTL and v.mode_number == RTL):
+        if isinstance(mode, tuple):
+            first, refused, mode = mode
+            if v.mode_number == first or v.set_mode(first) == Result.ACCEPTED:
+                return
+            v.notify(refused, Severity.WARNING)
+        if mode == RTL and v.mode_number == RTL:
             return
         if v.set_mode(mode) != Result.ACCEPTED and mode == RTL:
             v.set_mode(LAND)
