@@ -8,12 +8,14 @@ has no such place; arming is refused in it.
 """
 from __future__ import annotations
 
+from ..mission.commands import is_takeoff
 from ..mission.landing import closest_return_leg, landing_sequence_start
+from ..mission.progress import MissionState
 from ..mission.store import MissionItem
 from ..results import Severity
 from ..views import Vector3
 from .auto import Auto
-from .base import stopping_point
+from .base import Setpoint, stopping_point
 from .context import ModeContext
 from .numbers import ModeNumber
 
@@ -50,10 +52,30 @@ class AutoRtl(Auto):
         reason = super().enter(ctx)
         if reason is not None:
             return reason
-        mission.stop()  # a mission AUTO was running resumes from the new item
+        # As AP_Mission's jump: the new item made current and the mission resumed at once (its
+        # items started, "Mission: 4 LandStart"...); AUTO then resumes it again as it begins.
+        mission.stop()
         mission.set_current(index + 1)
+        mission.resume()
         ctx.notify("Return path started" if joined_return_path else "Landing sequence start")
+        self.number, self.name = ModeNumber.AUTO_RTL, ModeNumber.AUTO_RTL.name
         return None
+
+    def update(self, ctx: ModeContext, sp: Setpoint, dt: float) -> None:
+        super().update(ctx, sp, dt)
+        if self.number == ModeNumber.AUTO_RTL and not self._in_sequence(ctx):
+            # No longer "AUTO in disguise": ArduCopter reports AUTO from here on (after the
+            # disarm that ends the landing, which resets the mission; or a takeoff item).
+            self.number, self.name = ModeNumber.AUTO, ModeNumber.AUTO.name
+
+    @staticmethod
+    def _in_sequence(ctx: ModeContext) -> bool:
+        """Still in the landing sequence or return path (or the mission completed)."""
+        mission = ctx.mission_progress
+        if mission.state is MissionState.COMPLETE:
+            return True
+        index = mission.nav_index
+        return index is not None and not is_takeoff(mission.items()[index].command)
 
     def _restart(self, ctx: ModeContext) -> bool:  # type: ignore[override]
         return False  # ArduCopter forces the resume: the mission goes on from the jump

@@ -221,14 +221,94 @@ def circle(c: Client, trace: Trace) -> None:
     trace.fact("mode_after", c.mode)
 
 
+def mission_item(command: int, north: float = 0.0, east: float = 0.0, alt: float = 0.0, located: bool = True):
+    """(command, frame, p1..p4, x, y, z) at a point north/east of home (or no point)."""
+    h = None
+    x = y = 0
+    if located:
+        h = MISSION_HOME
+        x = h[0] + round(north / EARTH_M_PER_DEG * 1e7)
+        y = h[1] + round(east / (EARTH_M_PER_DEG * math.cos(math.radians(h[0] * 1e-7))) * 1e7)
+    return command, mav.MAV_FRAME_GLOBAL_RELATIVE_ALT_INT, 0, 0, 0, 0, x, y, alt
+
+
+MISSION_HOME = (0, 0)  # home (lat, lon in 1e-7 degrees), set once HOME_POSITION has come
+
+
+def landing_mission() -> list:
+    """Out to two waypoints, then a landing sequence: DO_LAND_START (no location of its own: the
+    next waypoint's counts), a waypoint and a landing."""
+    return [mission_item(mav.MAV_CMD_NAV_TAKEOFF, alt=10.0, located=False),
+            mission_item(mav.MAV_CMD_NAV_WAYPOINT, *LANDING_ROUTE[0]),
+            mission_item(mav.MAV_CMD_NAV_WAYPOINT, *LANDING_ROUTE[1]),
+            mission_item(mav.MAV_CMD_DO_LAND_START, located=False),
+            mission_item(mav.MAV_CMD_NAV_WAYPOINT, *LANDING_ROUTE[2]),
+            mission_item(mav.MAV_CMD_NAV_LAND, *LANDING_ROUTE[3])]
+
+
+LANDING_ROUTE = ((40.0, 0.0, 10.0), (40.0, 30.0, 10.0), (15.0, 30.0, 10.0), (15.0, 15.0, 0.0))
+LAND_START_SEQ = 4
+
+
+class Beats:
+    """The custom mode of every HEARTBEAT and the seq of every MISSION_CURRENT, stamped."""
+
+    def __init__(self, c: Client):
+        self.c = c
+        self.modes: list[tuple[int, int, bool]] = []  # (ms, custom_mode, armed)
+        self.current: list[tuple[int, int]] = []
+
+    def __call__(self, msg) -> None:
+        kind = msg.get_type()
+        if kind == "HEARTBEAT":
+            self.modes.append((self.c.now_ms, msg.custom_mode, bool(msg.base_mode & mav.MAV_MODE_FLAG_SAFETY_ARMED)))
+        elif kind == "MISSION_CURRENT":
+            self.current.append((self.c.now_ms, msg.seq))
+
+
+def auto_rtl(c: Client, trace: Trace, how: str) -> None:
+    """From a hover at home with the landing mission loaded, AUTO RTL asked for `how` (by mode
+    number, or by MAV_CMD_DO_LAND_START): what it answers and reports, and where it flies."""
+    from .missions import upload
+    reach_flying(c, HOVER_ALT_M)
+    global MISSION_HOME
+    h = c.last["HOME_POSITION"]
+    MISSION_HOME = (h.latitude, h.longitude)
+    trace.fact("upload", upload(c, landing_mission()))
+    c.idle(1.0)  # the upload's own text said before the mode change
+    track, beats = Track(c), Beats(c)
+    with c.listening(track), c.listening(beats):
+        start = c.now_ms
+        if how == "mode":
+            trace.fact("result", c.set_mode(27))
+        else:
+            trace.fact("result", c.command(mav.MAV_CMD_DO_LAND_START))
+        acked = c.now_ms
+        c.wait(lambda: any(t >= acked + 1000 for t, _ in beats.current), 10, what="MISSION_CURRENT")
+        trace.fact("said", said(c.texts_since(start, 1.0)))
+        trace.fact("mode_after", next(m for t, m, _ in beats.modes if t >= acked))
+        trace.fact("mission_current_after", next(seq for t, seq in beats.current if t >= acked + 1000))
+        c.wait(lambda: not c.armed, 120, what="AUTO RTL landing and disarming")
+        c.fresh_heartbeat()
+    disarmed_ms = next(t for t, _, armed in beats.modes if not armed)
+    trace.fact("modes_while_armed", sorted({m for t, m, armed in beats.modes if t >= acked and armed}))
+    trace.fact("mode_after_disarm", beats.modes[-1][1])
+    flown = [(n, e) for t, n, e, _, _ in track.points if t <= (disarmed_ms - track.t0_ms) / 1000.0]
+    trace.fact("nearest_third_waypoint_m", nearest_m(flown, *LANDING_ROUTE[2][:2]), NEAR_TOL)
+    trace.fact("nearest_second_waypoint_m", nearest_m(flown, *LANDING_ROUTE[1][:2]), NEAR_TOL)
+    trace.fact("touchdown_from_land_point_m", math.dist(flown[-1], LANDING_ROUTE[3][:2]), NEAR_TOL)
+
+
 def run(target) -> dict[str, Trace]:
-    traces = {"SMART_RTL": Trace(), "CIRCLE": Trace()}
+    traces = {"SMART_RTL": Trace(), "CIRCLE": Trace(), "AUTO_RTL": Trace(), "DO_LAND_START": Trace()}
     c = target.boot()
     try:
         c.conn.mav.command_long_send(1, 1, mav.MAV_CMD_REQUEST_MESSAGE, 0, 242, 0, 0, 0, 0, 0, 0)
         c.wait(lambda: "HOME_POSITION" in c.last, 10, what="HOME_POSITION")
         smart_rtl(c, traces["SMART_RTL"])
         circle(c, traces["CIRCLE"])
+        auto_rtl(c, traces["AUTO_RTL"], "mode")
+        auto_rtl(c, traces["DO_LAND_START"], "command")
     finally:
         target.close()
     return traces
