@@ -23,14 +23,15 @@ SMART_RTL_OR_LAND: Fallback = (ModeNumber.SMART_RTL, "SmartRTL Unavailable, Usin
 AUTO_RTL_OR_RTL: Fallback = (ModeNumber.AUTO_RTL, "Trying RTL Mode", RTL)
 # BATT_FS_LOW_ACT and BATT_FS_CRT_ACT / FS_GCS_ENABLE values -> mode to
 # switch to (Brake-then-Land is flown as LAND here).
-BATT_ACTIONS = {1: LAND, 2: RTL, 3: SMART_RTL_OR_RTL, 4: SMART_RTL_OR_LAND, 6: AUTO_RTL_OR_RTL, 7: LAND}
-GCS_ACTIONS = {1: RTL, 2: RTL, 3: SMART_RTL_OR_RTL, 4: SMART_RTL_OR_LAND, 5: LAND, 6: AUTO_RTL_OR_RTL}
+Action = ModeNumber | Fallback
+BATT_ACTIONS: dict[int, Action] = {1: LAND, 2: RTL, 3: SMART_RTL_OR_RTL, 4: SMART_RTL_OR_LAND, 6: AUTO_RTL_OR_RTL, 7: LAND}
+GCS_ACTIONS: dict[int, Action] = {1: RTL, 2: RTL, 3: SMART_RTL_OR_RTL, 4: SMART_RTL_OR_LAND, 5: LAND, 6: AUTO_RTL_OR_RTL}
 # FS_THR_ENABLE -> mode (2, "continue the mission", is RTL in ArduCopter 4.7 too)
-RADIO_ACTIONS = {1: RTL, 2: RTL, 3: LAND, 4: SMART_RTL_OR_RTL, 5: SMART_RTL_OR_LAND, 6: AUTO_RTL_OR_RTL, 7: LAND}
+RADIO_ACTIONS: dict[int, Action] = {1: RTL, 2: RTL, 3: LAND, 4: SMART_RTL_OR_RTL, 5: SMART_RTL_OR_LAND, 6: AUTO_RTL_OR_RTL, 7: LAND}
 # FS_OPTIONS bits the radio failsafe reads
 RC_CONTINUE_IF_AUTO, RC_CONTINUE_IF_GUIDED, CONTINUE_IF_LANDING = 1, 4, 8
 RADIO_LOW_THROTTLE_CHECKS = 3  # ArduCopter's FS_COUNTER: low throttle readings in a row
-FENCE_ACTIONS = {1: RTL, 2: LAND, 3: SMART_RTL_OR_RTL, 4: RTL, 5: SMART_RTL_OR_LAND}
+FENCE_ACTIONS: dict[int, Action] = {1: RTL, 2: LAND, 3: SMART_RTL_OR_RTL, 4: RTL, 5: SMART_RTL_OR_LAND}
 GCS_CONTINUE_IN_AUTO = 2  # FS_GCS_ENABLE: a mission in AUTO flies on
 FENCE_ALT, FENCE_CIRCLE, FENCE_POLYGON = 1, 2, 4
 CMD_POLY_INCLUSION, CMD_POLY_EXCLUSION, CMD_CIRCLE_INCLUSION, CMD_CIRCLE_EXCLUSION = 5001, 5002, 5003, 5004
@@ -73,7 +74,7 @@ class Failsafes:
     def active(self) -> bool:
         return bool(self.battery_level or self.gcs or self.radio or self.fence_breached or self.ekf.failsafe)
 
-    def _act(self, v: FailsafeView, mode: int | Fallback | None, reason: str) -> None:
+    def _act(self, v: FailsafeView, mode: Action | None, reason: str) -> None:
         if mode is None or not v.armed or v.landed or v.mode_number == LAND:
             return
         if isinstance(mode, tuple):

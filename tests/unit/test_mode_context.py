@@ -6,7 +6,7 @@ from pathlib import Path
 
 import pytest
 
-from firefly.autopilot.modes import MODE_CLASSES, ModeNumber
+from firefly.autopilot.modes import MODE_CLASSES, Guided, ModeNumber
 from firefly.autopilot.modes.context import ModeContext
 from firefly.autopilot.results import Result
 
@@ -14,9 +14,10 @@ from ._util import altitude, fly_until, ready_vehicle
 
 MODES_DIR = Path(__file__).resolve().parents[2] / "autopilot" / "modes"
 # Modes ArduCopter refuses armed on the ground (test_modes_manual.py tests the refusals); AUTO
-# refuses without a mission (test_auto.py).
+# and AUTO RTL refuse without a mission (test_auto.py, test_nav_modes.py).
 NOT_ENTERED_ARMED_ON_GROUND = (ModeNumber.AUTO, ModeNumber.FLIP, ModeNumber.AUTOTUNE, ModeNumber.THROW,
-                               ModeNumber.FLOWHOLD, ModeNumber.FOLLOW, ModeNumber.SYSTEMID, ModeNumber.TURTLE)
+                               ModeNumber.FLOWHOLD, ModeNumber.FOLLOW, ModeNumber.SYSTEMID, ModeNumber.TURTLE,
+                               ModeNumber.AUTO_RTL)
 ENTERED_ARMED_ON_GROUND = [c for c in MODE_CLASSES if c.number not in NOT_ENTERED_ARMED_ON_GROUND]
 
 
@@ -40,7 +41,7 @@ def test_user_takeoff_is_declared_exactly_where_a_takeoff_flies(cls):
 @pytest.mark.parametrize("cls", ENTERED_ARMED_ON_GROUND, ids=lambda c: c.name)
 def test_ground_station_position_and_velocity_targets_are_taken_in_guided_only(cls):
     v = armed_on_the_ground_in(cls.number)
-    guided = cls.number == ModeNumber.GUIDED
+    guided = issubclass(cls, Guided)  # GUIDED, and AVOID_ADSB (ArduCopter's GUIDED underneath: in_guided_mode)
     accepted = (Result.ACCEPTED,)
     assert (v.guided_goto(5.0, 0.0, -5.0) in accepted) == guided
     assert (v.guided_velocity(1.0, 0.0, 0.0) in accepted) == guided
