@@ -154,13 +154,15 @@ def test_circle_on_the_ground_stays_put():
 
 # ----- ZIGZAG ---------------------------------------------------------------------------------------
 def sticks(v, roll: float, pitch: float, seconds: float) -> None:
-    """The pilot's sticks held for `seconds` (input refreshed as a radio would), then centred."""
+    """The pilot's sticks held for `seconds` (input refreshed as a radio would), then centred
+    until the vehicle has stopped at the point LOITER holds."""
     end = v.time_s + seconds
     while v.time_s < end:
         v.pilot_input.update(roll, pitch, 0.0, 0.5, v.time_s)
         v.run_until(v.time_s + 0.25)
     v.pilot_input.update(0.0, 0.0, 0.0, 0.5, v.time_s)
-    v.run_until(v.time_s + 3.0)
+    assert fly_until(v, lambda x: math.dist(horizontal(x), x.mode._hold_ne) < 0.1
+                     and math.hypot(x.body.vn_m_s, x.body.ve_m_s) < 0.05, 30)  # braked and back
 
 
 def test_zigzag_stores_a_and_b_then_flies_to_the_line_through_a():
@@ -184,6 +186,25 @@ def test_zigzag_stores_a_and_b_then_flies_to_the_line_through_a():
     assert texts(v) == ["ZIGZAG: manual control"]
     v.run_until(v.time_s + 2.0)
     assert math.dist(horizontal(v), (n, e)) < 0.5, "and holds there as LOITER"
+
+
+def test_zigzag_auto_steps_aside_by_its_side_distance():
+    v = hovering_vehicle(10.0)
+    v.params.set("ZIGZ_AUTO_ENABLE", 1)
+    v.set_mode(M.ZIGZAG)
+    zz = v.mode
+    assert isinstance(zz, ZigZag)
+    zz.switch_save_wp(LOW)
+    sticks(v, 1.0, 0.0, 5.0)  # B to the east
+    zz.switch_save_wp(HIGH)
+    texts(v)
+    start = horizontal(v)
+    zz.switch_auto(HIGH)  # ZIGZ_LINE_NUM 0: one step aside (ZIGZ_DIRECTION 0: forward), then the pilot's
+    assert texts(v) == ["ZIGZAG: moving to forward"]
+    assert fly_until(v, lambda x: zz.stage != "AUTO", 30)
+    n, e = horizontal(v)
+    assert abs(n - start[0] - 4.0) < 0.5 and abs(e - start[1]) < 0.5  # ZIGZ_SIDE_DIST 4 m, north
+    assert texts(v) == ["ZIGZAG: manual control"]
 
 
 # ----- AVOID_ADSB and AUTO_RTL ------------------------------------------------------------------------
