@@ -247,7 +247,15 @@ def landing_mission() -> list:
 
 
 LANDING_ROUTE = ((40.0, 0.0, 10.0), (40.0, 30.0, 10.0), (15.0, 30.0, 10.0), (15.0, 15.0, 0.0))
-LAND_START_SEQ = 4
+
+
+def return_path_mission() -> list:
+    """The same route with a return path instead: DO_RETURN_PATH_START after the first waypoint.
+    From a hover at home the nearest leg of it is the last (to the landing), joined there."""
+    mission = landing_mission()
+    mission[3] = mission[2]
+    mission[2] = mission_item(mav.MAV_CMD_DO_RETURN_PATH_START, located=False)
+    return mission
 
 
 class Beats:
@@ -266,15 +274,15 @@ class Beats:
             self.current.append((self.c.now_ms, msg.seq))
 
 
-def auto_rtl(c: Client, trace: Trace, how: str) -> None:
-    """From a hover at home with the landing mission loaded, AUTO RTL asked for `how` (by mode
-    number, or by MAV_CMD_DO_LAND_START): what it answers and reports, and where it flies."""
+def auto_rtl(c: Client, trace: Trace, how: str, mission=landing_mission) -> None:
+    """From a hover at home with `mission` loaded, AUTO RTL asked for `how` (by mode number, or by
+    MAV_CMD_DO_LAND_START): what it answers and reports, and where it flies."""
     from .missions import upload
     reach_flying(c, HOVER_ALT_M)
     global MISSION_HOME
     h = c.last["HOME_POSITION"]
     MISSION_HOME = (h.latitude, h.longitude)
-    trace.fact("upload", upload(c, landing_mission()))
+    trace.fact("upload", upload(c, mission()))
     c.idle(1.0)  # the upload's own text said before the mode change
     track, beats = Track(c), Beats(c)
     with c.listening(track), c.listening(beats):
@@ -284,14 +292,16 @@ def auto_rtl(c: Client, trace: Trace, how: str) -> None:
         else:
             trace.fact("result", c.command(mav.MAV_CMD_DO_LAND_START))
         acked = c.now_ms
-        c.wait(lambda: any(t >= acked + 1000 for t, _ in beats.current), 10, what="MISSION_CURRENT")
+        c.wait(lambda: any(t >= acked + 1000 for t, _ in beats.current)
+               and any(t >= acked + 1000 for t, _, _ in beats.modes), 10, what="MISSION_CURRENT and HEARTBEAT")
         trace.fact("said", said(c.texts_since(start, 1.0)))
-        trace.fact("mode_after", next(m for t, m, _ in beats.modes if t >= acked))
+        # A second on: a HEARTBEAT built just before the change can reach the client after the ACK.
+        trace.fact("mode_after", next(m for t, m, _ in beats.modes if t >= acked + 1000))
         trace.fact("mission_current_after", next(seq for t, seq in beats.current if t >= acked + 1000))
         c.wait(lambda: not c.armed, 120, what="AUTO RTL landing and disarming")
         c.fresh_heartbeat()
     disarmed_ms = next(t for t, _, armed in beats.modes if not armed)
-    trace.fact("modes_while_armed", sorted({m for t, m, armed in beats.modes if t >= acked and armed}))
+    trace.fact("modes_while_armed", sorted({m for t, m, armed in beats.modes if t >= acked + 1000 and armed}))
     trace.fact("mode_after_disarm", beats.modes[-1][1])
     flown = [(n, e) for t, n, e, _, _ in track.points if t <= (disarmed_ms - track.t0_ms) / 1000.0]
     trace.fact("nearest_third_waypoint_m", nearest_m(flown, *LANDING_ROUTE[2][:2]), NEAR_TOL)
@@ -300,7 +310,8 @@ def auto_rtl(c: Client, trace: Trace, how: str) -> None:
 
 
 def run(target) -> dict[str, Trace]:
-    traces = {"SMART_RTL": Trace(), "CIRCLE": Trace(), "AUTO_RTL": Trace(), "DO_LAND_START": Trace()}
+    traces = {"SMART_RTL": Trace(), "CIRCLE": Trace(), "AUTO_RTL": Trace(), "DO_LAND_START": Trace(),
+              "AUTO_RTL_RETURN_PATH": Trace()}
     c = target.boot()
     try:
         c.conn.mav.command_long_send(1, 1, mav.MAV_CMD_REQUEST_MESSAGE, 0, 242, 0, 0, 0, 0, 0, 0)
@@ -309,6 +320,7 @@ def run(target) -> dict[str, Trace]:
         circle(c, traces["CIRCLE"])
         auto_rtl(c, traces["AUTO_RTL"], "mode")
         auto_rtl(c, traces["DO_LAND_START"], "command")
+        auto_rtl(c, traces["AUTO_RTL_RETURN_PATH"], "mode", return_path_mission)
     finally:
         target.close()
     return traces
