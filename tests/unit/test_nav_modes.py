@@ -143,6 +143,20 @@ def test_circle_orbits_a_centre_ahead_at_its_radius_nose_in():
     assert abs(altitude(v) - 10.0) < 0.3
 
 
+def test_circle_pilot_sticks_shrink_the_radius_and_slow_the_rate():
+    v = hovering_vehicle(10.0)
+    v.set_mode(M.CIRCLE)
+    mode = v.mode
+    assert isinstance(mode, Circle)
+    v.run_until(v.time_s + 3.0)
+    end = v.time_s + 1.0
+    while v.time_s < end:  # pitch forward (radius in at WPNAV_SPEED), roll left (rate down 1 deg/s/s)
+        v.pilot_input.update(-1.0, 1.0, 0.0, 0.5, v.time_s)
+        v.run_until(v.time_s + 0.1)
+    assert 0.0 <= mode.radius_m < 1.0
+    assert 18.0 < mode.rate_deg_s < 19.5
+
+
 def test_circle_on_the_ground_stays_put():
     v = ready_vehicle()
     v.set_mode(M.GUIDED)
