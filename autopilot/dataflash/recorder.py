@@ -116,7 +116,8 @@ class Recorder:
         if severity <= Severity.CRITICAL and text.startswith("Arm: "):  # a refused ARM (AP_Arming)
             self._arm_failure_s = self.v.time_s
         if text.startswith("Mode change to ") and " failed" in text:
-            mode = MODE_BY_NAME.get(text[len("Mode change to "):text.index(" failed")])
+            name = text[len("Mode change to "):text.index(" failed")]  # ArduCopter's name ("SMARTRTL")
+            mode = next((cls for cls in MODE_BY_NAME.values() if cls.text_name == name), None)
             if mode is not None:
                 self._queue(FORMATS["ERR"].pack(t_us, ERR_FLIGHT_MODE, int(mode.number)))
 
