@@ -382,15 +382,38 @@ class Vehicle:
         yaw = None if yaw is None else wrap_pi(yaw)
         return Result.ACCEPTED if self.mode.set_velocity(self.ctx, vn, ve, vd, yaw) else Result.DENIED
 
-    def set_yaw(self, angle_deg: float, relative: bool, direction: int) -> Result:
-        """CONDITION_YAW: absolute heading, or relative (direction -1 ccw, 1 cw)."""
+    def guided_target(self, pos: Vector3 | None, vel: Vector3 | None, accel: Vector3 | None,
+                      yaw: float | None = None, yaw_rate: float | None = None, yaw_relative: bool = False) -> Result:
+        """A GUIDED target of any kind (Mode.set_target); DENIED where no mode takes it."""
+        yaw = None if yaw is None or yaw_relative else wrap_pi(yaw)
+        ok = self.mode.set_target(self.ctx, pos, vel, accel, yaw, yaw_rate, yaw_relative)
+        return Result.ACCEPTED if ok else Result.DENIED
+
+    def guided_attitude(self, attitude: Vector3 | None, rates: Vector3, climb_or_thrust: float,
+                        use_thrust: bool) -> Result:
+        ok = self.mode.set_attitude(self.ctx, attitude, rates, climb_or_thrust, use_thrust)
+        return Result.ACCEPTED if ok else Result.DENIED
+
+    def guided_stop(self) -> None:
+        """A GUIDED target ArduCopter finds invalid makes it stop (Mode.stop)."""
+        self.mode.stop(self.ctx)
+
+    def pause(self, paused: bool) -> Result:
+        """DO_PAUSE_CONTINUE: FAILED where the mode cannot stop or go on."""
+        return Result.ACCEPTED if self.mode.pause(self.ctx, paused) else Result.FAILED
+
+    def set_vertical_speed(self, up_m_s: float | None, dn_m_s: float | None) -> Result:
+        """DO_CHANGE_SPEED's climb or descent speed: FAILED where the mode flies none."""
+        return Result.ACCEPTED if self.mode.set_vertical_speed(self.ctx, up_m_s, dn_m_s) else Result.FAILED
+
+    def set_yaw(self, angle_deg: float, relative: bool, direction: int, rate_deg_s: float = 0.0) -> Result:
+        """CONDITION_YAW: to a heading, or by an angle (relative); direction -1 counter-clockwise,
+        1 clockwise, 0 the shorter way; at rate_deg_s (not above 0: the default slew)."""
         if not -360.0 <= angle_deg <= 360.0:
             return Result.FAILED
-        target = math.radians(angle_deg)
-        if relative:
-            target = self.attitude[2] + (-target if direction < 0 else target)
+        rate = math.radians(rate_deg_s) if rate_deg_s > 0 else 0.0  # NaN: the default too
         # ArduCopter accepts it in every mode; only modes that steer the heading act on it.
-        self.mode.set_heading(self.ctx, wrap_pi(target))
+        self.mode.turn(self.ctx, math.radians(angle_deg), rate, direction, relative)
         return Result.ACCEPTED
 
     def set_home(self, ned: Vector3 | None) -> Result:

@@ -34,6 +34,7 @@ class ModeContext:
         auto_armed    AUTO may start its mission from the ground
         origin_alt_m  altitude of the local frame's origin above sea level
         ned_of(lat, lon, alt_amsl) -> (n, e, d) in the local frame
+        hover_thrust_share the airframe's weight over its full thrust
     Actions:
         notify(text, severity)   a STATUSTEXT
         disarm(reason)           a Result: FAILED while flying
@@ -43,7 +44,8 @@ class ModeContext:
         set_home(ned or None)    as DO_SET_HOME (None = here)
     """
     __slots__ = ("_v", "_estimate", "_arming", "_land", "_sim", "params", "mission_progress", "notify", "disarm",
-                 "set_speed", "set_home", "ned_of")
+                 "set_speed", "set_home", "ned_of",
+                 "hover_thrust_share")
     params: ParamStore
     mission_progress: MissionProgress
     notify: Notify
@@ -65,6 +67,8 @@ class ModeContext:
         self.set_speed = vehicle.set_speed
         self.set_home = vehicle.set_home
         self.ned_of = vehicle.ned_of
+        airframe = vehicle.sim.airframe
+        self.hover_thrust_share = airframe.weight_n / (4.0 * airframe.max_rotor_thrust_n)
 
     # Read-through properties as C-level attribute getters: modes read them at 100 Hz per vehicle.
     body: ReadThrough[BodyState] = property(attrgetter("_estimate.body"))

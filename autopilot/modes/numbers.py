@@ -14,3 +14,4 @@ class ModeNumber(IntEnum):
     LAND = 9
     POSHOLD = 16
     BRAKE = 17
+    GUIDED_NOGPS = 20

@@ -98,7 +98,7 @@ def test_mode_numbers_are_arducopters():
     from firefly.autopilot.modes import MODE_BY_NAME
     assert {name: cls.number for name, cls in MODE_BY_NAME.items()} == {
         "STABILIZE": 0, "ALT_HOLD": 2, "AUTO": 3, "GUIDED": 4, "LOITER": 5, "RTL": 6,
-        "LAND": 9, "POSHOLD": 16, "BRAKE": 17}
+        "LAND": 9, "POSHOLD": 16, "BRAKE": 17, "GUIDED_NOGPS": 20}
 
 
 # ----- flying -----------------------------------------------------------------------------------
