@@ -36,7 +36,7 @@ from .rates import LoopRates
 from .results import Result, Severity
 from .safety.arming import Arming, arm_refusals, prearm_failure
 from .safety.failsafe import Failsafes
-from .safety.internal_error import InternalErrors
+from .safety.internal_error import CONSTRAINING_NAN, InternalErrors
 from .safety.land_detector import AutoDisarm, LandDetector
 from .safety.thrust_loss import ThrustLossCheck
 from .views import ReadThrough, Vector3
@@ -571,6 +571,12 @@ class Vehicle:
             except Exception as again:  # noqa: BLE001
                 self.internal_errors.record(again, "LAND entry")
         self._descend_level()
+
+    def constraining_nan(self) -> None:
+        """A NaN from a client reached a limit (ArduPilot's constrain of a NaN: its internal
+        error constraining_nan, announced, refusing arming from then on); the vehicle flies on."""
+        if self.internal_errors.flag(CONSTRAINING_NAN):
+            self.notify(self.internal_errors.announcement(), Severity.CRITICAL)
 
     def _descend_level(self) -> None:
         """The last resort when LAND itself raised: level, straight down at LAND_SPEED."""

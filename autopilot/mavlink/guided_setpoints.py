@@ -60,8 +60,12 @@ def _used(mask: int, bits: int) -> bool:
 def _send(v, mask: int, pos, vel, accel, yaw_relative: bool, msg) -> bool:
     yaw = msg.yaw if _used(mask, YAW_IGNORE) else None
     yaw_rate = msg.yaw_rate if _used(mask, YAW_RATE_IGNORE) else None
-    if yaw is not None and not math.isfinite(yaw) or yaw_rate is not None and not math.isfinite(yaw_rate):
-        raise Invalid  # Firefly's: a heading that is no number would be flown as none
+    if yaw is not None and math.isnan(yaw) or yaw_rate is not None and math.isnan(yaw_rate):
+        # ArduCopter flies the target and constrains the NaN heading (measured: internal error
+        # 0x400, the position flown); Firefly holds the heading there.
+        v.constraining_nan()
+        yaw = yaw if yaw is not None and not math.isnan(yaw) else None
+        yaw_rate = yaw_rate if yaw_rate is not None and not math.isnan(yaw_rate) else None
     if pos is None and vel is None and accel is None:
         raise Invalid  # nothing to fly (a position with only an acceleration is not a combination)
     if pos is not None and vel is None and accel is not None:
@@ -88,7 +92,7 @@ def _local(v, msg) -> bool:
     if _used(mask, POS_IGNORE):
         x, y, z = msg.x, msg.y, msg.z
         if not all(math.isfinite(c) for c in (x, y, z)):
-            raise Invalid  # Firefly's: ArduCopter flies a position that is no number into the ground
+            raise Invalid  # measured: ArduCopter stops (slows down where it was going and holds)
         if body:
             x, y = _rotate_body(v, x, y)
         if frame == mav.MAV_FRAME_LOCAL_NED:  # from the EKF origin
@@ -137,7 +141,10 @@ def _climb_or_thrust(v, thrust: float, use_thrust: bool) -> float:
     hover, above it a climb up to WPNAV_SPEED_UP and below a descent up to WPNAV_SPEED_DN [m/s].
     NaN is the middle of the range (ArduPilot's constrain)."""
     low = -1.0 if use_thrust else 0.0
-    thrust = (low + 1.0) / 2.0 if math.isnan(thrust) else max(low, min(1.0, thrust))
+    if math.isnan(thrust):
+        v.constraining_nan()
+        thrust = (low + 1.0) / 2.0
+    thrust = max(low, min(1.0, thrust))
     if use_thrust:
         return thrust
     params = v.params

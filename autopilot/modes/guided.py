@@ -15,6 +15,7 @@ from .auto_yaw import AutoYaw
 from .base import Mode, Setpoint, stopping_point
 from .context import ModeContext
 from .guided_angle import AttitudeTarget, guided_timeout_s
+from .guided_stop import JerkLimitedStop
 from .guided_yaw import SLEW_YAW_DEFAULT_CDEG_S, TURNING, GuidedYaw
 from .numbers import ModeNumber
 
@@ -46,6 +47,7 @@ class Guided(Mode):
     auto_yaw: AutoYaw  # the heading when no target sets one (WP_YAW_BEHAVIOR)
     has_waypoint: bool  # a position target was given (ArduCopter's WP/Pos sub-modes, its get_wp)
     paused_d: float | None  # DO_PAUSE_CONTINUE: the height it stopped at, until resumed
+    stopping: JerkLimitedStop | None  # slowing to a stop: paused, or a velocity stream that stopped
     speed_up: float | None  # DO_CHANGE_SPEED's climb and descent speeds [m/s] (None: WPNAV_SPEED_UP/DN)
     speed_dn: float | None
 
@@ -57,8 +59,16 @@ class Guided(Mode):
         self.hold(ctx)
         self.takeoff_d = None
         self.paused_d = None
-        self.speed_up = self.speed_dn = None
+        self._default_speeds(ctx)
         return None
+
+    def _default_speeds(self, ctx: ModeContext) -> None:
+        """A new kind of target starts ArduCopter's controller afresh, at WPNAV_SPEED(_UP/_DN):
+        what DO_CHANGE_SPEED set is forgotten."""
+        self.speed_up = self.speed_dn = None
+        default = ctx.params["WPNAV_SPEED"] / 100.0
+        if ctx.nav_speed_m_s != default:
+            ctx.set_speed(default)
 
     def hold(self, ctx: ModeContext) -> None:
         """Stop: hold the point the vehicle comes to rest at (ArduCopter's init: zero velocity)."""
@@ -68,6 +78,7 @@ class Guided(Mode):
         self.updated_s = ctx.time_s
         self.auto_yaw = AutoYaw()  # the heading is held until the vehicle moves
         self.has_waypoint = False
+        self.stopping = None
         self.yaw = GuidedYaw()
 
     def stop(self, ctx: ModeContext) -> bool:
@@ -98,6 +109,8 @@ class Guided(Mode):
         """A SET_POSITION_TARGET's parts (local NED; None = ignored), as ArduCopter takes them:
         position [+ velocity [+ acceleration]], velocity [+ acceleration], or acceleration."""
         self.takeoff_d = None
+        self.stopping = None
+        before = self.submode
         if pos is not None:
             self.submode = POS if vel is None else POS_VEL_ACCEL
             self.target_ne, self.target_d = (pos[0], pos[1]), pos[2]
@@ -115,6 +128,8 @@ class Guided(Mode):
             self.target_vel = vel or ZERO3
         self.target_accel = accel or ZERO3
         self.updated_s = ctx.time_s
+        if self.submode != before:
+            self._default_speeds(ctx)
         self._set_yaw(ctx, yaw, yaw_rate, yaw_relative)
         return True
 
@@ -154,11 +169,13 @@ class Guided(Mode):
         return True
 
     def pause(self, ctx: ModeContext, paused: bool) -> bool:
-        """Stop (zero velocity, as ArduCopter's pause) and hold; the target stays for the resume."""
+        """Slow to a stop and hold (ArduCopter's pause); the target stays for the resume."""
         if not paused:
             self.paused_d = None
+            self.stopping = None
         elif self.paused_d is None:
             self.paused_d = ctx.body.d_m
+            self.stopping = JerkLimitedStop(ctx)
         return True
 
     def set_vertical_speed(self, ctx: ModeContext, up_m_s: float | None, dn_m_s: float | None) -> bool:
@@ -184,7 +201,8 @@ class Guided(Mode):
             # ArduCopter's guided controllers do nothing on the ground: only a takeoff leaves it.
             self.target_d = sp.pos_d = ctx.body.d_m
             return
-        if self.paused_d is not None:
+        if self.paused_d is not None and self.stopping is not None:
+            self.stopping.fly(ctx, sp, dt)
             sp.pos_d = self.paused_d
             sp.yaw = ctx.attitude[2] if self.yaw.kind == "default" else self.yaw.angle
             return
@@ -207,12 +225,13 @@ class Guided(Mode):
         """The target stream stopped: ArduCopter stops a rate turn, zeroes a velocity and an
         acceleration (a position holds)."""
         self.yaw.stop_turning(ctx.attitude[2])
-        if self.submode == POS_VEL_ACCEL:
+        if self.submode == POS_VEL_ACCEL:  # the position holds
             self.target_vel = self.target_accel = ZERO3
-        elif self.submode != POS:
-            keep = self.yaw
-            self.hold(ctx)
-            self.yaw = keep
+        elif self.submode != POS:  # a velocity of zero: it slows down where it is going
+            self.submode = VEL_ACCEL
+            self.target_vel = self.target_accel = ZERO3
+            self.stopping = JerkLimitedStop(ctx)
+        self.updated_s = ctx.time_s
 
     def _fly_position(self, ctx: ModeContext, sp: Setpoint) -> None:
         sp.pos_ne, sp.pos_d = self.target_ne, self.target_d
@@ -244,6 +263,10 @@ class Guided(Mode):
         sp.speed_xy = math.inf
 
     def _fly_vel_accel(self, ctx: ModeContext, sp: Setpoint, dt: float) -> None:
+        if self.stopping is not None:
+            self.stopping.fly(ctx, sp, dt)
+            sp.speed_xy = math.inf
+            return
         vn, ve, vd = self.target_vel
         an, ae, ad = self.target_accel
         if an or ae or ad:
