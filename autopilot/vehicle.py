@@ -352,6 +352,10 @@ class Vehicle:
         self.cascade.reset_position()
         return Result.ACCEPTED
 
+    def restart_position_control(self) -> None:
+        """Bumpless hand-over to the position loop inside a mode (GUIDED from an attitude target)."""
+        self.cascade.reset_position()
+
     def _needs_met(self, mode: Mode) -> bool:
         """Whether the vehicle has what `mode` declares it needs to fly (Mode.requires_home)."""
         return self.home_ned is not None or not mode.requires_home

@@ -19,6 +19,7 @@ from ..results import Severity
 from ..views import Vector3
 from .base import Mode, Setpoint
 from .context import ModeContext
+from .guided_stop import JERK_DEFAULT_M_S3, JerkLimitedStop
 from .land import Rtl, descend_and_disarm
 from .numbers import ModeNumber
 from .waypoint_legs import NAV_BY_LEGS, WaypointLegs, flies_through, next_nav_index
@@ -55,6 +56,7 @@ class Auto(Mode):
     _land_d: float
     _seen: tuple[int, int | None, tuple[tuple[int, MissionItem], ...]]
     _paused_d: float | None = None  # DO_PAUSE_CONTINUE stopped a waypoint leg at this height
+    _stopping: JerkLimitedStop | None = None  # ... slowing down as it does
 
     def __init__(self) -> None:
         # Until enter() (which may wait for home): no item flown, no destination.
@@ -91,7 +93,9 @@ class Auto(Mode):
         """As ArduCopter's: only a waypoint leg not yet at its point stops (where the vehicle can);
         going on flies the rest of the leg from there."""
         if not paused:
-            self._paused_d = None
+            if self._paused_d is not None:
+                self._paused_d = None
+                self._legs.resume_jerk = ctx.params.get("PSC_JERK_XY", JERK_DEFAULT_M_S3)
             return True
         if self._paused_d is not None:
             return True
@@ -99,6 +103,7 @@ class Auto(Mode):
                 or self._legs.nav is None):
             return False
         self._paused_d = ctx.body.d_m
+        self._stopping = JerkLimitedStop(ctx)
         self._legs.end()
         return True
 
@@ -212,7 +217,8 @@ class Auto(Mode):
             sp.pos_ne, sp.pos_d = (n, e), d
             self._nav_done = ctx.body.d_m <= d + 0.5
             return
-        if self._paused_d is not None:
+        if self._paused_d is not None and self._stopping is not None:
+            self._stopping.fly(ctx, sp, dt)
             sp.pos_d = self._paused_d
             return
         if self._legs.nav is None:  # the leg ended (a hold on the ground, a pause): fly it from here

@@ -42,10 +42,12 @@ class ModeContext:
                                  runner and drives it (start_or_resume, update, stop)
         set_speed(m_s)           as DO_CHANGE_SPEED
         set_home(ned or None)    as DO_SET_HOME (None = here)
+        restart_position_control() the position loop starts from the present velocity (a mode
+                                 that flew attitudes hands back to it, as on a mode change)
     """
     __slots__ = ("_v", "_estimate", "_arming", "_land", "_sim", "params", "mission_progress", "notify", "disarm",
                  "set_speed", "set_home", "ned_of",
-                 "hover_thrust_share")
+                 "hover_thrust_share", "restart_position_control")
     params: ParamStore
     mission_progress: MissionProgress
     notify: Notify
@@ -53,6 +55,7 @@ class ModeContext:
     set_speed: Callable[[float], Result]
     set_home: Callable[[Vector3 | None], Result]
     ned_of: Callable[[float, float, float], Vector3]
+    restart_position_control: Callable[[], None]
 
     def __init__(self, vehicle: ModeHost):
         self._v = vehicle
@@ -67,6 +70,7 @@ class ModeContext:
         self.set_speed = vehicle.set_speed
         self.set_home = vehicle.set_home
         self.ned_of = vehicle.ned_of
+        self.restart_position_control = vehicle.restart_position_control
         airframe = vehicle.sim.airframe
         self.hover_thrust_share = airframe.weight_n / (4.0 * airframe.max_rotor_thrust_n)
 

@@ -72,6 +72,8 @@ class Guided(Mode):
 
     def hold(self, ctx: ModeContext) -> None:
         """Stop: hold the point the vehicle comes to rest at (ArduCopter's init: zero velocity)."""
+        if getattr(self, "submode", POS) == ANGLE:
+            ctx.restart_position_control()
         self.submode = POS
         self.target_ne, self.target_d = stopping_point(ctx)
         self.target_vel = self.target_accel = ZERO3
@@ -128,8 +130,11 @@ class Guided(Mode):
             self.target_vel = vel or ZERO3
         self.target_accel = accel or ZERO3
         self.updated_s = ctx.time_s
-        if self.submode != before:
+        if self.submode != before:  # ArduCopter's controller starts afresh: speeds, the heading held
             self._default_speeds(ctx)
+            self.auto_yaw = AutoYaw()
+            if before == ANGLE:
+                ctx.restart_position_control()
         self._set_yaw(ctx, yaw, yaw_rate, yaw_relative)
         return True
 
@@ -227,10 +232,12 @@ class Guided(Mode):
         self.yaw.stop_turning(ctx.attitude[2])
         if self.submode == POS_VEL_ACCEL:  # the position holds
             self.target_vel = self.target_accel = ZERO3
-        elif self.submode != POS:  # a velocity of zero: it slows down where it is going
+        elif self.submode != POS:  # a velocity of zero: it slows down from the one it was flying
+            vn, ve, _ = self.target_vel
+            if self.stopping is None and (vn or ve):
+                self.stopping = JerkLimitedStop(ctx, (vn, ve))
             self.submode = VEL_ACCEL
             self.target_vel = self.target_accel = ZERO3
-            self.stopping = JerkLimitedStop(ctx)
         self.updated_s = ctx.time_s
 
     def _fly_position(self, ctx: ModeContext, sp: Setpoint) -> None:

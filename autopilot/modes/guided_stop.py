@@ -18,13 +18,18 @@ JERK_DEFAULT_M_S3 = 5.0  # PSC_JERK_XY's default
 # from half the lean's acceleration, a pause at 6.5 m/s gains 0.6 m/s before slowing, as
 # ArduCopter's does (measured: 0.62-0.87 m/s; from the full lean 1.4 m/s).
 TRAJECTORY_SHARE_OF_LEAN = 0.5
+STILL_M_S, STILL_M_S2 = 0.02, 0.05  # below both the stop is over
 
 
 class JerkLimitedStop:
     __slots__ = ("vel", "accel")
 
-    def __init__(self, ctx: ModeContext) -> None:
-        """From the vehicle's velocity and (a share of) the acceleration its lean gives."""
+    def __init__(self, ctx: ModeContext, steady_vel: tuple[float, float] | None = None) -> None:
+        """From a velocity flown steadily (a velocity target), or else from the vehicle's velocity
+        and (a share of) the acceleration its lean gives."""
+        if steady_vel is not None:
+            self.vel, self.accel = steady_vel, (0.0, 0.0)
+            return
         b = ctx.body
         roll, pitch, yaw = ctx.attitude
         g = GRAVITY_M_S2 * TRAJECTORY_SHARE_OF_LEAN
@@ -53,7 +58,8 @@ class JerkLimitedStop:
             dn, de = dn * step / change, de * step / change
         an, ae = an + dn, ae + de
         vn, ve = vn + an * dt, ve + ae * dt
-        if vn * self.vel[0] + ve * self.vel[1] <= 0.0:  # through zero: still
-            vn = ve = an = ae = 0.0
+        if vn * self.vel[0] + ve * self.vel[1] <= 0.0 or (vn * vn + ve * ve < STILL_M_S ** 2
+                                                          and an * an + ae * ae < STILL_M_S2 ** 2):
+            vn = ve = an = ae = 0.0  # through zero, or the shaper's last creep: still
         self.vel, self.accel = (vn, ve), (an, ae)
         sp.vel_ne, sp.accel_ne = self.vel, self.accel

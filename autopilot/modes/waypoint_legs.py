@@ -51,6 +51,9 @@ class WaypointLegs:
         self.nav: WaypointNav | None = None
         self.auto_yaw = AutoYaw()  # kept from leg to leg, as ArduCopter's heading is
         self.vertical_speeds: tuple[float | None, float | None] = (None, None)  # DO_CHANGE_SPEED's up, down
+        # The next leg's jerk, once, when it resumes a paused one: ArduCopter takes its track up
+        # again at its position controller's jerk (PSC_JERK_XY), not as a new leg (WPNAV_JERK).
+        self.resume_jerk: float | None = None
 
     @property
     def destination(self) -> Vector3 | None:
@@ -71,6 +74,9 @@ class WaypointLegs:
             limits.speed_up = up
         if down is not None:
             limits.speed_down = down
+        if self.resume_jerk is not None:
+            limits.jerk, self.resume_jerk = self.resume_jerk, None
+            limits.clock_tc = max(limits.accel_xy / limits.jerk, 0.01)
         if self.nav is None:
             b = ctx.body
             self.nav = WaypointNav(limits, (b.n_m, b.e_m, b.d_m), (b.vn_m_s, b.ve_m_s, b.vd_m_s))

@@ -9,6 +9,7 @@
   a second simple_goto, velocity setpoints at DroneKit's 1 Hz; the distance flown; the guided
   waypoint's answers when refused.
 * pause_continue: DO_PAUSE_CONTINUE during a GUIDED goto, and in LOITER.
+* auto_pause: DO_PAUSE_CONTINUE on an AUTO waypoint leg, and at the mission's end.
 * condition_yaw: CONDITION_YAW at a rate, relative counter-clockwise, and the long way round.
 * climb_speed: DO_CHANGE_SPEED's climb and descent speeds on a GUIDED height change.
 * nogps: GUIDED_NOGPS from the ground: a climb by SET_ATTITUDE_TARGET's thrust (as a climb
@@ -22,7 +23,8 @@ import math
 from ..client import Client, mav
 from ..facts import Tol, Trace
 from .flight import ne
-from .states import GUIDED, LOITER, on_ground_disarmed, reach_armed_on_ground, reach_flying
+from .missions import upload
+from .states import AUTO, GUIDED, LOITER, on_ground_disarmed, reach_armed_on_ground, reach_flying
 from .texts import said
 
 AREA = "guided"
@@ -100,14 +102,16 @@ def timed(client: Client, track: Track, condition, sim_s: float, what: str) -> f
 
 
 # ----- what the client sends -----------------------------------------------------------------
-def stream(client: Client, send, sim_s: float, hz: float = 10.0, until=None) -> float:
-    """Call send() every 1/hz of vehicle time for sim_s (or until until()); the time it took."""
-    start = client.now_ms
+def stream(client: Client, send, sim_s: float, hz: float = 10.0, until=None) -> int:
+    """Call send() every 1/hz of vehicle time for sim_s (or until until()); the vehicle time of
+    the last send [ms]."""
+    start = last = client.now_ms
     while client.now_ms - start < sim_s * 1000 and not (until and until()):
         send()
+        last = client.now_ms
         due = client.now_ms + 1000.0 / hz
         client.wait(lambda: client.now_ms >= due or bool(until and until()), 5, what="vehicle time")
-    return (client.now_ms - start) / 1000.0
+    return last
 
 
 def local_target(client: Client, mask: int, frame=mav.MAV_FRAME_LOCAL_NED, pos=(0, 0, 0), vel=(0, 0, 0),
@@ -145,10 +149,12 @@ def guided_waypoint(client: Client, north_m: float, east_m: float, alt_m: float,
 
 
 def stop_here(client: Client) -> None:
-    """Hold where it is, at 10 m: a position target at the present point, until still."""
+    """Hold where it is, at 10 m, at its heading: a position target at the present point (the
+    heading given, so that coming back from an overshoot does not turn it), until still."""
     p = client.last["GLOBAL_POSITION_INT"]
     client.conn.mav.set_position_target_global_int_send(
-        0, 1, 1, mav.MAV_FRAME_GLOBAL_RELATIVE_ALT_INT, 0xDF8, p.lat, p.lon, 10.0, 0, 0, 0, 0, 0, 0, 0, 0)
+        0, 1, 1, mav.MAV_FRAME_GLOBAL_RELATIVE_ALT_INT, 0x9F8, p.lat, p.lon, 10.0, 0, 0, 0, 0, 0, 0,
+        client.last["ATTITUDE"].yaw, 0)
     client.wait(lambda: speed(client) < 0.2 and abs(client.rel_alt_m() - 10.0) < 0.5, 30, what="a hold")
 
 
@@ -158,6 +164,26 @@ def hovering(client: Client) -> Trace:
     reach_flying(client)
     stop_here(client)
     return Trace()
+
+
+def peak(track: Track, t0: float, t1: float, value) -> float:
+    """The largest value(sample) between two vehicle times [ms]: a figure a client that stalls
+    for a moment (its stream then pausing, up to GUID_TIMEOUT) does not change."""
+    return max(value(s) for s in track.samples if t0 <= s[0] <= t1)
+
+
+def peak_rate(track: Track, t0: float, t1: float, index: int, window_ms: float = 1000.0,
+              wrap: bool = False) -> float:
+    """The fastest change of sample[index] over any window_ms between t0 and t1, per second."""
+    samples = [s for s in track.samples if t0 <= s[0] <= t1]
+    best = 0.0
+    for i, a in enumerate(samples):
+        b = next((s for s in samples[i:] if s[0] - a[0] >= window_ms), None)
+        if b is None:
+            break
+        change = angle_between(a[index], b[index]) if wrap else b[index] - a[index]
+        best = max(best, abs(change) / ((b[0] - a[0]) / 1000.0))
+    return best
 
 
 def path_m(track: Track, t0: float, t1: float) -> float:
@@ -193,24 +219,21 @@ def offboard_flying(client: Client, track: Track) -> Trace:
     stop_here(client)
     start = client.now_ms
     stream(client, lambda: local_target(client, MAVSDK_VELOCITY_NED, vel=(0.0, 2.0, 0.0), yaw=math.pi / 2), 4.0)
-    a, b = track.at(start + 1500), track.at(start + 3500)
-    t.fact("velocity_ned_east_speed", b[4], RATE)
-    t.fact("velocity_ned_east_m_in_2s", b[2] - a[2], HOLD)
-    t.fact("velocity_ned_heading_deg", round(b[5]), HEADING)
+    t.fact("velocity_ned_east_speed", peak(track, start, client.now_ms, lambda s: s[4]), RATE)
+    t.fact("velocity_ned_heading_deg", round(heading_deg(client)), HEADING)
     stop_here(client)
     start = client.now_ms
     stream(client, lambda: local_target(client, MAVSDK_VELOCITY_BODY, frame=mav.MAV_FRAME_BODY_NED,
                                         vel=(2.0, 0.0, 0.0), yaw_rate=math.radians(30)), 4.0)
-    a, b = track.at(start + 1000), track.at(start + 3500)
-    t.fact("velocity_body_turned_deg_in_2_5s", angle_between(a[5], b[5]), HEADING)
-    t.fact("velocity_body_moved_m_in_2_5s", path_m(track, a[0], b[0]), DIST)
+    t.fact("velocity_body_turn_deg_s", peak_rate(track, start, client.now_ms, 5, wrap=True),
+           Tol(abs=3.0, why="30 deg/s asked: both turn at it"))
+    t.fact("velocity_body_speed", peak(track, start, client.now_ms, lambda s: s[4]), RATE)
     stop_here(client)
-    start = client.now_ms
+    start, alt0 = client.now_ms, client.rel_alt_m()
     stream(client, lambda: attitude_target(client, -10.0, 0.5), 2.0)
-    a, b = track.at(start), track.at(start + 1800)
-    t.fact("attitude_pitch_deg", b[6], ANGLE)
-    t.fact("attitude_moved_m_in_1_8s", path_m(track, a[0], b[0]), DIST)
-    t.fact("attitude_climbed_m", b[3] - a[3], HOLD)
+    t.fact("attitude_pitch_deg", track.at(start + 1800)[6], ANGLE)
+    t.fact("attitude_speed_after_1_8s", track.at(start + 1800)[4], RATE)
+    t.fact("attitude_climbed_m", client.rel_alt_m() - alt0, HOLD)
     client.idle(5.0)  # GUID_TIMEOUT (3 s): level again
     t.fact("attitude_level_after_timeout", abs(pitch_deg(client)) < 2.0)
     t.fact("mode_after", client.mode)
@@ -220,13 +243,12 @@ def offboard_flying(client: Client, track: Track) -> Trace:
 def velocity_step_stop(client: Client, track: Track) -> Trace:
     t = hovering(client)
     start = client.now_ms
-    stream(client, lambda: local_target(client, MAVSDK_VELOCITY_NED, vel=(5.0, 0.0, 0.0)), 6.0)
+    last_sent = stream(client, lambda: local_target(client, MAVSDK_VELOCITY_NED, vel=(5.0, 0.0, 0.0)), 6.0)
     end = client.now_ms
-    t.fact("speed_in_stream", track.at(start + 5000)[4], RATE)
-    t.fact("flown_in_stream_s1_to_s5_m", path_m(track, start + 1000, start + 5000), DIST)
+    t.fact("speed_in_stream", peak(track, start, end, lambda s: s[4]), RATE)
     client.wait(lambda: speed(client) < 0.3, 20, what="the stop")
-    slows = track.first(lambda s: s[4] < 4.5, end)
-    t.fact("slows_after_s", (slows - end) / 1000.0,
+    slows = track.first(lambda s: s[4] < 4.5, last_sent)
+    t.fact("slows_after_s", (slows - last_sent) / 1000.0,
            Tol(abs=1.0, why="GUID_TIMEOUT (3 s) after the last setpoint, which a busy client sends late"))
     stopped = track.first(lambda s: s[4] < 0.3, slows)
     t.fact("stopped_after_slowing_s", (stopped - slows) / 1000.0, TIME)
@@ -260,11 +282,8 @@ def dronekit(client: Client, track: Track) -> Trace:
     return t
 
 
-def pause_continue(client: Client, track: Track) -> Trace:
-    t = hovering(client)
-    n0, e0 = ne(client)
-    guided_waypoint(client, n0 + 80.0, e0, 10.0, as_int=True)
-    client.wait(lambda: speed(client) > 7.0, 20, what="7 m/s")
+def paused_stop(client: Client, track: Track, t: Trace) -> None:
+    """DO_PAUSE_CONTINUE 0 while flying a leg at speed: the ACK, the stop, the hold after it."""
     t.fact("pause_result", client.command(mav.MAV_CMD_DO_PAUSE_CONTINUE, 0))
     paused = client.now_ms  # the ACK's place among the stamped messages: when the vehicle took it
     client.wait(lambda: speed(client) < 0.3, 20, what="the pause")
@@ -281,9 +300,24 @@ def pause_continue(client: Client, track: Track) -> Trace:
     stopped_at = ne(client)
     client.idle(3.0)
     t.fact("held_m", math.dist(stopped_at, ne(client)), HOLD)
+
+
+def resumed(client: Client, track: Track, t: Trace, north_m: float, within_m: float) -> None:
+    """DO_PAUSE_CONTINUE 1: the ACK, and the average speed over the rest of the leg (where it
+    stopped, hence the time, depends on when the client paused)."""
+    left = north_m - ne(client)[0]
     t.fact("continue_result", client.command(mav.MAV_CMD_DO_PAUSE_CONTINUE, 1))
-    t.fact("arrived_after_continue_s", timed(client, track, lambda s: abs(s[1] - n0 - 80.0) < 1.0, 60,
-                                             "the goto's end"), TIME)
+    took = timed(client, track, lambda s: abs(s[1] - north_m) < within_m, 60, "the leg's end")
+    t.fact("rest_of_leg_m_s", (left - within_m) / took, RATE)
+
+
+def pause_continue(client: Client, track: Track) -> Trace:
+    t = hovering(client)
+    n0, e0 = ne(client)
+    guided_waypoint(client, n0 + 80.0, e0, 10.0, as_int=True)
+    client.wait(lambda: speed(client) > 7.0, 20, what="7 m/s")
+    paused_stop(client, track, t)
+    resumed(client, track, t, n0 + 80.0, 1.0)
     t.fact("bad_param_result", client.command(mav.MAV_CMD_DO_PAUSE_CONTINUE, 2))
     client.set_mode(LOITER)
     client.wait(lambda: client.mode == LOITER, 5, what="LOITER")
@@ -292,6 +326,28 @@ def pause_continue(client: Client, track: Track) -> Trace:
     t.fact("resume_in_loiter_result", client.command(mav.MAV_CMD_DO_PAUSE_CONTINUE, 1))
     client.idle(0.5)
     t.fact("said_in_loiter", said(client.texts_since(mark)))
+    return t
+
+
+def auto_pause(client: Client, track: Track) -> Trace:
+    """DO_PAUSE_CONTINUE in AUTO: on a waypoint leg, and once the mission's last point is reached."""
+    t = hovering(client)
+    n0, e0 = ne(client)
+    h = client.last["HOME_POSITION"]
+    lat = h.latitude + int((n0 + 80.0) / EARTH_M_PER_DEG * 1e7)
+    lon = h.longitude + int(e0 / (EARTH_M_PER_DEG * math.cos(math.radians(h.latitude * 1e-7))) * 1e7)
+    t.fact("upload", upload(client, [(mav.MAV_CMD_NAV_WAYPOINT, mav.MAV_FRAME_GLOBAL_RELATIVE_ALT_INT,
+                                      0, 0, 0, 0, lat, lon, 10.0)]))
+    t.fact("auto_result", client.set_mode(AUTO))
+    client.wait(lambda: speed(client) > 7.0, 30, what="7 m/s")
+    paused_stop(client, track, t)
+    resumed(client, track, t, n0 + 80.0, 1.5)
+    client.idle(3.0)
+    mark = client.now_ms
+    t.fact("pause_at_the_end_result", client.command(mav.MAV_CMD_DO_PAUSE_CONTINUE, 0))
+    client.idle(0.5)
+    t.fact("said_at_the_end", said(client.texts_since(mark)))
+    t.fact("mode_after", client.mode)
     return t
 
 
@@ -353,18 +409,15 @@ def nogps(client: Client, track: Track) -> Trace:
     client.idle(1.0)
     t.fact("on_ground_without_targets", client.rel_alt_m() < 0.3)
     start = client.now_ms
-    stream(client, lambda: attitude_target(client, 0.0, 0.7), 6.0)  # 0.7: a climb at 40 % of WPNAV_SPEED_UP
-    a, b = track.at(start + 2000), track.at(start + 5000)
-    t.fact("climb_on_thrust_0_7_m_s", (b[3] - a[3]) / ((b[0] - a[0]) / 1000.0), RATE)
-    start = client.now_ms
+    stream(client, lambda: attitude_target(client, 0.0, 0.7), 6.0)
+    t.fact("climb_on_thrust_0_7_m_s", peak_rate(track, start + 1000, client.now_ms, 3, 2000.0), RATE)
+    start, alt0 = client.now_ms, client.rel_alt_m()
     stream(client, lambda: attitude_target(client, 0.0, 0.5), 3.0)
-    a, b = track.at(start + 1000), track.at(start + 2500)
-    t.fact("held_on_thrust_0_5_m", b[3] - a[3], HOLD)
+    t.fact("held_on_thrust_0_5_m", client.rel_alt_m() - alt0, HOLD)
     start = client.now_ms
     stream(client, lambda: attitude_target(client, -10.0, 0.5), 3.0)
-    a, b = track.at(start + 500), track.at(start + 2500)
-    t.fact("pitch_step_deg", b[6], ANGLE)
-    t.fact("pitch_step_moved_m_in_2s", path_m(track, a[0], b[0]), DIST)
+    t.fact("pitch_step_deg", track.at(start + 2500)[6], ANGLE)
+    t.fact("pitch_step_speed_after_2_5s", track.at(start + 2500)[4], RATE)
     client.idle(5.0)
     t.fact("level_after_timeout", abs(pitch_deg(client)) < 2.0)
     alt0 = client.rel_alt_m()
@@ -384,6 +437,7 @@ def nogps(client: Client, track: Track) -> Trace:
 
 PROBES = {"offboard_landed": offboard_landed, "offboard_flying": offboard_flying,
           "velocity_step_stop": velocity_step_stop, "dronekit": dronekit, "pause_continue": pause_continue,
+          "auto_pause": auto_pause,
           "condition_yaw": condition_yaw, "climb_speed": climb_speed, "nogps": nogps}
 
 
