@@ -53,6 +53,7 @@ class Guided(Mode):
 
     def __init__(self) -> None:
         self.angle = AttitudeTarget()
+        self.submode = POS
 
     def enter(self, ctx: ModeContext) -> str | None:
         self.yaw = GuidedYaw()
@@ -72,7 +73,7 @@ class Guided(Mode):
 
     def hold(self, ctx: ModeContext) -> None:
         """Stop: hold the point the vehicle comes to rest at (ArduCopter's init: zero velocity)."""
-        if getattr(self, "submode", POS) == ANGLE:
+        if self.submode == ANGLE:
             ctx.restart_position_control()
         self.submode = POS
         self.target_ne, self.target_d = stopping_point(ctx)

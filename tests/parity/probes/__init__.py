@@ -2,9 +2,9 @@
 covers one kind of ArduCopter's surface (surface/score.py), one probe per entry."""
 from . import (commands, flight, ftp, mavsdk_client, missions, modes, params, refusals, startup, surface_commands,
                surface_messages, surface_mission, surface_modes, surface_sim_faults, telemetry)
-from . import guided  # issue 28: GUIDED's interface as user programs drive it
+from . import guided, offboard  # issue 28: GUIDED's interface as user programs drive it
 
 AREAS = {m.AREA: m for m in (commands, modes, telemetry, flight, missions, mavsdk_client, params, ftp, startup,
                              refusals, surface_commands, surface_modes, surface_messages, surface_mission,
                              surface_sim_faults)}
-AREAS[guided.AREA] = guided
+AREAS.update({m.AREA: m for m in (guided, offboard)})

@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import math
 
-from ..client import Client, mav
+from ..client import Client, ProbeTimeout, mav
 from ..facts import Tol, Trace
 from .flight import ne
 from .missions import upload
@@ -202,7 +202,8 @@ def offboard_landed(client: Client, track: Track) -> Trace:
     t.fact("left_ground", max(s[3] for s in track.samples if s[0] >= start) > 0.5)
     t.fact("moved_m", math.dist(start_ne, ne(client)), HOLD)
     t.fact("disarmed", not client.armed)
-    t.fact("disarmed_after_s", (track.first(lambda s: not s[7], start + 1) - start) / 1000.0, LANDED_DISARM)
+    if not client.armed:
+        t.fact("disarmed_after_s", (track.first(lambda s: not s[7], start + 1) - start) / 1000.0, LANDED_DISARM)
     return t
 
 
@@ -451,7 +452,11 @@ def run(target, names: list[str] | None = None) -> dict[str, Trace]:
         with client.listening(track):
             for name, probe in PROBES.items():
                 if names is None or name in names:
-                    traces[name] = probe(client, track)
+                    try:
+                        traces[name] = probe(client, track)
+                    except (ProbeTimeout, StopIteration, ArithmeticError, ValueError) as exc:  # not observed
+                        print(f"guided probe {name} stopped: {exc!r}")
+                        traces[name] = Trace()
     finally:
         client.close()
         target.close()
