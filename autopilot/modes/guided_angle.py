@@ -17,6 +17,9 @@ from .context import ModeContext
 
 MIN_TIMEOUT_S = 0.1  # GUID_TIMEOUT below this is taken as this (ArduCopter's get_timeout_ms)
 MIN_BOOST_COS = 0.1  # the angle boost stops growing past this tilt (ArduCopter's)
+# ArduCopter SITL, GUID_OPTIONS 8, level, from a hover: thrust 0.30/0.40/0.45/0.50 gives
+# -1.3/+0.7/+1.6/+2.3 m/s/s (hover near 0.37): force/weight = (thrust/hover)^0.6 fits them.
+THRUST_CURVE_POWER = 0.6
 
 
 def guided_timeout_s(ctx: ModeContext) -> float:
@@ -25,9 +28,11 @@ def guided_timeout_s(ctx: ModeContext) -> float:
 
 def stick_for_thrust(ctx: ModeContext, thrust: float, roll: float, pitch: float) -> float:
     """ArduCopter's thrust (0..1, hover at MOT_THST_HOVER) as the manual throttle the cascade
-    flies (0.5 = hover, 1 = full thrust), with the angle boost."""
+    flies (0.5 = hover, 1 = full thrust), with the angle boost. The force grows as the thrust's
+    THRUST_CURVE_POWER, as measured on ArduCopter SITL (its thrust linearisation over its motor
+    model): 0.05 above the hover thrust climbs at 0.8 m/s/s, not the 1.3 a linear force would."""
     cos_tilt = max(math.cos(roll) * math.cos(pitch), MIN_BOOST_COS)
-    share_of_weight = max(thrust, 0.0) / ctx.params["MOT_THST_HOVER"] / cos_tilt
+    share_of_weight = (max(thrust, 0.0) / ctx.params["MOT_THST_HOVER"]) ** THRUST_CURVE_POWER / cos_tilt
     if share_of_weight <= 1.0:
         return 0.5 * share_of_weight
     hover = ctx.hover_thrust_share
