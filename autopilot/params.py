@@ -104,6 +104,8 @@ PARAM_TABLE: tuple[ParamSpec, ...] = (
     _f("WPNAV_ACCEL_Z", 100, 50, 500, "vertical acceleration of waypoint legs [cm/s/s]"),
     _f("WPNAV_ACCEL_C", 0, 0, 500, "cornering acceleration [cm/s/s], 0 = 2 x WPNAV_ACCEL"),
     _f("WPNAV_JERK", 1, 1, 20, "jerk limit of waypoint legs [m/s/s/s]"),
+    _f("GUID_TIMEOUT", 3, 0.1, 5, "GUIDED stops when velocity/acceleration/attitude targets stop for [s]"),
+    _i("GUID_OPTIONS", 0, 0, 255, "GUIDED options: bit 3 SET_ATTITUDE_TARGET's thrust is thrust"),
     _f("LOIT_SPEED", 1250, 20, 3500, "loiter max speed [cm/s]"),
     _f("PILOT_SPEED_UP", 250, 50, 500, "pilot climb rate [cm/s]"),
     _f("PILOT_SPEED_DN", 0, 0, 500, "pilot descent rate [cm/s], 0 = PILOT_SPEED_UP"),

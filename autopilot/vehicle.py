@@ -38,7 +38,7 @@ from .rates import LoopRates
 from .results import Result, Severity
 from .safety.arming import Arming, arm_refusals, prearm_failure
 from .safety.failsafe import Failsafes
-from .safety.internal_error import InternalErrors
+from .safety.internal_error import CONSTRAINING_NAN, FLOW_OF_CONTROL, InternalErrors
 from .safety.land_detector import AutoDisarm, LandDetector
 from .safety.thrust_loss import ThrustLossCheck
 from .views import ReadThrough, Vector3
@@ -360,6 +360,10 @@ class Vehicle:
         self.cascade.reset_position()
         return Result.ACCEPTED
 
+    def restart_position_control(self) -> None:
+        """Bumpless hand-over to the position loop inside a mode (GUIDED from an attitude target)."""
+        self.cascade.reset_position()
+
     def _needs_met(self, mode: Mode) -> bool:
         """Whether the vehicle has what `mode` declares it needs to fly (Mode.requires_home)."""
         return self.home_ned is not None or not mode.requires_home
@@ -390,15 +394,38 @@ class Vehicle:
         yaw = None if yaw is None else wrap_pi(yaw)
         return Result.ACCEPTED if self.mode.set_velocity(self.ctx, vn, ve, vd, yaw) else Result.DENIED
 
-    def set_yaw(self, angle_deg: float, relative: bool, direction: int) -> Result:
-        """CONDITION_YAW: absolute heading, or relative (direction -1 ccw, 1 cw)."""
+    def guided_target(self, pos: Vector3 | None, vel: Vector3 | None, accel: Vector3 | None,
+                      yaw: float | None = None, yaw_rate: float | None = None, yaw_relative: bool = False) -> Result:
+        """A GUIDED target of any kind (Mode.set_target); DENIED where no mode takes it."""
+        yaw = None if yaw is None or yaw_relative else wrap_pi(yaw)
+        ok = self.mode.set_target(self.ctx, pos, vel, accel, yaw, yaw_rate, yaw_relative)
+        return Result.ACCEPTED if ok else Result.DENIED
+
+    def guided_attitude(self, attitude: Vector3 | None, rates: Vector3, climb_or_thrust: float,
+                        use_thrust: bool) -> Result:
+        ok = self.mode.set_attitude(self.ctx, attitude, rates, climb_or_thrust, use_thrust)
+        return Result.ACCEPTED if ok else Result.DENIED
+
+    def guided_stop(self) -> None:
+        """A GUIDED target ArduCopter finds invalid makes it stop (Mode.stop)."""
+        self.mode.stop(self.ctx)
+
+    def pause(self, paused: bool) -> Result:
+        """DO_PAUSE_CONTINUE: FAILED where the mode cannot stop or go on."""
+        return Result.ACCEPTED if self.mode.pause(self.ctx, paused) else Result.FAILED
+
+    def set_vertical_speed(self, up_m_s: float | None, dn_m_s: float | None) -> Result:
+        """DO_CHANGE_SPEED's climb or descent speed: FAILED where the mode flies none."""
+        return Result.ACCEPTED if self.mode.set_vertical_speed(self.ctx, up_m_s, dn_m_s) else Result.FAILED
+
+    def set_yaw(self, angle_deg: float, relative: bool, direction: int, rate_deg_s: float = 0.0) -> Result:
+        """CONDITION_YAW: to a heading, or by an angle (relative); direction -1 counter-clockwise,
+        1 clockwise, 0 the shorter way; at rate_deg_s (not above 0: the default slew)."""
         if not -360.0 <= angle_deg <= 360.0:
             return Result.FAILED
-        target = math.radians(angle_deg)
-        if relative:
-            target = self.attitude[2] + (-target if direction < 0 else target)
+        rate = math.radians(rate_deg_s) if rate_deg_s > 0 else 0.0  # NaN: the default too
         # ArduCopter accepts it in every mode; only modes that steer the heading act on it.
-        self.mode.set_heading(self.ctx, wrap_pi(target))
+        self.mode.turn(self.ctx, math.radians(angle_deg), rate, direction, relative)
         return Result.ACCEPTED
 
     def set_home(self, ned: Vector3 | None) -> Result:
@@ -545,7 +572,7 @@ class Vehicle:
     def _climbed_while_landed(self) -> None:
         """ArduCopter's land detector finds the motors lifting a vehicle it thinks is landed while
         no takeoff runs: it records an internal error (and lets the vehicle fly)."""
-        if self.internal_errors.flag("land detector: climbing while landed", LAND_DETECTOR_ERROR_LINE):
+        if self.internal_errors.flag(FLOW_OF_CONTROL, LAND_DETECTOR_ERROR_LINE, "land detector: climbing while landed"):
             self.notify(self.internal_errors.announcement(), Severity.CRITICAL)
 
     def _enter_when_ready(self) -> bool:
@@ -586,6 +613,12 @@ class Vehicle:
             except Exception as again:  # noqa: BLE001
                 self.internal_errors.record(again, "LAND entry")
         self._descend_level()
+
+    def constraining_nan(self) -> None:
+        """A NaN from a client reached a limit (ArduPilot's constrain of a NaN: its internal
+        error constraining_nan, announced, refusing arming from then on); the vehicle flies on."""
+        if self.internal_errors.flag(CONSTRAINING_NAN):
+            self.notify(self.internal_errors.announcement(), Severity.CRITICAL)
 
     def _descend_level(self) -> None:
         """The last resort when LAND itself raised: level, straight down at LAND_SPEED."""

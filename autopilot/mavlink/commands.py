@@ -16,6 +16,7 @@ from ..results import Result, Severity
 from ..safety.arming import FORCE_ARM_MAGIC, FORCE_DISARM_MAGIC, prearm_failures
 from ..vehicle import LOCATION_ALT_MAX_M
 from .dialect import mavlink as mav
+from .mission_checks import as_uint16
 from .preflight import HANDLERS as PREFLIGHT_HANDLERS
 
 RETRY_WINDOW_S = 1.5  # an unconfirmed repeat this close, in wall and in sim time, is a retry
@@ -104,17 +105,33 @@ def do_set_mode(s, c: Command) -> Result:
 
 def do_change_speed(s, c: Command) -> Result:
     """As ArduCopter: a speed that is not positive (NaN included) DENIED, speed type 4 (the
-    enum's end) DENIED; the mode takes it or FAILED. Firefly's modes take a ground speed (types 0
-    and 1, any positive speed, capped); they fly no set climb or descent speed (2, 3: FAILED,
-    where ArduCopter's GUIDED and AUTO take one)."""
+    enum's end) DENIED; types 0 (air, taken as ground) and 1 (ground) the horizontal speed, 2 the
+    climb and 3 the descent speed; the mode takes it or FAILED (any other type too)."""
     if not c.p2 > 0:
         return Result.DENIED
     speed_type = math.floor(c.p1) if math.isfinite(c.p1) else -1
     if speed_type == 4:  # SPEED_TYPE_ENUM_END
         return Result.DENIED
+    if speed_type == 2:
+        return s.vehicle.set_vertical_speed(c.p2, None)
+    if speed_type == 3:
+        return s.vehicle.set_vertical_speed(None, c.p2)
     if not 0 <= speed_type <= 1:
         return Result.FAILED
     return s.vehicle.set_speed(c.p2)
+
+
+def do_pause_continue(s, c: Command) -> Result:
+    """As ArduCopter: param 1 = 0 pauses, 1 goes on (as a byte reads them); the mode does it or
+    says it failed; any other value DENIED."""
+    v = s.vehicle
+    action = as_uint16(c.p1) & 0xFF
+    if action > 1:
+        return Result.DENIED
+    result = v.pause(action == 0)
+    if result != Result.ACCEPTED:
+        v.notify("Failed to pause" if action == 0 else "Failed to resume", Severity.INFO)
+    return result
 
 
 def is_location(s, c: Command) -> bool:
@@ -269,10 +286,12 @@ def get_message_interval(s, c: Command) -> Result:
 
 def condition_yaw(s, c: Command) -> Result:
     """As ArduCopter: an angle of 0-360 degrees, absolute (param 4 = 0) or relative (1), else
-    FAILED; any rate (even NaN) and direction (-1 counter-clockwise, else clockwise)."""
+    FAILED; any rate (not above 0, NaN too: the default slew) and direction (param 3 as a signed
+    byte: below 0 counter-clockwise, 0 the shorter way, above 0 clockwise)."""
     if not (0 <= c.p1 <= 360 and c.p4 in (0, 1)):  # NaN fails too
         return Result.FAILED
-    return s.vehicle.set_yaw(c.p1, relative=c.p4 == 1, direction=-1 if c.p3 < 0 else 1)
+    direction = ((as_uint16(c.p3) & 0xFF) ^ 0x80) - 0x80  # (int8_t)
+    return s.vehicle.set_yaw(c.p1, relative=c.p4 == 1, direction=direction, rate_deg_s=c.p2)
 
 
 def mission_start(s, c: Command) -> Result:
@@ -297,6 +316,7 @@ HANDLERS = {
     mav.MAV_CMD_GET_MESSAGE_INTERVAL: get_message_interval,
     mav.MAV_CMD_CONDITION_YAW: condition_yaw,
     mav.MAV_CMD_MISSION_START: mission_start,
+    mav.MAV_CMD_DO_PAUSE_CONTINUE: do_pause_continue,
     mav.MAV_CMD_NAV_LOITER_UNLIM: loiter_unlimited,
     mav.MAV_CMD_DO_FLIGHTTERMINATION: flight_termination,
     mav.MAV_CMD_RUN_PREARM_CHECKS: run_prearm_checks,

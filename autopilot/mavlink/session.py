@@ -16,7 +16,8 @@ from .commands import Command, CommandService
 from .dialect import mavlink as mav
 from .fast_pack import FastCodec
 from .ftp import FtpServer
-from .guided_setpoints import handle_global_int, handle_local_ned
+from .guided_setpoints import handle_attitude_target, handle_global_int, handle_local_ned
+from .guided_waypoint import guided_request
 from .log_service import LogService
 from .mission_service import MissionService
 from .params_service import ParamService
@@ -72,8 +73,8 @@ class Session:
             "LOG_REQUEST_END": self._on_log_request,
             "MISSION_REQUEST_LIST": lambda m, now: self._out.extend(self.missions.on_request_list(m)),
             "MISSION_COUNT": self._on_mission_count,
-            "MISSION_ITEM_INT": lambda m, now: self._out.extend(self.missions.on_item(m, self.link_s)),
-            "MISSION_ITEM": lambda m, now: self._out.extend(self.missions.on_item(m, self.link_s)),
+            "MISSION_ITEM_INT": self._on_mission_item,
+            "MISSION_ITEM": self._on_mission_item,
             "MISSION_REQUEST_INT": lambda m, now: self._out.extend(self.missions.on_request(m)),
             "MISSION_REQUEST": lambda m, now: self._out.extend(self.missions.on_request(m)),
             "MISSION_CLEAR_ALL": lambda m, now: self._out.extend(self.missions.on_clear_all(m)),
@@ -82,6 +83,7 @@ class Session:
             "RC_CHANNELS_OVERRIDE": self._on_rc_override,
             "SET_POSITION_TARGET_LOCAL_NED": self._on_setpoint_local,
             "SET_POSITION_TARGET_GLOBAL_INT": self._on_setpoint_global,
+            "SET_ATTITUDE_TARGET": lambda m, now: handle_attitude_target(self.vehicle, m),
             "TIMESYNC": self._on_timesync,
             "SETUP_SIGNING": lambda m, now: self.signing.setup(m, self.vehicle.armed),
             # The request older ground stations send before REQUEST_MESSAGE existed.
@@ -240,6 +242,14 @@ class Session:
         throttle = norm(msg.chan3_raw, 2 * p.throttle - 1)
         yaw = norm(msg.chan4_raw, p.yaw)
         p.update(roll, pitch, yaw, (throttle + 1) / 2, now_s)
+
+    def _on_mission_item(self, msg, now_s):
+        result = guided_request(self.vehicle, msg)
+        if result is None:  # an upload's item
+            self._out.extend(self.missions.on_item(msg, self.link_s))
+        else:
+            self._out.append(self.codec.mission_ack_encode(msg.get_srcSystem(), msg.get_srcComponent(), result,
+                                                           mav.MAV_MISSION_TYPE_MISSION))
 
     def _on_setpoint_local(self, msg, now_s):
         if not handle_local_ned(self.vehicle, msg):

@@ -11,6 +11,7 @@ from .flip import Flip
 from .flowhold import FlowHold
 from .follow import Follow
 from .guided import Guided
+from .guided_nogps import GuidedNoGps
 from .land import Land, Rtl
 from .loiter import Brake, Loiter
 from .manual import AltHold, Stabilize
@@ -24,7 +25,7 @@ from .zigzag import ZigZag
 
 MODE_CLASSES = (Stabilize, AltHold, Auto, Guided, Loiter, Rtl, Land, PosHold, Brake,
                 Acro, Drift, Flip, AutoTune, Throw, FlowHold, Follow, SystemId, Turtle,
-                Circle, AvoidAdsb, SmartRtl, ZigZag, AutoRtl)
+                Circle, AvoidAdsb, SmartRtl, ZigZag, AutoRtl, GuidedNoGps)
 MODE_BY_NUMBER: dict[int, type[Mode]] = {cls.number: cls for cls in MODE_CLASSES}
 MODE_BY_NAME: dict[str, type[Mode]] = {cls.name: cls for cls in MODE_CLASSES}
 assert set(MODE_BY_NUMBER) == set(ModeNumber), "every number in the table has its mode class"
@@ -32,4 +33,4 @@ assert set(MODE_BY_NUMBER) == set(ModeNumber), "every number in the table has it
 __all__ = ["ModeNumber", "Mode", "Setpoint", "MODE_CLASSES", "MODE_BY_NUMBER", "MODE_BY_NAME",
            "Stabilize", "AltHold", "Auto", "Guided", "Loiter", "Rtl", "Land", "PosHold", "Brake",
            "Acro", "Drift", "Flip", "AutoTune", "Throw", "FlowHold", "Follow", "SystemId", "Turtle",
-           "Circle", "AvoidAdsb", "SmartRtl", "ZigZag", "AutoRtl"]
+           "Circle", "AvoidAdsb", "SmartRtl", "ZigZag", "AutoRtl", "GuidedNoGps"]

@@ -20,6 +20,7 @@ from ..results import Severity
 from ..views import Vector3
 from .base import Mode, Setpoint
 from .context import ModeContext
+from .guided_stop import JERK_DEFAULT_M_S3, JerkLimitedStop
 from .land import Rtl, descend_and_disarm
 from .numbers import ModeNumber
 from .waypoint_legs import NAV_BY_LEGS, WaypointLegs, flies_through, next_nav_index
@@ -57,6 +58,8 @@ class Auto(Mode):
     _arrived_at: float | None
     _land_d: float
     _seen: tuple[int, int | None, tuple[tuple[int, MissionItem], ...]]
+    _paused_d: float | None = None  # DO_PAUSE_CONTINUE stopped a waypoint leg at this height
+    _stopping: JerkLimitedStop | None = None  # ... slowing down as it does
 
     def __init__(self) -> None:
         # Until enter() (which may wait for home): no item flown, no destination.
@@ -78,6 +81,7 @@ class Auto(Mode):
         self._legs = WaypointLegs()
         self._hold_ne, self._hold_d = (ctx.body.n_m, ctx.body.e_m), ctx.body.d_m
         self._waiting_to_start = True  # the mission starts (or resumes) at the first tick
+        self._paused_d = None
         mission.bind(self)
         return None
 
@@ -87,6 +91,30 @@ class Auto(Mode):
 
     def destination(self) -> tuple[float, float, float | None] | None:
         return getattr(self, "_target", None) if self._index is not None else None
+
+    def pause(self, ctx: ModeContext, paused: bool) -> bool:
+        """As ArduCopter's: only a waypoint leg not yet at its point stops (where the vehicle can);
+        going on flies the rest of the leg from there."""
+        if not paused:
+            if self._paused_d is not None:
+                self._paused_d = None
+                self._legs.resume_jerk = ctx.params.get("PSC_JERK_XY", JERK_DEFAULT_M_S3)
+            return True
+        if self._paused_d is not None:
+            return True
+        if (self._index is None or self._item.command != CMD_WAYPOINT or self._arrived_at is not None
+                or self._legs.nav is None):
+            return False
+        self._paused_d = ctx.body.d_m
+        self._stopping = JerkLimitedStop(ctx)
+        self._legs.end()
+        return True
+
+    def set_vertical_speed(self, ctx: ModeContext, up_m_s: float | None, dn_m_s: float | None) -> bool:
+        """DO_CHANGE_SPEED's climb or descent speed, for the legs begun from now on."""
+        up, dn = self._legs.vertical_speeds
+        self._legs.vertical_speeds = (up if up_m_s is None else up_m_s, dn if dn_m_s is None else dn_m_s)
+        return True
 
     @staticmethod
     def _restart(ctx: ModeContext) -> bool:
@@ -192,7 +220,11 @@ class Auto(Mode):
             sp.pos_ne, sp.pos_d = (n, e), d
             self._nav_done = ctx.body.d_m <= d + 0.5
             return
-        if self._legs.nav is None:  # the leg ended while AUTO held on the ground: fly it from here
+        if self._paused_d is not None and self._stopping is not None:
+            self._stopping.fly(ctx, sp, dt)
+            sp.pos_d = self._paused_d
+            return
+        if self._legs.nav is None:  # the leg ended (a hold on the ground, a pause): fly it from here
             self._begin_leg(ctx, self._index, item)
         if self._legs.update(ctx, sp, dt) and self._arrived_at is None:  # waypoints and loiters
             self._arrived_at = ctx.time_s

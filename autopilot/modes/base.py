@@ -90,6 +90,7 @@ class Mode:
     # Flies up from the ground with no takeoff of its own (SMART_RTL): ArduCopter's land detector
     # reports that as an internal error, which then refuses arming until a reboot.
     climbs_without_takeoff = False
+    in_guided_mode = False  # takes GUIDED's targets (ArduCopter's in_guided_mode: GUIDED, GUIDED_NOGPS)
 
     def __init_subclass__(cls, **kwargs: object) -> None:
         super().__init_subclass__(**kwargs)
@@ -136,6 +137,32 @@ class Mode:
         return False
 
     def set_heading(self, ctx: ModeContext, yaw_rad: float) -> bool:
+        return False
+
+    def set_target(self, ctx: ModeContext, pos: Vector3 | None, vel: Vector3 | None, accel: Vector3 | None,
+                   yaw: float | None, yaw_rate: float | None, yaw_relative: bool = False) -> bool:
+        """GUIDED's position / velocity / acceleration target (local NED, None = not given)."""
+        return False
+
+    def set_attitude(self, ctx: ModeContext, attitude: Vector3 | None, rates: Vector3, climb_or_thrust: float,
+                     use_thrust: bool) -> bool:
+        """GUIDED's attitude target (roll, pitch, yaw; None = turn at the body rates)."""
+        return False
+
+    def stop(self, ctx: ModeContext) -> bool:
+        """An invalid GUIDED target: stop as the mode stops."""
+        return False
+
+    def turn(self, ctx: ModeContext, angle: float, rate: float, direction: int, relative: bool) -> bool:
+        """CONDITION_YAW's turn, in the modes that steer the heading by it."""
+        return False
+
+    def pause(self, ctx: ModeContext, paused: bool) -> bool:
+        """DO_PAUSE_CONTINUE: stop (paused) or go on; False if the mode cannot."""
+        return False
+
+    def set_vertical_speed(self, ctx: ModeContext, up_m_s: float | None, dn_m_s: float | None) -> bool:
+        """DO_CHANGE_SPEED's climb or descent speed; False if the mode flies none."""
         return False
 
 

@@ -37,6 +37,7 @@ class ModeContext:
         ned_of(lat, lon, alt_amsl) -> (n, e, d) in the local frame
         accel_body    what the accelerometer reads (FRD, m/s^2): 1 g up at rest, 0 in free fall
         mode_number   the vehicle's mode: while a mode's enter() runs, the one it would take over from
+        hover_thrust_share the airframe's weight over its full thrust
     Actions:
         notify(text, severity)   a STATUSTEXT
         disarm(reason)           a Result: FAILED while flying
@@ -47,9 +48,12 @@ class ModeContext:
         set_home(ned or None)    as DO_SET_HOME (None = here)
         set_mode(number)         hand over to another mode, with that mode's entry rules (a
                                  Result); a mode that hands over stops filling the setpoint
+        restart_position_control() the position loop starts from the present velocity (a mode
+                                 that flew attitudes hands back to it, as on a mode change)
     """
     __slots__ = ("_v", "_estimate", "_arming", "_land", "_sim", "params", "mission_progress", "return_path",
-                 "notify", "disarm", "set_speed", "set_home", "ned_of", "set_mode")
+                 "notify", "disarm", "set_speed", "set_home", "ned_of", "set_mode",
+                 "hover_thrust_share", "restart_position_control")
     params: ParamStore
     mission_progress: MissionProgress
     return_path: ReturnPath
@@ -59,6 +63,7 @@ class ModeContext:
     set_home: Callable[[Vector3 | None], Result]
     ned_of: Callable[[float, float, float], Vector3]
     set_mode: Callable[[int], Result]
+    restart_position_control: Callable[[], None]
 
     def __init__(self, vehicle: ModeHost):
         self._v = vehicle
@@ -75,6 +80,9 @@ class ModeContext:
         self.set_home = vehicle.set_home
         self.ned_of = vehicle.ned_of
         self.set_mode = vehicle.set_mode
+        self.restart_position_control = vehicle.restart_position_control
+        airframe = vehicle.sim.airframe
+        self.hover_thrust_share = airframe.weight_n / (4.0 * airframe.max_rotor_thrust_n)
 
     # Read-through properties as C-level attribute getters: modes read them at 100 Hz per vehicle.
     body: ReadThrough[BodyState] = property(attrgetter("_estimate.body"))

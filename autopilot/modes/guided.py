@@ -1,4 +1,11 @@
-"""GUIDED: the vehicle goes where the ground station says (position, velocity, takeoff)."""
+"""GUIDED: the vehicle goes where the ground station says: a takeoff, a position, a position with
+a velocity and acceleration, a velocity (with an acceleration), an acceleration, an attitude.
+
+As ArduCopter's ModeGuided: each kind of target is a sub-mode; a velocity, acceleration or
+attitude stream that stops for GUID_TIMEOUT stops the vehicle (velocity and acceleration to
+zero, the attitude level); none of them moves a landed vehicle (only a takeoff, or an attitude
+target's climb, leaves the ground); DO_PAUSE_CONTINUE stops it where it is and lets it go on.
+"""
 from __future__ import annotations
 
 import math
@@ -7,13 +14,19 @@ from ..views import Vector3
 from .auto_yaw import AutoYaw
 from .base import Mode, Setpoint, stopping_point
 from .context import ModeContext
+from .guided_angle import AttitudeTarget, guided_timeout_s
+from .guided_stop import JerkLimitedStop
+from .guided_yaw import SLEW_YAW_DEFAULT_CDEG_S, TURNING, GuidedYaw
 from .numbers import ModeNumber
 
-VELOCITY_TIMEOUT_S = 3.0  # ArduCopter stops if velocity setpoints stop arriving
+VELOCITY_TIMEOUT_S = 3.0  # GUID_TIMEOUT's default: ArduCopter stops if velocity setpoints stop arriving
 # The takeoff is over (EXTENDED_SYS_STATE TAKEOFF -> IN_AIR) this close to its altitude: ArduCopter's
 # ends at the altitude (measured on its SITL: IN_AIR at 9.99 m of a 10 m takeoff).
 TAKEOFF_DONE_M = 0.1
 FACE_TARGET_BEYOND_M = 1.0  # nearer than this the heading stays: an overshoot does not turn it
+# Sub-modes (ArduCopter's ModeGuided::SubMode): what the last target asked for
+POS, POS_VEL_ACCEL, VEL_ACCEL, ACCEL, ANGLE = "pos", "pos_vel_accel", "vel_accel", "accel", "angle"
+ZERO3: Vector3 = (0.0, 0.0, 0.0)
 
 
 class Guided(Mode):
@@ -22,30 +35,60 @@ class Guided(Mode):
     requires_position = True
     allows_arming = True
     has_user_takeoff = True
+    in_guided_mode = True
     takeoff_d: float | None  # the height a user takeoff climbs to, until it is reached
+    submode: str
     target_ne: tuple[float, float]
     target_d: float
-    target_vel_ne: tuple[float, float]
-    target_vel_d: float
-    target_yaw: float | None
-    velocity_mode: bool
-    velocity_time_s: float
+    target_vel: Vector3
+    target_accel: Vector3
+    updated_s: float  # sim time of the last velocity / acceleration target
+    yaw: GuidedYaw  # the heading a target or CONDITION_YAW asked for
     auto_yaw: AutoYaw  # the heading when no target sets one (WP_YAW_BEHAVIOR)
     has_waypoint: bool  # a position target was given (ArduCopter's WP/Pos sub-modes, its get_wp)
+    paused_d: float | None  # DO_PAUSE_CONTINUE: the height it stopped at, until resumed
+    stopping: JerkLimitedStop | None  # slowing to a stop: paused, or a velocity stream that stopped
+    speed_up: float | None  # DO_CHANGE_SPEED's climb and descent speeds [m/s] (None: WPNAV_SPEED_UP/DN)
+    speed_dn: float | None
+
+    def __init__(self) -> None:
+        self.angle = AttitudeTarget()
+        self.submode = POS
 
     def enter(self, ctx: ModeContext) -> str | None:
+        self.yaw = GuidedYaw()
         self.hold(ctx)
         self.takeoff_d = None
+        self.paused_d = None
+        self._default_speeds(ctx)
         return None
 
+    def _default_speeds(self, ctx: ModeContext) -> None:
+        """A new kind of target starts ArduCopter's controller afresh, at WPNAV_SPEED(_UP/_DN):
+        what DO_CHANGE_SPEED set is forgotten."""
+        self.speed_up = self.speed_dn = None
+        default = ctx.params["WPNAV_SPEED"] / 100.0
+        if ctx.nav_speed_m_s != default:
+            ctx.set_speed(default)
+
     def hold(self, ctx: ModeContext) -> None:
+        """Stop: hold the point the vehicle comes to rest at (ArduCopter's init: zero velocity)."""
+        if self.submode == ANGLE:
+            ctx.restart_position_control()
+        self.submode = POS
         self.target_ne, self.target_d = stopping_point(ctx)
-        self.target_vel_ne, self.target_vel_d = (0.0, 0.0), 0.0
-        self.target_yaw = None
-        self.velocity_mode = False
-        self.velocity_time_s = ctx.time_s
+        self.target_vel = self.target_accel = ZERO3
+        self.updated_s = ctx.time_s
         self.auto_yaw = AutoYaw()  # the heading is held until the vehicle moves
         self.has_waypoint = False
+        self.stopping = None
+        self.yaw = GuidedYaw()
+
+    def stop(self, ctx: ModeContext) -> bool:
+        """A target ArduCopter finds invalid: it stops (re-initialises the mode)."""
+        self.takeoff_d = None
+        self.hold(ctx)
+        return True
 
     # Commands from the ground station -------------------------------------------------------
     def user_takeoff(self, ctx: ModeContext, alt_above_home_m: float) -> None:
@@ -54,28 +97,98 @@ class Guided(Mode):
         self.target_d = self.takeoff_d
 
     def goto(self, ctx: ModeContext, n: float, e: float, d: float | None, yaw: float | None = None,
-             vel_ff: Vector3 = (0.0, 0.0, 0.0)) -> bool:
-        self.takeoff_d = None
-        self.velocity_mode = False
-        self.target_ne = (n, e)
-        if d is not None:
-            self.target_d = d
-        self.target_vel_ne, self.target_vel_d = (vel_ff[0], vel_ff[1]), vel_ff[2]
-        self.target_yaw = yaw
-        self.has_waypoint = vel_ff == (0.0, 0.0, 0.0)  # with a velocity too: ArduCopter's PosVelAccel
+             vel_ff: Vector3 = ZERO3) -> bool:
+        """A position (d None: keep the height), with a velocity: ArduCopter's PosVelAccel."""
+        self.set_target(ctx, (n, e, self.target_d if d is None else d), None if vel_ff == ZERO3 else vel_ff,
+                        None, yaw, None)
         return True
 
     def set_velocity(self, ctx: ModeContext, vn: float, ve: float, vd: float, yaw: float | None = None) -> bool:
+        self.set_target(ctx, None, (vn, ve, vd), None, yaw, None)
+        return True
+
+    def set_target(self, ctx: ModeContext, pos: Vector3 | None, vel: Vector3 | None, accel: Vector3 | None,
+                   yaw: float | None, yaw_rate: float | None, yaw_relative: bool = False) -> bool:
+        """A SET_POSITION_TARGET's parts (local NED; None = ignored), as ArduCopter takes them:
+        position [+ velocity [+ acceleration]], velocity [+ acceleration], or acceleration."""
         self.takeoff_d = None
-        self.velocity_mode = True
-        self.target_vel_ne, self.target_vel_d = (vn, ve), vd
-        self.target_yaw = yaw
-        self.velocity_time_s = ctx.time_s
-        self.has_waypoint = False
+        self.stopping = None
+        before = self.submode
+        if pos is not None:
+            self.submode = POS if vel is None else POS_VEL_ACCEL
+            self.target_ne, self.target_d = (pos[0], pos[1]), pos[2]
+            self.has_waypoint = vel is None
+        elif vel is None:  # the acceleration moves a velocity on: from the present one at its start
+            if self.submode != ACCEL:
+                b = ctx.body
+                self.target_vel = (b.vn_m_s, b.ve_m_s, b.vd_m_s)
+            self.submode = ACCEL
+            self.has_waypoint = False
+        else:
+            self.submode = VEL_ACCEL
+            self.has_waypoint = False
+        if vel is not None or pos is not None:
+            self.target_vel = vel or ZERO3
+        self.target_accel = accel or ZERO3
+        self.updated_s = ctx.time_s
+        if self.submode != before:  # ArduCopter's controller starts afresh: speeds, the heading held
+            self._default_speeds(ctx)
+            self.auto_yaw = AutoYaw()
+            if before == ANGLE:
+                ctx.restart_position_control()
+        self._set_yaw(ctx, yaw, yaw_rate, yaw_relative)
+        return True
+
+    def _set_yaw(self, ctx: ModeContext, yaw: float | None, rate: float | None, relative: bool) -> None:
+        heading = ctx.attitude[2]
+        if yaw is not None and relative:
+            self.yaw.set_fixed(heading, yaw, 0.0, 0, True, self._slew_max(ctx))
+        elif yaw is not None:
+            self.yaw.set_angle_rate(yaw, rate or 0.0)
+        elif rate is not None:
+            self.yaw.set_rate(rate)
+        else:
+            self.yaw = GuidedYaw()
+
+    @staticmethod
+    def _slew_max(ctx: ModeContext) -> float:
+        return math.radians(ctx.params.get("ATC_SLEW_YAW", SLEW_YAW_DEFAULT_CDEG_S) / 100.0)
+
+    def set_attitude(self, ctx: ModeContext, attitude: Vector3 | None, rates: Vector3, climb_or_thrust: float,
+                     use_thrust: bool) -> bool:
+        """SET_ATTITUDE_TARGET (guided_angle.AttitudeTarget)."""
+        if self.submode != ANGLE:
+            self.submode = ANGLE
+            self.takeoff_d = None
+            self.has_waypoint = False
+            self.angle.start(ctx, ctx.attitude[2])
+        self.angle.set(ctx, attitude, rates, climb_or_thrust, use_thrust)
         return True
 
     def set_heading(self, ctx: ModeContext, yaw_rad: float) -> bool:
-        self.target_yaw = yaw_rad
+        self.yaw.set_angle_rate(yaw_rad, 0.0)
+        return True
+
+    def turn(self, ctx: ModeContext, angle: float, rate: float, direction: int, relative: bool) -> bool:
+        """CONDITION_YAW: turn to (or by) `angle` at `rate` [rad/s] (0: ATC_SLEW_YAW)."""
+        self.yaw.set_fixed(ctx.attitude[2], angle, rate, direction, relative, self._slew_max(ctx))
+        return True
+
+    def pause(self, ctx: ModeContext, paused: bool) -> bool:
+        """Slow to a stop and hold (ArduCopter's pause); the target stays for the resume."""
+        if not paused:
+            self.paused_d = None
+            self.stopping = None
+        elif self.paused_d is None:
+            self.paused_d = ctx.body.d_m
+            self.stopping = JerkLimitedStop(ctx)
+        return True
+
+    def set_vertical_speed(self, ctx: ModeContext, up_m_s: float | None, dn_m_s: float | None) -> bool:
+        if up_m_s is not None:
+            self.speed_up = up_m_s
+        if dn_m_s is not None:
+            self.speed_dn = dn_m_s
         return True
 
     def destination(self) -> tuple[float, float, float | None] | None:
@@ -86,35 +199,107 @@ class Guided(Mode):
     # Loop --------------------------------------------------------------------------------------
     def update(self, ctx: ModeContext, sp: Setpoint, dt: float) -> None:
         sp.clear()
+        if self.submode == ANGLE:
+            self.angle.fly(ctx, sp, dt)
+            return
         sp.speed_xy = ctx.nav_speed_m_s
-        sp.yaw = self.target_yaw
-        if self.velocity_mode:
-            if ctx.time_s - self.velocity_time_s > VELOCITY_TIMEOUT_S:
-                self.hold(ctx)
-            else:
-                sp.vel_ne, sp.vel_d = self.target_vel_ne, self.target_vel_d
-                if sp.yaw is None:
-                    sp.yaw = self.auto_yaw.facing(ctx, *self.target_vel_ne)
-                return
-        sp.pos_ne, sp.pos_d = self.target_ne, self.target_d
-        if sp.yaw is None:
-            # ArduCopter's desired velocity points at the target until the last centimetres (its
-            # path stops there); the vehicle's own would turn it round on a small overshoot.
-            b, (n, e) = ctx.body, self.target_ne
-            dn, de = n - b.n_m, e - b.e_m
-            distance = math.hypot(dn, de)
-            if distance > FACE_TARGET_BEYOND_M:
-                scale = math.hypot(b.vn_m_s, b.ve_m_s) / distance
-                sp.yaw = self.auto_yaw.facing(ctx, dn * scale, de * scale)
-            else:
-                sp.yaw = self.auto_yaw.yaw
-        sp.vel_ne, sp.vel_d = self.target_vel_ne, self.target_vel_d
         if ctx.landed and self.takeoff_d is None:
-            # On the ground without a takeoff: stay put wherever the target was set.
-            self.target_d = ctx.body.d_m
-            sp.pos_d = self.target_d
+            # ArduCopter's guided controllers do nothing on the ground: only a takeoff leaves it.
+            self.target_d = sp.pos_d = ctx.body.d_m
+            return
+        if self.paused_d is not None and self.stopping is not None:
+            self.stopping.fly(ctx, sp, dt)
+            sp.pos_d = self.paused_d
+            sp.yaw = ctx.attitude[2] if self.yaw.kind == "default" else self.yaw.angle
+            return
+        if (self.submode != POS or self.yaw.kind in TURNING) and ctx.time_s - self.updated_s > guided_timeout_s(ctx):
+            self._timed_out(ctx)
+        submode = self.submode
+        if submode == POS:
+            self._fly_position(ctx, sp)
+        elif submode == POS_VEL_ACCEL:
+            self._fly_pos_vel_accel(ctx, sp, dt)
+        else:
+            self._fly_vel_accel(ctx, sp, dt)
+        if not self.yaw.fly(sp, dt) and sp.yaw is None:
+            sp.yaw = self.auto_yaw.facing(ctx, *sp.vel_ne)
+        self._limit_vertical(ctx, sp)
         if self.takeoff_d is not None and abs(ctx.body.d_m - self.takeoff_d) < TAKEOFF_DONE_M:
             self.takeoff_d = None
+
+    def _timed_out(self, ctx: ModeContext) -> None:
+        """The target stream stopped: ArduCopter stops a rate turn, zeroes a velocity and an
+        acceleration (a position holds)."""
+        self.yaw.stop_turning(ctx.attitude[2])
+        if self.submode == POS_VEL_ACCEL:  # the position holds
+            self.target_vel = self.target_accel = ZERO3
+        elif self.submode != POS:  # a velocity of zero: it slows down from the one it was flying
+            vn, ve, _ = self.target_vel
+            if self.stopping is None and (vn or ve):
+                self.stopping = JerkLimitedStop(ctx, (vn, ve))
+            self.submode = VEL_ACCEL
+            self.target_vel = self.target_accel = ZERO3
+        self.updated_s = ctx.time_s
+
+    def _fly_position(self, ctx: ModeContext, sp: Setpoint) -> None:
+        sp.pos_ne, sp.pos_d = self.target_ne, self.target_d
+        if self.yaw.kind != "default":
+            return
+        # ArduCopter's desired velocity points at the target until the last centimetres (its
+        # path stops there); the vehicle's own would turn it round on a small overshoot.
+        b, (n, e) = ctx.body, self.target_ne
+        dn, de = n - b.n_m, e - b.e_m
+        distance = math.hypot(dn, de)
+        if distance > FACE_TARGET_BEYOND_M:
+            scale = math.hypot(b.vn_m_s, b.ve_m_s) / distance
+            sp.yaw = self.auto_yaw.facing(ctx, dn * scale, de * scale)
+        else:
+            sp.yaw = self.auto_yaw.yaw
+
+    def _fly_pos_vel_accel(self, ctx: ModeContext, sp: Setpoint, dt: float) -> None:
+        """The position moves on with the velocity, the velocity with the acceleration (as
+        ArduCopter's kinematic target between two messages)."""
+        vn, ve, vd = self.target_vel
+        an, ae, ad = self.target_accel
+        if an or ae or ad:
+            self.target_vel = (vn + an * dt, ve + ae * dt, vd + ad * dt)
+        n, e = self.target_ne
+        self.target_ne = (n + vn * dt, e + ve * dt)
+        self.target_d += vd * dt
+        sp.pos_ne, sp.pos_d = self.target_ne, self.target_d
+        sp.vel_ne, sp.vel_d = (vn, ve), vd
+        sp.speed_xy = math.inf
+
+    def _fly_vel_accel(self, ctx: ModeContext, sp: Setpoint, dt: float) -> None:
+        if self.stopping is not None:
+            self.stopping.fly(ctx, sp, dt)
+            sp.speed_xy = math.inf
+            return
+        vn, ve, vd = self.target_vel
+        an, ae, ad = self.target_accel
+        if an or ae or ad:
+            limit = ctx.params["WPNAV_ACCEL"] / 100.0  # ArduCopter shapes an acceleration within it
+            size = math.sqrt(an * an + ae * ae)
+            if size > limit:
+                an, ae = an * limit / size, ae * limit / size
+            vn, ve, vd = vn + an * dt, ve + ae * dt, vd + ad * dt
+            self.target_vel = (vn, ve, vd)
+        sp.vel_ne, sp.vel_d = (vn, ve), vd
+        sp.speed_xy = math.inf
+
+    def _limit_vertical(self, ctx: ModeContext, sp: Setpoint) -> None:
+        """DO_CHANGE_SPEED's climb and descent speeds: a height target is approached no faster."""
+        up, dn = self.speed_up, self.speed_dn
+        if up is None and dn is None:
+            return
+        if dn is not None:
+            sp.speed_dn = dn
+        if up is not None and sp.pos_d is not None:
+            d = ctx.body.d_m
+            if sp.pos_d < d - 1.0:  # beyond a metre's climb: a carrot ahead at the climb speed
+                sp.pos_d = max(sp.pos_d, d - up)
+        if up is not None and sp.vel_d < -up:
+            sp.vel_d = -up
 
     def landed_state_hint(self, ctx: ModeContext) -> str | None:
         return "TAKEOFF" if self.takeoff_d is not None and not ctx.landed else None

@@ -21,6 +21,7 @@ class ModeNumber(IntEnum):
     BRAKE = 17
     THROW = 18
     AVOID_ADSB = 19
+    GUIDED_NOGPS = 20
     SMART_RTL = 21
     FLOWHOLD = 22
     FOLLOW = 23

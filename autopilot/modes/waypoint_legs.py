@@ -50,6 +50,10 @@ class WaypointLegs:
     def __init__(self) -> None:
         self.nav: WaypointNav | None = None
         self.auto_yaw = AutoYaw()  # kept from leg to leg, as ArduCopter's heading is
+        self.vertical_speeds: tuple[float | None, float | None] = (None, None)  # DO_CHANGE_SPEED's up, down
+        # The next leg's jerk, once, when it resumes a paused one: ArduCopter takes its track up
+        # again at its position controller's jerk (PSC_JERK_XY), not as a new leg (WPNAV_JERK).
+        self.resume_jerk: float | None = None
 
     @property
     def destination(self) -> Vector3 | None:
@@ -65,6 +69,14 @@ class WaypointLegs:
         """Start the leg to `target` (local NED), flying through it to `next_target` if given,
         at `speed_m_s` (default: the navigation speed, WPNAV_SPEED or DO_CHANGE_SPEED's)."""
         limits = NavLimits(ctx.params, ctx.nav_speed_m_s if speed_m_s is None else speed_m_s)
+        up, down = self.vertical_speeds
+        if up is not None:
+            limits.speed_up = up
+        if down is not None:
+            limits.speed_down = down
+        if self.resume_jerk is not None:
+            limits.jerk, self.resume_jerk = self.resume_jerk, None
+            limits.clock_tc = max(limits.accel_xy / limits.jerk, 0.01)
         if self.nav is None:
             b = ctx.body
             self.nav = WaypointNav(limits, (b.n_m, b.e_m, b.d_m), (b.vn_m_s, b.ve_m_s, b.vd_m_s))

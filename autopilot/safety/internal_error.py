@@ -14,8 +14,9 @@ from __future__ import annotations
 from collections.abc import Callable
 
 FLOW_OF_CONTROL = 1 << 20  # AP_InternalError::error_t::flow_of_control
+CONSTRAINING_NAN = 1 << 10  # AP_InternalError::error_t::constraining_nan: a NaN a limit was applied to
 REPORT_FIRST = 5  # errors passed to `report` (a process prints them); the rest are only counted
-BIT_NAMES = {FLOW_OF_CONTROL: "flow_of_ctrl"}  # as AP_InternalError::errors_as_string names it
+BIT_NAMES = {CONSTRAINING_NAN: "cnstring_nan", FLOW_OF_CONTROL: "flow_of_ctrl"}  # as AP_InternalError::errors_as_string names them
 
 
 class InternalErrors:
@@ -25,6 +26,7 @@ class InternalErrors:
     def __init__(self) -> None:
         self.bits = 0
         self.count = 0
+        self.flagged = 0  # ArduPilot's own errors on bad input (flag), counted apart from the bugs
         self.line = 0
         self.last = ""  # "where: ExceptionType: message (file:line)"
         self.report: Callable[[str], None] | None = None  # told of the first REPORT_FIRST errors
@@ -50,14 +52,19 @@ class InternalErrors:
                 pass
         return new
 
-    def flag(self, where: str, line: int, bit: int = FLOW_OF_CONTROL) -> bool:
-        """An error ArduPilot itself detects (no exception here), at ArduPilot's source `line`;
-        True the first time this kind of error is seen."""
+    def flag(self, bit: int, line: int = 0, where: str = "") -> bool:
+        """An error ArduPilot itself detects, with no exception here (CONSTRAINING_NAN: a client's
+        NaN it limits; flow_of_control: a landed vehicle climbing with no takeoff), at ArduPilot's
+        source `line` when known; reported as it reports one, but not a Firefly bug, so counted in
+        `flagged`, not in `count` (which the tests require to stay 0). True the first time this
+        kind is seen."""
         new = not self.bits & bit
         self.bits |= bit
-        self.count += 1
-        self.line = line
-        self.last = where
+        self.flagged += 1
+        if line:
+            self.line = line
+        if where:
+            self.last = where
         return new
 
     def names(self) -> str:
@@ -76,4 +83,4 @@ class InternalErrors:
 
     def sys_status_fields(self) -> tuple[int, int, int]:
         """SYS_STATUS's (errors_count1, errors_count2, errors_count4), as ArduPilot fills them."""
-        return self.bits & 0xFFFF, (self.bits >> 16) & 0xFFFF, self.count & 0xFFFF
+        return self.bits & 0xFFFF, (self.bits >> 16) & 0xFFFF, (self.count + self.flagged) & 0xFFFF

@@ -284,3 +284,29 @@ def test_set_current_into_a_loop_of_do_items_without_navigation_ends():
     v.mission.replace(0, [MissionItem(178, REL, 1, 5.0), MissionItem(177, REL, 1, -1)])
     assert v.set_mission_current(1) is False
     assert len(v.events) <= 64 and v.mission_progress.nav_index is None
+
+
+def test_pause_stops_a_waypoint_leg_and_continue_flies_the_rest():
+    """DO_PAUSE_CONTINUE in AUTO (the guided parity area compares it with ArduCopter's)."""
+    v = hovering_vehicle()
+    v.mission.replace(0, [wp_at(v, 120, 0)])
+    assert v.set_mode(3) == Result.ACCEPTED
+    assert fly_until(v, lambda x: x.body.vn_m_s > 7.0, 30.0)
+    assert v.pause(True) == Result.ACCEPTED
+    assert fly_until(v, lambda x: abs(x.body.vn_m_s) < 0.1, 10.0)
+    stopped = v.body.n_m
+    v.run_until(v.time_s + 3.0)
+    assert abs(v.body.n_m - stopped) < 0.5 and stopped < 100.0
+    assert v.pause(False) == Result.ACCEPTED
+    assert fly_until(v, lambda x: v.mission_progress.state is MissionState.COMPLETE, 60.0)
+    assert abs(v.body.n_m - 120.0) < 2.0
+    assert v.pause(True) == Result.FAILED  # the leg is over: nothing to pause, as ArduCopter
+
+
+def test_climb_speed_of_do_change_speed_holds_for_the_legs_after_it():
+    v = hovering_vehicle()
+    v.mission.replace(0, [wp_at(v, 0, 5, alt=10.0), wp_at(v, 0, 5, alt=30.0)])
+    assert v.set_mode(3) == Result.ACCEPTED
+    assert v.set_vertical_speed(1.0, None) == Result.ACCEPTED
+    assert fly_until(v, lambda x: altitude(x) > 15.0, 60.0)
+    assert 0.8 < -v.body.vd_m_s < 1.2

@@ -34,14 +34,14 @@ def test_user_takeoff_is_declared_exactly_where_a_takeoff_flies(cls):
     v = armed_on_the_ground_in(cls.number)
     result = v.takeoff(5.0)
     assert (result == Result.ACCEPTED) == cls.has_user_takeoff
-    if cls.has_user_takeoff:
+    if cls.has_user_takeoff and cls.number != ModeNumber.GUIDED_NOGPS:  # it accepts and ignores it, as ArduCopter's
         assert fly_until(v, lambda x: altitude(x) > 4.5, 15.0)
 
 
 @pytest.mark.parametrize("cls", ENTERED_ARMED_ON_GROUND, ids=lambda c: c.name)
 def test_ground_station_position_and_velocity_targets_are_taken_in_guided_only(cls):
     v = armed_on_the_ground_in(cls.number)
-    guided = issubclass(cls, Guided)  # GUIDED, and AVOID_ADSB (ArduCopter's GUIDED underneath: in_guided_mode)
+    guided = cls.in_guided_mode  # GUIDED, GUIDED_NOGPS (takes them, flies none) and AVOID_ADSB (GUIDED underneath)
     accepted = (Result.ACCEPTED,)
     assert (v.guided_goto(5.0, 0.0, -5.0) in accepted) == guided
     assert (v.guided_velocity(1.0, 0.0, 0.0) in accepted) == guided

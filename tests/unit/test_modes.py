@@ -111,7 +111,9 @@ def test_land_mode_setpoint_holds_position_and_descends():
     assert c.disarms == ["landed"]
 
 
-def test_guided_velocity_setpoint_times_out_to_a_hold():
+def test_guided_velocity_setpoint_times_out_to_a_stop():
+    """As ArduCopter's GUID_TIMEOUT: the velocity becomes zero (the vehicle slows down where it is
+    going, at WPNAV_ACCEL, rather than turning back to a point)."""
     mode = Guided()
     c = ctx(d_m=-5.0)
     mode.enter(c)
@@ -122,7 +124,10 @@ def test_guided_velocity_setpoint_times_out_to_a_hold():
     c.time_s = VELOCITY_TIMEOUT_S + 0.1
     c.body = BodyState(n_m=7.0, e_m=1.0, d_m=-5.0)
     mode.update(c, sp, 0.01)
-    assert sp.pos_ne == (7.0, 1.0) and sp.vel_ne == (0.0, 0.0)
+    assert sp.pos_ne is None and 0.0 < sp.vel_ne[0] < 2.0 and sp.vel_d == 0.0
+    for _ in range(400):  # within WPNAV_ACCEL and the jerk limit, still in 4 s
+        mode.update(c, sp, 0.01)
+    assert sp.vel_ne == (0.0, 0.0)
 
 
 def test_guided_on_the_ground_without_takeoff_stays_put():

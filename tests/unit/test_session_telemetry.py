@@ -155,16 +155,17 @@ def _local_target(x, y, z, mask=0b0000_1111_1111_1000, frame=None):
                                                            x, y, z, 0, 0, 0, 0, 0, 0, 0, 0))
 
 
-def test_position_target_with_nan_is_ignored_and_counted(link):
+def test_position_target_with_nan_stops_and_is_counted(link):
+    """Measured on ArduCopter SITL: a NaN position stops the vehicle (it holds where it slows to)."""
     link.command(mav.MAV_CMD_DO_SET_MODE, mav.MAV_MODE_FLAG_CUSTOM_MODE_ENABLED, Guided.number)
     guided = link.vehicle.mode
     assert link.send(_local_target(5.0, 6.0, -3.0)) == []
-    assert guided.target_ne == (5.0, 6.0)
+    assert guided.target_ne == (5.0, 6.0) and guided.destination() is not None
     refused = link.session.counters["refused"]
     out = link.send(_local_target(math.nan, 1.0, -3.0))
     assert out == []
     assert link.session.counters["refused"] == refused + 1
-    assert guided.target_ne == (5.0, 6.0)  # unchanged
+    assert guided.destination() is None and guided.target_ne != (5.0, 6.0)  # stopped
 
 
 def test_a_vehicle_started_off_the_shared_origin_has_its_own_local_frame():

@@ -101,7 +101,7 @@ def test_mode_numbers_are_arducopters():
         "LAND": 9, "POSHOLD": 16, "BRAKE": 17,
         "ACRO": 1, "DRIFT": 11, "FLIP": 14, "AUTOTUNE": 15, "THROW": 18, "FLOWHOLD": 22, "FOLLOW": 23,
         "SYSTEMID": 25, "TURTLE": 28,
-        "CIRCLE": 7, "AVOID_ADSB": 19, "SMART_RTL": 21, "ZIGZAG": 24, "AUTO_RTL": 27}
+        "CIRCLE": 7, "AVOID_ADSB": 19, "SMART_RTL": 21, "ZIGZAG": 24, "AUTO_RTL": 27, "GUIDED_NOGPS": 20}
 
 
 # ----- flying -----------------------------------------------------------------------------------

@@ -182,11 +182,12 @@ async def fly(url: str) -> dict[str, Trace]:
     return traces
 
 
-def run(target) -> dict[str, Trace]:
+def run(target, flight=fly) -> dict[str, Trace]:
+    """Boot the vehicle through the probe client, then fly `flight(url)` with MAVSDK on its port."""
     client = target.boot()
     url = client.url.replace("udpin:", "udpin://")
     client.close()  # MAVSDK takes the port over
     try:
-        return asyncio.run(fly(url))
+        return asyncio.run(flight(url))
     finally:
         target.close()
