@@ -19,8 +19,11 @@ $(STAMP): pyproject.toml setup.py $(wildcard sim/*.h autopilot/control/*.h autop
 run: install
 	$(PY) -m firefly.groundstation explore --scenario scenarios/default.toml
 
+# The unit tests share no sockets, ports or wall-clock timing: two workers halve their time. The
+# rest flies real processes against wall-clock budgets and runs one test at a time.
 test: install
-	$(PY) -m pytest -q -ra
+	$(PY) -m pytest -q -ra -n 2 tests/unit
+	$(PY) -m pytest -q -ra --ignore=tests/unit
 
 unit: install
 	$(PY) -m pytest -q tests/unit
