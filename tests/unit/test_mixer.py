@@ -78,8 +78,14 @@ def test_allocator_forces_always_within_motor_limits(u1, u2, u3, u4):
     assert all(F_MIN - TOL <= f <= F_MAX + TOL for f in forces)
 
 
+# Demands drawn mostly inside the motors' range: from the wide strategies above, most draws do
+# not fit, and Hypothesis's health check fails the test at random for filtering too many out.
+u1_fits = st.floats(1.0 * F_MAX, 3.0 * F_MAX, **finite)
+u2_fits = st.floats(-0.5 * L * F_MAX, 0.5 * L * F_MAX, **finite)
+
+
 @settings(max_examples=500)
-@given(u1_s, u2_s, u2_s)
+@given(u1_fits, u2_fits, u2_fits)
 def test_allocator_is_exact_without_yaw_whenever_the_demand_fits(u1, u2, u3):
     exact = unmix(u1, u2, u3, 0.0, L, C)
     # Fits with a margin of round-off: a demand exactly at a motor limit may read as just past it.
