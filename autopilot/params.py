@@ -163,6 +163,22 @@ PARAM_TABLE: tuple[ParamSpec, ...] = (
     _f("SIM_LINK_LOSS", 0, 0, 100, "share of MAVLink frames lost each way [%]"),
     # Mission (AP_Mission)
     _i("MIS_RESTART", 0, 0, 1, "AUTO after leaving it: 0 resumes the mission, 1 restarts it"),
+    # The pilot's radio (autopilot/rc/): channel roles, the mode switch, overrides, the ground station
+    _i("RCMAP_ROLL", 1, 1, 16), _i("RCMAP_PITCH", 2, 1, 16), _i("RCMAP_THROTTLE", 3, 1, 16), _i("RCMAP_YAW", 4, 1, 16),
+    _i("THR_DZ", 100, 0, 300, "throttle dead band either side of mid-stick in ALT_HOLD and alike [thousandths]"),
+    _i("FLTMODE_CH", 5, 0, 16, "channel of the 6-position flight-mode switch, 0 = none"),
+    *(_i(f"FLTMODE{n}", mode, 0, 29, f"flight mode at switch position {n}")
+      for n, mode in enumerate((7, 9, 6, 3, 5, 0), start=1)),  # SITL's copter.parm
+    _f("RC_OVERRIDE_TIME", 3.0, -1, 120, "seconds an RC override lasts, 0 = overrides off, -1 = forever"),
+    _i("RC_OPTIONS", 32, 0, 0x7FFFFFFF, "bit 0 ignore the receiver, 1 ignore overrides, 5 allow reversed switches"),
+    _i("MAV_GCS_SYSID", 255, 1, 255, "the ground station's system id: RC overrides and MANUAL_CONTROL from it only"),
+    *(spec for n in range(1, 17) for spec in (
+        _i(f"RC{n}_MIN", 1000 if n <= 8 else 1100, 800, 2200, f"channel {n} lowest PWM [us]"),
+        _i(f"RC{n}_TRIM", 1500, 800, 2200, f"channel {n} centre PWM [us]"),
+        _i(f"RC{n}_MAX", 2000 if n <= 8 else 1900, 800, 2200, f"channel {n} highest PWM [us]"),
+        _i(f"RC{n}_REVERSED", 0, 0, 1),
+        _i(f"RC{n}_DZ", {1: 20, 2: 20, 3: 30, 4: 20}.get(n, 0), 0, 200, f"channel {n} dead zone [us]"),
+        _i(f"RC{n}_OPTION", 7 if n == 7 else 0, 0, 400, f"channel {n} aux function (rc/aux.py)"))),
 )
 
 SPEC_BY_NAME = {spec.name: spec for spec in PARAM_TABLE}  # the modelled parameters: what acts

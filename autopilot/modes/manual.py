@@ -42,11 +42,19 @@ class Stabilize(Mode):
 
 
 def pilot_climb_rate(ctx: ModeContext) -> float:
-    """Throttle stick (0..1, centre = hold) to a climb rate [m/s, up positive]."""
-    stick = stick_deadzone(2.0 * ctx.pilot.throttle - 1.0, 0.1)
-    up = ctx.params["PILOT_SPEED_UP"] / 100.0
-    down = (ctx.params["PILOT_SPEED_DN"] or ctx.params["PILOT_SPEED_UP"]) / 100.0
-    return stick * (up if stick > 0 else down)
+    """Throttle stick to a climb rate [m/s, up positive], as get_pilot_desired_climb_rate: a dead
+    band of THR_DZ thousandths either side of the stick's centre holds; below it the rate scales to
+    PILOT_SPEED_DN (0: PILOT_SPEED_UP) at the bottom, above it to PILOT_SPEED_UP at the top."""
+    pilot, params = ctx.pilot, ctx.params
+    throttle, mid = pilot.throttle, pilot.throttle_mid
+    dead = min(max(params["THR_DZ"], 0.0), 400.0) / 1000.0
+    top, bottom = mid + dead, mid - dead
+    if throttle < bottom and bottom > 0:
+        down = (params["PILOT_SPEED_DN"] or params["PILOT_SPEED_UP"]) / 100.0
+        return down * (throttle - bottom) / bottom
+    if throttle > top and top < 1:
+        return params["PILOT_SPEED_UP"] / 100.0 * (throttle - top) / (1.0 - top)
+    return 0.0
 
 
 def pilot_vertical(ctx: ModeContext, sp: Setpoint, hold_d: float) -> float:
