@@ -176,7 +176,7 @@ def test_alt_hold_descends_with_sitls_closed_throttle_and_holds_at_mid():
     assert altitude(v) < 8.0  # towards PILOT_SPEED_UP (PILOT_SPEED_DN 0): 2.5 m/s down
     v.params.set("RC_OVERRIDE_TIME", -1)
     v.rc.hold_sticks(0.0, 0.0, 0.0, 0.5, v.time_s)
-    v.run_until(v.time_s + 1.0)
+    v.run_until(v.time_s + 3.0)  # the descent braked
     held = altitude(v)
     v.run_until(v.time_s + 3.0)
     assert abs(altitude(v) - held) < 0.3
