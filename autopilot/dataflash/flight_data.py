@@ -132,7 +132,7 @@ def pscd(v: StreamedView, b: BodyState) -> tuple:
 
 
 def rcin(v: StreamedView, b: BodyState) -> tuple:
-    chans = rc_pwm(v)
+    chans = rc_pwm(v)[:RC_CHANNELS]
     return (*chans, *[0] * (RC_CHANNELS - len(chans)))
 
 

@@ -113,12 +113,13 @@ def power_status(v: SensorView, codec):
 
 
 def rc_pwm(v: SensorView) -> list[int]:
-    """The channels as the radio last read them (autopilot/rc/radio.py): the receiver's, or the
-    ground station's overrides while they last."""
-    return v.rc_channels_us()[:RC_CHANNELS_USED]
+    """The 16 channels as the radio last read them (autopilot/rc/radio.py): the receiver's 8, or
+    the ground station's overrides while they last (channels 9-16 read 0 but overridden)."""
+    return list(v.rc_channels_us())
 
 
 def rc_channels(v: SensorView, codec):
+    """All 16 channels, and the receiver's channel count (8) as ArduPilot's valid count."""
     chans = rc_pwm(v)
     return codec.rc_channels_encode(time_boot_ms(v), RC_CHANNELS_USED, *chans, *([0] * (18 - len(chans))), 255)
 
