@@ -134,10 +134,22 @@ AUX_FUNCTIONS: dict[int, AuxFunction] = {f.number: f for f in (
     AuxFunction(165, "ARM_EMERGENCY_STOP", _arm_emergency_stop, settle_on_first_read=True),
     AuxFunction(178, "FLIGHTMODE_PAUSE", _pause),
 )}
+# Functions ArduCopter runs for hardware and features Firefly's vehicle does not have (camera,
+# relays, gripper, winch, mount, simple modes, ...): known, accepted, nothing moves. Those whose
+# missing device ArduCopter reports as a failure are FAILED_WITHOUT_DEVICE.
+NOTHING_HERE = (3, 5, 9, 10, 11, 13, 14, 15, 19, 21, 22, 23, 24, 25, 26, 27, 28, 29, 30, 32, 34, 35, 36, 38, 39,
+                40, 43, 44, 45, 46, 47, 48, 49, 58, 62, 65, 66, 67, 75, 76, 78, 79, 80, 84, 85, 90, 100, 101,
+                102, 103, 104, 105, 106, 109, 110, 111, 112, 113, 152, 154, 156, 158, 159, 160, 161, 162, 163,
+                164, 171, 172, 177, 180, 182, *range(212, 220), *range(300, 316))
+FAILED_WITHOUT_DEVICE = (166, 167, 168, 169, 174, 175)  # camera functions: no camera
+for _n in NOTHING_HERE:
+    AUX_FUNCTIONS.setdefault(_n, AuxFunction(_n, f"aux {_n}", _nothing))
 
 
 def run_aux_function(v: AuxHost, number: int, position: int) -> bool:
     """Run aux function `number` at `position`; False (and ArduPilot's text) for one unknown."""
+    if number in FAILED_WITHOUT_DEVICE:
+        return False
     function = AUX_FUNCTIONS.get(number)
     if function is None:
         v.notify(f"Invalid channel option ({number})", Severity.INFO)

@@ -227,7 +227,8 @@ def aux_command(c: Client, sticks: Sticks, t: Trace) -> None:
     for name, p1, p2 in (("rtl_high", 4, 2), ("rtl_low", 4, 0), ("land_high", 18, 2), ("land_middle", 18, 1),
                          ("smart_rtl_high", 42, 2), ("brake_high", 33, 2), ("position_3", 4, 3),
                          ("unknown_9999", 9999, 2), ("do_nothing_0", 0, 2), ("zigzag_savewp", 61, 0),
-                         ("pause_high", 178, 2), ("estop_high", 31, 2)):
+                         ("pause_high", 178, 2), ("camera_trigger", 9, 2), ("inverted_43", 43, 2),
+                         ("camera_video_166", 166, 2), ("estop_high", 31, 2)):
         results[name] = [c.command(mav.MAV_CMD_DO_AUX_FUNCTION, p1, p2)]
         c.idle(0.5)
         results[name].append(mode_now(c))
