@@ -18,13 +18,26 @@ arming checks, and the radio failsafe (SIM_RC_FAIL), measured.
 * pilot_takeoff: ALT_HOLD armed on the ground, the throttle raised: the climb.
 * radio_failsafe: SIM_RC_FAIL 1 (no pulses) hovering in GUIDED: the reaction's time, mode, texts
   and height path, and the radio back; then SIM_RC_FAIL 2 (throttle 950) hovering again.
+* mavsdk_manual_control: MAVSDK's ManualControl plugin as its example drives it (inputs streamed,
+  altitude control started, armed, the throttle pushed up), from MAVSDK's own system id 245,
+  which ArduCopter does not take pilot input from: what each call answers and whether it flew.
 Numbers carry tolerances for two airframes and controllers; times are the vehicle's own.
 """
 from __future__ import annotations
 
+import asyncio
+
+from mavsdk.asyncio.plugins.action import ActionAsync
+from mavsdk.asyncio.plugins.manual_control import ManualControlAsync, ManualControlError
+from mavsdk.asyncio.plugins.telemetry import TelemetryAsync
+
+from firefly.groundstation.flight.reference_flight import connect
+
 from ..client import Client, ProbeTimeout, mav
 from ..facts import Tol, Trace
 from .states import ALT_HOLD, GUIDED, LAND, LOITER, RTL, STABILIZE, on_ground_disarmed, reach_flying
+from .mavsdk_client import mode as mavsdk_mode
+from .mavsdk_client import outcome, until
 from .texts import said
 
 AREA = "pilot"
@@ -356,6 +369,53 @@ def radio_failsafe(c: Client, sticks: Sticks, t: Trace) -> None:
     t.fact("throttle_950_back_rc_channels", chans(c))
 
 
+async def _manual_outcome(call) -> str:
+    try:
+        await asyncio.wait_for(call, 15.0)
+        return "SUCCESS"
+    except ManualControlError as exc:
+        return exc.result.name
+    except asyncio.TimeoutError:
+        return "no answer"
+
+
+async def mavsdk_manual_control(url: str) -> Trace:
+    t = Trace()
+    mavsdk, system = await connect(url)
+    telemetry, action, manual = TelemetryAsync(system), ActionAsync(system), ManualControlAsync(system)
+    sticks = [0.0, 0.0, 0.5, 0.0]  # x, y, z (0..1, 0.5 mid), r as MAVSDK takes them
+
+    async def stream():  # as MAVSDK's example: at least 10 Hz, kept up for the whole flight
+        while True:
+            await manual.set_manual_control_input(*sticks)
+            await asyncio.sleep(0.02)
+    streamer = asyncio.ensure_future(stream())
+    try:
+        await until(telemetry.subscribe_health(), lambda h: h.is_armable and h.is_home_position_ok, "armable")
+        await asyncio.sleep(0.2)
+        t.fact("start_altitude_control", await _manual_outcome(manual.start_altitude_control()))
+        t.fact("mode", await mavsdk_mode(telemetry))
+        t.fact("arm", await outcome(action.arm()))
+        top = [0.0]
+
+        async def watch():
+            async for p in telemetry.subscribe_position():
+                top[0] = max(top[0], p.relative_altitude_m)
+        watcher = asyncio.ensure_future(watch())
+        sticks[2] = 1.0  # throttle full up
+        await asyncio.sleep(0.5)  # 5-10 s of vehicle time at 10-20x
+        watcher.cancel()
+        t.fact("climbed_above_1m", top[0] > 1.0)
+        sticks[2] = 0.5
+        t.fact("armed_after", await until(telemetry.subscribe_armed(), lambda a: True, "armed state"))
+    except AssertionError as exc:
+        print(f"pilot probe mavsdk_manual_control stopped: {exc}")
+    finally:
+        streamer.cancel()
+        mavsdk.destroy()
+    return t
+
+
 PROBES = {
     "receiver_at_rest": receiver_at_rest, "sysid": sysid, "override_fields": override_fields,
     "alt_hold_sticks": alt_hold_sticks, "mode_switch": mode_switch, "aux_command": aux_command,
@@ -383,4 +443,12 @@ def run(target, names: list[str] | None = None) -> dict[str, Trace]:
     finally:
         c.close()
         target.close()
+    if names is None or "mavsdk_manual_control" in names:
+        c = target.boot()  # a fresh vehicle whose port MAVSDK takes over
+        url = c.url.replace("udpin:", "udpin://")
+        c.close()
+        try:
+            traces["mavsdk_manual_control"] = asyncio.run(mavsdk_manual_control(url))
+        finally:
+            target.close()
     return traces
