@@ -619,7 +619,11 @@ class Vehicle:
                     wants_climb = landed and (self.setpoint.wants_climb(body.d_m) or not self.mode.auto_disarms)
                     if wants_climb and self.mode.climbs_without_takeoff:
                         self._climbed_while_landed()
-                    if self.auto_disarm.due(armed, landed, wants_climb, self.params["DISARM_DELAY"], now):
+                    delay = self.params["DISARM_DELAY"]
+                    if self.motors_emergency_stopped:  # ArduCopter halves it: nothing spins to show it is armed
+                        delay /= 2
+                        wants_climb = False
+                    if self.auto_disarm.due(armed, landed, wants_climb, delay, now):
                         self.disarm("auto")
             if self.sim.steps % (self._mode_every * FAILSAFE_EVERY) == 0:
                 self.failsafes.check(self)
