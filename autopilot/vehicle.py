@@ -228,6 +228,11 @@ class Vehicle:
         """The sticks as the radio reads them (rc/radio.py)."""
         return self.rc.sticks()
 
+    @property
+    def radio_input_valid(self) -> bool:
+        """ArduCopter's has_valid_input (Failsafes.radio_input_valid)."""
+        return self.failsafes.radio_input_valid
+
     def pilot_climb_rate(self) -> float:
         """The climb rate the throttle stick asks of ALT_HOLD and alike [m/s]; 0 while the
         radio is not to be trusted."""

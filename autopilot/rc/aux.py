@@ -138,8 +138,8 @@ AUX_FUNCTIONS: dict[int, AuxFunction] = {f.number: f for f in (
 # relays, gripper, winch, mount, simple modes, ...): known, accepted, nothing moves. Those whose
 # missing device ArduCopter reports as a failure are FAILED_WITHOUT_DEVICE.
 NOTHING_HERE = (3, 5, 9, 10, 11, 13, 14, 15, 19, 21, 22, 23, 24, 25, 26, 27, 28, 29, 30, 32, 34, 35, 36, 38, 39,
-                40, 43, 44, 45, 46, 47, 48, 49, 58, 62, 65, 66, 67, 75, 76, 78, 79, 80, 84, 85, 90, 100, 101,
-                102, 103, 104, 105, 106, 109, 110, 111, 112, 113, 152, 154, 156, 158, 159, 160, 161, 162, 163,
+                40, 44, 45, 46, 47, 48, 49, 58, 62, 65, 66, 67, 75, 76, 78, 79, 80, 84, 85, 90, 100, 101,
+                102, 103, 104, 105, 106, 109, 110, 111, 112, 113, 152, 154, 158, 159, 160, 162, 163,
                 164, 171, 172, 177, 180, 182, *range(212, 220), *range(300, 316))
 FAILED_WITHOUT_DEVICE = (166, 167, 168, 169, 174, 175)  # camera functions: no camera
 for _n in NOTHING_HERE:

@@ -23,8 +23,10 @@ if TYPE_CHECKING:
 
     from ..params import ParamStore
 
-ALLOW_SWITCH_REVERSE = 1 << 5  # RC_OPTIONS bit: a reversed channel reverses its switch
-IGNORE_RECEIVER, IGNORE_OVERRIDES = 1 << 0, 1 << 1  # RC_OPTIONS bits
+# RC_OPTIONS bits (RC_Channels::Option)
+IGNORE_RECEIVER, IGNORE_OVERRIDES = 1 << 0, 1 << 1
+ARMING_CHECK_THROTTLE, ARMING_SKIP_CHECK_RPY = 1 << 5, 1 << 6  # arming wants the throttle / sticks neutral
+ALLOW_SWITCH_REVERSE = 1 << 7  # a reversed channel reverses its switch
 
 
 class RadioInput:

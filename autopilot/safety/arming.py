@@ -10,6 +10,7 @@ import math
 from collections.abc import Callable
 
 from ..modes.numbers import ModeNumber
+from ..rc.radio import ARMING_CHECK_THROTTLE, ARMING_SKIP_CHECK_RPY
 from ..views import PrearmView
 
 FORCE_ARM_MAGIC = 2989  # COMPONENT_ARM_DISARM param2 that skips the checks (ArduPilot's)
@@ -107,7 +108,33 @@ def arm_refusals(v: PrearmView, force: bool) -> list[str]:
         return [f"Arm: {reason}" for reason in failures]
     if v.params["ARMING_CHECK"] and v.mode_number not in ARM_WITH_THROTTLE_UP and _throttle_up(v):
         return ["Arm: Throttle too high"]
-    return []
+    return [f"Arm: {reason}" for reason in rc_arm_failures(v)] if v.params["ARMING_CHECK"] else []
+
+
+def rc_arm_failures(v: PrearmView) -> list[str]:
+    """AP_Arming::rc_arm_checks, the last an ARM runs: no two channels with one aux function, the
+    flight-mode channel free of one, roll, pitch and yaw centred (unless RC_OPTIONS skips it) and,
+    with RC_OPTIONS' throttle check (SITL's default 32), the throttle at the bottom."""
+    if not v.radio_input_valid:
+        return []
+    p = v.params
+    failures = []
+    options = [int(p[f"RC{n}_OPTION"]) for n in range(1, 17)]
+    used = [o for o in options if o]
+    if len(used) != len(set(used)):
+        failures.append("Duplicate Aux Switch Options")
+    mode_channel = int(p["FLTMODE_CH"])
+    if 1 <= mode_channel <= 16 and options[mode_channel - 1]:
+        failures.append(f"Mode channel and RC{mode_channel}_OPTION conflict")
+    rc_options, pilot = int(p["RC_OPTIONS"]), v.pilot
+    if not rc_options & ARMING_SKIP_CHECK_RPY:
+        for name, role, value in (("Roll", "RCMAP_ROLL", pilot.roll), ("Pitch", "RCMAP_PITCH", pilot.pitch),
+                                  ("Yaw", "RCMAP_YAW", pilot.yaw)):
+            if value != 0.0:
+                failures.append(f"{name} (RC{int(p[role])}) is not neutral")
+    if rc_options & ARMING_CHECK_THROTTLE and pilot.throttle != 0.0:
+        failures.append(f"Throttle (RC{int(p['RCMAP_THROTTLE'])}) is not neutral")
+    return failures
 
 
 def _throttle_up(v: PrearmView) -> bool:

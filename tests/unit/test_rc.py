@@ -201,7 +201,12 @@ def test_arming_needs_the_throttle_down_and_above_the_failsafe_value():
     assert v.set_mode(M.ALT_HOLD) == Result.ACCEPTED
     v.rc.hold_sticks(0.0, 0.0, 0.0, 0.8, v.time_s)
     assert v.arm() == Result.FAILED and (2, "Arm: Throttle too high") in v.drain_events()
-    assert v.set_mode(M.GUIDED) == Result.ACCEPTED and v.arm() == Result.ACCEPTED  # a GCS may, in GUIDED
+    # In GUIDED a ground station may arm with the stick up as far as ArduCopter's own check goes;
+    # AP_Arming's RC check still wants it neutral (RC_OPTIONS 32, SITL's default)
+    assert v.set_mode(M.GUIDED) == Result.ACCEPTED and v.arm() == Result.FAILED
+    assert v.drain_events() == [(2, "Arm: Throttle (RC3) is not neutral")]
+    v.params.set("RC_OPTIONS", 0)
+    assert v.arm() == Result.ACCEPTED
     v.disarm()
     v.params.set("SIM_RC_FAIL", 2)  # the receiver's failsafe values: throttle 950
     v.params.set("RC_OVERRIDE_TIME", 0)
