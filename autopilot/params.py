@@ -110,6 +110,8 @@ PARAM_TABLE: tuple[ParamSpec, ...] = (
     _f("PILOT_SPEED_UP", 250, 50, 500, "pilot climb rate [cm/s]"),
     _f("PILOT_SPEED_DN", 0, 0, 500, "pilot descent rate [cm/s], 0 = PILOT_SPEED_UP"),
     _f("PILOT_TKOFF_ALT", 0, 0, 1000, "pilot takeoff altitude [cm]"),
+    _f("TKOFF_SLEW_TIME", 2.0, 0.25, 5, "a pilot takeoff's throttle slew from zero to full [s]"),
+    _f("TKOFF_THR_MAX", 0.9, 0, 0.9, "the throttle at which a pilot takeoff leaves the ground"),
     _f("LAND_SPEED", 50, 30, 200, "final descent speed [cm/s]"),
     _f("LAND_SPEED_HIGH", 0, 0, 2500, "descent speed above LAND_ALT_LOW [cm/s], 0 = WPNAV_SPEED_DN"),
     _f("LAND_ALT_LOW", 1000, 100, 10000, "altitude below which LAND_SPEED applies [cm]"),

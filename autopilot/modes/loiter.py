@@ -2,10 +2,11 @@
 from __future__ import annotations
 
 import math
+from functools import cached_property
 
 from .base import Mode, Setpoint, hold_here, stick_deadzone
 from .context import ModeContext
-from .manual import pilot_vertical
+from .manual import PilotTakeoff, pilot_vertical
 from .numbers import ModeNumber
 
 
@@ -18,6 +19,10 @@ class Loiter(Mode):
     allows_arming = True
     _hold_ne: tuple[float, float]
     _hold_d: float
+
+    @cached_property
+    def takeoff(self) -> PilotTakeoff:
+        return PilotTakeoff()
 
     def enter(self, ctx: ModeContext) -> str | None:
         self._hold_ne, self._hold_d = hold_here(ctx)
@@ -35,7 +40,7 @@ class Loiter(Mode):
             self._hold_ne = (ctx.body.n_m, ctx.body.e_m)
         else:
             sp.pos_ne = self._hold_ne
-        self._hold_d = pilot_vertical(ctx, sp, self._hold_d)
+        self._hold_d = pilot_vertical(ctx, sp, self._hold_d, self.takeoff)
         sp.yaw_rate = stick_deadzone(pilot.yaw) * math.radians(ctx.params["PILOT_Y_RATE"])
         if ctx.landed:
             self._hold_ne = (ctx.body.n_m, ctx.body.e_m)

@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import math
+from functools import cached_property
 
 from ..pilot import CENTRED, CENTRED_MANUAL, PilotInput
 from .base import Mode, Setpoint, stick_deadzone
@@ -57,12 +58,42 @@ def pilot_climb_rate(ctx: ModeContext) -> float:
     return 0.0
 
 
-def pilot_vertical(ctx: ModeContext, sp: Setpoint, hold_d: float) -> float:
+class PilotTakeoff:
+    """ArduCopter's pilot takeoff (Mode::_TakeOff): from the ground, a stick asking to climb
+    spools the motors up, then slews the throttle up over TKOFF_SLEW_TIME, and the vehicle leaves
+    the ground once it reaches TKOFF_THR_MAX (at most 0.9); until then it stays down."""
+
+    def __init__(self) -> None:
+        self.asked_at_s: float | None = None
+
+    def waiting(self, ctx: ModeContext, climb: float) -> bool:
+        if not ctx.landed or climb <= 0.0:
+            self.asked_at_s = None
+            return False
+        if self.asked_at_s is None:
+            self.asked_at_s = ctx.time_s
+        params = ctx.params
+        # the motors spool up from ground idle first (MOT_SPOOL_TIME), then the throttle slews
+        spool_s = params.get("MOT_SPOOL_TIME", 0.5) + \
+            max(params["TKOFF_SLEW_TIME"], 0.25) * min(params["TKOFF_THR_MAX"], 0.9)
+        return ctx.time_s - self.asked_at_s < spool_s
+
+
+def pilot_vertical(ctx: ModeContext, sp: Setpoint, hold_d: float, takeoff: PilotTakeoff | None = None) -> float:
     """Throttle stick in ALT_HOLD/LOITER: climb at the stick's rate, or hold the height it left;
-    returns the height to hold from now on."""
+    returns the height to hold from now on. With `takeoff`, a climb from the ground waits for
+    the throttle's slew first."""
     climb = pilot_climb_rate(ctx)
+    if takeoff is not None and takeoff.waiting(ctx, climb):
+        sp.vel_d = 0.5  # pressed to the ground while the throttle slews up
+        return ctx.body.d_m
     if climb != 0.0 or ctx.landed:
         sp.vel_d = -climb
+        # the stick's rate is the limit: PILOT_SPEED_DN/UP, not the navigator's WPNAV_SPEED_DN/UP
+        if climb < 0.0:
+            sp.speed_dn = -climb
+        elif climb > 0.0:
+            sp.speed_up = climb
         return ctx.body.d_m
     sp.pos_d = hold_d
     return hold_d
@@ -76,7 +107,11 @@ class AltHold(Mode):
         self._hold_d = ctx.body.d_m
         return None
 
+    @cached_property
+    def takeoff(self) -> PilotTakeoff:
+        return PilotTakeoff()
+
     def update(self, ctx: ModeContext, sp: Setpoint, dt: float) -> None:
         sp.clear()
         pilot_lean_and_yaw(ctx, sp)
-        self._hold_d = pilot_vertical(ctx, sp, self._hold_d)
+        self._hold_d = pilot_vertical(ctx, sp, self._hold_d, self.takeoff)

@@ -340,8 +340,10 @@ def _failsafe_reaction(c: Client, t: Trace, prefix: str, fail: int, watch_s: flo
         c.set_param("SIM_RC_FAIL", fail)
         at = c.now_ms  # the echo: the vehicle has it (a late client would otherwise count its own lag)
         c.wait(lambda: c.now_ms >= at + watch_s * 1000, watch_s + 10, what="the failsafe watched")
-    changed = next(((ms - at) / 1000.0 for ms, _, mode in path if mode != GUIDED), None)
-    t.fact(f"{prefix}_mode_after_s", changed, REACTION)
+    # when it was said (the mode is only seen at the next 1 Hz HEARTBEAT)
+    told = next(((ms - at) / 1000.0 for ms, _, text in c.texts if ms >= at and text.startswith("Radio Failsafe")),
+                None)
+    t.fact(f"{prefix}_said_after_s", told, REACTION)
     t.fact(f"{prefix}_mode", path[-1][2] if path else None)
     for s in (3, 6, 10):
         alt = next((a for ms, a, _ in path if ms >= at + s * 1000), None)
@@ -396,16 +398,14 @@ async def mavsdk_manual_control(url: str) -> Trace:
         t.fact("start_altitude_control", await _manual_outcome(manual.start_altitude_control()))
         t.fact("mode", await mavsdk_mode(telemetry))
         t.fact("arm", await outcome(action.arm()))
-        top = [0.0]
-
-        async def watch():
-            async for p in telemetry.subscribe_position():
-                top[0] = max(top[0], p.relative_altitude_m)
-        watcher = asyncio.ensure_future(watch())
-        sticks[2] = 1.0  # throttle full up
-        await asyncio.sleep(0.5)  # 5-10 s of vehicle time at 10-20x
-        watcher.cancel()
-        t.fact("climbed_above_1m", top[0] > 1.0)
+        sticks[2] = 1.0  # throttle full up, for 4 s of vehicle time (10 Hz samples of its own stream)
+        await telemetry.set_rate_position(10.0)
+        top, samples = 0.0, 0
+        async for p in telemetry.subscribe_position():
+            top, samples = max(top, p.relative_altitude_m), samples + 1
+            if samples >= 40:
+                break
+        t.fact("climbed_above_1m", top > 1.0)
         sticks[2] = 0.5
         t.fact("armed_after", await until(telemetry.subscribe_armed(), lambda a: True, "armed state"))
     except AssertionError as exc:
