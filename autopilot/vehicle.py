@@ -253,9 +253,11 @@ class Vehicle:
     def _read_radio(self, now: float) -> None:
         """ArduCopter's rc_loop: the channels, then the flight-mode switch (not while the radio
         is in failsafe or its throttle reads low)."""
-        self.rc.read(now)
-        if self.failsafes.radio_input_valid:
-            position = self.rc.mode_switch_moved(now)
+        rc = self.rc
+        rc.read(now)
+        if rc.switches_dirty and self.failsafes.radio_input_valid:
+            position = rc.mode_switch_moved(now)
+            rc.switches_dirty = rc.mode_switch.settling
             if position is not None:
                 self._mode_switch_to(position)
 
@@ -265,6 +267,7 @@ class Vehicle:
     def reset_mode_switch(self) -> None:
         """A mode's aux switch moved off: the flight-mode switch's mode is taken back once read."""
         self.rc.mode_switch.forget()
+        self.rc.switches_dirty = True
 
     def _read_aux_switches(self, now: float) -> None:
         """ArduCopter's read_aux_all (10 Hz): each aux switch that has moved runs its function."""

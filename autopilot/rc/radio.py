@@ -36,59 +36,84 @@ class RadioInput:
         self.overrides = Overrides()
         self.radio_in = [0] * CHANNELS  # each channel's PWM [us] as last read, 0 = never
         self.updated_at_s = 0.0  # sim time of the last read with a frame or an override
+        self.version = 0  # bumped whenever a channel's value changes
         self.mode_switch = Debounced()
+        # The switches are to be read again: a channel moved, a parameter changed, a switch is
+        # still settling, or the flight-mode switch was reset (read at every tick while set).
+        self.switches_dirty = True
         self.aux_switches = [Debounced() for _ in range(CHANNELS)]
         self._aux_seen = [False] * CHANNELS  # the channel's switch has been read with its option
         self._sticks: PilotInput = CENTRED_MANUAL
-        self._sticks_pwm: tuple[int, ...] | None = None
+        self._sticks_version = -1
+        self._last_frame: tuple[int, ...] | None = None
+        self._configure()
         params.on_change(self._param_changed)
 
+    def _configure(self) -> None:
+        """The parameters read at every tick, cached until one changes."""
+        p = self.params
+        self._options = int(p["RC_OPTIONS"])
+        self._stick_channels = tuple(int(p[role]) for role in ("RCMAP_ROLL", "RCMAP_PITCH", "RCMAP_THROTTLE",
+                                                                "RCMAP_YAW"))
+        self.aux_channels = [(i, int(p[f"RC{i + 1}_OPTION"])) for i in range(CHANNELS)
+                             if int(p[f"RC{i + 1}_OPTION"])]
+        self._sticks_version = -1
+        self._last_frame = None
+        self.switches_dirty = True
+
     def _param_changed(self, name: str, value: float) -> None:
-        if name.startswith("RC") and name.endswith("_OPTION"):
+        if name.startswith("RC") and name.endswith("_OPTION") and name[2:-len("_OPTION")].isdigit():
             index = int(name[2:-len("_OPTION")]) - 1
             self._aux_seen[index] = False
             self.aux_switches[index].forget()
-        if name.startswith("RC"):  # RCMAP_*, RCn_*: the sticks are worked out again
-            self._sticks_pwm = None
+        if name.startswith(("RC", "FLTMODE")):  # RCMAP_*, RCn_*, RC_*, the mode switch
+            self._configure()
 
     # ----- the channels ------------------------------------------------------------------------
     def read(self, now_s: float) -> bool:
-        """Take the receiver's frame and the overrides in force; False if neither came."""
+        """Take the receiver's frame and the overrides in force; True if a channel changed. With
+        neither a frame nor a new override, nothing is read (updated_at_s stays)."""
         frame = self.receiver.channels_us()
-        options = int(self.params["RC_OPTIONS"])
-        if options & IGNORE_RECEIVER:
+        overrides = self.overrides
+        if self._options & IGNORE_RECEIVER:
             frame = None
-        if frame is None and not self.overrides.new:
+        if frame is None and not overrides.new:
             return False
-        self.overrides.new = False
-        timeout_s = -1.0 if options & IGNORE_OVERRIDES else self.params["RC_OVERRIDE_TIME"]
-        ignore_overrides = bool(options & IGNORE_OVERRIDES)
-        radio_in = self.radio_in
-        for i in range(CHANNELS):
-            override = 0 if ignore_overrides else self.overrides.value(i, now_s, timeout_s)
-            if override:
-                radio_in[i] = override
-            elif frame is not None:
-                radio_in[i] = frame[i] if i < len(frame) else 0
         self.updated_at_s = now_s
-        return True
+        if frame is self._last_frame and not overrides.new and not overrides.held:
+            return False  # the usual tick: the same frame, no override
+        self._last_frame = frame
+        overrides.new = False
+        ignore_overrides = bool(self._options & IGNORE_OVERRIDES)
+        timeout_s = self.params["RC_OVERRIDE_TIME"]
+        radio_in, changed = self.radio_in, False
+        for i in range(CHANNELS):
+            override = 0 if ignore_overrides else overrides.value(i, now_s, timeout_s)
+            value = override or (frame[i] if frame is not None and i < len(frame) else radio_in[i] if frame is None else 0)
+            if value != radio_in[i]:
+                radio_in[i], changed = value, True
+        if timeout_s > 0:
+            overrides.forget_lapsed(now_s, timeout_s)
+        if changed:
+            self.version += 1
+            self.switches_dirty = True
+        return changed
 
     def channel_us(self, channel: int) -> int:
         """Channel `channel` (1-based) as last read [us]."""
         return self.radio_in[channel - 1] if 1 <= channel <= CHANNELS else 0
 
     def throttle_us(self) -> int:
-        return self.channel_us(int(self.params["RCMAP_THROTTLE"]))
+        return self.channel_us(self._stick_channels[2])
 
     def sticks(self) -> PilotInput:
         """Roll, pitch (positive forward: a low PWM), yaw in -1..1 and throttle 0..1 through the
         channels' calibrations; CENTRED_MANUAL itself for centred sticks and a closed throttle."""
-        p = self.params
-        chans = (int(p["RCMAP_ROLL"]), int(p["RCMAP_PITCH"]), int(p["RCMAP_THROTTLE"]), int(p["RCMAP_YAW"]))
-        pwm = tuple(self.channel_us(c) for c in chans)
-        if pwm == self._sticks_pwm:
+        if self._sticks_version == self.version:
             return self._sticks
-        self._sticks_pwm = pwm
+        self._sticks_version = self.version
+        p, chans = self.params, self._stick_channels
+        pwm = tuple(self.channel_us(c) for c in chans)
         if 0 in pwm:  # never read: at rest
             self._sticks = CENTRED_MANUAL
             return self._sticks
@@ -115,11 +140,9 @@ class RadioInput:
     def settle_switches(self) -> int | None:
         """At power-on: every switch taken where it is, nothing acted on; the flight-mode
         switch's position (0..5), or None, for the vehicle to enter its mode."""
-        for i in range(CHANNELS):
-            option = int(self.params.get(f"RC{i + 1}_OPTION", 0))
-            if option:
-                self.aux_switches[i].settle(self._switch_position(i))
-                self._aux_seen[i] = True
+        for i, _ in self.aux_channels:
+            self.aux_switches[i].settle(self._switch_position(i))
+            self._aux_seen[i] = True
         position = self._mode_switch_reading()
         self.mode_switch.settle(position)
         return position
@@ -137,18 +160,20 @@ class RadioInput:
             return None
         return position
 
+    @property
+    def switches_settling(self) -> bool:
+        """A switch has moved and not yet held long enough to count."""
+        return self.mode_switch.settling or any(self.aux_switches[i].settling for i, _ in self.aux_channels)
+
     def _switch_position(self, index: int) -> int | None:
-        allow_reverse = bool(int(self.params["RC_OPTIONS"]) & ALLOW_SWITCH_REVERSE)
+        allow_reverse = bool(self._options & ALLOW_SWITCH_REVERSE)
         reversed_switch = allow_reverse and bool(self.params[f"RC{index + 1}_REVERSED"])
         return switch_position(self.radio_in[index], reversed_switch)
 
     def aux_switches_moved(self, now_s: float) -> list[tuple[int, int, int]]:
         """(channel 1-based, RCn_OPTION, position) of each aux switch that has just moved."""
         moved = []
-        for i in range(CHANNELS):
-            option = int(self.params[f"RC{i + 1}_OPTION"])
-            if not option:
-                continue
+        for i, option in self.aux_channels:
             position = self._switch_position(i)
             if position is None:
                 continue

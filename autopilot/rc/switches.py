@@ -19,6 +19,11 @@ class Debounced:
         """As reset_mode_switch: the next position read counts as new once it has held."""
         self.current = self._candidate = None
 
+    @property
+    def settling(self) -> bool:
+        """A new position is being timed."""
+        return self._candidate != self.current
+
     def read(self, position: int, now_s: float) -> bool:
         """True when `position` has just become the current one."""
         if position == self.current:
