@@ -212,3 +212,39 @@ def test_arming_needs_the_throttle_down_and_above_the_failsafe_value():
     v.params.set("RC_OVERRIDE_TIME", 0)
     v.run_until(v.time_s + 0.1)
     assert v.prearm_failure() == "Throttle below failsafe"
+
+
+def _forward_m(v, n0: float, e0: float, yaw: float) -> float:
+    import math
+    return (v.body.n_m - n0) * math.cos(yaw) + (v.body.e_m - e0) * math.sin(yaw)
+
+
+def test_loiter_takes_a_stick_as_a_lean_with_drag_as_ac_loiter():
+    """3 s of pitch stick at 1300 us: ArduCopter moved 3.7 m (surface_messages' recording), not
+    the 8 m a velocity of LOIT_SPEED times the stick would give; centred, it brakes and holds."""
+    v = hovering_vehicle(10.0)
+    v.params.set("RC_OVERRIDE_TIME", -1)
+    v.rc.hold_sticks(0.0, 0.0, 0.0, 0.5, v.time_s)
+    assert v.set_mode(M.LOITER) == Result.ACCEPTED
+    v.run_until(v.time_s + 2.0)
+    n0, e0, yaw = v.body.n_m, v.body.e_m, v.attitude[2]
+    v.rc.overrides.set(1, 1300, v.time_s)
+    v.run_until(v.time_s + 3.0)
+    assert 3.0 < _forward_m(v, n0, e0, yaw) < 5.0
+    v.rc.overrides.set(1, 1500, v.time_s)
+    v.run_until(v.time_s + 8.0)  # braked, and back on the point where its target stopped
+    stopped = _forward_m(v, n0, e0, yaw)
+    v.run_until(v.time_s + 3.0)
+    assert abs(_forward_m(v, n0, e0, yaw) - stopped) < 0.3
+
+
+def test_rtl_near_home_climbs_no_higher_than_its_cone():
+    v = hovering_vehicle(10.0)  # over home
+    assert v.set_mode(M.RTL) == Result.ACCEPTED
+    v.run_until(v.time_s + 4.0)
+    assert altitude(v) < 10.5  # RTL_CONE_SLOPE 3 x ~0 m: no climb to RTL_ALT (15 m)
+    v = hovering_vehicle(10.0)
+    v.guided_goto(v.body.n_m + 30.0, v.body.e_m, v.body.d_m)
+    assert fly_until(v, lambda x: abs(x.body.vn_m_s) < 0.1 and x.body.n_m > 29.0, 30.0)
+    assert v.set_mode(M.RTL) == Result.ACCEPTED
+    assert fly_until(v, lambda x: altitude(x) > 14.5, 15.0)  # 30 m away: the cone allows 90 m, RTL_ALT rules
