@@ -110,6 +110,8 @@ PARAM_TABLE: tuple[ParamSpec, ...] = (
     _f("PILOT_SPEED_UP", 250, 50, 500, "pilot climb rate [cm/s]"),
     _f("PILOT_SPEED_DN", 0, 0, 500, "pilot descent rate [cm/s], 0 = PILOT_SPEED_UP"),
     _f("PILOT_TKOFF_ALT", 0, 0, 1000, "pilot takeoff altitude [cm]"),
+    _f("TKOFF_SLEW_TIME", 2.0, 0.25, 5, "a pilot takeoff's throttle slew from zero to full [s]"),
+    _f("TKOFF_THR_MAX", 0.9, 0, 0.9, "the throttle at which a pilot takeoff leaves the ground"),
     _f("LAND_SPEED", 50, 30, 200, "final descent speed [cm/s]"),
     _f("LAND_SPEED_HIGH", 0, 0, 2500, "descent speed above LAND_ALT_LOW [cm/s], 0 = WPNAV_SPEED_DN"),
     _f("LAND_ALT_LOW", 1000, 100, 10000, "altitude below which LAND_SPEED applies [cm]"),
@@ -118,6 +120,7 @@ PARAM_TABLE: tuple[ParamSpec, ...] = (
     _f("RTL_SPEED", 0, 0, 2000, "RTL speed [cm/s], 0 = WPNAV_SPEED"),
     _f("RTL_LOIT_TIME", 5000, 0, 60000, "RTL loiter over home before descending [ms]"),
     _f("RTL_CLIMB_MIN", 0, 0, 3000, "RTL minimum climb [cm]"),
+    _f("RTL_CONE_SLOPE", 3.0, 0, 10, "RTL climbs at most this times the distance home, below 0.5 = no cone"),
     _f("DISARM_DELAY", 10, 0, 127, "auto-disarm on the ground after [s], 0 = never"),
     _f("MOT_SPIN_ARM", 0.10, 0.0, 0.2, "motor output when armed, throttle zero"),
     _f("MOT_THST_HOVER", 0.35, 0.125, 0.6875, "hover throttle (learned)"),
@@ -163,6 +166,22 @@ PARAM_TABLE: tuple[ParamSpec, ...] = (
     _f("SIM_LINK_LOSS", 0, 0, 100, "share of MAVLink frames lost each way [%]"),
     # Mission (AP_Mission)
     _i("MIS_RESTART", 0, 0, 1, "AUTO after leaving it: 0 resumes the mission, 1 restarts it"),
+    # The pilot's radio (autopilot/rc/): channel roles, the mode switch, overrides, the ground station
+    _i("RCMAP_ROLL", 1, 1, 16), _i("RCMAP_PITCH", 2, 1, 16), _i("RCMAP_THROTTLE", 3, 1, 16), _i("RCMAP_YAW", 4, 1, 16),
+    _i("THR_DZ", 100, 0, 300, "throttle dead band either side of mid-stick in ALT_HOLD and alike [thousandths]"),
+    _i("FLTMODE_CH", 5, 0, 16, "channel of the 6-position flight-mode switch, 0 = none"),
+    *(_i(f"FLTMODE{n}", mode, 0, 29, f"flight mode at switch position {n}")
+      for n, mode in enumerate((7, 9, 6, 3, 5, 0), start=1)),  # SITL's copter.parm
+    _f("RC_OVERRIDE_TIME", 3.0, -1, 120, "seconds an RC override lasts, 0 = overrides off, -1 = forever"),
+    _i("RC_OPTIONS", 32, 0, 0x7FFFFFFF, "bit 0 ignore the receiver, 1 ignore overrides, 5 allow reversed switches"),
+    _i("MAV_GCS_SYSID", 255, 1, 255, "the ground station's system id: RC overrides and MANUAL_CONTROL from it only"),
+    *(spec for n in range(1, 17) for spec in (
+        _i(f"RC{n}_MIN", 1000 if n <= 8 else 1100, 800, 2200, f"channel {n} lowest PWM [us]"),
+        _i(f"RC{n}_TRIM", 1500, 800, 2200, f"channel {n} centre PWM [us]"),
+        _i(f"RC{n}_MAX", 2000 if n <= 8 else 1900, 800, 2200, f"channel {n} highest PWM [us]"),
+        _i(f"RC{n}_REVERSED", 0, 0, 1),
+        _i(f"RC{n}_DZ", {1: 20, 2: 20, 3: 30, 4: 20}.get(n, 0), 0, 200, f"channel {n} dead zone [us]"),
+        _i(f"RC{n}_OPTION", 7 if n == 7 else 0, 0, 400, f"channel {n} aux function (rc/aux.py)"))),
 )
 
 SPEC_BY_NAME = {spec.name: spec for spec in PARAM_TABLE}  # the modelled parameters: what acts

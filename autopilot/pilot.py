@@ -1,8 +1,11 @@
-"""Pilot stick input from MANUAL_CONTROL or RC_CHANNELS_OVERRIDE, normalised.
+"""The pilot's sticks, normalised, as the flight modes read them (made by autopilot/rc/radio.py
+from the receiver and the ground station's overrides).
 
-roll, pitch, yaw in -1..1 (pitch positive = nose down / forward), throttle 0..1. When no input
-has arrived recently the sticks read centred and, as ArduCopter does without an RC receiver,
-the climb-rate stick reads "hold" and the manual throttle reads zero.
+roll, pitch, yaw in -1..1 (pitch positive = stick forward = nose down), throttle 0..1 past the
+throttle channel's dead zone; throttle_mid is where the stick's centre reads (ArduCopter's
+get_throttle_mid), the middle of ALT_HOLD's climb-rate dead band. ArduPilot SITL's receiver, with
+no transmitter, holds the sticks centred and the throttle closed: CENTRED_MANUAL, which ALT_HOLD
+and the other climb-rate modes read as "descend".
 """
 from __future__ import annotations
 
@@ -18,6 +21,7 @@ class PilotInput:
     yaw: float = 0.0
     throttle: float = 0.0
     last_update_s: float = -1e9
+    throttle_mid: float = 0.5
 
     def present(self, now_s: float) -> bool:
         return now_s - self.last_update_s <= PILOT_TIMEOUT_S
@@ -29,5 +33,5 @@ class PilotInput:
         self.last_update_s = now_s
 
 
-CENTRED = PilotInput(throttle=0.5)
-CENTRED_MANUAL = PilotInput(throttle=0.0)
+CENTRED = PilotInput(throttle=0.5)  # sticks centred, throttle at mid: hold (tests, scripted sticks)
+CENTRED_MANUAL = PilotInput(throttle=0.0)  # SITL's receiver at rest

@@ -31,9 +31,12 @@ from .mission.progress import MissionProgress
 from .modes import MODE_BY_NUMBER, Mode, ModeNumber, Setpoint
 from .modes.auto_rtl import EITHER, AutoRtl
 from .modes.context import ModeContext
+from .modes.manual import pilot_climb_rate
 from .modes.return_path import ReturnPath
 from .params import ParamStore
-from .pilot import CENTRED, CENTRED_MANUAL, PilotInput
+from .pilot import PilotInput
+from .rc import RadioInput
+from .rc.aux import announcement, run_aux_function
 from .rates import LoopRates
 from .results import Result, Severity
 from .safety.arming import Arming, arm_refusals, prearm_failure
@@ -142,7 +145,12 @@ class Vehicle:
         # barometer's zero, as ArduCopter's altitude without a GPS origin)
         self.boot_ground_d = self.sim.state.body.d_m
         self.home_sets = 0  # times home was set: a cleared mission lists home again after the next
-        self.pilot_input = PilotInput()
+        # The pilot's radio: SITL's receiver and the ground station's overrides (rc/); the
+        # flight-mode and aux switches taken where they are at power-on, before anyone listens.
+        self.rc = RadioInput(self.sim.rc, self.params)
+        self.rc.read(0.0)
+        self._power_on_mode_switch = self.rc.settle_switches()
+        self.motors_emergency_stopped = False  # aux MOTOR_ESTOP / ARM_EMERGENCY_STOP
         self.events: list[tuple[int, str]] = []
         # Who else hears each status text as it is made (the dataflash log's MSG records): set by
         # the I/O edge, None when nothing logs.
@@ -157,6 +165,8 @@ class Vehicle:
         self._chunk = math.gcd(self._mode_every, est.gps_every, est.temperature_every, BATTERY_EVERY)
         if est.origin_known():  # by default the GPS has a fix at once: armable from the first heartbeat
             self._set_home_here()
+        if self._power_on_mode_switch is not None:  # the switch's mode, as ArduCopter's first reading
+            self._mode_switch_to(self._power_on_mode_switch)
 
     # ----- state, as modes, safety checks and telemetry read it -------------------------------
     # The state most read, as C-level attribute getters (failsafes and telemetry read them often).
@@ -215,9 +225,74 @@ class Vehicle:
 
     @property
     def pilot(self) -> PilotInput:
-        if self.pilot_input.present(self.time_s):
-            return self.pilot_input
-        return CENTRED_MANUAL if self.mode.manual_throttle else CENTRED
+        """The sticks as the radio reads them (rc/radio.py)."""
+        return self.rc.sticks()
+
+    @property
+    def radio_input_valid(self) -> bool:
+        """ArduCopter's has_valid_input (Failsafes.radio_input_valid)."""
+        return self.failsafes.radio_input_valid
+
+    def pilot_climb_rate(self) -> float:
+        """The climb rate the throttle stick asks of ALT_HOLD and alike [m/s]; 0 while the
+        radio is not to be trusted."""
+        return pilot_climb_rate(self.ctx) if self.failsafes.radio_input_valid else 0.0
+
+    def rc_channels_us(self) -> list[int]:
+        """Every channel [us] as the radio last read it (RC_CHANNELS)."""
+        return self.rc.radio_in
+
+    def rc_throttle_us(self) -> int | None:
+        """The throttle channel [us] if a frame or an override came within the last failsafe
+        check, else None (the radio is silent)."""
+        if self.time_s - self.rc.updated_at_s > FAILSAFE_EVERY * self._dt_mode + 1e-9:
+            return None
+        return self.rc.throttle_us()
+
+    # ----- the pilot's switches ----------------------------------------------------------------
+    def _read_radio(self, now: float) -> None:
+        """ArduCopter's rc_loop: the channels, then the flight-mode switch (not while the radio
+        is in failsafe or its throttle reads low)."""
+        rc = self.rc
+        rc.read(now)
+        if rc.switches_dirty and self.failsafes.radio_input_valid:
+            position = rc.mode_switch_moved(now)
+            rc.switches_dirty = rc.mode_switch.settling
+            if position is not None:
+                self._mode_switch_to(position)
+
+    def _mode_switch_to(self, position: int) -> None:
+        self.set_mode(int(self.params[f"FLTMODE{position + 1}"]))
+
+    def reset_mode_switch(self) -> None:
+        """A mode's aux switch moved off: the flight-mode switch's mode is taken back once read."""
+        self.rc.mode_switch.forget()
+        self.rc.switches_dirty = True
+
+    def _read_aux_switches(self, now: float) -> None:
+        """ArduCopter's read_aux_all (10 Hz): each aux switch that has moved runs its function."""
+        if not self.failsafes.radio_input_valid:
+            return
+        for channel, option, position in self.rc.aux_switches_moved(now):
+            text = announcement(channel, option, position)
+            if text is not None:
+                self.notify(text)
+            run_aux_function(self, option, position)
+
+    def aux_function(self, number: int, position: int) -> Result:
+        """MAV_CMD_DO_AUX_FUNCTION: DENIED for a position past HIGH, FAILED for a function
+        ArduCopter does not know."""
+        if position not in (0, 1, 2):
+            return Result.DENIED
+        return Result.ACCEPTED if run_aux_function(self, number, position) else Result.FAILED
+
+    def zigzag_switch(self, which: str, position: int) -> None:
+        """ZIGZAG's aux switches (SaveWP, Auto), in ZIGZAG only."""
+        mode = self.mode
+        if which == "save_wp":
+            mode.switch_save_wp(position)  # type: ignore[attr-defined]
+        else:
+            mode.switch_auto(position)  # type: ignore[attr-defined]
 
     @property
     def home(self) -> GeoPoint | None:
@@ -515,7 +590,7 @@ class Vehicle:
         sp = self.setpoint
         if est.alt_error_m and sp.pos_d is not None:
             sp = in_true_height(sp, est.alt_error_m)
-        self.cascade.command(sp, self.arming.armed, self.land_detector.landed,
+        self.cascade.command(sp, self.arming.armed and not self.motors_emergency_stopped, self.land_detector.landed,
                              min(sp.speed_xy, self._loiter_speed_max))
         self.cascade.run(min(most, self._chunk - steps % self._chunk))
 
@@ -526,6 +601,7 @@ class Vehicle:
             dt, now = self._dt_mode, self.sim.time_s
             estimate = self.estimate
             estimate.track_barometer()
+            self._read_radio(now)
             if now >= self.startup.next_due_s:
                 self.startup.say_due(now, self.origin.alt_m, self.notify)
             if self.script is not None:
@@ -551,10 +627,15 @@ class Vehicle:
                     wants_climb = landed and (self.setpoint.wants_climb(body.d_m) or not self.mode.auto_disarms)
                     if wants_climb and self.mode.climbs_without_takeoff:
                         self._climbed_while_landed()
-                    if self.auto_disarm.due(armed, landed, wants_climb, self.params["DISARM_DELAY"], now):
+                    delay = self.params["DISARM_DELAY"]
+                    if self.motors_emergency_stopped:  # ArduCopter halves it: nothing spins to show it is armed
+                        delay /= 2
+                        wants_climb = False
+                    if self.auto_disarm.due(armed, landed, wants_climb, delay, now):
                         self.disarm("auto")
             if self.sim.steps % (self._mode_every * FAILSAFE_EVERY) == 0:
                 self.failsafes.check(self)
+                self._read_aux_switches(now)
                 self.thrust_loss.check(self, FAILSAFE_EVERY * dt)
                 self._return_path_due -= 1
                 if self._return_path_due <= 0:

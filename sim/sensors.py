@@ -81,22 +81,42 @@ class Gps:
 
 
 class RcReceiver:
-    """The pilot's radio as ArduPilot SITL simulates one with no transmitter attached: frames at
-    50 Hz with the sticks at rest (throttle 1000 us). `fail` is SIM_RC_FAIL: 1 no frames at all,
-    2 frames with the throttle at 950 us (a receiver's failsafe value, below FS_THR_VALUE)."""
+    """The pilot's radio as ArduPilot SITL simulates one with no transmitter attached
+    (AP_RCProtocol_UDP): 8 channels at 50 Hz, sticks centred, throttle at the bottom, channels 5
+    and 8 at 1800 us. `fail` is SIM_RC_FAIL: 1 no frames at all; 2 every channel at 1500 us and
+    the throttle at 950 us (a receiver's failsafe values). As SITL's, the values 2 writes stay
+    after SIM_RC_FAIL goes back to 0: nothing sends the old ones again."""
 
+    REST_US = (1500, 1500, 1000, 1500, 1800, 1000, 1000, 1800)
+    FAILSAFE_US = (1500, 1500, 950, 1500, 1500, 1500, 1500, 1500)
     REST_THROTTLE_US = 1000
     FAILSAFE_THROTTLE_US = 950
     NO_PULSES, THROTTLE_950 = 1, 2
 
     def __init__(self) -> None:
-        self.fail = 0
+        self._fail = 0
+        self.pwm_us: tuple[int, ...] = self.REST_US
+
+    @property
+    def fail(self) -> int:
+        return self._fail
+
+    @fail.setter
+    def fail(self, value: int) -> None:
+        self._fail = value
+        if value == self.THROTTLE_950:
+            self.pwm_us = self.FAILSAFE_US
+
+    def channels_us(self) -> tuple[int, ...] | None:
+        """The latest frame's channels [us]; None while no frames come."""
+        if self._fail == self.NO_PULSES:
+            return None
+        return self.pwm_us
 
     def throttle_us(self) -> int | None:
         """The throttle channel of the latest frame; None while no frames come."""
-        if self.fail == self.NO_PULSES:
-            return None
-        return self.FAILSAFE_THROTTLE_US if self.fail == self.THROTTLE_950 else self.REST_THROTTLE_US
+        chans = self.channels_us()
+        return None if chans is None else chans[2]
 
 
 class Barometer:

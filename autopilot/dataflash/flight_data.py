@@ -95,8 +95,7 @@ def bat(v: StreamedView, b: BodyState) -> tuple:
 
 
 def ctun(v: StreamedView, b: BodyState) -> tuple:
-    pilot = v.pilot_input
-    throttle_in = pilot.throttle if pilot.present(v.time_s) else 0.0
+    throttle_in = v.pilot.throttle
     home_d = v.home_ned[2] if v.home_ned is not None else b.d_m
     alt = home_d - b.d_m
     target = v.destination()
@@ -133,7 +132,7 @@ def pscd(v: StreamedView, b: BodyState) -> tuple:
 
 
 def rcin(v: StreamedView, b: BodyState) -> tuple:
-    chans = rc_pwm(v)
+    chans = rc_pwm(v)[:RC_CHANNELS]
     return (*chans, *[0] * (RC_CHANNELS - len(chans)))
 
 

@@ -134,6 +134,16 @@ def do_pause_continue(s, c: Command) -> Result:
     return result
 
 
+def do_aux_function(s, c: Command) -> Result:
+    """As ArduPilot: param 1 the function (RCn_OPTION's numbers, autopilot/rc/aux.py), param 2
+    the switch position (0 low, 1 middle, 2 high; above 2 DENIED); a function it does not know
+    FAILED with "Invalid channel option (N)"; a mode that refuses is still ACCEPTED."""
+    if c.p2 > 2:
+        return Result.DENIED
+    position = as_uint16(c.p2) & 0xFF if math.isfinite(c.p2) else 0
+    return s.vehicle.aux_function(as_uint16(c.p1) if math.isfinite(c.p1) else 0, position)
+
+
 def is_location(s, c: Command) -> bool:
     """Whether a command's lat/lon/alt make a location, as ArduPilot converts a command to one: a
     latitude and longitude on the globe, an altitude that is a number within LOCATION_ALT_MAX_M, a frame it
@@ -317,6 +327,7 @@ HANDLERS = {
     mav.MAV_CMD_CONDITION_YAW: condition_yaw,
     mav.MAV_CMD_MISSION_START: mission_start,
     mav.MAV_CMD_DO_PAUSE_CONTINUE: do_pause_continue,
+    mav.MAV_CMD_DO_AUX_FUNCTION: do_aux_function,
     mav.MAV_CMD_NAV_LOITER_UNLIM: loiter_unlimited,
     mav.MAV_CMD_DO_FLIGHTTERMINATION: flight_termination,
     mav.MAV_CMD_RUN_PREARM_CHECKS: run_prearm_checks,

@@ -20,7 +20,6 @@ MILLI_G = 1000.0 / GRAVITY_M_S2  # accelerations go out in milli-g, as ArduPilot
 # ArduCopter SITL's MEMINFO and POWER_STATUS: memory it never runs out of, a 5 V board rail.
 FREE_MEMORY_16, FREE_MEMORY_32 = 65535, 524288
 BOARD_VCC_MV = 5000
-RC_IDLE = (1500, 1500, 1000, 1500, 1800, 1000, 1000, 1800)  # SITL's RC with no stick input
 RC_CHANNELS_USED = 8
 ESC_TEMPERATURE_C = 32  # what ArduCopter SITL's simulated ESCs report; Firefly models no ESC heat
 
@@ -114,17 +113,13 @@ def power_status(v: SensorView, codec):
 
 
 def rc_pwm(v: SensorView) -> list[int]:
-    """The sticks as PWM: MANUAL_CONTROL or RC_CHANNELS_OVERRIDE input while it lasts, else SITL's
-    idle RC (centred sticks, throttle low). Pitch forward is low PWM, as on a transmitter."""
-    chans = list(RC_IDLE)
-    p = v.pilot_input
-    if p.present(v.time_s):
-        chans[:4] = [int(round(1500 + 500 * p.roll)), int(round(1500 - 500 * p.pitch)),
-                     int(round(1000 + 1000 * p.throttle)), int(round(1500 + 500 * p.yaw))]
-    return chans
+    """The 16 channels as the radio last read them (autopilot/rc/radio.py): the receiver's 8, or
+    the ground station's overrides while they last (channels 9-16 read 0 but overridden)."""
+    return list(v.rc_channels_us())
 
 
 def rc_channels(v: SensorView, codec):
+    """All 16 channels, and the receiver's channel count (8) as ArduPilot's valid count."""
     chans = rc_pwm(v)
     return codec.rc_channels_encode(time_boot_ms(v), RC_CHANNELS_USED, *chans, *([0] * (18 - len(chans))), 255)
 

@@ -18,6 +18,7 @@ from .fast_pack import FastCodec
 from .ftp import FtpServer
 from .guided_setpoints import handle_attitude_target, handle_global_int, handle_local_ned
 from .guided_waypoint import guided_request
+from . import rc_input
 from .log_service import LogService
 from .mission_service import MissionService
 from .params_service import ParamService
@@ -50,7 +51,7 @@ class Session:
         self._directed: dict = {}  # link -> what poll made for it alone
         self._announced: list = []  # (link, message) for every other link that has spoken (a new value)
         self.counters = {"received": 0, "ignored_other_system": 0, "bad_data": 0, "refused": 0,
-                         "handler_errors": 0}
+                         "handler_errors": 0, "ignored_not_gcs": 0}
         self.last_handler_error = ""
         self.gcs_last_heartbeat_s: float | None = None
         # Vehicle time before which this session neither hears nor says anything: a rebooted
@@ -228,20 +229,12 @@ class Session:
             self._out.extend(self.texts.encode(severity, text))
 
     def _on_manual_control(self, msg, now_s):
-        x, y, z, r = msg.x, msg.y, msg.z, msg.r
-        self.vehicle.pilot_input.update(y / 1000.0, x / 1000.0, r / 1000.0, z / 1000.0, now_s)
+        if not rc_input.manual_control(self.vehicle, msg, now_s):
+            self.counters["ignored_not_gcs"] += 1
 
     def _on_rc_override(self, msg, now_s):
-        def norm(pwm, current):
-            if pwm in (0, 65535) or not 800 <= pwm <= 2200:
-                return current
-            return (pwm - 1500) / 500.0
-        p = self.vehicle.pilot_input
-        roll = norm(msg.chan1_raw, p.roll)
-        pitch = -norm(msg.chan2_raw, -p.pitch)  # low PWM on channel 2 = stick forward
-        throttle = norm(msg.chan3_raw, 2 * p.throttle - 1)
-        yaw = norm(msg.chan4_raw, p.yaw)
-        p.update(roll, pitch, yaw, (throttle + 1) / 2, now_s)
+        if not rc_input.rc_channels_override(self.vehicle, msg, now_s):
+            self.counters["ignored_not_gcs"] += 1
 
     def _on_mission_item(self, msg, now_s):
         result = guided_request(self.vehicle, msg)

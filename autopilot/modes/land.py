@@ -75,6 +75,25 @@ class Land(Mode):
         return ctx.has_position()  # it holds its point with a fix, comes down level without
 
 
+RTL_ALT_MIN_M = 2.0  # ArduCopter's RTL_ALT_MIN
+RTL_MIN_CONE_SLOPE = 0.5  # a shallower RTL_CONE_SLOPE turns the cone off
+
+
+def return_altitude(ctx: ModeContext) -> float:
+    """The height above home RTL returns at, as ArduCopter's compute_return_target: RTL_ALT (at
+    least RTL_CLIMB_MIN above the present height), but within RTL_CONE_SLOPE times the distance
+    home, so a vehicle near home climbs little or not at all; never below where it is."""
+    params, b = ctx.params, ctx.body
+    home = ctx.require_home()
+    current_alt = home[2] - b.d_m
+    least = max(RTL_ALT_MIN_M, current_alt + max(0.0, params["RTL_CLIMB_MIN"] / 100.0))
+    target = max(params["RTL_ALT"] / 100.0, least)
+    slope = params["RTL_CONE_SLOPE"]
+    if slope >= RTL_MIN_CONE_SLOPE:
+        target = min(target, max(math.hypot(b.n_m - home[0], b.e_m - home[1]) * slope, least))
+    return max(target, current_alt)
+
+
 class Rtl(Mode):
     """Climb to RTL_ALT (or stay higher), fly home, loiter RTL_LOIT_TIME, land and disarm.
     The climb and the return are waypoint legs, as ArduCopter flies them with its wp_nav: the
@@ -99,9 +118,7 @@ class Rtl(Mode):
     def enter(self, ctx: ModeContext) -> str | None:
         params = ctx.params
         home_d = ctx.require_home()[2]
-        current_alt = home_d - ctx.body.d_m
-        rtl_alt = max(params["RTL_ALT"] / 100.0, current_alt + params["RTL_CLIMB_MIN"] / 100.0)
-        self._return_d = home_d - rtl_alt
+        self._return_d = home_d - return_altitude(ctx)
         self._hold_ne, _ = hold_here(ctx)
         # Entered on the ground it stays there armed, as ArduCopter's RTL does, until the
         # auto-disarm (DISARM_DELAY from arming) disarms it.

@@ -2,10 +2,12 @@
 from __future__ import annotations
 
 import math
+from functools import cached_property
 
 from .base import Mode, Setpoint, hold_here, stick_deadzone
 from .context import ModeContext
-from .manual import pilot_vertical
+from .loiter_nav import LoiterNav
+from .manual import PilotTakeoff, pilot_vertical
 from .numbers import ModeNumber
 
 
@@ -19,26 +21,35 @@ class Loiter(Mode):
     _hold_ne: tuple[float, float]
     _hold_d: float
 
+    @cached_property
+    def takeoff(self) -> PilotTakeoff:
+        return PilotTakeoff()
+
     def enter(self, ctx: ModeContext) -> str | None:
         self._hold_ne, self._hold_d = hold_here(ctx)
+        self._nav: LoiterNav | None = None
         return None
 
     def update(self, ctx: ModeContext, sp: Setpoint, dt: float) -> None:
         sp.clear()
         pilot = ctx.pilot
-        fwd, right = stick_deadzone(pilot.pitch), stick_deadzone(pilot.roll)
-        if fwd or right:
-            speed = ctx.params["LOIT_SPEED"] / 100.0
-            yaw = ctx.attitude[2]
-            c, s = math.cos(yaw), math.sin(yaw)
-            sp.vel_ne = (speed * (fwd * c - right * s), speed * (fwd * s + right * c))
-            self._hold_ne = (ctx.body.n_m, ctx.body.e_m)
+        fwd, right = pilot.pitch, pilot.roll  # past the channels' dead zones already
+        nav = self._nav
+        if (fwd or right) and nav is None:  # the sticks take over from the held point
+            nav = self._nav = LoiterNav(self._hold_ne)
+        if nav is not None:
+            nav.update(ctx, fwd, right, dt)
+            sp.pos_ne, sp.vel_ne, sp.accel_ne = nav.target, nav.vel, nav.accel
+            self._hold_ne = nav.target
+            if not (fwd or right) and nav.vel == (0.0, 0.0):
+                self._nav = None  # stopped: the point is held again
         else:
             sp.pos_ne = self._hold_ne
-        self._hold_d = pilot_vertical(ctx, sp, self._hold_d)
+        self._hold_d = pilot_vertical(ctx, sp, self._hold_d, self.takeoff)
         sp.yaw_rate = stick_deadzone(pilot.yaw) * math.radians(ctx.params["PILOT_Y_RATE"])
         if ctx.landed:
             self._hold_ne = (ctx.body.n_m, ctx.body.e_m)
+            self._nav = None
 
 
 class Brake(Mode):

@@ -5,17 +5,22 @@ Flown by MAVLink alone (no sticks) it is a position hold: brake, then hold where
 from __future__ import annotations
 
 import math
+from functools import cached_property
 
 from .base import Setpoint, stick_deadzone
 from .context import ModeContext
 from .loiter import Brake
-from .manual import pilot_lean_and_yaw, pilot_vertical
+from .manual import PilotTakeoff, pilot_lean_and_yaw, pilot_vertical
 from .numbers import ModeNumber
 
 
 class PosHold(Brake):
     number = ModeNumber.POSHOLD
     allows_arming = True
+
+    @cached_property
+    def takeoff(self) -> PilotTakeoff:
+        return PilotTakeoff()
 
     def update(self, ctx: ModeContext, sp: Setpoint, dt: float) -> None:
         sp.clear()
@@ -26,4 +31,4 @@ class PosHold(Brake):
         else:
             self.brake_then_hold(ctx, sp)
             sp.yaw_rate = stick_deadzone(pilot.yaw) * math.radians(ctx.params["PILOT_Y_RATE"])
-        self._hold_d = pilot_vertical(ctx, sp, self._hold_d)
+        self._hold_d = pilot_vertical(ctx, sp, self._hold_d, self.takeoff)

@@ -141,6 +141,7 @@ class ZigZag(Loiter):
         b = self._ctx.body
         dest = self._legs.destination
         self._hold_ne = (dest[0], dest[1]) if keep_target and dest is not None else (b.n_m, b.e_m)
+        self._nav = None  # LOITER's stick-driven point starts again from here
         self._auto = False
         self._ctx.notify(f"{self.text_name}: manual control", Severity.INFO)
 

@@ -10,11 +10,13 @@ import math
 from collections.abc import Callable
 
 from ..modes.numbers import ModeNumber
+from ..rc.radio import ARMING_CHECK_THROTTLE, ARMING_SKIP_CHECK_RPY
 from ..views import PrearmView
 
 FORCE_ARM_MAGIC = 2989  # COMPONENT_ARM_DISARM param2 that skips the checks (ArduPilot's)
 FORCE_DISARM_MAGIC = 21196  # ... and that disarms even in flight
-THROTTLE_ARM_MAX = 0.1  # manual-throttle modes refuse to arm with the stick above this
+# Modes a ground station may arm with the throttle stick up (allows_GCS_or_SCR_arming_with_throttle_high)
+ARM_WITH_THROTTLE_UP = frozenset((ModeNumber.GUIDED, ModeNumber.GUIDED_NOGPS, ModeNumber.AUTO))
 
 
 def _starting_up(v: PrearmView) -> list[str]:
@@ -32,6 +34,20 @@ def _need_position(v: PrearmView) -> str | None:
     if v.home_ned is None:
         return "AHRS: waiting for home"
     return "Need 3D Fix" if v.gps.fix_type < 3 else "Need Position Estimate"
+
+
+def _throttle_below_failsafe(v: PrearmView) -> str | None:
+    """With the radio failsafe on, a throttle channel reading under FS_THR_VALUE (a receiver in
+    its own failsafe, SIM_RC_FAIL 2) refuses arming."""
+    p = v.params
+    if not p["FS_THR_ENABLE"]:
+        return None
+    throttle_us = v.rc_channels_us()[int(p["RCMAP_THROTTLE"]) - 1]
+    return "Throttle below failsafe" if throttle_us < p["FS_THR_VALUE"] else None
+
+
+def _emergency_stopped(v: PrearmView) -> str | None:
+    return "Motors Emergency Stopped" if v.motors_emergency_stopped else None
 
 
 def _internal_errors(v: PrearmView) -> str | None:
@@ -53,7 +69,9 @@ def _battery_low(v: PrearmView) -> str | None:
 
 
 # In ArduCopter's order; a check gives its words, a list of them, or None when it passes.
-PREARM_CHECKS: tuple[Callable[[PrearmView], str | list[str] | None], ...] = (_starting_up, _internal_errors, _need_position, _gps_glitching, _leaning, _battery_low)
+PREARM_CHECKS: tuple[Callable[[PrearmView], str | list[str] | None], ...] = (
+    _starting_up, _throttle_below_failsafe, _internal_errors, _need_position, _gps_glitching, _leaning, _battery_low,
+    _emergency_stopped)
 
 
 def prearm_failures(v: PrearmView) -> list[str]:
@@ -88,9 +106,43 @@ def arm_refusals(v: PrearmView, force: bool) -> list[str]:
     failures = prearm_failures(v)
     if failures:  # ArduPilot prefixes the checks an ARM runs "Arm:", its periodic report "PreArm:"
         return [f"Arm: {reason}" for reason in failures]
-    if v.mode_manual_throttle and v.pilot.throttle > THROTTLE_ARM_MAX:
+    if v.params["ARMING_CHECK"] and v.mode_number not in ARM_WITH_THROTTLE_UP and _throttle_up(v):
         return ["Arm: Throttle too high"]
-    return []
+    return [f"Arm: {reason}" for reason in rc_arm_failures(v)] if v.params["ARMING_CHECK"] else []
+
+
+def rc_arm_failures(v: PrearmView) -> list[str]:
+    """AP_Arming::rc_arm_checks, the last an ARM runs: no two channels with one aux function, the
+    flight-mode channel free of one, roll, pitch and yaw centred (unless RC_OPTIONS skips it) and,
+    with RC_OPTIONS' throttle check (SITL's default 32), the throttle at the bottom."""
+    if not v.radio_input_valid:
+        return []
+    p = v.params
+    failures = []
+    options = [int(p[f"RC{n}_OPTION"]) for n in range(1, 17)]
+    used = [o for o in options if o]
+    if len(used) != len(set(used)):
+        failures.append("Duplicate Aux Switch Options")
+    mode_channel = int(p["FLTMODE_CH"])
+    if 1 <= mode_channel <= 16 and options[mode_channel - 1]:
+        failures.append(f"Mode channel and RC{mode_channel}_OPTION conflict")
+    rc_options, pilot = int(p["RC_OPTIONS"]), v.pilot
+    if not rc_options & ARMING_SKIP_CHECK_RPY:
+        for name, role, value in (("Roll", "RCMAP_ROLL", pilot.roll), ("Pitch", "RCMAP_PITCH", pilot.pitch),
+                                  ("Yaw", "RCMAP_YAW", pilot.yaw)):
+            if value != 0.0:
+                failures.append(f"{name} (RC{int(p[role])}) is not neutral")
+    if rc_options & ARMING_CHECK_THROTTLE and pilot.throttle != 0.0:
+        failures.append(f"Throttle (RC{int(p['RCMAP_THROTTLE'])}) is not neutral")
+    return failures
+
+
+def _throttle_up(v: PrearmView) -> bool:
+    """ArduCopter's arm check: the stick above ALT_HOLD's dead band, or in a manual-throttle mode
+    (and DRIFT) above its bottom."""
+    if v.mode_manual_throttle or v.mode_number == ModeNumber.DRIFT:
+        return v.pilot.throttle > 0.0
+    return v.pilot_climb_rate() > 0.0
 
 
 def arm_refusal(v: PrearmView, force: bool) -> str | None:

@@ -71,6 +71,12 @@ class Failsafes:
         self._zones: list[tuple[str, bool, Any]] = []
 
     @property
+    def radio_input_valid(self) -> bool:
+        """ArduCopter's has_valid_input: no radio failsafe, and no low-throttle reading being
+        counted towards one; the flight-mode and aux switches are read only then."""
+        return not self.radio and self._rc_low_throttle == 0
+
+    @property
     def active(self) -> bool:
         return bool(self.battery_level or self.gcs or self.radio or self.fence_breached or self.ekf.failsafe)
 
@@ -136,10 +142,10 @@ class Failsafes:
         """As ArduCopter's radio.cpp: no RC frame for RC_FS_TIMEOUT, or RADIO_LOW_THROTTLE_CHECKS
         throttle readings in a row below FS_THR_VALUE, is the radio failsafe (with FS_THR_ENABLE
         set); frames with a good throttle clear it. SITL's receiver has always been seen, so the
-        failsafe comes armed or not."""
+        failsafe comes armed or not. Overrides count as frames (RC_Channels::read_input)."""
         p = v.params
         enabled = int(p["FS_THR_ENABLE"])
-        throttle = v.rc_receiver.throttle_us()
+        throttle = v.rc_throttle_us()
         if throttle is None:
             self._rc_silent_checks += 1
             timeout_checks = math.ceil(p["RC_FS_TIMEOUT"] / CHECK_S - 1e-9)

@@ -45,6 +45,15 @@ def hovering_vehicle(alt_m: float = 10.0, **config) -> Vehicle:
     return v
 
 
+def throttle_at_mid(v: Vehicle) -> Vehicle:
+    """A pilot holding the sticks centred and the throttle at mid for good (overrides that never
+    lapse): ALT_HOLD and the other climb-rate modes hold the height, where SITL's idle receiver
+    (throttle closed) makes them descend."""
+    v.params.set("RC_OVERRIDE_TIME", -1)
+    v.rc.hold_sticks(0.0, 0.0, 0.0, 0.5, v.time_s)
+    return v
+
+
 def body_speed(v: Vehicle) -> float:
     b = v.body
     return math.sqrt(b.vn_m_s ** 2 + b.ve_m_s ** 2 + b.vd_m_s ** 2)

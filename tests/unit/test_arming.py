@@ -58,9 +58,9 @@ def test_arming_check_0_and_force_skip_the_checks_but_not_the_mode_rule():
 def test_a_manual_throttle_mode_refuses_to_arm_with_the_stick_up():
     v = ready_vehicle()
     assert v.mode.number == ModeNumber.STABILIZE
-    v.pilot_input.update(0.0, 0.0, 0.0, 0.6, v.time_s)
+    v.rc.hold_sticks(0.0, 0.0, 0.0, 0.6, v.time_s)
     assert arm_refusal(v, force=False) == "Arm: Throttle too high"
-    v.pilot_input.update(0.0, 0.0, 0.0, 0.0, v.time_s)
+    v.rc.hold_sticks(0.0, 0.0, 0.0, 0.0, v.time_s)
     assert v.arm() == Result.ACCEPTED and v.armed
 
 

@@ -182,7 +182,7 @@ def test_manual_flight_is_bit_identical_compiled_and_in_python():
     for roll, pitch, yaw, throttle, seconds in ((0.0, 0.0, 0.0, 0.9, 2.0), (1.0, -1.0, 0.5, 0.6, 1.5),
                                                 (-0.7, 0.3, -1.0, 1.0, 1.0), (0.0, 0.0, 0.0, 0.3, 2.0)):
         for v in (a, b):
-            v.pilot_input.update(roll, pitch, yaw, throttle, v.time_s)
+            v.rc.hold_sticks(roll, pitch, yaw, throttle, v.time_s)
         saturated += lockstep(a, b, seconds)
     assert a.body.d_m < -1.0  # it really flew
     assert saturated > 0  # full throttle with lean: the allocator's priorities were used

@@ -20,7 +20,7 @@ from firefly.sim.airframe import Airframe
 from firefly.sim.vehicle import SimConfig
 from firefly.sim.wind import SteadyWind
 
-from ._util import altitude, fly_until, hovering_vehicle, ready_vehicle
+from ._util import altitude, fly_until, hovering_vehicle, throttle_at_mid, ready_vehicle
 
 CODEC = new_codec(1)
 # the EKF dead-reckons DEAD_RECKONING_S, then ten bad checks at 10 Hz
@@ -103,7 +103,7 @@ def test_land_without_gps_comes_down_level_and_drifts_with_the_wind():
 
 def test_gps_loss_in_alt_hold_keeps_the_mode_unless_fs_ekf_action_is_3():
     for action, mode in ((1, AltHold.number), (3, Land.number)):
-        v = hovering_vehicle(10.0)
+        v = throttle_at_mid(hovering_vehicle(10.0))
         v.params.set("FS_EKF_ACTION", action)
         assert v.set_mode(AltHold.number) == Result.ACCEPTED
         v.params.set("SIM_GPS_DISABLE", 1)

@@ -55,9 +55,9 @@ def test_without_gps_arming_sets_no_home_and_land_brings_it_down():
     assert v.set_mode(ModeNumber.ALT_HOLD) == Result.ACCEPTED
     assert v.arm() == Result.ACCEPTED and v.home_ned is None  # as ArduCopter: home needs a fix
     assert v.set_home(None) == Result.FAILED
-    end = v.time_s + 3.0
+    end = v.time_s + 5.0  # the motors spool up and the throttle slews before it leaves the ground
     while v.time_s < end:  # climb on the throttle stick, held
-        v.pilot_input.update(0.0, 0.0, 0.0, 0.9, v.time_s)
+        v.rc.hold_sticks(0.0, 0.0, 0.0, 0.9, v.time_s)
         v.run_until(v.time_s + 0.1)
     assert v.boot_ground_d - v.body.d_m > 2.0, "it climbed"
     assert v.set_mode(ModeNumber.LAND) == Result.ACCEPTED
@@ -228,9 +228,9 @@ def test_home_found_in_flight_takes_the_boot_grounds_height():
     v.run_until(1.0)
     v.set_mode(ModeNumber.ALT_HOLD)
     assert v.arm() == Result.ACCEPTED
-    end = v.time_s + 3.0
+    end = v.time_s + 5.0  # past the pilot takeoff's spool-up and throttle slew
     while v.time_s < end:
-        v.pilot_input.update(0.0, 0.0, 0.0, 0.9, v.time_s)
+        v.rc.hold_sticks(0.0, 0.0, 0.0, 0.9, v.time_s)
         v.run_until(v.time_s + 0.1)
     assert v.home_ned is None and v.boot_ground_d - v.body.d_m > 2.0
     v.params.set("SIM_GPS_DISABLE", 0)

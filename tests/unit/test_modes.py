@@ -16,7 +16,7 @@ from firefly.autopilot.pilot import PilotInput
 from firefly.autopilot.results import Result
 from firefly.sim.rigid_body import BodyState
 
-from ._util import altitude, fly_until, hovering_vehicle
+from ._util import altitude, fly_until, hovering_vehicle, throttle_at_mid
 
 
 def ctx(d_m=0.0, landed=False, armed=True, pilot=None, params=None, **body):
@@ -189,13 +189,13 @@ def test_brake_stops_a_moving_vehicle_and_holds():
 
 
 def test_loiter_holds_then_flies_forward_with_the_stick():
-    v = hovering_vehicle(10.0)
+    v = throttle_at_mid(hovering_vehicle(10.0))
     v.set_mode(Loiter.number)
     n0 = v.body.n_m
     v.run_until(v.time_s + 2.0)
     assert abs(v.body.n_m - n0) < 0.3
     for _ in range(30):  # 3 s of full forward stick, refreshed like a joystick would
-        v.pilot_input.update(0.0, 1.0, 0.0, 0.5, v.time_s)
+        v.rc.hold_sticks(0.0, 1.0, 0.0, 0.5, v.time_s)
         v.run_until(v.time_s + 0.1)
     assert v.body.n_m > n0 + 5.0
     assert abs(v.body.e_m) < 1.0
@@ -203,7 +203,7 @@ def test_loiter_holds_then_flies_forward_with_the_stick():
 
 
 def test_poshold_brakes_then_holds_and_leans_with_the_stick():
-    v = hovering_vehicle(10.0)
+    v = throttle_at_mid(hovering_vehicle(10.0))
     v.guided_velocity(5.0, 0.0, 0.0)
     v.run_until(v.time_s + 2.5)
     assert v.body.vn_m_s > 3.0
@@ -214,7 +214,7 @@ def test_poshold_brakes_then_holds_and_leans_with_the_stick():
     assert abs(v.body.n_m - n_stop) < 0.5
     assert abs(altitude(v) - 10.0) < 0.5
     for _ in range(20):  # 2 s of right roll stick: a lean, not a velocity demand
-        v.pilot_input.update(1.0, 0.0, 0.0, 0.5, v.time_s)
+        v.rc.hold_sticks(1.0, 0.0, 0.0, 0.5, v.time_s)
         v.run_until(v.time_s + 0.1)
     assert math.degrees(v.attitude[0]) > 10.0
     assert v.body.e_m > 2.0
@@ -222,7 +222,7 @@ def test_poshold_brakes_then_holds_and_leans_with_the_stick():
 
 
 def test_alt_hold_holds_altitude_with_centred_stick():
-    v = hovering_vehicle(8.0)
+    v = throttle_at_mid(hovering_vehicle(8.0))
     v.set_mode(AltHold.number)
     v.run_until(v.time_s + 5.0)
     assert abs(altitude(v) - 8.0) < 0.3

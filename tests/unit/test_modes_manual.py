@@ -19,7 +19,7 @@ from .test_compiled_cascade import lockstep, twins
 def hold_sticks(v: Vehicle, roll=0.0, pitch=0.0, yaw=0.0, throttle=0.5, seconds=0.0, until=None) -> bool:
     """Fly `seconds` (or until `until(v)`) with the pilot's sticks held so."""
     def held(x: Vehicle) -> bool:
-        x.pilot_input.update(roll, pitch, yaw, throttle, x.time_s)
+        x.rc.hold_sticks(roll, pitch, yaw, throttle, x.time_s)
         return until is not None and until(x)
     return fly_until(v, held, seconds or 10.0)
 
@@ -153,5 +153,5 @@ def test_rate_setpoints_fly_the_same_bits_compiled_and_in_python():
     lockstep(a, b, 4.0)
     for v in (a, b):
         v.set_mode(ModeNumber.ACRO)
-        v.pilot_input.update(0.6, -0.3, 0.2, 0.55, v.time_s)
+        v.rc.hold_sticks(0.6, -0.3, 0.2, 0.55, v.time_s)
     lockstep(a, b, 1.0)

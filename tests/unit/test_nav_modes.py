@@ -15,7 +15,7 @@ from firefly.autopilot.mavlink.dialect import new_codec
 from firefly.autopilot.params import ParamStore
 from firefly.autopilot.results import Result
 
-from ._util import altitude, fly_until, hovering_vehicle, ready_vehicle
+from ._util import altitude, fly_until, hovering_vehicle, throttle_at_mid, ready_vehicle
 
 
 def texts(v) -> list[str]:
@@ -122,7 +122,7 @@ def test_smart_rtl_armed_on_the_ground_climbs_and_arming_is_then_refused():
 
 # ----- CIRCLE -------------------------------------------------------------------------------------
 def test_circle_orbits_a_centre_ahead_at_its_radius_nose_in():
-    v = hovering_vehicle(10.0)
+    v = throttle_at_mid(hovering_vehicle(10.0))
     n0, e0 = horizontal(v)
     yaw0 = v.attitude[2]
     assert v.set_mode(M.CIRCLE) == Result.ACCEPTED
@@ -151,7 +151,7 @@ def test_circle_pilot_sticks_shrink_the_radius_and_slow_the_rate():
     v.run_until(v.time_s + 3.0)
     end = v.time_s + 1.0
     while v.time_s < end:  # pitch forward (radius in at WPNAV_SPEED), roll left (rate down 1 deg/s/s)
-        v.pilot_input.update(-1.0, 1.0, 0.0, 0.5, v.time_s)
+        v.rc.hold_sticks(-1.0, 1.0, 0.0, 0.5, v.time_s)
         v.run_until(v.time_s + 0.1)
     assert 0.0 <= mode.radius_m < 1.0
     assert 18.0 < mode.rate_deg_s < 19.5
@@ -172,15 +172,15 @@ def sticks(v, roll: float, pitch: float, seconds: float) -> None:
     until the vehicle has stopped at the point LOITER holds."""
     end = v.time_s + seconds
     while v.time_s < end:
-        v.pilot_input.update(roll, pitch, 0.0, 0.5, v.time_s)
+        v.rc.hold_sticks(roll, pitch, 0.0, 0.5, v.time_s)
         v.run_until(v.time_s + 0.25)
-    v.pilot_input.update(0.0, 0.0, 0.0, 0.5, v.time_s)
+    v.rc.hold_sticks(0.0, 0.0, 0.0, 0.5, v.time_s)
     assert fly_until(v, lambda x: math.dist(horizontal(x), x.mode._hold_ne) < 0.1
                      and math.hypot(x.body.vn_m_s, x.body.ve_m_s) < 0.05, 30)  # braked and back
 
 
 def test_zigzag_stores_a_and_b_then_flies_to_the_line_through_a():
-    v = hovering_vehicle(10.0)
+    v = throttle_at_mid(hovering_vehicle(10.0))
     assert v.set_mode(M.ZIGZAG) == Result.ACCEPTED
     zz = v.mode
     assert isinstance(zz, ZigZag)
@@ -203,7 +203,7 @@ def test_zigzag_stores_a_and_b_then_flies_to_the_line_through_a():
 
 
 def test_zigzag_auto_steps_aside_by_its_side_distance():
-    v = hovering_vehicle(10.0)
+    v = throttle_at_mid(hovering_vehicle(10.0))
     v.params.set("ZIGZ_AUTO_ENABLE", 1)
     v.set_mode(M.ZIGZAG)
     zz = v.mode

@@ -93,18 +93,18 @@ def test_an_old_name_shares_the_references_value_in_process_only(tmp_path):
 def test_a_parameter_firefly_does_not_model_is_stored_checked_and_persisted(tmp_path):
     path = tmp_path / "params.json"
     store = ParamStore(path)
-    assert not store.acts("FLTMODE1") and store.acts("RTL_ALT") and store.acts("MAV_SYSID")
-    assert store["FLTMODE1"] == REFERENCE["FLTMODE1"].default
-    assert store.set("FLTMODE1", 4.4) == 4.0  # INT8: rounded
-    with pytest.raises(ParamError, match="FLTMODE1: 300 out of range -128..127"):
-        store.set("FLTMODE1", 300)  # beyond what an INT8 holds
+    assert not store.acts("SUPER_SIMPLE") and store.acts("RTL_ALT") and store.acts("MAV_SYSID")
+    assert store["SUPER_SIMPLE"] == REFERENCE["SUPER_SIMPLE"].default
+    assert store.set("SUPER_SIMPLE", 4.4) == 4.0  # INT8: rounded
+    with pytest.raises(ParamError, match="SUPER_SIMPLE: 300 out of range -128..127"):
+        store.set("SUPER_SIMPLE", 300)  # beyond what an INT8 holds
     ranged = REFERENCE["PILOT_THR_FILT"]  # documented @Range 0..10
     with pytest.raises(ParamError, match="out of range"):
         store.set("PILOT_THR_FILT", ranged.high + 1)
     store.set("PILOT_THR_FILT", ranged.high)
-    assert json.loads(path.read_text()) == {"FLTMODE1": 4.0, "PILOT_THR_FILT": ranged.high}
+    assert json.loads(path.read_text()) == {"SUPER_SIMPLE": 4.0, "PILOT_THR_FILT": ranged.high}
     again = ParamStore(path)
-    assert again["FLTMODE1"] == 4.0 and again["PILOT_THR_FILT"] == ranged.high
+    assert again["SUPER_SIMPLE"] == 4.0 and again["PILOT_THR_FILT"] == ranged.high
 
 
 def test_a_documented_range_that_excludes_the_references_default_is_widened_to_hold_it():

@@ -169,19 +169,19 @@ def test_broadcast_target_zero_is_accepted(link):
 
 
 def test_manual_control_for_another_system_is_ignored(link):
-    before = (link.vehicle.pilot_input.roll, link.vehicle.pilot_input.pitch,
-              link.vehicle.pilot_input.throttle)
+    before = list(link.vehicle.rc.overrides.values)
     link.send(wire(gcs().manual_control_encode(2, 1000, 500, 900, 0, 0)))
-    after = (link.vehicle.pilot_input.roll, link.vehicle.pilot_input.pitch,
-             link.vehicle.pilot_input.throttle)
-    assert after == before
+    assert link.vehicle.rc.overrides.values == before
 
 
 def test_manual_control_for_this_system_sets_the_sticks(link):
+    v = link.vehicle
     link.send(wire(gcs().manual_control_encode(SYSTEM_ID, 1000, -500, 750, 0, 0)))
-    p = link.vehicle.pilot_input
-    assert (p.pitch, p.roll, p.throttle) == pytest.approx((1.0, -0.5, 0.75))
-    assert p.present(link.vehicle.time_s)
+    # As GCS_MAVLINK::manual_override: spread over RCn_MIN..MAX, x (forward) reversed onto channel 2
+    assert v.rc.overrides.values[:4] == [1250, 1000, 1750, 1500]
+    v.rc.read(v.time_s)
+    p = v.pilot
+    assert (p.pitch, p.roll, p.throttle) == pytest.approx((1.0, -230 / 480, 720 / 970))
 
 
 def test_bad_data_is_counted_and_answered_with_nothing(link):
