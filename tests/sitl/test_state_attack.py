@@ -222,14 +222,25 @@ def test_hostile_messages_in_three_states_leave_the_process_up_and_answering(tmp
         for name in sorted(gcs.params_set):
             if name in defaults:
                 gcs.set_param(name, float(defaults[name]))  # what the attack changed, back to its default
+        # The pilot's state the attack may have left, as a pilot would undo it: sticks released (0
+        # releases channels 1-8, UINT16_MAX - 1 channels 9-16), the motor emergency stop off. A
+        # released mode channel that moves back to its SITL value turns the flight-mode switch
+        # (after a 0.2 s debounce): two HEARTBEATs, a vehicle second, let it act before GUIDED.
+        gcs.send(gcs.mav.rc_channels_override_encode(1, 1, *[0] * 8, *[65534] * 10))
+        gcs.command(mav.MAV_CMD_DO_AUX_FUNCTION, 31, 0)
+        for _ in range(2):
+            gcs.pump(5.0, lambda m: m.get_type() == "HEARTBEAT" and m.get_srcSystem() == 1)
         gcs.command(mav.MAV_CMD_COMPONENT_ARM_DISARM, 0, 21196)
         gcs.command(mav.MAV_CMD_DO_SET_HOME, 1)
         gcs.send(gcs.mav.mission_clear_all_encode(1, 1, 0))
         assert gcs.command(mav.MAV_CMD_DO_SET_MODE, 1, GUIDED) == 0, gcs.failure("GUIDED refused")
-        assert gcs.command(mav.MAV_CMD_COMPONENT_ARM_DISARM, 1) == 0, gcs.failure(f"ARM refused: {gcs.texts[-3:]}")
+        armed = gcs.command(mav.MAV_CMD_COMPONENT_ARM_DISARM, 1)
+        if armed != 0:
+            gcs.pump(0.5)  # the refusal's text follows its ACK
+        assert armed == 0, gcs.failure(f"ARM refused: {gcs.texts[-3:]}")
         assert gcs.command(mav.MAV_CMD_NAV_TAKEOFF, 0, 0, 0, 0, 0, 0, 10) == 0, gcs.failure("takeoff refused")
         gcs.pump(15.0, lambda m: m.get_type() == "GLOBAL_POSITION_INT" and m.relative_alt > 5000)
-        assert gcs.relative_alt_m > 5, gcs.failure(f"did not climb: {gcs.relative_alt_m:.1f} m")
+        assert gcs.relative_alt_m > 5, gcs.failure(f"did not climb: {gcs.relative_alt_m:.1f} m; {gcs.texts[-6:]}")
         mission, fence = origin_items(HOME.lat_deg, HOME.lon_deg)
         gcs.upload(1, fence)
         for name, value in (("FENCE_TYPE", 4), ("FENCE_ENABLE", 1)):
