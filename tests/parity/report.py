@@ -11,7 +11,7 @@ import sys
 import time
 from pathlib import Path
 
-from .compare_run import AreaResult, run_area
+from .compare_run import AreaResult, run_area_confirmed
 from .probes import AREAS
 from .recording import ARDUPILOT_COMMIT, load
 from .surface.score import KINDS, kind_of, load_surface, share, statuses, write_not_yet
@@ -143,7 +143,7 @@ def main(argv=None) -> int:
         load(area)  # a missing or stale recording says so before any vehicle starts
         t0 = time.monotonic()
         print(f"{area:10s} ...", end="", flush=True)
-        r = run_area(area)
+        r = run_area_confirmed(area)
         results.append(r)
         print(f" {r.matching}/{len(r.checks)} = {100 * r.matching / max(len(r.checks), 1):.1f} %"
               f" ({len(r.explained)} known, {len(r.unexplained)} unexplained, {time.monotonic() - t0:.0f} s)")

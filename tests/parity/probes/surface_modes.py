@@ -216,6 +216,18 @@ class Timeline:
     def until(self, at_ms: float) -> None:
         self.c.wait(lambda: self.c.now_ms >= at_ms, (at_ms - self.c.now_ms) / 1000.0 + 5, what="vehicle time")
 
+    def heartbeat_after_ack(self, command: int):
+        """The first HEARTBEAT received after the command's ACK, waited for: a beat sent in the same
+        vehicle millisecond but before the ACK still says the mode before the command."""
+        def found():
+            at = next((i for i, (_, m) in enumerate(self.log)
+                       if m.get_type() == "COMMAND_ACK" and m.command == command), None)
+            if at is None:
+                return self.first("HEARTBEAT", self.sent_ms)
+            return next((m for _, m in self.log[at + 1:] if m.get_type() == "HEARTBEAT"), None)
+        self.c.wait(lambda: found() is not None, 5, what="a HEARTBEAT after the answer")
+        return found()
+
     def heartbeat_after(self, at_ms: float):
         """The first HEARTBEAT sent from `at_ms` on, waited for."""
         self.c.wait(lambda: self.first("HEARTBEAT", at_ms) is not None and self.c.now_ms >= at_ms,
@@ -239,7 +251,7 @@ def try_mode(v: Vehicle, trace: Trace, state: str, number: int, then_s: float = 
         acked = timeline.ack_ms(mav.MAV_CMD_DO_SET_MODE)
         # The first HEARTBEAT after the answer: a mode that hands back by itself (FLIP, ~1.4 s)
         # is still seen, whatever the 1 Hz beat's phase.
-        beat = timeline.heartbeat_after(acked)
+        beat = timeline.heartbeat_after_ack(mav.MAV_CMD_DO_SET_MODE)
         timeline.until(acked + SAID_WITHIN_S * 1000)  # every reply in the window has come
         if then_s and (result == mav.MAV_RESULT_ACCEPTED or not only_if_accepted):
             timeline.heartbeat_after(acked + then_s * 1000)
