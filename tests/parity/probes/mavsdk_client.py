@@ -40,12 +40,13 @@ async def until(stream, condition, what: str, seen: list | None = None, key=lamb
         raise AssertionError(f"MAVSDK saw no {what}") from None
 
 
-async def outcome(call) -> str:
-    """SUCCESS, or the name of the result an Action or Mission call failed with."""
+async def outcome(call, errors: tuple = (ActionError, MissionError)) -> str:
+    """SUCCESS, or the name of the result a plugin's call failed with (its error types: `errors`),
+    or "no answer"."""
     try:
         await asyncio.wait_for(call, 15.0)
         return "SUCCESS"
-    except (ActionError, MissionError) as exc:
+    except errors as exc:
         return exc.result.name
     except asyncio.TimeoutError:
         return "no answer"

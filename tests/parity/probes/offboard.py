@@ -31,13 +31,7 @@ ANGLE = Tol(abs=2.0, why="an attitude held within 2 degrees")
 
 
 async def offboard_outcome(call) -> str:
-    try:
-        await asyncio.wait_for(call, 15.0)
-        return "SUCCESS"
-    except OffboardError as exc:
-        return exc.result.name
-    except asyncio.TimeoutError:
-        return "no answer"
+    return await outcome(call, (OffboardError,))
 
 
 async def sample(stream):

@@ -372,13 +372,7 @@ def radio_failsafe(c: Client, sticks: Sticks, t: Trace) -> None:
 
 
 async def _manual_outcome(call) -> str:
-    try:
-        await asyncio.wait_for(call, 15.0)
-        return "SUCCESS"
-    except ManualControlError as exc:
-        return exc.result.name
-    except asyncio.TimeoutError:
-        return "no answer"
+    return await outcome(call, (ManualControlError,))
 
 
 async def mavsdk_manual_control(url: str) -> Trace:
