@@ -20,11 +20,15 @@ PARAM_NAMES = [s.name.encode() for s in PARAM_TABLE if not s.name.startswith("SI
 
 
 class FrameSource:
-    def __init__(self, seed: int, target_system: int = 1, others: tuple = (0, 2, 255)):
-        """`others`: the other target ids mixed in (0 is broadcast: it reaches the vehicle too)."""
+    def __init__(self, seed: int, target_system: int = 1, others: tuple = (0, 2, 255), source_system: int = 255,
+                 param_names: list[bytes] = PARAM_NAMES):
+        """`others`: the other target ids mixed in (0 is broadcast: it reaches the vehicle too);
+        `source_system`: the id the frames come from (255 is the ground station's)."""
         self.rng = random.Random(seed)
-        self.codec = new_codec(255, 190)
-        self.v1 = mav.MAVLink(None, srcSystem=255, srcComponent=190)
+        self.param_names = param_names
+        self.source_system = source_system
+        self.codec = new_codec(source_system, 190)
+        self.v1 = mav.MAVLink(None, srcSystem=source_system, srcComponent=190)
         self.v1.WIRE_PROTOCOL_VERSION = "1.0"
         self.targets = (target_system,) * 3 + tuple(others)
 
@@ -57,7 +61,7 @@ class FrameSource:
             return c.set_position_target_global_int_encode(0, t(), 1, i(0, 21), i(0, 65535), i(-2**31, 2**31 - 1),
                                                            i(-2**31, 2**31 - 1), *(f() for _ in range(9)))
         if kind == 8:
-            return c.param_set_encode(t(), 1, r.choice(PARAM_NAMES), f(), i(0, 10))
+            return c.param_set_encode(t(), 1, r.choice(self.param_names), f(), i(0, 10))
         if kind == 9:
             return c.mission_count_encode(t(), 1, i(0, 800), r.choice((0, 1, 2, 3, 255)))
         if kind == 10:
@@ -114,6 +118,6 @@ class FrameSource:
         r = self.rng
         payload = r.randbytes(r.randint(0, 40))
         msgid = r.choice((59999, 0xFFFFFF, 42000, 180))
-        header = struct.pack("<BBBBBBBHB", 0xFD, len(payload), 0, 0, r.randrange(256), 255, 190,
+        header = struct.pack("<BBBBBBBHB", 0xFD, len(payload), 0, 0, r.randrange(256), self.source_system, 190,
                              msgid & 0xFFFF, msgid >> 16)
         return header + payload + struct.pack("<H", r.getrandbits(16))

@@ -26,12 +26,15 @@ from pathlib import Path
 from firefly.autopilot.modes.numbers import ModeNumber
 
 from ..sitl.conftest import free_udp_port
-from .frames import FrameSource
+from .frames import PARAM_NAMES, FrameSource
 
 REPO = Path(__file__).resolve().parents[2]
 TICK_S = 0.01
 PHYSICS_HZ = 400
 MEMORY_GROWTH_LIMIT_MB = 8.0
+NOISE_SYSTEM = 254  # the noisy clients' system id: anyone's but the ground station's (MAV_GCS_SYSID 255)
+RADIO_PARAMS = (b"RC", b"FLTMODE", b"FS_THR_", b"MAV_GCS_SYSID", b"THR_DZ", b"PILOT_")
+NOT_THE_RADIO = [name for name in PARAM_NAMES if not name.startswith(RADIO_PARAMS)]
 
 
 def rss_mb(pid: int) -> float:
@@ -46,7 +49,12 @@ class NoisyClient(threading.Thread):
 
     def __init__(self, seed: int, address: tuple, rate: float, stop: threading.Event):
         super().__init__(daemon=True)
-        self.source, self.address, self.rate, self.stop = FrameSource(seed), address, rate, stop
+        # Noise, not the ground station: from the GCS's id its random sticks (RC override, MANUAL_
+        # CONTROL) and radio parameters would hold the throttle off neutral and turn the mode
+        # switch, and the pilot could never arm, as on ArduCopter. The radio's hostile input is
+        # walked in tests/sitl/test_state_attack.py and tests/fuzz/receive_fuzz.py.
+        self.source = FrameSource(seed, source_system=NOISE_SYSTEM, param_names=NOT_THE_RADIO)
+        self.address, self.rate, self.stop = address, rate, stop
         self.sent = 0
 
     def run(self) -> None:
