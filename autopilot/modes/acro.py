@@ -11,7 +11,7 @@ import math
 from ..control.position import sqrt_controller
 from ..params import ParamStore
 from ..pilot import PilotInput
-from .attitude_target import AttitudeTarget, euler_rates_to_body
+from .attitude_target import AttitudeTarget, euler_rates_to_body, rate_shaping
 from .base import Mode, Setpoint, stick_deadzone
 from .context import ModeContext
 from .numbers import ModeNumber
@@ -82,7 +82,7 @@ class Acro(Mode):
 
     def enter(self, ctx: ModeContext) -> str | None:
         b = ctx.body
-        self._target.reset((b.qw, b.qx, b.qy, b.qz))
+        self._target.reset((b.qw, b.qx, b.qy, b.qz), (b.p_rad_s, b.q_rad_s, b.r_rad_s))
         return None
 
     def update(self, ctx: ModeContext, sp: Setpoint, dt: float) -> None:
@@ -95,4 +95,5 @@ class Acro(Mode):
         if ctx.landed or pilot.throttle <= 0.0 or int(params["ACRO_OPTIONS"]) & RATE_LOOP_ONLY:
             self._target.reset(actual)
         rates = acro_rates(params, pilot, self._target.euler(), ctx.attitude[1])
-        sp.rates = self._target.rate_command(rates, actual, angle_gains(params), dt)
+        sp.rates = self._target.rate_command(rates, actual, angle_gains(params), dt,
+                                             rate_shaping(params, "ACRO_Y_RATE_TC"))

@@ -3,13 +3,22 @@ and FLIP: the target turns at the rates asked for, and the vehicle is asked for 
 a correction towards the target. So a vehicle that lags catches up, and one asked for no rate
 holds its attitude instead of drifting with the rate loop's error.
 
+The rates asked for are shaped first, as ArduCopter shapes them: the target's own rate moves
+towards them no faster than the axis may accelerate (ATC_ACCEL_R/P/Y_MAX), and with a time
+constant if one is set (ACRO_RP_RATE_TC, ACRO_Y_RATE_TC / PILOT_Y_RATE_TC). A flip's 400 deg/s
+takes about a third of a second to reach; a rate asked for at once would flip in 0.9 s, not
+ArduCopter's 1.3.
+
 Quaternions are (w, x, y, z), body to NED, as the sim's BodyState holds them.
 """
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 from firefly.sim.rigid_body import euler_from_quaternion
+
+from ..params import ParamStore
 
 Quaternion = tuple[float, float, float, float]
 
@@ -46,23 +55,61 @@ def euler_rates_to_body(roll: float, pitch: float, rates: tuple[float, float, fl
     return (roll_dot - sp * yaw_dot, cr * pitch_dot + sr * cp * yaw_dot, -sr * pitch_dot + cr * cp * yaw_dot)
 
 
+def shaped_rate(rate: float, asked: float, accel_max: float, tc: float, dt: float) -> float:
+    """One step of the target's rate towards the rate asked for: first-order with time constant
+    tc (when positive; never past the rate asked for in a step), then at most accel_max [rad/s^2]
+    (when positive) of change."""
+    if tc > 0.0:
+        change = (asked - rate) / max(tc, 0.01) * dt
+        asked = rate + (change if abs(change) <= abs(asked - rate) else asked - rate)
+    if accel_max > 0.0:
+        step = accel_max * dt
+        return min(max(asked, rate - step), rate + step)
+    return asked
+
+
+class RateShaping(NamedTuple):
+    """Per body axis: the most angular acceleration [rad/s^2] and time constant [s] (0: none)."""
+    accel_max: tuple[float, float, float]
+    tc: tuple[float, float, float]
+
+
+def rate_shaping(params: ParamStore, yaw_tc_param: str = "PILOT_Y_RATE_TC") -> RateShaping:
+    """ArduCopter's shaping of body rates asked for by a pilot-flown mode; none without its
+    rate feed-forward (ATC_RATE_FF_ENAB 0)."""
+    if not params["ATC_RATE_FF_ENAB"]:
+        return RateShaping((0.0, 0.0, 0.0), (0.0, 0.0, 0.0))
+    rp_tc = params["ACRO_RP_RATE_TC"]
+    return RateShaping((math.radians(params["ATC_ACCEL_R_MAX"] / 100.0), math.radians(params["ATC_ACCEL_P_MAX"] / 100.0),
+                        math.radians(params["ATC_ACCEL_Y_MAX"] / 100.0)), (rp_tc, rp_tc, params[yaw_tc_param]))
+
+
 class AttitudeTarget:
-    """The attitude a rate-flown mode steers towards (reset to the vehicle's own attitude)."""
+    """The attitude a rate-flown mode steers towards (reset to the vehicle's own attitude), and the
+    body rate it turns at."""
 
     def __init__(self) -> None:
         self.q: Quaternion = (1.0, 0.0, 0.0, 0.0)
+        self.rates: tuple[float, float, float] = (0.0, 0.0, 0.0)
 
-    def reset(self, q: Quaternion) -> None:
+    def reset(self, q: Quaternion, rates: tuple[float, float, float] = (0.0, 0.0, 0.0)) -> None:
         self.q = q
+        self.rates = rates
 
     def euler(self) -> tuple[float, float, float]:
         """The target as (roll, pitch, yaw) [rad]."""
         return euler_from_quaternion(*self.q)
 
     def rate_command(self, rates: tuple[float, float, float], actual: Quaternion, angle_p: tuple[float, float, float],
-                     dt: float) -> tuple[float, float, float]:
-        """Turn the target by body `rates` [rad/s] for dt; the body rates to ask of the vehicle
-        (`actual`): the rates themselves plus angle_p (per axis) times the error to the target."""
+                     dt: float, shaping: RateShaping | None = None) -> tuple[float, float, float]:
+        """Turn the target by body `rates` [rad/s] (shaped, if given) for dt; the body rates to ask
+        of the vehicle (`actual`): the target's rates plus angle_p (per axis) times the error to
+        the target."""
+        if shaping is not None:
+            accel, tc, now = shaping.accel_max, shaping.tc, self.rates
+            rates = (shaped_rate(now[0], rates[0], accel[0], tc[0], dt), shaped_rate(now[1], rates[1], accel[1], tc[1], dt),
+                     shaped_rate(now[2], rates[2], accel[2], tc[2], dt))
+        self.rates = rates
         p, q, r = rates
         half = 0.5 * dt
         self.q = normalised(multiply(self.q, (1.0, p * half, q * half, r * half)))

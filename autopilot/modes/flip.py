@@ -13,7 +13,7 @@ import math
 from ..pilot import PilotInput
 from ..results import Result
 from .acro import angle_gains
-from .attitude_target import AttitudeTarget
+from .attitude_target import AttitudeTarget, rate_shaping
 from .base import Mode, Setpoint
 from .context import ModeContext
 from .motor_throttle import motor_from_stick, stick_from_motor
@@ -70,7 +70,8 @@ class Flip(Mode):
         roll, pitch, yaw = ctx.attitude
         self._orig = (min(max(roll, -angle_max), angle_max), min(max(pitch, -angle_max), angle_max), yaw)
         b = ctx.body
-        self._target.reset((b.qw, b.qx, b.qy, b.qz))
+        # The target's rate carries on from the mode before: about the vehicle's own.
+        self._target.reset((b.qw, b.qx, b.qy, b.qz), (b.p_rad_s, b.q_rad_s, b.r_rad_s))
         return None
 
     def update(self, ctx: ModeContext, sp: Setpoint, dt: float) -> None:
@@ -118,7 +119,8 @@ class Flip(Mode):
 
     def _rotate(self, ctx: ModeContext, sp: Setpoint, rates: tuple[float, float, float], dt: float) -> None:
         b = ctx.body
-        sp.rates = self._target.rate_command(rates, (b.qw, b.qx, b.qy, b.qz), angle_gains(ctx.params), dt)
+        sp.rates = self._target.rate_command(rates, (b.qw, b.qx, b.qy, b.qz), angle_gains(ctx.params), dt,
+                                             rate_shaping(ctx.params))
 
     def _recover(self, sp: Setpoint) -> None:
         """Back to the attitude the flip started from, by the angle controller."""

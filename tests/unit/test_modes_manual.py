@@ -88,8 +88,10 @@ def test_flip_rolls_over_and_hands_back_to_alt_hold():
         rolled[0] = max(rolled[0], abs(x.attitude[0]))
         return x.mode_number == ModeNumber.ALT_HOLD
     assert hold_sticks(v, until=back)
-    assert rolled[0] > math.radians(170.0)
-    assert v.time_s - start < 2.5  # recovered, not timed out
+    assert rolled[0] > math.radians(150.0)  # over the top (sampled each step, at 400 deg/s)
+    # The rate builds at ATC_ACCEL_R_MAX: ArduCopter SITL is back level 1.26 s after the ACK,
+    # a rate asked for at once would hand back in 0.95 s. Recovered, not timed out.
+    assert 1.05 < v.time_s - start < 2.5
     assert abs(v.attitude[0]) < math.radians(6.0) and altitude(v) > 6.0
 
 
