@@ -23,7 +23,7 @@ run: install
 # rest flies real processes against wall-clock budgets and runs one test at a time.
 test: install
 	$(PY) -m pytest -q -ra -n 2 tests/unit
-	$(PY) -m pytest -q -ra --ignore=tests/unit
+	$(PY) -m pytest -q -ra --durations=30 --ignore=tests/unit
 
 unit: install
 	$(PY) -m pytest -q tests/unit

@@ -223,10 +223,7 @@ class Vehicle:
         home = self.home_ned
         return self.boot_ground_d if home is None else home[2]
 
-    @property
-    def pilot(self) -> PilotInput:
-        """The sticks as the radio reads them (rc/radio.py)."""
-        return self.rc.sticks()
+    pilot: ReadThrough[PilotInput] = property(attrgetter("rc.pilot"), doc="The sticks as the radio reads them (rc/radio.py).")
 
     @property
     def radio_input_valid(self) -> bool:
@@ -250,12 +247,11 @@ class Vehicle:
         return self.rc.throttle_us()
 
     # ----- the pilot's switches ----------------------------------------------------------------
-    def _read_radio(self, now: float) -> None:
-        """ArduCopter's rc_loop: the channels, then the flight-mode switch (not while the radio
-        is in failsafe or its throttle reads low)."""
+    def _read_mode_switch(self, now: float) -> None:
+        """The flight-mode switch, after the channels moved (not while the radio is in failsafe
+        or its throttle reads low)."""
         rc = self.rc
-        rc.read(now)
-        if rc.switches_dirty and self.failsafes.radio_input_valid:
+        if self.failsafes.radio_input_valid:
             position = rc.mode_switch_moved(now)
             rc.switches_dirty = rc.mode_switch.settling
             if position is not None:
@@ -601,7 +597,10 @@ class Vehicle:
             dt, now = self._dt_mode, self.sim.time_s
             estimate = self.estimate
             estimate.track_barometer()
-            self._read_radio(now)
+            rc = self.rc
+            rc.read(now)  # ArduCopter's rc_loop: the channels, then (when they moved) the switches
+            if rc.switches_dirty:
+                self._read_mode_switch(now)
             if now >= self.startup.next_due_s:
                 self.startup.say_due(now, self.origin.alt_m, self.notify)
             if self.script is not None:

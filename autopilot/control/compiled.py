@@ -19,7 +19,7 @@ from typing import TYPE_CHECKING, Protocol
 from firefly.sim.physics import PhysicsState, fast_step_constants
 from firefly.sim.rigid_body import BodyState
 
-from .cascade import Cascade, CascadeSetup, Command
+from .cascade import Cascade, CascadeSetup
 
 if TYPE_CHECKING:
     from ._cascade import Loop
@@ -92,6 +92,8 @@ class CompiledCascade(CascadeSetup):
         self.loop.load(sim.state)
         self._loaded = sim.state
         self.loop.reset()  # holds the heading the vehicle starts with, as the reference does
+        # The loop's own method, not one that calls it: the vehicle commands it at every tick.
+        self.command = self.loop.command
 
     def constants(self) -> dict:
         """What the loop takes once, by name: the physics step's constants and the airframe's
@@ -124,9 +126,6 @@ class CompiledCascade(CascadeSetup):
     def configure(self, params) -> None:
         super().configure(params)
         self.loop.configure(self.gains())
-
-    def command(self, sp: Command, armed: bool, landed: bool, speed_xy: float) -> None:
-        self.loop.command(sp, armed, landed, speed_xy)
 
     def reset_position(self) -> None:
         self._sync()

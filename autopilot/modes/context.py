@@ -87,7 +87,7 @@ class ModeContext:
     # Read-through properties as C-level attribute getters: modes read them at 100 Hz per vehicle.
     body: ReadThrough[BodyState] = property(attrgetter("_estimate.body"))
     attitude: ReadThrough[Vector3] = property(attrgetter("_estimate.attitude"))
-    pilot: ReadThrough[PilotInput] = property(attrgetter("_v.pilot"))
+    pilot: ReadThrough[PilotInput] = property(attrgetter("_v.rc.pilot"))
     armed: ReadThrough[bool] = property(attrgetter("_arming.armed"))
     landed: ReadThrough[bool] = property(attrgetter("_land.landed"))
     landed_at_s: ReadThrough[float] = property(attrgetter("_land.landed_at_s"))

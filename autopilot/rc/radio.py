@@ -43,8 +43,9 @@ class RadioInput:
         self.switches_dirty = True
         self.aux_switches = [Debounced() for _ in range(CHANNELS)]
         self._aux_seen = [False] * CHANNELS  # the channel's switch has been read with its option
-        self._sticks: PilotInput = CENTRED_MANUAL
-        self._sticks_version = -1
+        # The sticks as last worked out (sticks()): read at every tick by the flight mode, so
+        # kept rather than worked out on each read.
+        self.pilot: PilotInput = CENTRED_MANUAL
         self._last_frame: tuple[int, ...] | None = None
         self._configure()
         params.on_change(self._param_changed)
@@ -57,7 +58,7 @@ class RadioInput:
                                                                 "RCMAP_YAW"))
         self.aux_channels = [(i, int(p[f"RC{i + 1}_OPTION"])) for i in range(CHANNELS)
                              if int(p[f"RC{i + 1}_OPTION"])]
-        self._sticks_version = -1
+        self._work_out_sticks()
         self._last_frame = None
         self.switches_dirty = True
 
@@ -97,6 +98,7 @@ class RadioInput:
         if changed:
             self.version += 1
             self.switches_dirty = True
+            self._work_out_sticks()
         return changed
 
     def channel_us(self, channel: int) -> int:
@@ -108,23 +110,23 @@ class RadioInput:
 
     def sticks(self) -> PilotInput:
         """Roll, pitch (positive forward: a low PWM), yaw in -1..1 and throttle 0..1 through the
-        channels' calibrations; CENTRED_MANUAL itself for centred sticks and a closed throttle."""
-        if self._sticks_version == self.version:
-            return self._sticks
-        self._sticks_version = self.version
+        channels' calibrations; CENTRED_MANUAL itself for centred sticks and a closed throttle.
+        Kept in `pilot`, worked out again whenever a channel or a parameter changes."""
+        return self.pilot
+
+    def _work_out_sticks(self) -> None:
         p, chans = self.params, self._stick_channels
         pwm = tuple(self.channel_us(c) for c in chans)
         if 0 in pwm:  # never read: at rest
-            self._sticks = CENTRED_MANUAL
-            return self._sticks
+            self.pilot = CENTRED_MANUAL
+            return
         throttle_cal = Calibration.of(p, chans[2])
         r, pt, t, y = (stick(pwm[0], Calibration.of(p, chans[0])), -stick(pwm[1], Calibration.of(p, chans[1])),
                        throttle(pwm[2], throttle_cal), stick(pwm[3], Calibration.of(p, chans[3])))
         if r == 0.0 and pt == 0.0 and y == 0.0 and t == 0.0:
-            self._sticks = CENTRED_MANUAL
+            self.pilot = CENTRED_MANUAL
         else:
-            self._sticks = PilotInput(r, pt, y, t, last_update_s=float("inf"), throttle_mid=throttle_mid(throttle_cal))
-        return self._sticks
+            self.pilot = PilotInput(r, pt, y, t, last_update_s=float("inf"), throttle_mid=throttle_mid(throttle_cal))
 
     def hold_sticks(self, roll: float, pitch: float, yaw: float, throttle: float, now_s: float) -> None:
         """Override the four mapped channels with the PWMs a transmitter sends for these sticks
