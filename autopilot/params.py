@@ -175,6 +175,7 @@ PARAM_TABLE: tuple[ParamSpec, ...] = (
     _f("RC_OVERRIDE_TIME", 3.0, -1, 120, "seconds an RC override lasts, 0 = overrides off, -1 = forever"),
     _i("RC_OPTIONS", 32, 0, 0x7FFFFFFF, "bit 0 ignore the receiver, 1 ignore overrides, 5 allow reversed switches"),
     _i("MAV_GCS_SYSID", 255, 1, 255, "the ground station's system id: RC overrides and MANUAL_CONTROL from it only"),
+    _i("MAV_OPTIONS", 0, 0, 65535, "bit 0: hear only the ground station (MAV_GCS_SYSID) and this vehicle's own system"),
     *(spec for n in range(1, 17) for spec in (
         _i(f"RC{n}_MIN", 1000 if n <= 8 else 1100, 800, 2200, f"channel {n} lowest PWM [us]"),
         _i(f"RC{n}_TRIM", 1500, 800, 2200, f"channel {n} centre PWM [us]"),

@@ -27,6 +27,8 @@ from .statustext import StatusTexts
 from .streams import StreamScheduler
 from .telemetry import BUILDERS
 
+GCS_SYSID_ENFORCE = 1 << 0  # MAV_OPTIONS: hear only the ground station (and the vehicle's own system)
+
 
 class Session:
     def __init__(self, vehicle, codec):
@@ -118,6 +120,17 @@ class Session:
         target = getattr(msg, "target_system", getattr(msg, "target", 0))
         return target in (0, self.system_id)
 
+    def _accepted_sender(self, msg) -> bool:
+        """MAV_OPTIONS bit 0 (GCS_SYSID_ENFORCE): as ArduPilot's accept_packet, only the vehicle's
+        own system, the ground station's (MAV_GCS_SYSID) and radio status are heard; the rest is
+        dropped unanswered (measured: no COMMAND_ACK, no PARAM_VALUE). Routing is not affected."""
+        params = self.vehicle.params
+        if not int(params["MAV_OPTIONS"]) & GCS_SYSID_ENFORCE:
+            return True
+        sender = msg.get_srcSystem()
+        return (sender in (self.system_id, int(params["MAV_GCS_SYSID"]))
+                or msg.get_type() in ("RADIO", "RADIO_STATUS"))
+
     def receive(self, msg, now_s: float, link_s: float | None = None, link=None) -> list:
         if now_s < self.silent_until_s:  # still booting: what was sent meanwhile is lost
             return []
@@ -129,6 +142,9 @@ class Session:
         self.link_s = now_s if link_s is None else link_s
         if not self._for_me(msg):
             self.counters["ignored_other_system"] += 1
+            return []
+        if not self._accepted_sender(msg):
+            self.counters["ignored_not_gcs"] += 1
             return []
         handler = self._handlers.get(msg.get_type())
         if handler is not None:
