@@ -44,6 +44,7 @@ from .safety.failsafe import Failsafes
 from .safety.internal_error import CONSTRAINING_NAN, FLOW_OF_CONTROL, InternalErrors
 from .safety.land_detector import AutoDisarm, LandDetector
 from .safety.thrust_loss import ThrustLossCheck
+from .servo_relay import ServoRelayEvents
 from .views import ReadThrough, Vector3
 
 if TYPE_CHECKING:
@@ -152,6 +153,7 @@ class Vehicle:
         self._power_on_mode_switch = self.rc.settle_switches()
         self.motors_emergency_stopped = False  # aux MOTOR_ESTOP / ARM_EMERGENCY_STOP
         self.events: list[tuple[int, str]] = []
+        self.servo_relay = ServoRelayEvents(self.params, self.notify)  # DO_SET_SERVO / _RELAY and repeats
         # Who else hears each status text as it is made (the dataflash log's MSG records): set by
         # the I/O edge, None when nothing logs.
         self.text_listener: Callable[[int, str], None] | None = None
@@ -198,6 +200,8 @@ class Vehicle:
     yaw_target: ReadThrough[float] = property(attrgetter("cascade.yaw_t"), doc="The heading target [rad].")
     motor_commands: ReadThrough[tuple[float, float, float, float]] = property(
         attrgetter("cascade.omega_cmd"), doc="The four motor speed commands [rad/s].")
+    servo_pwm: ReadThrough[list[int]] = property(
+        attrgetter("servo_relay.pwm"), doc="Outputs 1-16 as DO_SET_SERVO / DO_REPEAT_SERVO set them [us], 0 = never.")
     # ... the current mode's declarations
     mode_number: ReadThrough[int] = property(attrgetter("mode.number"))
     mode_name: ReadThrough[str] = property(attrgetter("mode.name"))
@@ -274,6 +278,24 @@ class Vehicle:
             if text is not None:
                 self.notify(text)
             run_aux_function(self, option, position)
+
+    def set_servo(self, channel: int, pwm: int) -> Result:
+        """DO_SET_SERVO (servo_relay.py): FAILED for an output that is missing or in use."""
+        return Result.ACCEPTED if self.servo_relay.set_servo(channel, pwm) else Result.FAILED
+
+    def repeat_servo(self, channel: int, pwm: int, count: int, cycle_s: float) -> Result:
+        """DO_REPEAT_SERVO (servo_relay.py), from now: FAILED as set_servo."""
+        done = self.servo_relay.repeat_servo(channel, pwm, count, cycle_s, self.time_s)
+        return Result.ACCEPTED if done else Result.FAILED
+
+    def set_relay(self, relay: int, state: int) -> Result:
+        """DO_SET_RELAY (servo_relay.py): FAILED for a relay that is not one."""
+        return Result.ACCEPTED if self.servo_relay.set_relay(relay, state) else Result.FAILED
+
+    def repeat_relay(self, relay: int, count: int, cycle_s: float) -> Result:
+        """DO_REPEAT_RELAY (servo_relay.py), from now: FAILED as set_relay."""
+        done = self.servo_relay.repeat_relay(relay, count, cycle_s, self.time_s)
+        return Result.ACCEPTED if done else Result.FAILED
 
     def aux_function(self, number: int, position: int) -> Result:
         """MAV_CMD_DO_AUX_FUNCTION: DENIED for a position past HIGH, FAILED for a function
@@ -636,6 +658,8 @@ class Vehicle:
                 self.failsafes.check(self)
                 self._read_aux_switches(now)
                 self.thrust_loss.check(self, FAILSAFE_EVERY * dt)
+                if self.servo_relay.repeating:
+                    self.servo_relay.update(now)
                 self._return_path_due -= 1
                 if self._return_path_due <= 0:
                     self._return_path_due = RETURN_PATH_EVERY

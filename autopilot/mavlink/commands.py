@@ -16,7 +16,7 @@ from ..results import Result, Severity
 from ..safety.arming import FORCE_ARM_MAGIC, FORCE_DISARM_MAGIC, prearm_failures
 from ..vehicle import LOCATION_ALT_MAX_M
 from .dialect import mavlink as mav
-from .mission_checks import as_uint16
+from ..c_casts import as_int16, as_uint16
 from .preflight import HANDLERS as PREFLIGHT_HANDLERS
 
 RETRY_WINDOW_S = 1.5  # an unconfirmed repeat this close, in wall and in sim time, is a retry
@@ -142,6 +142,30 @@ def do_aux_function(s, c: Command) -> Result:
         return Result.DENIED
     position = as_uint16(c.p2) & 0xFF if math.isfinite(c.p2) else 0
     return s.vehicle.aux_function(as_uint16(c.p1) if math.isfinite(c.p1) else 0, position)
+
+
+def do_set_servo(s, c: Command) -> Result:
+    """As ArduPilot: param 1 the output (1-16), param 2 the PWM, both cut to integers as its
+    uint8 / uint16 take them; an output missing or in use FAILED (servo_relay.py)."""
+    return s.vehicle.set_servo(as_uint16(c.p1) & 0xFF, as_uint16(c.p2))
+
+
+def do_repeat_servo(s, c: Command) -> Result:
+    """Param 3 the number of cycles (an int16), param 4 the cycle time [s] (to whole ms)."""
+    cycle_ms = as_uint16(c.p4 * 1000.0) if math.isfinite(c.p4) else 0
+    return s.vehicle.repeat_servo(as_uint16(c.p1) & 0xFF, as_uint16(c.p2), as_int16(c.p3), cycle_ms / 1000.0)
+
+
+def do_set_relay(s, c: Command) -> Result:
+    """Param 1 the relay (0-5), param 2 the state (1 on, 0 off, else toggle); FAILED for one that
+    is not a relay (servo_relay.py)."""
+    return s.vehicle.set_relay(as_uint16(c.p1) & 0xFF, as_uint16(c.p2) & 0xFF)
+
+
+def do_repeat_relay(s, c: Command) -> Result:
+    """Param 2 the number of cycles (an int16), param 3 the cycle time [s] (to whole ms)."""
+    cycle_ms = as_uint16(c.p3 * 1000.0) if math.isfinite(c.p3) else 0
+    return s.vehicle.repeat_relay(as_uint16(c.p1) & 0xFF, as_int16(c.p2), cycle_ms / 1000.0)
 
 
 def is_location(s, c: Command) -> bool:
@@ -328,6 +352,10 @@ HANDLERS = {
     mav.MAV_CMD_MISSION_START: mission_start,
     mav.MAV_CMD_DO_PAUSE_CONTINUE: do_pause_continue,
     mav.MAV_CMD_DO_AUX_FUNCTION: do_aux_function,
+    mav.MAV_CMD_DO_SET_SERVO: do_set_servo,
+    mav.MAV_CMD_DO_REPEAT_SERVO: do_repeat_servo,
+    mav.MAV_CMD_DO_SET_RELAY: do_set_relay,
+    mav.MAV_CMD_DO_REPEAT_RELAY: do_repeat_relay,
     mav.MAV_CMD_NAV_LOITER_UNLIM: loiter_unlimited,
     mav.MAV_CMD_DO_FLIGHTTERMINATION: flight_termination,
     mav.MAV_CMD_RUN_PREARM_CHECKS: run_prearm_checks,

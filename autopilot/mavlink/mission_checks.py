@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import math
 
+from ..c_casts import as_uint16
 from ..mission import FENCE, MISSION, RALLY, MissionItem
 from ..mission.commands import CMD_DO_JUMP, NAMES
 from .dialect import mavlink as mav
@@ -120,14 +121,6 @@ def check_item(item: MissionItem, kind: int = MISSION) -> int:
     return mav.MAV_MISSION_ACCEPTED
 
 
-
-
-def as_uint16(value: float) -> int:
-    """A param as ArduPilot's uint16 fields take it on x86: its integer part, modulo 2^16 (a value
-    an int32 cannot hold, NaN included, becomes 0)."""
-    if not (math.isfinite(value) and -2**31 <= value < 2**31):
-        return 0
-    return int(value) & 0xFFFF
 
 
 def check_list_item(item: MissionItem, kind: int, count: int, stored: int) -> int:

@@ -143,7 +143,7 @@ def motor_pwm(v: SensorView) -> list[int]:
 
 
 def servo_output_raw(v: SensorView, codec):
-    servos = motor_pwm(v) + [0] * 12
+    servos = motor_pwm(v) + v.servo_pwm[4:]  # the quad's motors on 1-4, then what events set
     return codec.servo_output_raw_encode(int(v.time_s * 1e6) & 0xFFFFFFFF, 0, *servos)
 
 

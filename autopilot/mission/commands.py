@@ -7,6 +7,25 @@ NAV_LAST = 95  # MAV_CMD_NAV_LAST: every command numbered up to it is a navigati
 NAV_EXCEPTIONS = {213, 42702, 42703}  # NAV_SET_YAW_SPEED, NAV_SCRIPT_TIME, NAV_ATTITUDE_TIME
 TAKEOFF_COMMANDS = {CMD_TAKEOFF, 84, 24}  # NAV_TAKEOFF, NAV_VTOL_TAKEOFF, NAV_TAKEOFF_LOCAL
 
+CMD_DO_SET_SERVO, CMD_DO_REPEAT_SERVO, CMD_DO_SET_RELAY, CMD_DO_REPEAT_RELAY = 183, 184, 181, 182
+
+# The "do" commands AP_Mission runs itself (servos, relays, cameras, payloads, tags): done as soon
+# as they start, with no MISSION_ITEM_REACHED and no "Skipping invalid cmd" (measured: a mission
+# with DO_SET_SERVO between two waypoints reports reached 1, 2, 4).
+RUN_BY_MISSION = frozenset({
+    211, 183, 181, 184, 182,  # DO_GRIPPER, DO_SET_SERVO, DO_SET_RELAY, DO_REPEAT_SERVO, DO_REPEAT_RELAY
+    202, 203, 206,  # DO_DIGICAM_CONFIGURE, DO_DIGICAM_CONTROL, DO_SET_CAM_TRIGG_DIST
+    208, 217, 216, 218, 215,  # DO_PARACHUTE, DO_SEND_SCRIPT_MESSAGE, DO_SPRAYER, DO_AUX_FUNCTION, DO_SET_RESUME_REPEAT_DIST
+    1000, 600,  # DO_GIMBAL_MANAGER_PITCHYAW, JUMP_TAG
+    2000, 2001, 531, 532, 534, 2500, 2501,  # image capture, camera zoom / focus / source, video
+})
+# The "do" commands ArduCopter's AUTO itself takes: done at once and reported reached (with the
+# waypoint before, when in the same step: one MISSION_ITEM_REACHED, the later), never "invalid".
+COPTER_DO = frozenset({
+    CMD_DO_CHANGE_SPEED, CMD_DO_SET_HOME, 195, 197, 201,  # DO_SET_ROI_LOCATION, DO_SET_ROI_NONE, DO_SET_ROI
+    205, 222, 207, 42600, 188, 189,  # DO_MOUNT_CONTROL, DO_GUIDED_LIMITS, DO_FENCE_ENABLE, DO_WINCH,
+})                                   # DO_RETURN_PATH_START, DO_LAND_START
+
 # A multicopter flies the VTOL takeoff and landing as the plain ones (ArduCopter's AUTO does).
 FLOWN_AS = {84: CMD_TAKEOFF, 85: CMD_LAND}
 

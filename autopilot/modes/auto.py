@@ -11,9 +11,11 @@ from __future__ import annotations
 import math
 from dataclasses import replace
 
-from ..mission.commands import (CMD_DO_CHANGE_SPEED, CMD_DO_SET_HOME, CMD_LAND, CMD_LOITER_TIME,
-                                CMD_LOITER_UNLIM, CMD_RTL, CMD_TAKEOFF, CMD_WAYPOINT, FLOWN_AS, is_nav)
-from ..mission.landing import CMD_DO_LAND_START, CMD_DO_RETURN_PATH_START
+from ..c_casts import as_int16, as_uint16
+from ..mission.commands import (CMD_DO_CHANGE_SPEED, CMD_DO_REPEAT_RELAY, CMD_DO_REPEAT_SERVO, CMD_DO_SET_HOME,
+                                CMD_DO_SET_RELAY, CMD_DO_SET_SERVO, CMD_LAND,
+                                CMD_LOITER_TIME, CMD_LOITER_UNLIM, CMD_RTL, CMD_TAKEOFF, CMD_WAYPOINT, COPTER_DO,
+                                FLOWN_AS, is_nav)
 from ..mission.progress import MissionProgress
 from ..mission.store import MissionItem
 from ..results import Severity
@@ -30,7 +32,16 @@ from .waypoint_legs import NAV_BY_LEGS, WaypointLegs, flies_through, next_nav_in
 CHANGE_WINDOW = 3
 NAV_COMMANDS = {CMD_WAYPOINT, CMD_LOITER_UNLIM, CMD_LOITER_TIME, CMD_RTL, CMD_LAND, CMD_TAKEOFF}
 # Places in the list, nothing to do (AUTO RTL jumps to them): passed over in silence.
-MARKERS = (CMD_DO_LAND_START, CMD_DO_RETURN_PATH_START)
+# What the mission's servo and relay items do, as AP_Mission converts them (servo_relay.py):
+# servos: param 1 the output, 2 the PWM, 3 the cycles, 4 the cycle time [s]; relays: param 1 the
+# relay, 2 the state or the cycles, 3 the cycle time [s]
+SERVO_RELAY_ITEMS = {
+    CMD_DO_SET_SERVO: lambda ctx, item: ctx.set_servo(as_uint16(item.p1) & 0xFF, as_uint16(item.p2)),
+    CMD_DO_REPEAT_SERVO: lambda ctx, item: ctx.repeat_servo(as_uint16(item.p1) & 0xFF, as_uint16(item.p2),
+                                                            as_int16(item.p3), item.p4),
+    CMD_DO_SET_RELAY: lambda ctx, item: ctx.set_relay(as_uint16(item.p1) & 0xFF, as_uint16(item.p2) & 0xFF),
+    CMD_DO_REPEAT_RELAY: lambda ctx, item: ctx.repeat_relay(as_uint16(item.p1) & 0xFF, as_int16(item.p2), item.p3),
+}
 GLOBAL_AMSL_FRAMES = {0, 5}  # MAV_FRAME_GLOBAL, MAV_FRAME_GLOBAL_INT: altitude above sea level
 
 
@@ -137,13 +148,15 @@ class Auto(Mode):
                 ctx.set_speed(item.p2)
         elif item.command == CMD_DO_SET_HOME:
             ctx.set_home(None if item.p1 == 1 else self._target_ned(ctx, item))
+        elif item.command in SERVO_RELAY_ITEMS:
+            SERVO_RELAY_ITEMS[item.command](ctx, item)
         return True
 
     def verify_command(self, index: int, item: MissionItem) -> bool:
         item = _flown(item)
         if item.command in NAV_COMMANDS:
             return index == self._index and self._nav_done
-        if item.command not in (CMD_DO_CHANGE_SPEED, CMD_DO_SET_HOME, *MARKERS):
+        if item.command not in COPTER_DO:
             self._ctx.notify(f"Skipping invalid cmd #{item.command}", Severity.WARNING)
         return True
 

@@ -46,13 +46,18 @@ class ModeContext:
         return_path              modes/return_path.py: the way back SMART_RTL takes (pop, peek)
         set_speed(m_s)           as DO_CHANGE_SPEED
         set_home(ned or None)    as DO_SET_HOME (None = here)
+        set_servo(channel, pwm), repeat_servo(channel, pwm, count, cycle_s), set_relay(relay,
+        state), repeat_relay(relay, count, cycle_s)
+                                 as DO_SET_SERVO / DO_REPEAT_SERVO / DO_SET_RELAY /
+                                 DO_REPEAT_RELAY (servo_relay.py)
         set_mode(number)         hand over to another mode, with that mode's entry rules (a
                                  Result); a mode that hands over stops filling the setpoint
         restart_position_control() the position loop starts from the present velocity (a mode
                                  that flew attitudes hands back to it, as on a mode change)
     """
     __slots__ = ("_v", "_estimate", "_arming", "_land", "_sim", "params", "mission_progress", "return_path",
-                 "notify", "disarm", "set_speed", "set_home", "ned_of", "set_mode",
+                 "notify", "disarm", "set_speed", "set_home", "set_servo", "repeat_servo",
+                 "set_relay", "repeat_relay", "ned_of", "set_mode",
                  "hover_thrust_share", "restart_position_control")
     params: ParamStore
     mission_progress: MissionProgress
@@ -61,6 +66,10 @@ class ModeContext:
     disarm: Callable[[str], Result]
     set_speed: Callable[[float], Result]
     set_home: Callable[[Vector3 | None], Result]
+    set_servo: Callable[[int, int], Result]
+    repeat_servo: Callable[[int, int, int, float], Result]
+    set_relay: Callable[[int, int], Result]
+    repeat_relay: Callable[[int, int, float], Result]
     ned_of: Callable[[float, float, float], Vector3]
     set_mode: Callable[[int], Result]
     restart_position_control: Callable[[], None]
@@ -78,6 +87,10 @@ class ModeContext:
         self.disarm = vehicle.disarm
         self.set_speed = vehicle.set_speed
         self.set_home = vehicle.set_home
+        self.set_servo = vehicle.set_servo
+        self.repeat_servo = vehicle.repeat_servo
+        self.set_relay = vehicle.set_relay
+        self.repeat_relay = vehicle.repeat_relay
         self.ned_of = vehicle.ned_of
         self.set_mode = vehicle.set_mode
         self.restart_position_control = vehicle.restart_position_control

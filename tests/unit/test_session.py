@@ -26,7 +26,7 @@ def test_command_long_gets_exactly_one_ack_addressed_to_the_sender(link):
 
 
 def test_unknown_command_is_unsupported(link):
-    ack, _ = link.command(mav.MAV_CMD_DO_SET_SERVO, 5, 1500)
+    ack, _ = link.command(mav.MAV_CMD_USER_1)
     assert ack.result == mav.MAV_RESULT_UNSUPPORTED == 3
     assert link.session.counters["refused"] == 1
 

@@ -82,6 +82,8 @@ def conforms(value, hint) -> bool:
         if len(args) == 2 and args[1] is Ellipsis:
             return all(conforms(x, args[0]) for x in value)
         return len(value) == len(args) and all(conforms(x, a) for x, a in zip(value, args))
+    if origin is list:
+        return isinstance(value, list) and all(conforms(x, args[0]) for x in value)
     if hint is float:
         return isinstance(value, (float, int)) and not isinstance(value, bool)
     return isinstance(value, hint)

@@ -1,0 +1,18 @@
+"""A float parameter as ArduPilot's C++ takes it into an integer field (x86 SITL): commands and
+mission items carry floats, and the vehicle acts on what the conversion leaves."""
+from __future__ import annotations
+
+import math
+
+
+def as_uint16(value: float) -> int:
+    """Its integer part, modulo 2^16 (a value an int32 cannot hold, NaN included, becomes 0)."""
+    if not (math.isfinite(value) and -2**31 <= value < 2**31):
+        return 0
+    return int(value) & 0xFFFF
+
+
+def as_int16(value: float) -> int:
+    """As as_uint16, read as a signed 16-bit number."""
+    unsigned = as_uint16(value)
+    return unsigned - 0x10000 if unsigned >= 0x8000 else unsigned
