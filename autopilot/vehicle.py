@@ -26,6 +26,7 @@ from .version import board_id_for
 from .control.compiled import make_cascade
 from .estimate import StateEstimate
 from .faults.world import Faults, world_values
+from .follow_target import FollowTarget
 from .mission import FENCE, MISSION, MissionStore
 from .mission.progress import MissionProgress
 from .modes import MODE_BY_NUMBER, Mode, ModeNumber, Setpoint
@@ -93,6 +94,7 @@ class Vehicle:
         self.mission = mission or MissionStore()
         self.mission_progress = MissionProgress(self.mission, self.notify)
         self.return_path = ReturnPath(self.params, self.notify)  # SMART_RTL's way back
+        self.follow_target = FollowTarget(self.params, self.notify)  # FOLLOW's lead, as others report it
         self._return_path_due = 0  # failsafe checks until the next path update
         self.script: Script | None = None  # a scenario's scripted commands (autopilot.cli.script.Script), if any
         n0, e0 = config.offset_ne_m

@@ -16,6 +16,7 @@ from .commands import Command, CommandService
 from .dialect import mavlink as mav
 from .fast_pack import FastCodec
 from .ftp import FtpServer
+from .follow_messages import on_follow_target, on_global_position_int
 from .guided_setpoints import handle_attitude_target, handle_global_int, handle_local_ned
 from .guided_waypoint import guided_request
 from . import rc_input
@@ -86,6 +87,9 @@ class Session:
             "SET_POSITION_TARGET_GLOBAL_INT": self._on_setpoint_global,
             "SET_ATTITUDE_TARGET": lambda m, now: handle_attitude_target(self.vehicle, m),
             "TIMESYNC": self._on_timesync,
+            # Another system's position: FOLLOW's lead, from whichever system sends it
+            "GLOBAL_POSITION_INT": lambda m, now: on_global_position_int(self.vehicle, m, now),
+            "FOLLOW_TARGET": lambda m, now: on_follow_target(self.vehicle, m, now),
             "SETUP_SIGNING": lambda m, now: self.signing.setup(m, self.vehicle.armed),
             # The request older ground stations send before REQUEST_MESSAGE existed.
             "AUTOPILOT_VERSION_REQUEST": lambda m, now: self.queue(self.build(mav.MAVLINK_MSG_ID_AUTOPILOT_VERSION)),

@@ -14,6 +14,9 @@ from ..facts import Tol, Trace
 from .states import GUIDED, reach_flying
 
 AREA = "follow"
+# The client is the lead: at Firefly's usual 20x a client held up for 150 ms of wall time is a lead
+# silent for 3 s of vehicle time, which FOLLOW rightly takes as lost. At 5x that takes 600 ms.
+FIREFLY_SPEEDUP = "5"
 FOLLOW = 23
 LEAD_SYSID = 2
 SEND_EVERY_MS = 100  # the lead's 10 Hz
@@ -24,13 +27,15 @@ SAMPLES_S = (5.0, 10.0, 20.0)
 FOLLOWED_S = 25.0  # then the lead falls silent
 SILENT_WATCH_S = 10.0
 
-DISTANCE = Tol(abs=1.5, rel=0.2, why="distance to the lead's point: position controllers and airframes differ "
-                                      "in how they catch a moving target")
+CATCHING = Tol(abs=1.5, rel=0.3, why="distance 5 s in, still closing the gap to the lead's point: how hard each "
+                                      "position controller chases a shaped target differs (ArduCopter lags it more)")
+TRACKING = Tol(abs=0.3, why="distance to the lead's point once caught up: both track within centimetres; "
+                            "the 10 Hz samples and the controllers' lag give a few tenths")
 SPEED = Tol(abs=0.5, rel=0.1, why="ground speed read at 10 Hz: the controllers' overshoot differs")
-HEADING = Tol(abs=10.0, why="heading in degrees: yaw loops and their rate limits differ")
-DRIFT = Tol(abs=2.0, rel=0.25, why="how far it flies on and stops after the lead falls silent: the stop "
-                                   "is each position controller's")
-HEIGHT = Tol(abs=1.0, why="height error: the vertical controllers differ")
+HEADING = Tol(abs=3.0, why="heading in degrees: the yaw loops' lag behind a turning target differs")
+DRIFT = Tol(abs=0.6, rel=0.05, why="how far it flies on and stops after the lead falls silent: the same 3 s on "
+                                   "the lead's velocity, then each position controller's stop")
+HEIGHT = Tol(abs=0.3, why="height error: the vertical controllers differ")
 
 
 def ne_of(lat: float, lon: float) -> tuple[float, float]:
@@ -160,7 +165,7 @@ def follow(c: Client, trace: Trace, params: dict, lead_from_vehicle: tuple[float
     for s in SAMPLES_S:
         t, m = sample(acked + s * 1000)
         distance, height = error(t, m)
-        trace.fact(f"distance_at_{s:g}s_m", distance, DISTANCE)
+        trace.fact(f"distance_at_{s:g}s_m", distance, CATCHING if s < 10 else TRACKING)
         trace.fact(f"speed_at_{s:g}s_m_s", math.hypot(m.vx, m.vy) / 100.0, SPEED)
         trace.fact(f"heading_at_{s:g}s_deg", wrap_deg(m.hdg / 100.0), HEADING)
     trace.fact("height_error_at_20s_m", error(*sample(acked + 20_000))[1], HEIGHT)
