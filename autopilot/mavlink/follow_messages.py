@@ -15,9 +15,12 @@ HEADING_UNKNOWN_CDEG = 36000  # GLOBAL_POSITION_INT.hdg above this: no heading g
 CAN_POS, CAN_VEL, CAN_ACCEL, CAN_ATT = 1, 2, 4, 8  # FOLLOW_TARGET.est_capabilities bits
 
 
-def on_global_position_int(vehicle: Any, msg: Any, now_s: float) -> None:
+def on_global_position_int(vehicle: Any, msg: Any, now_s: float, sender: int | None = None) -> None:
+    """sender: the system that sent it, when not in the message's header (another vehicle of this
+    process, io/shared_air.py)."""
     target = vehicle.follow_target
-    if not target.listens_to(msg.get_srcSystem(), vehicle.system_id, now_s):
+    sender = msg.get_srcSystem() if sender is None else sender
+    if not target.listens_to(sender, vehicle.system_id, now_s):
         return
     if msg.lat == 0 and msg.lon == 0:  # no fix
         return
@@ -31,7 +34,7 @@ def on_global_position_int(vehicle: Any, msg: Any, now_s: float) -> None:
     pos = vehicle.ned_of(msg.lat / 1e7, msg.lon / 1e7, alt_amsl)
     vel = (msg.vx / 100.0, msg.vy / 100.0, msg.vz / 100.0)
     heading = msg.hdg / 100.0 if msg.hdg <= HEADING_UNKNOWN_CDEG else None
-    target.hear(msg.get_srcSystem(), now_s, msg.time_boot_ms / 1000.0, pos, vel, (0.0, 0.0, 0.0), heading, None, False)
+    target.hear(sender, now_s, msg.time_boot_ms / 1000.0, pos, vel, (0.0, 0.0, 0.0), heading, None, False)
 
 
 def on_follow_target(vehicle: Any, msg: Any, now_s: float) -> None:

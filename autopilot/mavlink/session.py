@@ -142,6 +142,16 @@ class Session:
                 self.handler_failed(msg.get_type(), exc)
         return self._take()
 
+    def overhear(self, msg, system_id: int, now_s: float) -> None:
+        """A message another vehicle of this process sent (io/shared_air.py), from `system_id`:
+        taken only as the vehicle takes any system's position (FOLLOW's lead); no answer."""
+        if now_s < self.silent_until_s:
+            return
+        try:
+            on_global_position_int(self.vehicle, msg, now_s, system_id)
+        except Exception as exc:  # noqa: BLE001 - a bug must not stop the vehicle loop
+            self.handler_failed("overheard GLOBAL_POSITION_INT", exc)
+
     def handler_failed(self, where: str, exc: BaseException) -> None:
         """A bug in a message handler: counted and kept for the exit report (the tests require zero
         of these), and an internal error of the vehicle, reported as ArduPilot reports one."""
