@@ -149,3 +149,12 @@ def test_follow_target_with_nan_is_ignored_and_the_vehicle_flies_on():
     lead.fly(3.0)
     assert link.session.counters["handler_errors"] == 0
     assert v.follow_target.valid and v.mode_number == ModeNumber.FOLLOW
+
+
+def test_do_follow_names_the_lead_as_arducopter_takes_it():
+    link = Link(ready_vehicle())
+    assert link.command(mav.MAV_CMD_DO_FOLLOW, 7)[0].result == mav.MAV_RESULT_ACCEPTED
+    assert link.vehicle.params["FOLL_SYSID"] == 7
+    for refused in (0, 256, math.nan):
+        assert link.command(mav.MAV_CMD_DO_FOLLOW, refused)[0].result == mav.MAV_RESULT_DENIED
+    assert link.vehicle.params["FOLL_SYSID"] == 7
