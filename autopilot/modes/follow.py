@@ -25,6 +25,7 @@ from .base import Mode, Setpoint
 from .context import ModeContext
 from .guided_stop import JERK_DEFAULT_M_S3
 from .numbers import ModeNumber
+from .tilted_heading import INPUT_TC_DEFAULT_S, tilted_heading
 
 CM_PER_M = 100.0
 FACE_LEAD_BEYOND_M2 = 1.0  # ArduCopter faces the lead only when it is this far (squared) from the origin
@@ -36,6 +37,7 @@ class Follow(Mode):
     requires_position = True
     _target: tuple[Vec2, Vec2, Vec2] | None  # the shaped point flown to: position, velocity, acceleration
     _hold_d: float  # the height held without a lead
+    _heading: float | None  # the heading asked for last
 
     def enter(self, ctx: ModeContext) -> str | None:
         if not ctx.params["FOLL_ENABLE"]:
@@ -43,6 +45,7 @@ class Follow(Mode):
             return "init failed"
         self._target = None
         self._hold_d = ctx.body.d_m
+        self._heading = None
         return None
 
     def exit(self, ctx: ModeContext) -> None:
@@ -52,7 +55,7 @@ class Follow(Mode):
         sp.clear()
         b = ctx.body
         if ctx.landed or not ctx.armed:  # ArduCopter keeps a landed vehicle on the ground here
-            self._target = None
+            self._target = self._heading = None
             self._hold_d = sp.pos_d = b.d_m
             return
         lead = ctx.follow_target
@@ -79,6 +82,10 @@ class Follow(Mode):
         else:
             accel = shape_vel_accel_2d((0.0, 0.0), (0.0, 0.0), vel, accel, accel_max, jerk, dt)
             sp.pos_d = self._hold_d
+        if sp.yaw is None:  # kept as ArduCopter keeps it: its target's Euler yaw, which a lean moves
+            held = ctx.attitude[2] if self._heading is None else self._heading
+            sp.yaw = tilted_heading(ctx.attitude, held, dt, params.get("ATC_INPUT_TC", INPUT_TC_DEFAULT_S))
+        self._heading = sp.yaw
         self._target = (pos, vel, accel)
         sp.pos_ne, sp.vel_ne, sp.accel_ne = pos, vel, accel
 

@@ -9,6 +9,7 @@ import pytest
 
 from firefly.autopilot.follow_target import FollowTarget, max_velocity_change
 from firefly.autopilot.jitter_correction import JitterCorrection
+from firefly.autopilot.modes.tilted_heading import tilted_heading
 from firefly.autopilot.params import ParamStore
 
 OWN, LEAD, OTHER = 1, 2, 3
@@ -170,3 +171,14 @@ def test_jitter_dates_a_late_burst_by_its_senders_stamps():
     # Three reports held up and arriving together are dated when they were sent
     assert [j.local_time(s, 10.6) for s in (10.2, 10.3, 10.4)] == pytest.approx([10.22, 10.32, 10.42])
     assert j.local_time(5.0, 11.0) == pytest.approx(10.5)  # never older than the half second it allows
+
+
+def test_a_kept_heading_drifts_toward_the_tilt_axis_as_arducopter_rebuilds_it():
+    east_lean = (0.3, 0.0, 0.0)  # rolled right, heading north: the thrust leans east, about the north axis
+    assert tilted_heading((0.0, 0.0, 0.0), 0.7, 0.01) == 0.7  # level: nothing moves
+    assert tilted_heading(east_lean, 0.0, 0.01) == pytest.approx(0.0)  # on the axis: it stays
+    moved = tilted_heading(east_lean, math.radians(45), 0.01)
+    assert 0.0 < moved < math.radians(45)
+    # one rebuilding shrinks tan(heading - axis) by cos(tilt); the target takes ATC_INPUT_TC to follow
+    step = math.atan(math.cos(0.3)) - math.radians(45)
+    assert moved - math.radians(45) == pytest.approx(step * 0.01 / 0.15)
