@@ -310,6 +310,11 @@ class Vehicle:
         """Where the current mode flies to, if anywhere (Mode.destination)."""
         return self.mode.destination()
 
+    def nav_distance_bearing(self) -> tuple[float, float] | None:
+        """NAV_CONTROLLER_OUTPUT's distance and bearing as the current mode reports them, when
+        not from its destination (Mode.nav_distance_bearing)."""
+        return self.mode.nav_distance_bearing()
+
     def unix_time_us(self) -> int:
         return self.config.epoch_unix_us + int(self.time_s * 1e6)
 

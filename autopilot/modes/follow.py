@@ -13,6 +13,8 @@ FOLL_YAW_BEHAVE 1 (face the lead) is ArduCopter 4.7's as measured, not as named:
 the lead's position in metres less the position target in centimetres (a units slip in
 mode_follow.cpp), which points roughly from the vehicle back toward its origin. Firefly turns
 the same way, so that a client sees the heading ArduCopter gives (tests/parity, area follow).
+NAV_CONTROLLER_OUTPUT carries ArduCopter's own slips too (see _report); POSITION_TARGET_GLOBAL_INT
+is the lead's estimated point plus offset.
 """
 from __future__ import annotations
 
@@ -24,10 +26,12 @@ from ..results import Severity
 from .base import Mode, Setpoint
 from .context import ModeContext
 from .guided_stop import JERK_DEFAULT_M_S3
+from ..views import Vector3
 from .numbers import ModeNumber
 from .tilted_heading import INPUT_TC_DEFAULT_S, tilted_heading
 
 CM_PER_M = 100.0
+CM_TO_M = 0.01
 FACE_LEAD_BEYOND_M2 = 1.0  # ArduCopter faces the lead only when it is this far (squared) from the origin
 Vec2 = tuple[float, float]
 
@@ -38,6 +42,8 @@ class Follow(Mode):
     _target: tuple[Vec2, Vec2, Vec2] | None  # the shaped point flown to: position, velocity, acceleration
     _hold_d: float  # the height held without a lead
     _heading: float | None  # the heading asked for last
+    _point: Vector3 | None  # the lead's estimated point plus offset, while there is a lead
+    _nav: tuple[float, float]  # NAV_CONTROLLER_OUTPUT's distance and bearing, as ArduCopter's
 
     def enter(self, ctx: ModeContext) -> str | None:
         if not ctx.params["FOLL_ENABLE"]:
@@ -46,6 +52,7 @@ class Follow(Mode):
         self._target = None
         self._hold_d = ctx.body.d_m
         self._heading = None
+        self._point, self._nav = None, (0.0, 0.0)
         return None
 
     def exit(self, ctx: ModeContext) -> None:
@@ -70,6 +77,7 @@ class Follow(Mode):
             self._target = ((b.n_m, b.e_m), (b.vn_m_s, b.ve_m_s), (0.0, 0.0))
         pos, vel, accel = self._target
         pos, vel = advance_2d(pos, vel, accel, dt)
+        self._report(ctx, lead.ofs_pos if following else None)
         if following:
             n, e, d = lead.ofs_pos
             vn, ve, vd = lead.ofs_vel
@@ -88,6 +96,25 @@ class Follow(Mode):
         self._heading = sp.yaw
         self._target = (pos, vel, accel)
         sp.pos_ne, sp.vel_ne, sp.accel_ne = pos, vel, accel
+
+    def _report(self, ctx: ModeContext, point: Vector3 | None) -> None:
+        """What FOLLOW says of where it flies: the lead's point (POSITION_TARGET_GLOBAL_INT), and
+        NAV_CONTROLLER_OUTPUT's distance and bearing as ArduCopter 4.7 makes them: from its origin
+        to the point less a hundredth of the vehicle's position (a metre taken as a centimetre),
+        the bearing in centidegrees where degrees are due."""
+        self._point = point
+        if point is None:
+            self._nav = (0.0, 0.0)
+            return
+        b = ctx.body
+        dn, de = point[0] - b.n_m * CM_TO_M, point[1] - b.e_m * CM_TO_M
+        self._nav = (math.hypot(dn, de), math.degrees(math.atan2(de, dn)) * CM_PER_M) if dn or de else (0.0, 0.0)
+
+    def destination(self) -> tuple[float, float, float | None] | None:
+        return self._point
+
+    def nav_distance_bearing(self) -> tuple[float, float] | None:
+        return self._nav
 
     @staticmethod
     def _yaw(ctx: ModeContext, sp: Setpoint, pos_target: Vec2) -> None:

@@ -158,3 +158,23 @@ def test_do_follow_names_the_lead_as_arducopter_takes_it():
     for refused in (0, 256, math.nan):
         assert link.command(mav.MAV_CMD_DO_FOLLOW, refused)[0].result == mav.MAV_RESULT_DENIED
     assert link.vehicle.params["FOLL_SYSID"] == 7
+
+
+def test_what_it_reports_of_where_it_flies():
+    """POSITION_TARGET_GLOBAL_INT: the lead's point plus offset; NAV_CONTROLLER_OUTPUT as
+    ArduCopter 4.7 fills it: from the origin to that point less a hundredth of the vehicle's
+    position, the bearing in centidegrees."""
+    link, lead = following(FOLL_SYSID=LEAD, FOLL_OFS_X=-6)
+    lead.fly(10.0)
+    v = link.vehicle
+    n, e, _ = v.follow_target.ofs_pos
+    target = link.session.build(mav.MAVLINK_MSG_ID_POSITION_TARGET_GLOBAL_INT)
+    point = global_from_ned(v.origin, n, e, 0.0)
+    assert (target.lat_int, target.lon_int) == (round(point.lat_deg * 1e7), round(point.lon_deg * 1e7))
+    nav = link.session.build(mav.MAVLINK_MSG_ID_NAV_CONTROLLER_OUTPUT)
+    dn, de = n - 0.01 * v.body.n_m, e - 0.01 * v.body.e_m
+    assert nav.wp_dist == int(math.hypot(dn, de))
+    assert nav.target_bearing == pytest.approx(math.degrees(math.atan2(de, dn)) * 100, abs=1)
+    lead.fly(4.0, speaking=False)  # lost: nothing to report
+    assert link.session.build(mav.MAVLINK_MSG_ID_POSITION_TARGET_GLOBAL_INT) is None
+    assert link.session.build(mav.MAVLINK_MSG_ID_NAV_CONTROLLER_OUTPUT).wp_dist == 0

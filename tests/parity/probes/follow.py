@@ -40,6 +40,9 @@ DRIFTING_HEADING = Tol(abs=15.0, why="heading in degrees with none asked for (FO
 DRIFT = Tol(abs=0.6, rel=0.05, why="how far it flies on and stops after the lead falls silent: the same 3 s on "
                                    "the lead's velocity, then each position controller's stop")
 HEIGHT = Tol(abs=0.3, why="height error: the vertical controllers differ")
+REPORTED_DISTANCE = Tol(abs=2.0, rel=0.05, why="NAV_CONTROLLER_OUTPUT's whole metres to the waypoint")
+REPORTED_BEARING = Tol(abs=300.0, why="NAV_CONTROLLER_OUTPUT's bearing, which ArduCopter 4.7 sends in "
+                                       "centidegrees in FOLLOW: 3 degrees, as HEADING")
 DEVIATION = Tol(abs=1.0, rel=0.3, why="the largest miss once caught up, as the lead turns or stops: how far each "
                                       "position controller overshoots a shaped target")
 
@@ -171,7 +174,8 @@ def follow(c: Client, trace: Trace, params: dict, lead_from_vehicle: tuple[float
     log: list[tuple[int, object]] = []
 
     def record(msg) -> None:
-        if msg.get_type() in ("GLOBAL_POSITION_INT", "STATUSTEXT", "COMMAND_ACK", "HEARTBEAT"):
+        if msg.get_type() in ("GLOBAL_POSITION_INT", "STATUSTEXT", "COMMAND_ACK", "HEARTBEAT", "NAV_CONTROLLER_OUTPUT",
+                              "POSITION_TARGET_GLOBAL_INT"):
             log.append((c.now_ms, msg))
     with c.listening(lead), c.listening(record):
         lead.start()
@@ -210,6 +214,21 @@ def follow(c: Client, trace: Trace, params: dict, lead_from_vehicle: tuple[float
         trace.fact(f"speed_at_{s:g}s_m_s", math.hypot(m.vx, m.vy) / 100.0, SPEED)
         trace.fact(f"heading_at_{s:g}s_deg", wrap_deg(m.hdg / 100.0), heading_tol)
     trace.fact("height_error_at_20s_m", error(*sample(acked + 20_000))[1], HEIGHT)
+    # What it reports of where it flies: NAV_CONTROLLER_OUTPUT's waypoint, POSITION_TARGET_GLOBAL_INT
+    nav = [(t, m) for t, m in log if m.get_type() == "NAV_CONTROLLER_OUTPUT" and acked < t <= silent_ms]
+    t20 = acked + 20_000
+    if nav:
+        _, m = min(nav, key=lambda tm: abs(tm[0] - t20))
+        trace.fact("nav_wp_dist_at_20s_m", m.wp_dist, REPORTED_DISTANCE)
+        trace.fact("nav_target_bearing_at_20s_deg", m.target_bearing, REPORTED_BEARING)
+    targets = [(t, m) for t, m in log if m.get_type() == "POSITION_TARGET_GLOBAL_INT" and acked < t <= silent_ms]
+    if targets:
+        t, m = min(targets, key=lambda tm: abs(tm[0] - t20))
+        ln, le = lead.at(t)
+        tn, te = ne_of(m.lat_int / 1e7, m.lon_int / 1e7)
+        trace.fact("position_target_from_lead_point_m", math.hypot(ln + offset[0] - tn, le + offset[1] - te), TRACKING)
+    else:
+        trace.fact("position_target_from_lead_point_m", None)
     later = [error(t, m)[0] for t, m in positions if acked + 10_000 <= t <= silent_ms]
     trace.fact("largest_distance_after_10s_m", max(later, default=None), DEVIATION)
     # Once the lead is silent: how far on it flies, and its speed as it stops
