@@ -11,6 +11,8 @@ from __future__ import annotations
 import math
 from typing import Any
 
+from ..vehicle import LOCATION_ALT_MAX_M
+
 HEADING_UNKNOWN_CDEG = 36000  # GLOBAL_POSITION_INT.hdg above this: no heading given
 CAN_POS, CAN_VEL, CAN_ACCEL, CAN_ATT = 1, 2, 4, 8  # FOLLOW_TARGET.est_capabilities bits
 
@@ -45,8 +47,8 @@ def on_follow_target(vehicle: Any, msg: Any, now_s: float) -> None:
     if (msg.lat == 0 and msg.lon == 0) or not caps & CAN_POS:
         return
     values = (msg.alt, *msg.vel, *msg.acc, *msg.attitude_q, *msg.rates)
-    if not all(math.isfinite(v) for v in values):
-        return  # ArduPilot would take the NaN in; a lead at NaN is no lead Firefly flies to
+    if not all(math.isfinite(v) for v in values) or abs(msg.alt) > LOCATION_ALT_MAX_M:
+        return  # ArduPilot would take the NaN (or an altitude its Location cannot hold) in; Firefly flies to neither
     pos = vehicle.ned_of(msg.lat / 1e7, msg.lon / 1e7, msg.alt)
     vel = tuple(msg.vel) if caps & CAN_VEL else (0.0, 0.0, 0.0)
     accel = tuple(msg.acc) if caps & CAN_ACCEL else (0.0, 0.0, 0.0)

@@ -64,6 +64,7 @@ class Follow(Mode):
         if ctx.landed or not ctx.armed:  # ArduCopter keeps a landed vehicle on the ground here
             self._target = self._heading = None
             self._hold_d = sp.pos_d = b.d_m
+            self._report(ctx, None)
             return
         lead = ctx.follow_target
         own = (b.n_m, b.e_m, b.d_m) if ctx.has_position() else None

@@ -140,12 +140,16 @@ def test_landed_in_follow_it_stays_on_the_ground():
     assert altitude(v) < 0.2
 
 
-def test_follow_target_with_nan_is_ignored_and_the_vehicle_flies_on():
+def test_follow_target_with_nan_or_beyond_any_altitude_is_ignored_and_the_vehicle_flies_on():
     link, lead = following(FOLL_SYSID=LEAD, FOLL_OFS_X=-6)
     v = link.vehicle
     bad = mav.MAVLink_follow_target_message(round(v.time_s * 1000), 1 | 2, 1, 1, math.nan, [math.nan] * 3,
                                             [0.0] * 3, [1.0, 0.0, 0.0, 0.0], [0.0] * 3, [0.0] * 3, 0)
     link.send(wire(bad, lead.codec))
+    far = mav.MAVLink_follow_target_message(round(v.time_s * 1000), 1, 1, 1, 1e30, [0.0] * 3, [0.0] * 3,
+                                            [1.0, 0.0, 0.0, 0.0], [0.0] * 3, [0.0] * 3, 0)
+    link.send(wire(far, lead.codec))
+    assert not v.follow_target.using_follow_target  # neither was taken
     lead.fly(3.0)
     assert link.session.counters["handler_errors"] == 0
     assert v.follow_target.valid and v.mode_number == ModeNumber.FOLLOW
