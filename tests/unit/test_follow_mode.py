@@ -182,3 +182,19 @@ def test_what_it_reports_of_where_it_flies():
     lead.fly(4.0, speaking=False)  # lost: nothing to report
     assert link.session.build(mav.MAVLINK_MSG_ID_POSITION_TARGET_GLOBAL_INT) is None
     assert link.session.build(mav.MAVLINK_MSG_ID_NAV_CONTROLLER_OUTPUT).wp_dist == 0
+
+
+@pytest.mark.parametrize("alt_type, above_home_m", [(1, 5.0), (0, 15.0)])
+def test_the_lead_height_above_home_or_above_sea_level_per_foll_alt_type(alt_type, above_home_m):
+    v = ready_vehicle()
+    v.params.set("FOLL_ENABLE", 1)
+    v.params.set("FOLL_ALT_TYPE", alt_type)
+    link = Link(v)
+    home_amsl = v.origin.alt_m - v.home_ned[2]
+    p = global_from_ned(v.origin, 10.0, 0.0, v.home_ned[2])
+    # relative_alt says 5 m, alt says 15 m above home: which one counts is FOLL_ALT_TYPE's choice
+    msg = mav.MAVLink_global_position_int_message(round(v.time_s * 1000), round(p.lat_deg * 1e7),
+                                                  round(p.lon_deg * 1e7), round((home_amsl + 15.0) * 1000), 5000,
+                                                  0, 0, 0, 0)
+    link.send(wire(msg, new_codec(LEAD, 1)))
+    assert v.home_ned[2] - v.follow_target.report_pos[2] == pytest.approx(above_home_m, abs=0.01)
