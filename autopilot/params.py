@@ -164,6 +164,20 @@ PARAM_TABLE: tuple[ParamSpec, ...] = (
     _f("SIM_BATT_VOLTAGE", 12.6, 0, 100, "battery resting voltage [V]; setting it re-initialises the charge"),
     _f("SIM_LINK_DOWN", 0, 0, 3600, "ground-station link cut for this many wall seconds, then 0"),
     _f("SIM_LINK_LOSS", 0, 0, 100, "share of MAVLink frames lost each way [%]"),
+    # FOLLOW's lead (AP_Follow, follow_target.py): ArduCopter shows them once FOLL_ENABLE is 1
+    _i("FOLL_SYSID", 0, 0, 255, "the lead's system id; 0 = the first other system heard"),
+    _f("FOLL_DIST_MAX", 100, 0, 1000, "a lead farther than this is not followed [m]; 0 = no limit"),
+    _i("FOLL_OFS_TYPE", 0, 0, 1, "offsets 0 north-east-down, 1 turned with the lead's heading"),
+    *(_f(f"FOLL_OFS_{axis}", 0, -100, 100, f"offset {way} of the lead [m]")
+      for axis, way in (("X", "north / forward"), ("Y", "east / right"), ("Z", "below"))),
+    _i("FOLL_YAW_BEHAVE", 1, 0, 3, "heading: 0 kept, 1 face the lead, 2 the lead's, 3 along the flight"),
+    _f("FOLL_POS_P", 0.1, 0, 1, "served; unread, as in ArduCopter 4.7"),
+    _i("FOLL_ALT_TYPE", 1, 0, 1, "the lead's altitude: 0 above sea level, 1 above home"),
+    _i("FOLL_OPTIONS", 0, 0, 1, "bit 0: the mount follows the lead (no mount: no effect)"),
+    # the lead estimate's shaping limits: acceleration and jerk per axis (m and deg, per s^2 and s^3)
+    *(spec for axis, accel, accel_high, jerk, jerk_high in (("NE", 2.5, 5, 5, 20), ("D", 2.5, 2.5, 5, 5),
+                                                            ("H", 90, 90, 360, 360))
+      for spec in (_f(f"FOLL_ACCEL_{axis}", accel, 0, accel_high), _f(f"FOLL_JERK_{axis}", jerk, 0, jerk_high))),
     # Mission (AP_Mission)
     _i("MIS_RESTART", 0, 0, 1, "AUTO after leaving it: 0 resumes the mission, 1 restarts it"),
     # The pilot's radio (autopilot/rc/): channel roles, the mode switch, overrides, the ground station

@@ -61,6 +61,11 @@ DEFAULT_DIFFERENCES: dict[str, str] = {
 FIREFLY_ONLY: dict[str, str] = {
     "SIM_LINK_DOWN": "Firefly's own link fault: the ground-station link cut for some wall seconds",
     "SIM_LINK_LOSS": "Firefly's own link fault: a share of MAVLink frames lost each way",
+    **{name: "FOLLOW's lead (AP_Follow): ArduCopter serves it once FOLL_ENABLE is 1 (the reference's set "
+             "was recorded with it 0); Firefly serves it always, so that it can be set before enabling"
+       for name in ("FOLL_SYSID", "FOLL_DIST_MAX", "FOLL_OFS_TYPE", "FOLL_OFS_X", "FOLL_OFS_Y", "FOLL_OFS_Z",
+                    "FOLL_YAW_BEHAVE", "FOLL_POS_P", "FOLL_ALT_TYPE", "FOLL_OPTIONS", "FOLL_ACCEL_NE",
+                    "FOLL_JERK_NE", "FOLL_ACCEL_D", "FOLL_JERK_D", "FOLL_ACCEL_H", "FOLL_JERK_H")},
 }
 
 _OLD_NAME = "ArduPilot 4.5's name of {}, which scenarios and scripts written for 4.5 set"

@@ -26,6 +26,7 @@ from .version import board_id_for
 from .control.compiled import make_cascade
 from .estimate import StateEstimate
 from .faults.world import Faults, world_values
+from .follow_target import FollowTarget
 from .mission import FENCE, MISSION, MissionStore
 from .mission.progress import MissionProgress
 from .modes import MODE_BY_NUMBER, Mode, ModeNumber, Setpoint
@@ -94,6 +95,7 @@ class Vehicle:
         self.mission = mission or MissionStore()
         self.mission_progress = MissionProgress(self.mission, self.notify)
         self.return_path = ReturnPath(self.params, self.notify)  # SMART_RTL's way back
+        self.follow_target = FollowTarget(self.params, self.notify)  # FOLLOW's lead, as others report it
         self._return_path_due = 0  # failsafe checks until the next path update
         self.script: Script | None = None  # a scenario's scripted commands (autopilot.cli.script.Script), if any
         n0, e0 = config.offset_ne_m
@@ -325,6 +327,11 @@ class Vehicle:
     def destination(self) -> tuple[float, float, float | None] | None:
         """Where the current mode flies to, if anywhere (Mode.destination)."""
         return self.mode.destination()
+
+    def nav_distance_bearing(self) -> tuple[float, float] | None:
+        """NAV_CONTROLLER_OUTPUT's distance and bearing as the current mode reports them, when
+        not from its destination (Mode.nav_distance_bearing)."""
+        return self.mode.nav_distance_bearing()
 
     def unix_time_us(self) -> int:
         return self.config.epoch_unix_us + int(self.time_s * 1e6)

@@ -17,6 +17,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, TextIO
 
+from .shared_air import SharedAir
 from .state_log import state_line
 
 if TYPE_CHECKING:
@@ -85,6 +86,7 @@ class Runner:
         if not (speedup > 0):
             raise ValueError("speedup must be positive")
         self.nodes = nodes
+        self.air = SharedAir(nodes) if len(nodes) > 1 else None  # the vehicles hear each other's positions
         self.speedup = speedup
         self.tick_s = tick_s
         self.sim_time_s = 0.0
@@ -151,6 +153,8 @@ class Runner:
                     # log after an ACK never finds a state older than the ACK (what it changed)
                     node.state_log.write(state_line(node.vehicle))  # line buffered: on disk now
                 out = session.poll(now, link_s)
+                if out and self.air is not None:
+                    self.air.broadcast(node, out)
                 directed, announced = session.take_directed(), session.take_announced()
                 sent = self._send(node, out, replies, directed, announced, forwards)
                 if node.tlog is not None:

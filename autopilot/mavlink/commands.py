@@ -328,6 +328,15 @@ def condition_yaw(s, c: Command) -> Result:
     return s.vehicle.set_yaw(c.p1, relative=c.p4 == 1, direction=direction, rate_deg_s=c.p2)
 
 
+def do_follow(s, c: Command) -> Result:
+    """FOLLOW's lead is system param 1 (1..255, as a byte), else DENIED; as ArduPilot, the
+    follow library's FOLL_SYSID is set (Firefly saves it, where ArduPilot sets it unsaved)."""
+    if not 0 < c.p1 <= 255:  # NaN too
+        return Result.DENIED
+    s.vehicle.params.set("FOLL_SYSID", int(c.p1))
+    return Result.ACCEPTED
+
+
 def mission_start(s, c: Command) -> Result:
     return s.vehicle.mission_start()
 
@@ -350,6 +359,7 @@ HANDLERS = {
     mav.MAV_CMD_GET_MESSAGE_INTERVAL: get_message_interval,
     mav.MAV_CMD_CONDITION_YAW: condition_yaw,
     mav.MAV_CMD_MISSION_START: mission_start,
+    mav.MAV_CMD_DO_FOLLOW: do_follow,
     mav.MAV_CMD_DO_PAUSE_CONTINUE: do_pause_continue,
     mav.MAV_CMD_DO_AUX_FUNCTION: do_aux_function,
     mav.MAV_CMD_DO_SET_SERVO: do_set_servo,

@@ -170,6 +170,10 @@ def nav_controller_output(v: SensorView, codec):
         bearing = int(round(math.degrees(math.atan2(de, dn))))
         if dest[2] is not None:
             alt_error = b.d_m - dest[2]
+    reported = v.nav_distance_bearing()
+    if reported is not None:
+        dist = min(int(reported[0]), 65535)
+        bearing = max(-32768, min(32767, int(reported[1])))  # an int16 field
     nav_bearing = int(round(math.degrees(wrap_pi(v.yaw_target))))  # an int16 field
     return codec.nav_controller_output_encode(math.degrees(roll_t), math.degrees(pitch_t), nav_bearing, bearing,
                                               dist, alt_error, 0.0, 0.0)

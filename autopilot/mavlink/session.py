@@ -16,6 +16,7 @@ from .commands import Command, CommandService
 from .dialect import mavlink as mav
 from .fast_pack import FastCodec
 from .ftp import FtpServer
+from .follow_messages import on_follow_target, on_global_position_int
 from .guided_setpoints import handle_attitude_target, handle_global_int, handle_local_ned
 from .guided_waypoint import guided_request
 from . import rc_input
@@ -88,6 +89,9 @@ class Session:
             "SET_POSITION_TARGET_GLOBAL_INT": self._on_setpoint_global,
             "SET_ATTITUDE_TARGET": lambda m, now: handle_attitude_target(self.vehicle, m),
             "TIMESYNC": self._on_timesync,
+            # Another system's position: FOLLOW's lead, from whichever system sends it
+            "GLOBAL_POSITION_INT": lambda m, now: on_global_position_int(self.vehicle, m, now),
+            "FOLLOW_TARGET": lambda m, now: on_follow_target(self.vehicle, m, now),
             "SETUP_SIGNING": lambda m, now: self.signing.setup(m, self.vehicle.armed),
             # The request older ground stations send before REQUEST_MESSAGE existed.
             "AUTOPILOT_VERSION_REQUEST": lambda m, now: self.queue(self.build(mav.MAVLINK_MSG_ID_AUTOPILOT_VERSION)),
@@ -153,6 +157,16 @@ class Session:
             except Exception as exc:  # noqa: BLE001 - a bug must not stop the vehicle loop
                 self.handler_failed(msg.get_type(), exc)
         return self._take()
+
+    def overhear(self, msg, system_id: int, now_s: float) -> None:
+        """A message another vehicle of this process sent (io/shared_air.py), from `system_id`:
+        taken only as the vehicle takes any system's position (FOLLOW's lead); no answer."""
+        if now_s < self.silent_until_s:
+            return
+        try:
+            on_global_position_int(self.vehicle, msg, now_s, system_id)
+        except Exception as exc:  # noqa: BLE001 - a bug must not stop the vehicle loop
+            self.handler_failed("overheard GLOBAL_POSITION_INT", exc)
 
     def handler_failed(self, where: str, exc: BaseException) -> None:
         """A bug in a message handler: counted and kept for the exit report (the tests require zero

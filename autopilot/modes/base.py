@@ -123,6 +123,11 @@ class Mode:
         NAV_CONTROLLER_OUTPUT's bearing and distance to the waypoint."""
         return None
 
+    def nav_distance_bearing(self) -> tuple[float, float] | None:
+        """NAV_CONTROLLER_OUTPUT's (wp_dist [m], target_bearing) when the mode reports them
+        otherwise than as the way to its destination (FOLLOW, as ArduCopter's does); None: that way."""
+        return None
+
     # ----- commands from a ground station; refused unless the mode flies them ----------------
     def user_takeoff(self, ctx: ModeContext, alt_above_home_m: float) -> None:
         """Climb to alt_above_home_m; called only if has_user_takeoff, armed on the ground."""

@@ -10,7 +10,7 @@ from collections.abc import Callable
 from operator import attrgetter
 from typing import TYPE_CHECKING
 
-from ..views import ModeHost, Notify, ReadThrough, Vector3
+from ..views import FollowTargetView, ModeHost, Notify, ReadThrough, Vector3
 
 if TYPE_CHECKING:
     from firefly.sim.rigid_body import BodyState
@@ -44,6 +44,8 @@ class ModeContext:
         mission_progress         mission/progress.py: AP_Mission's rules; AUTO binds itself as its
                                  runner and drives it (start_or_resume, update, stop)
         return_path              modes/return_path.py: the way back SMART_RTL takes (pop, peek)
+        follow_target            follow_target.py: the lead FOLLOW flies after (views.FollowTargetView):
+                                 update(now, own position), the point to fly to, the lead's heading
         set_speed(m_s)           as DO_CHANGE_SPEED
         set_home(ned or None)    as DO_SET_HOME (None = here)
         set_servo(channel, pwm), repeat_servo(channel, pwm, count, cycle_s), set_relay(relay,
@@ -56,12 +58,13 @@ class ModeContext:
                                  that flew attitudes hands back to it, as on a mode change)
     """
     __slots__ = ("_v", "_estimate", "_arming", "_land", "_sim", "params", "mission_progress", "return_path",
-                 "notify", "disarm", "set_speed", "set_home", "set_servo", "repeat_servo",
+                 "follow_target", "notify", "disarm", "set_speed", "set_home", "set_servo", "repeat_servo",
                  "set_relay", "repeat_relay", "ned_of", "set_mode",
                  "hover_thrust_share", "restart_position_control")
     params: ParamStore
     mission_progress: MissionProgress
     return_path: ReturnPath
+    follow_target: FollowTargetView
     notify: Notify
     disarm: Callable[[str], Result]
     set_speed: Callable[[float], Result]
@@ -83,6 +86,7 @@ class ModeContext:
         self.params = vehicle.params
         self.mission_progress = vehicle.mission_progress
         self.return_path = vehicle.return_path
+        self.follow_target = vehicle.follow_target
         self.notify = vehicle.notify
         self.disarm = vehicle.disarm
         self.set_speed = vehicle.set_speed
