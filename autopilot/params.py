@@ -317,9 +317,16 @@ class ParamStore:
     def on_change(self, callback: Callable[[str, float], None]) -> None:
         self._listeners.append(callback)
 
-    def set(self, name: str, value) -> float:
-        """Set and persist; raises ParamError (naming the problem) and changes nothing on bad input."""
-        value = checked_value(name, value)
+    def set(self, name: str, value, in_range: bool = True) -> float:
+        """Set and persist; raises ParamError (naming the problem) and changes nothing on bad input.
+        in_range=False: as the vehicle's own code sets a value (AUTOTUNE saving its gains, which
+        may leave the documented ranges as ArduCopter's do): finite, not range-checked."""
+        if in_range:
+            value = checked_value(name, value)
+        elif name not in STORED_AS or not math.isfinite(float(value)):
+            raise ParamError(f"{name}: unknown, or value not finite")
+        else:
+            value = float(value)
         name = STORED_AS[name]
         if value == self._values[name]:
             return value  # nothing changes: a GCS re-sending its whole list must not re-trigger faults
