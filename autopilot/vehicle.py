@@ -400,10 +400,10 @@ class Vehicle:
         if not force and not self.landed:
             return Result.FAILED  # ArduCopter refuses in silence
         self.arming.disarm()
-        for mode in self.modes.values():
-            mode.on_disarm(self.ctx, mode is self.mode)
         self.mission_progress.reset()  # as ArduCopter: a mission flown again starts over
         self.notify("Disarming motors")
+        for mode in self.modes.values():  # after that text, as ArduCopter's AutoTune says its own
+            mode.on_disarm(self.ctx, mode is self.mode)
         return Result.ACCEPTED
 
     def _set_home_here(self, in_flight: bool = False) -> None:

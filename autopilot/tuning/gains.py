@@ -38,7 +38,8 @@ def testing(between: dict[str, float], axis: Axis, g: AxisGains) -> dict[str, fl
     r = axis.rate
     out = dict(between)
     out.update({f"ATC_RAT_{r}_P": g.rp, f"ATC_RAT_{r}_I": g.rp * PI_RATIO_TEST,
-                f"ATC_RAT_{r}_D": g.rd if axis.d_gain == "rd" else 0.0, f"ATC_ANG_{r}_P": g.sp})
+                f"ATC_RAT_{r}_D": g.rd if axis.d_gain == "rd" else 0.0, f"ATC_ANG_{r}_P": g.sp,
+                f"ATC_RAT_{r}_FLTT": 0.0})  # the step unfiltered: the rate D kicks on it
     if axis.d_gain == "flte":
         out[f"ATC_RAT_{r}_FLTE"] = g.flte
     return out
