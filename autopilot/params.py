@@ -271,6 +271,9 @@ class ParamStore:
         # AP_Param::erase_all leaves the values in RAM and writes only those set after it).
         self._erased: set[str] = set()
         self._listeners: list[Callable[[str, float], None]] = []
+        # Names the vehicle's own code saved (set(in_range=False)), for the ground stations: as
+        # AP_Param::save sends each value it saves to every link. The MAVLink session drains it.
+        self.vehicle_saved: list[str] = []
         self.file = JsonFile(path)
         if path is not None and path.exists() and not wipe:
             self._load(path)
@@ -327,6 +330,7 @@ class ParamStore:
             raise ParamError(f"{name}: unknown, or value not finite")
         else:
             value = float(value)
+            self.vehicle_saved.append(name)
         name = STORED_AS[name]
         if value == self._values[name]:
             return value  # nothing changes: a GCS re-sending its whole list must not re-trigger faults
