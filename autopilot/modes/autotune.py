@@ -44,6 +44,10 @@ class AutoTune(Mode):
         dance = self._dance
         if dance is None:
             return
+        if ctx.landed:  # ArduCopter's AutoTune disarms on touching down (a save, once tuned)
+            if ctx.armed:
+                ctx.disarm("landed")
+            return
         b = ctx.body
         ask = dance.update(ctx.time_s, dt, ctx.attitude, (b.p_rad_s, b.q_rad_s, b.r_rad_s), pilot_moves(ctx))
         if ask is None:  # paused by the pilot, or done: the sticks fly on the gains loaded

@@ -75,6 +75,7 @@ class Dance:
         self.notify, self.use_gains, self.save = notify, use_gains, save
         self.mode = TuneMode.UNINITIALISED
         self.completed: tuple[Axis, ...] = ()
+        self.axes: tuple[Axis, ...] = ()
         self.ask = Ask()
         self._loaded: str | None = None  # the gain set in use: "original", "between", "test", "tuned"
 
@@ -156,6 +157,8 @@ class Dance:
                gyro: tuple[float, float, float], pilot_active: bool) -> Ask | None:
         """The dance's ask this tick, or None: fly the pilot's sticks (on the gains now loaded)."""
         mode = self.mode
+        if not self.axes:  # AUTOTUNE_AXES 0: nothing to tune, the sticks fly
+            return None
         if mode is TuneMode.VALIDATING:
             self._load("tuned")
             return None

@@ -218,3 +218,14 @@ def test_leaving_mid_tune_restores_the_gains_and_a_disarm_elsewhere_saves_nothin
     assert (pid.kp, pid.ki, pid.kd, pid.d_on_error) == (0.135, 0.135, 0.0036, 0.0)
     assert fly_until(v, lambda x: x.rc.hold_sticks(0.0, 0.0, 0.0, 0.0, x.time_s) or not x.armed, 120.0)
     assert v.params["ATC_RAT_RLL_P"] == 0.135 and v.params.vehicle_saved == []
+
+
+def test_with_no_axis_to_tune_it_holds_and_touching_down_disarms():
+    v = tuning_vehicle()
+    v.params.set("AUTOTUNE_AXES", 0)
+    assert v.set_mode(ModeNumber.AUTOTUNE) == Result.ACCEPTED
+    hold_centred(v, 5.0)
+    assert abs(v.attitude[0]) < math.radians(2.0) and v.mode_number == ModeNumber.AUTOTUNE
+    start = v.time_s
+    assert fly_until(v, lambda x: x.rc.hold_sticks(0.0, 0.0, 0.0, 0.0, x.time_s) or not x.armed, 60.0)
+    assert v.time_s - start < 9.0  # on touching down, not after DISARM_DELAY
