@@ -14,6 +14,7 @@ from firefly.autopilot.tuning.rules import MIN_D_TEXT, RD_MAX, AxisGains, Rules,
 from firefly.autopilot.tuning.twitch import Outcome, Twitch
 from firefly.autopilot.vehicle import Vehicle
 
+from ._session_link import Link
 from ._util import altitude, fly_until, hovering_vehicle
 
 DT = 0.01
@@ -229,3 +230,13 @@ def test_with_no_axis_to_tune_it_holds_and_touching_down_disarms():
     start = v.time_s
     assert fly_until(v, lambda x: x.rc.hold_sticks(0.0, 0.0, 0.0, 0.0, x.time_s) or not x.armed, 60.0)
     assert v.time_s - start < 9.0  # on touching down, not after DISARM_DELAY
+
+
+def test_gains_the_vehicle_saves_are_announced_to_every_link():
+    link = Link()
+    link.vehicle.params.set("ATC_ANG_RLL_P", 36.0, in_range=False)  # beyond the documented 3..12
+    link.poll()
+    announced = link.session.take_announced()
+    assert [(asker, m.param_id, m.param_value) for asker, m in announced] == [(None, "ATC_ANG_RLL_P", 36.0)]
+    link.poll()
+    assert link.session.take_announced() is None  # once
