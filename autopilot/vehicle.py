@@ -22,7 +22,7 @@ from firefly.sim.vehicle import BATTERY_EVERY, SimConfig, SimVehicle
 
 from .control.attitude import wrap_pi
 from .startup import Startup, StartupTimeline
-from .tuning.gains import GainOverlay
+from .tuning.gains import GainOverlay, Params
 from .version import board_id_for
 from .control.compiled import make_cascade
 from .estimate import StateEstimate
@@ -119,7 +119,7 @@ class Vehicle:
         self.failsafes = Failsafes()
         self.thrust_loss = ThrustLossCheck()
         self.cascade = make_cascade(self.sim, self.params, config.rates, config.compiled)
-        self._gains: Mapping[str, float] = self.params  # what the controllers are configured from
+        self._gains: Params = self.params  # what the controllers are configured from
         self.params.on_change(self._param_changed)
         # The parameter and mission files with a write waiting for its interval (persist.JsonFile):
         # the session polls them while this is not empty.

@@ -13,6 +13,7 @@ from collections.abc import Callable, Mapping
 from enum import Enum
 
 from . import gains as gain_sets
+from .gains import Params
 from .axes import SEQUENCE, Axis, TuneType, completed_names, enabled_axes
 from .rules import AxisGains, Rules, back_off
 from .twitch import Outcome, Twitch
@@ -80,7 +81,7 @@ class Dance:
         self._loaded: str | None = None  # the gain set in use: "original", "between", "test", "tuned"
 
     # ----- entry, exit, disarm (AC_AutoTune::init_internals, stop, disarmed) -------------------
-    def start(self, params: Mapping[str, float], hover_share: float, now_s: float, yaw: float) -> None:
+    def start(self, params: Params, hover_share: float, now_s: float, yaw: float) -> None:
         if self.mode in (TuneMode.UNINITIALISED, TuneMode.FAILED):
             self._begin(params, now_s, yaw)
             self.mode = TuneMode.TUNING
@@ -114,10 +115,10 @@ class Dance:
         self.mode = TuneMode.UNINITIALISED
         self.completed = ()
 
-    def _begin(self, params: Mapping[str, float], now_s: float, yaw: float) -> None:
+    def _begin(self, params: Params, now_s: float, yaw: float) -> None:
         """backup_gains_and_initialise: the originals kept, the first axis and tune type."""
         self.params = params
-        self.axes = enabled_axes(params["AUTOTUNE_AXES"])
+        self.axes = enabled_axes(int(params["AUTOTUNE_AXES"]))
         self.aggr = min(max(params["AUTOTUNE_AGGR"], 0.05), 0.2)
         self.rules = Rules(self.aggr, params["AUTOTUNE_MIN_D"])
         self.orig = {a.rate: gain_sets.original(params, a) for a in self.axes}
@@ -204,7 +205,8 @@ class Dance:
             return ask
         if outcome is Outcome.UPDATE_GAINS:
             self._update_gains()
-        self._load("between")
+        if self.mode is TuneMode.TUNING:  # done or failed: the original gains, already loaded
+            self._load("between")
         self._ask_level(ask)
         self.positive = not self.positive
         self._level_from(now_s)

@@ -5,6 +5,7 @@ I: while levelling), the test set (the tuned axis's candidate gains, almost no I
 from __future__ import annotations
 
 from collections.abc import Mapping
+from typing import Protocol
 
 from .axes import Axis
 from .rules import AxisGains
@@ -15,7 +16,14 @@ PI_RATIO_FINAL = 1.0      # ... tuned roll and pitch
 YAW_PI_RATIO_FINAL = 0.1  # ... tuned yaw
 
 
-def original(params: Mapping[str, float], axis: Axis) -> AxisGains:
+class Params(Protocol):
+    """What the gain sets read: the parameter store, or a GainOverlay on it."""
+
+    def __getitem__(self, name: str, /) -> float: ...
+    def get(self, name: str, default=None, /): ...
+
+
+def original(params: Params, axis: Axis) -> AxisGains:
     """The gains the dance starts from, read from the parameters."""
     r = axis.rate
     return AxisGains(rp=params[f"ATC_RAT_{r}_P"], rd=params[f"ATC_RAT_{r}_D"], sp=params[f"ATC_ANG_{r}_P"],
@@ -60,11 +68,11 @@ def tuned(tune: dict[str, AxisGains], completed: tuple[Axis, ...], enabled: tupl
     return out
 
 
-class GainOverlay(Mapping):
+class GainOverlay:
     """The parameters with some gains in their place: what the controllers are configured from
     while AUTOTUNE flies a set that is not (yet) the parameters' own."""
 
-    def __init__(self, params: Mapping[str, float], gains: Mapping[str, float]):
+    def __init__(self, params: Params, gains: Mapping[str, float]):
         self.params, self.gains = params, gains
 
     def __getitem__(self, name: str) -> float:
@@ -74,9 +82,3 @@ class GainOverlay(Mapping):
     def get(self, name: str, default=None):
         value = self.gains.get(name)
         return self.params.get(name, default) if value is None else value
-
-    def __iter__(self):
-        return iter(self.params)
-
-    def __len__(self) -> int:
-        return len(self.params)
