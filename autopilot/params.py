@@ -286,6 +286,9 @@ class ParamStore:
         # AP_Param::erase_all leaves the values in RAM and writes only those set after it).
         self._erased: set[str] = set()
         self._listeners: list[Callable[[str, float], None]] = []
+        # Names the vehicle's own code saved (set(in_range=False)), for the ground stations: as
+        # AP_Param::save sends each value it saves to every link. The MAVLink session drains it.
+        self.vehicle_saved: list[str] = []
         self.file = JsonFile(path)
         if path is not None and path.exists() and not wipe:
             self._load(path)
@@ -332,9 +335,17 @@ class ParamStore:
     def on_change(self, callback: Callable[[str, float], None]) -> None:
         self._listeners.append(callback)
 
-    def set(self, name: str, value) -> float:
-        """Set and persist; raises ParamError (naming the problem) and changes nothing on bad input."""
-        value = checked_value(name, value)
+    def set(self, name: str, value, in_range: bool = True) -> float:
+        """Set and persist; raises ParamError (naming the problem) and changes nothing on bad input.
+        in_range=False: as the vehicle's own code sets a value (AUTOTUNE saving its gains, which
+        may leave the documented ranges as ArduCopter's do): finite, not range-checked."""
+        if in_range:
+            value = checked_value(name, value)
+        elif name not in STORED_AS or not math.isfinite(float(value)):
+            raise ParamError(f"{name}: unknown, or value not finite")
+        else:
+            value = float(value)
+            self.vehicle_saved.append(name)
         name = STORED_AS[name]
         if value == self._values[name]:
             return value  # nothing changes: a GCS re-sending its whole list must not re-trigger faults

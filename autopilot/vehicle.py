@@ -11,7 +11,7 @@ queue what ArduCopter would announce in `events`.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from functools import partial
 from operator import attrgetter
@@ -22,6 +22,7 @@ from firefly.sim.vehicle import BATTERY_EVERY, SimConfig, SimVehicle
 
 from .control.attitude import wrap_pi
 from .startup import Startup, StartupTimeline
+from .tuning.gains import GainOverlay, Params
 from .version import board_id_for
 from .control.compiled import make_cascade
 from .estimate import StateEstimate
@@ -121,6 +122,7 @@ class Vehicle:
         self.failsafes = Failsafes()
         self.thrust_loss = ThrustLossCheck()
         self.cascade = make_cascade(self.sim, self.params, config.rates, config.compiled)
+        self._gains: Params = self.params  # what the controllers are configured from
         self.params.on_change(self._param_changed)
         # The parameter and mission files with a write waiting for its interval (persist.JsonFile):
         # the session polls them while this is not empty.
@@ -392,7 +394,7 @@ class Vehicle:
         return events
 
     def _param_changed(self, name: str, value: float) -> None:
-        self.cascade.configure(self.params)
+        self.cascade.configure(self._gains)
         self._loiter_speed_max = self.params["LOIT_SPEED"] / 100.0 * 2.0
         if name == "WPNAV_SPEED":
             self.nav_speed_m_s = value / 100.0
@@ -425,6 +427,8 @@ class Vehicle:
         self.arming.disarm()
         self.mission_progress.reset()  # as ArduCopter: a mission flown again starts over
         self.notify("Disarming motors")
+        for mode in self.modes.values():  # after that text, as ArduCopter's AutoTune says its own
+            mode.on_disarm(self.ctx, mode is self.mode)
         return Result.ACCEPTED
 
     def _set_home_here(self, in_flight: bool = False) -> None:
@@ -459,6 +463,12 @@ class Vehicle:
         self._mode_entered = ready
         self.cascade.reset_position()
         return Result.ACCEPTED
+
+    def use_gains(self, gains: Mapping[str, float] | None) -> None:
+        """Fly these ATC_* gains in place of the parameters' (None: the parameters' own), until
+        told otherwise: AUTOTUNE's trial sets, which ArduCopter neither saves nor announces."""
+        self._gains = self.params if not gains else GainOverlay(self.params, gains)
+        self.cascade.configure(self._gains)
 
     def restart_position_control(self) -> None:
         """Bumpless hand-over to the position loop inside a mode (GUIDED from an attitude target)."""

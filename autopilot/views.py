@@ -23,6 +23,7 @@ ModeContext.require_home(); see modes/context.py).
 """
 from __future__ import annotations
 
+from collections.abc import Mapping
 from typing import TYPE_CHECKING, Any, NoReturn, Protocol, TypeVar
 
 if TYPE_CHECKING:
@@ -365,6 +366,7 @@ class ModeHost(Protocol):
     def ned_of(self, lat: float, lon: float, alt_amsl: float) -> Vector3: ...
     def set_mode(self, number: int) -> Result: ...
     def restart_position_control(self) -> None: ...
+    def use_gains(self, gains: Mapping[str, float] | None) -> None: ...
 
 
 class StreamedView(TelemetryView, SensorView, Protocol):

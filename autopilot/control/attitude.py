@@ -33,6 +33,9 @@ class AttitudeController:
             pid.ki = params[f"ATC_RAT_{axis}_I"]
             pid.kd = params[f"ATC_RAT_{axis}_D"]
             pid.imax = params[f"ATC_RAT_{axis}_IMAX"]
+            # ArduCopter's D acts on the error of a target filtered at FLTT; that is close to D on
+            # the measurement, except with FLTT 0 (AUTOTUNE's twitches), where a step kicks it.
+            pid.d_on_error = 1.0 if params[f"ATC_RAT_{axis}_FLTT"] == 0 else 0.0
         self.rp_rate_max = math.radians(params["ATC_RATE_R_MAX"] or 360.0)
         self.yaw_rate_max = math.radians(params["ATC_RATE_Y_MAX"] or 90.0)
 

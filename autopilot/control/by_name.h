@@ -29,7 +29,8 @@ typedef struct {
     {part, "kp", offsetof(Cascade, pid.kp)}, {part, "ki", offsetof(Cascade, pid.ki)},             \
     {part, "kd", offsetof(Cascade, pid.kd)}, {part, "imax", offsetof(Cascade, pid.imax)},         \
     {part, "out_limit", offsetof(Cascade, pid.out_limit)},                                        \
-    {part, "d_filter_hz", offsetof(Cascade, pid.d_filter_hz)}
+    {part, "d_filter_hz", offsetof(Cascade, pid.d_filter_hz)},                                    \
+    {part, "d_on_error", offsetof(Cascade, pid.d_on_error)}
 
 /* Loop(constants): sim.physics.fast_step_constants, then what the controllers take from the airframe. */
 static const Named CONSTANTS[] = {

@@ -71,7 +71,7 @@ def make_cascade(sim, params, rates, compiled: bool = True) -> Cascade | Compile
     return Cascade(sim, params, rates)
 
 
-PID_GAINS = ("kp", "ki", "kd", "imax", "out_limit", "d_filter_hz")
+PID_GAINS = ("kp", "ki", "kd", "imax", "out_limit", "d_filter_hz", "d_on_error")
 
 
 def numbers(obj, names: tuple) -> dict:

@@ -1,13 +1,13 @@
-/* C twin of pid.py: derivative on measurement (low-pass filtered), integrator limit, anti-windup
- * on output saturation. Same expressions, same order. */
+/* C twin of pid.py: derivative on measurement or (d_on_error) on the error, low-pass filtered;
+ * integrator limit, anti-windup on output saturation. Same expressions, same order. */
 #ifndef FIREFLY_PID_H
 #define FIREFLY_PID_H
 
 #include "pyfloat.h"
 
 typedef struct {
-    double kp, ki, kd, imax, out_limit, d_filter_hz; /* gains, set from parameters */
-    double integrator, last_measurement, d_filtered;
+    double kp, ki, kd, imax, out_limit, d_filter_hz, d_on_error; /* gains, set from parameters */
+    double integrator, last_measurement, d_filtered; /* last_measurement: the D input last time */
     int has_last; /* False while _last_measurement is None */
 } Pid;
 
@@ -21,15 +21,16 @@ static void pid_reset(Pid *pid)
 static double pid_update(Pid *pid, double target, double measurement, double dt)
 {
     double error = target - measurement, d_term;
+    double d_input = pid->d_on_error == 0.0 ? -measurement : error;
     if (!pid->has_last || pid->kd == 0.0) {
         d_term = 0.0;
     } else {
-        double raw = -(measurement - pid->last_measurement) / dt;
+        double raw = (d_input - pid->last_measurement) / dt;
         double alpha = dt / (dt + 1.0 / (2.0 * PY_PI * pid->d_filter_hz));
         pid->d_filtered += alpha * (raw - pid->d_filtered);
         d_term = pid->kd * pid->d_filtered;
     }
-    pid->last_measurement = measurement;
+    pid->last_measurement = d_input;
     pid->has_last = 1;
     double unsat = pid->kp * error + pid->integrator + d_term;
     double out = py_max(-pid->out_limit, py_min(pid->out_limit, unsat));

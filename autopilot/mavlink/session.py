@@ -313,6 +313,9 @@ class Session:
             self._direct(self._logs_link, self.logs.poll())
         if self._stores_waiting:
             vehicle.poll_stores(link_s)
+        if vehicle.params.vehicle_saved:  # values the vehicle saved itself (AUTOTUNE): to every link
+            saved, vehicle.params.vehicle_saved = vehicle.params.vehicle_saved, []
+            self._announced.extend((None, self.params.value_message(name)) for name in saved if name in vehicle.params)
         last = self.gcs_last_heartbeat_s
         if last is not None and link_s - last > vehicle.params["FS_GCS_TIMEOUT"]:
             vehicle.failsafes.gcs_lost(vehicle)

@@ -109,6 +109,9 @@ class Mode:
     def exit(self, ctx: ModeContext) -> None:
         pass
 
+    def on_disarm(self, ctx: ModeContext, flying_it: bool) -> None:
+        """The vehicle disarmed (flying_it: in this mode). AUTOTUNE saves or forgets its gains."""
+
     def landed_state_hint(self, ctx: ModeContext) -> str | None:
         """'TAKEOFF' or 'LANDING' while the mode is doing either, else None."""
         return None

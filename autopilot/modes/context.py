@@ -6,7 +6,7 @@ current, also when a mode is entered between two ticks (a command from a ground 
 """
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from operator import attrgetter
 from typing import TYPE_CHECKING
 
@@ -56,11 +56,13 @@ class ModeContext:
                                  Result); a mode that hands over stops filling the setpoint
         restart_position_control() the position loop starts from the present velocity (a mode
                                  that flew attitudes hands back to it, as on a mode change)
+        use_gains(gains or None) the controllers fly these ATC_* gains in place of the parameters'
+                                 (AUTOTUNE's trial sets); None: the parameters' own again
     """
     __slots__ = ("_v", "_estimate", "_arming", "_land", "_sim", "params", "mission_progress", "return_path",
                  "follow_target", "notify", "disarm", "set_speed", "set_home", "set_servo", "repeat_servo",
                  "set_relay", "repeat_relay", "ned_of", "set_mode",
-                 "hover_thrust_share", "restart_position_control")
+                 "hover_thrust_share", "restart_position_control", "use_gains")
     params: ParamStore
     mission_progress: MissionProgress
     return_path: ReturnPath
@@ -76,6 +78,7 @@ class ModeContext:
     ned_of: Callable[[float, float, float], Vector3]
     set_mode: Callable[[int], Result]
     restart_position_control: Callable[[], None]
+    use_gains: Callable[[Mapping[str, float] | None], None]
 
     def __init__(self, vehicle: ModeHost):
         self._v = vehicle
@@ -98,6 +101,7 @@ class ModeContext:
         self.ned_of = vehicle.ned_of
         self.set_mode = vehicle.set_mode
         self.restart_position_control = vehicle.restart_position_control
+        self.use_gains = vehicle.use_gains
         airframe = vehicle.sim.airframe
         self.hover_thrust_share = airframe.weight_n / (4.0 * airframe.max_rotor_thrust_n)
 

@@ -17,9 +17,10 @@ import pytest
 from firefly.autopilot.control import compiled
 from firefly.autopilot.control.cascade import Cascade
 from firefly.autopilot.mission import MissionItem
-from firefly.autopilot.modes import Auto, Guided, Land, Stabilize
+from firefly.autopilot.modes import Auto, Guided, Land, ModeNumber, Stabilize
 from firefly.autopilot.params import SPEC_BY_NAME
 from firefly.autopilot.rates import LoopRates
+from firefly.autopilot.results import Result
 from firefly.autopilot.vehicle import Vehicle, VehicleConfig
 from firefly.sim.physics import initial_state, make_fast_step
 from firefly.sim.rigid_body import BodyState
@@ -344,3 +345,21 @@ def test_in_ci_a_missing_extension_stops_the_test_run_once_naming_the_cause():
     assert "None in sys.modules" in out  # the import error itself, not just that it failed
     assert "1 error" in out and "Interrupted" in out, out  # one error, and nothing ran after it
     assert "passed" not in out and "skipped" not in out, out
+
+
+@needs_extension
+def test_autotune_twitches_are_bit_identical_compiled_and_in_python():
+    """AUTOTUNE's trial gains (rate D on the error while FLTT is 0) reach the loop by name too."""
+    a, b = twins()
+    taking_off(a, b, 5.0)
+    lockstep(a, b, 8.0)
+    for v in (a, b):
+        v.rc.hold_sticks(0.0, 0.0, 0.0, 0.5, v.time_s)
+    both(a, b, lambda v: v.set_mode(ModeNumber.ALT_HOLD))
+    lockstep(a, b, 0.5)
+    assert a.set_mode(ModeNumber.AUTOTUNE) == b.set_mode(ModeNumber.AUTOTUNE) == Result.ACCEPTED
+    twitching = 0
+    for _ in range(300):
+        lockstep(a, b, 0.01)
+        twitching += b.cascade.attitude_ctl.rate_pids[0].d_on_error == 1.0
+    assert twitching > 0  # the trial set was flown, not only the parameters' own

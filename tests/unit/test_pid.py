@@ -114,3 +114,17 @@ def test_output_limit_is_symmetric():
     assert pid.update(1.0, 0.0, DT) == 2.0
     assert pid.update(-1.0, 0.0, DT) == -2.0
     assert math.isinf(Pid(1.0).out_limit)
+
+
+def test_derivative_on_error_kicks_on_a_target_step_and_on_measurement_does_not():
+    on_measurement, on_error = Pid(0.0, kd=1.0), Pid(0.0, kd=1.0)
+    on_error.d_on_error = 1.0
+    for pid in (on_measurement, on_error):
+        pid.update(0.0, 0.0, DT)
+    assert on_measurement.update(1.0, 0.0, DT) == 0.0  # the target stepped; nothing moved
+    assert on_error.update(1.0, 0.0, DT) > 0.0  # ArduCopter's AC_PID with FLTT 0: a kick
+    # The measurement moving alone: both see the same derivative, the same sign
+    a, b = Pid(0.0, kd=1.0), Pid(0.0, kd=1.0)
+    b.d_on_error = 1.0
+    a.update(0.0, 0.0, DT), b.update(0.0, 0.0, DT)
+    assert a.update(0.0, 0.1, DT) == b.update(0.0, 0.1, DT) < 0.0
