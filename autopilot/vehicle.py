@@ -625,7 +625,8 @@ class Vehicle:
         sp = self.setpoint
         if est.alt_error_m and sp.pos_d is not None:
             sp = in_true_height(sp, est.alt_error_m)
-        self.cascade.command(sp, self.arming.armed and not self.motors_emergency_stopped, self.land_detector.landed,
+        self.cascade.command(sp, self.arming.armed and not (self.motors_emergency_stopped or self.mode.motors_stopped),
+                             self.land_detector.landed,
                              min(sp.speed_xy, self._loiter_speed_max))
         self.cascade.run(min(most, self._chunk - steps % self._chunk))
 

@@ -127,7 +127,8 @@ def rc_channels(v: SensorView, codec):
 def motor_pwm(v: SensorView) -> list[int]:
     """Each motor's PWM as ArduCopter's motor library makes it: thrust as a fraction of the most
     a rotor gives, turned into throttle through the MOT_THST_EXPO curve, spread over
-    MOT_SPIN_MIN..MOT_SPIN_MAX of the MOT_PWM_MIN..MOT_PWM_MAX range; MOT_PWM_MIN disarmed."""
+    MOT_SPIN_MIN..MOT_SPIN_MAX of the MOT_PWM_MIN..MOT_PWM_MAX range; MOT_PWM_MIN disarmed, and for
+    a motor commanded to stop (armed with the motors shut down: emergency stop, THROW waiting)."""
     params = v.params
     low, high = params["MOT_PWM_MIN"] or 1000.0, params["MOT_PWM_MAX"] or 2000.0
     if not v.armed:
@@ -135,6 +136,9 @@ def motor_pwm(v: SensorView) -> list[int]:
     expo, spin_min, spin_max = params["MOT_THST_EXPO"], params["MOT_SPIN_MIN"], params["MOT_SPIN_MAX"]
     out = []
     for omega in v.motor_commands:
+        if omega <= 0.0:
+            out.append(int(low))
+            continue
         thrust = min(max(omega / v.omega_max_rad_s, 0.0), 1.0) ** 2
         throttle = thrust if expo <= 0 else \
             ((expo - 1.0) + math.sqrt((1.0 - expo) ** 2 + 4.0 * expo * thrust)) / (2.0 * expo)

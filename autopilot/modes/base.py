@@ -91,6 +91,9 @@ class Mode:
     # reports that as an internal error, which then refuses arming until a reboot.
     climbs_without_takeoff = False
     in_guided_mode = False  # takes GUIDED's targets (ArduCopter's in_guided_mode: GUIDED, GUIDED_NOGPS)
+    # Armed with the motors shut down (ArduCopter's SHUT_DOWN spool state: THROW waiting with
+    # THROW_MOT_START 0): nothing spins and nothing is controlled. A mode sets it on itself.
+    motors_stopped = False
 
     def __init_subclass__(cls, **kwargs: object) -> None:
         super().__init_subclass__(**kwargs)

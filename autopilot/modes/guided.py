@@ -24,6 +24,12 @@ VELOCITY_TIMEOUT_S = 3.0  # GUID_TIMEOUT's default: ArduCopter stops if velocity
 # ends at the altitude (measured on its SITL: IN_AIR at 9.99 m of a 10 m takeoff).
 TAKEOFF_DONE_M = 0.1
 FACE_TARGET_BEYOND_M = 1.0  # nearer than this the heading stays: an overshoot does not turn it
+# Taking over climbing or sinking faster than this, the height is held only once the climb or
+# sink has been stopped (below VERTICAL_STILL_M_S): ArduCopter's GUIDED starts as a velocity of
+# zero, so it stops where its vertical controller brings it to rest (a drop in THROW handing
+# over at 7.5 m/s down: 6.3 m lower, measured), never flying back to the height it entered at.
+VERTICAL_MOVING_M_S = 0.5
+VERTICAL_STILL_M_S = 0.2
 # Sub-modes (ArduCopter's ModeGuided::SubMode): what the last target asked for
 POS, POS_VEL_ACCEL, VEL_ACCEL, ACCEL, ANGLE = "pos", "pos_vel_accel", "vel_accel", "accel", "angle"
 ZERO3: Vector3 = (0.0, 0.0, 0.0)
@@ -47,6 +53,7 @@ class Guided(Mode):
     auto_yaw: AutoYaw  # the heading when no target sets one (WP_YAW_BEHAVIOR)
     has_waypoint: bool  # a position target was given (ArduCopter's WP/Pos sub-modes, its get_wp)
     paused_d: float | None  # DO_PAUSE_CONTINUE: the height it stopped at, until resumed
+    stopping_vertically: bool  # entered climbing or sinking: the height is held once that stops
     stopping: JerkLimitedStop | None  # slowing to a stop: paused, or a velocity stream that stopped
     speed_up: float | None  # DO_CHANGE_SPEED's climb and descent speeds [m/s] (None: WPNAV_SPEED_UP/DN)
     speed_dn: float | None
@@ -54,6 +61,7 @@ class Guided(Mode):
     def __init__(self) -> None:
         self.angle = AttitudeTarget()
         self.submode = POS
+        self.stopping_vertically = False
 
     def enter(self, ctx: ModeContext) -> str | None:
         self.yaw = GuidedYaw()
@@ -77,6 +85,7 @@ class Guided(Mode):
             ctx.restart_position_control()
         self.submode = POS
         self.target_ne, self.target_d = stopping_point(ctx)
+        self.stopping_vertically = not ctx.landed and abs(ctx.body.vd_m_s) > VERTICAL_MOVING_M_S
         self.target_vel = self.target_accel = ZERO3
         self.updated_s = ctx.time_s
         self.auto_yaw = AutoYaw()  # the heading is held until the vehicle moves
@@ -93,6 +102,7 @@ class Guided(Mode):
     # Commands from the ground station -------------------------------------------------------
     def user_takeoff(self, ctx: ModeContext, alt_above_home_m: float) -> None:
         self.hold(ctx)
+        self.stopping_vertically = False
         self.takeoff_d = ctx.height_ref_d - alt_above_home_m  # above home, or the boot ground before it
         self.target_d = self.takeoff_d
 
@@ -115,6 +125,7 @@ class Guided(Mode):
         self.stopping = None
         before = self.submode
         if pos is not None:
+            self.stopping_vertically = False
             self.submode = POS if vel is None else POS_VEL_ACCEL
             self.target_ne, self.target_d = (pos[0], pos[1]), pos[2]
             self.has_waypoint = vel is None
@@ -242,7 +253,10 @@ class Guided(Mode):
         self.updated_s = ctx.time_s
 
     def _fly_position(self, ctx: ModeContext, sp: Setpoint) -> None:
-        sp.pos_ne, sp.pos_d = self.target_ne, self.target_d
+        if self.stopping_vertically and abs(ctx.body.vd_m_s) < VERTICAL_STILL_M_S:
+            self.stopping_vertically = False
+            self.target_d = ctx.body.d_m
+        sp.pos_ne, sp.pos_d = self.target_ne, None if self.stopping_vertically else self.target_d
         if self.yaw.kind != "default":
             return
         # ArduCopter's desired velocity points at the target until the last centimetres (its

@@ -5,8 +5,12 @@ is a mode ArduCopter lets it go to. Entered only disarmed, as ArduCopter's. Neve
 
 The detection is ArduCopter's (mode_throw.cpp): moving fast or in free fall, going the right way
 up or down, nothing pushing it any more, and within THROW_ALT_MIN/MAX; confirmed when the
-vertical speed then drops 2.5 m/s within half a second. Firefly has no motor-stopped state while
-armed: THROW_MOT_START 0 waits at ground idle, as 1 does.
+vertical speed then drops 2.5 m/s within half a second. Waiting, the motors are stopped
+(THROW_MOT_START 0, the default) or idle (1). The height target is ArduCopter's: the height when
+upright, THROW_ALT_ACSND above (or THROW_ALT_DCSND below), plus where a climb still going stops
+at the brake's deceleration; the height is reached once within 0.5 m of it, or past it. The
+position stage's target starts on the vehicle (ArduCopter's init_NE_controller), so it is
+within 0.5 m at once: THROW_NEXTMODE is taken on the next update.
 """
 from __future__ import annotations
 
@@ -25,7 +29,11 @@ CONFIRM_WITHIN_S = 0.5
 CONFIRM_DROP_M_S = 2.5  # of vertical speed lost within CONFIRM_WITHIN_S: falling free
 UPRIGHT_COS = 0.866  # tilted less than 30 degrees
 UPRIGHTING_THROTTLE = 0.5  # motor throttle, no angle boost: the most righting moment
-NEAR_M = 0.5  # height and position errors under which a stage is done
+NEAR_M = 0.5  # height error under which the height stage is done
+# ArduCopter's BRAKE_MODE_SPEED_Z and BRAKE_MODE_DECEL_RATE: THROW's vertical speed and braking
+CLIMB_M_S = 2.5
+BRAKE_M_S2 = 7.5
+MOTORS_RUNNING = 1  # THROW_MOT_START
 DROP = 1  # THROW_TYPE
 NEXT_MODES = (ModeNumber.AUTO, ModeNumber.GUIDED, ModeNumber.RTL, ModeNumber.LAND, ModeNumber.BRAKE,
               ModeNumber.LOITER)
@@ -52,6 +60,7 @@ class Throw(Mode):
         self.stage = "DISARMED"
         self._next_tried = False
         self._fall_start_s = -math.inf
+        self.motors_stopped = False
         return None
 
     def update(self, ctx: ModeContext, sp: Setpoint, dt: float) -> None:
@@ -60,12 +69,15 @@ class Throw(Mode):
         stage = self.stage
         if stage in ("DISARMED", "DETECTING", "SPOOLING"):
             sp.throttle, sp.rates = 0.0, (0.0, 0.0, 0.0)  # quiet: nothing steered until spooled up
+            self.motors_stopped = stage != "SPOOLING" and int(ctx.params["THROW_MOT_START"]) != MOTORS_RUNNING
             return
+        self.motors_stopped = False
         sp.lean, sp.yaw_rate = (0.0, 0.0), 0.0
         if stage == "UPRIGHTING":
             sp.throttle = stick_from_motor(UPRIGHTING_THROTTLE, ctx.params)
             return
         sp.pos_d = self._target_d
+        sp.speed_up = sp.speed_dn = CLIMB_M_S
         if stage == "POSITION":
             sp.lean = None
             sp.pos_ne = self._hold_ne
@@ -88,15 +100,17 @@ class Throw(Mode):
         elif stage == "UPRIGHTING" and math.cos(ctx.attitude[0]) * math.cos(ctx.attitude[1]) > UPRIGHT_COS:
             ctx.notify("uprighted - controlling height")
             self.stage = "HEIGHT"
+            ctx.restart_position_control()  # the climb controlled from the climb rate it has now
             params = ctx.params
             drop = int(params["THROW_TYPE"]) == DROP
-            self._target_d = b.d_m + (params["THROW_ALT_DCSND"] if drop else -params["THROW_ALT_ACSND"])
+            rising = max(-b.vd_m_s, 0.0)  # a fall is not followed down: ArduCopter's no-descent start
+            self._target_d = b.d_m + (params["THROW_ALT_DCSND"] if drop else -params["THROW_ALT_ACSND"]) \
+                - rising * rising / (2.0 * BRAKE_M_S2)
         elif stage == "HEIGHT" and b.d_m - self._target_d < NEAR_M:
             ctx.notify("height achieved - controlling position")
             self.stage = "POSITION"
             self._hold_ne = stopping_point(ctx)[0]
-        elif stage == "POSITION" and not self._next_tried and \
-                math.hypot(b.n_m - self._hold_ne[0], b.e_m - self._hold_ne[1]) < NEAR_M:
+        elif stage == "POSITION" and not self._next_tried:
             self._next_tried = True
             following = int(ctx.params["THROW_NEXTMODE"])
             if following in NEXT_MODES:
