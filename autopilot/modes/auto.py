@@ -20,6 +20,7 @@ from ..mission.progress import MissionProgress
 from ..mission.store import MissionItem
 from ..results import Severity
 from ..views import Vector3
+from .auto_items import ITEMS, AutoItem
 from .base import Mode, Setpoint
 from .context import ModeContext
 from .guided_stop import JERK_DEFAULT_M_S3, JerkLimitedStop
@@ -71,6 +72,8 @@ class Auto(Mode):
     _seen: tuple[int, int | None, tuple[tuple[int, MissionItem], ...]]
     _paused_d: float | None = None  # DO_PAUSE_CONTINUE stopped a waypoint leg at this height
     _stopping: JerkLimitedStop | None = None  # ... slowing down as it does
+    _runner: AutoItem | None = None  # the navigation item being flown, when it is one of ITEMS
+    _do_runner: tuple[int, AutoItem] | None = None  # the "do" or condition item of ITEMS running
 
     def __init__(self) -> None:
         # Until enter() (which may wait for home): no item flown, no destination.
@@ -93,6 +96,7 @@ class Auto(Mode):
         self._hold_ne, self._hold_d = (ctx.body.n_m, ctx.body.e_m), ctx.body.d_m
         self._waiting_to_start = True  # the mission starts (or resumes) at the first tick
         self._paused_d = None
+        self._runner = self._do_runner = None
         mission.bind(self)
         return None
 
@@ -138,8 +142,12 @@ class Auto(Mode):
         item = _flown(item)
         if item.command in NAV_COMMANDS:
             self._index, self._item, self._nav_done = index, item, False
+            self._runner = None
             self._begin_nav(ctx, index, item)
             return True
+        runner_class = ITEMS.get(item.command)
+        if runner_class is not None:
+            return self._start_runner(ctx, index, item, runner_class())
         if is_nav(item.command):  # a navigation item this emulator does not fly
             ctx.notify(f"Skipping invalid cmd #{item.command}", Severity.WARNING)
             return False
@@ -152,10 +160,27 @@ class Auto(Mode):
             SERVO_RELAY_ITEMS[item.command](ctx, item)
         return True
 
+    def _start_runner(self, ctx: ModeContext, index: int, item: MissionItem, runner: AutoItem) -> bool:
+        if not is_nav(item.command):
+            self._do_runner = (index, runner)
+            return runner.start(self, ctx, index, item)
+        self._index, self._item, self._nav_done = index, item, False
+        self._runner = runner
+        self._target = self._target_ned(ctx, item)
+        self._legs.end()
+        if runner.start(self, ctx, index, item):
+            return True
+        self._index = self._runner = None
+        return False
+
     def verify_command(self, index: int, item: MissionItem) -> bool:
         item = _flown(item)
         if item.command in NAV_COMMANDS:
             return index == self._index and self._nav_done
+        if item.command in ITEMS:
+            if is_nav(item.command):
+                return index == self._index and self._runner is not None and self._runner.done(self._ctx)
+            return self._do_runner is None or self._do_runner[0] != index or self._do_runner[1].done(self._ctx)
         if item.command not in COPTER_DO:
             self._ctx.notify(f"Skipping invalid cmd #{item.command}", Severity.WARNING)
         return True
@@ -163,7 +188,7 @@ class Auto(Mode):
     def mission_complete(self) -> None:
         """As ArduCopter's exit_mission: hold where we are, or disarm if on the ground."""
         ctx = self._ctx
-        self._index = None
+        self._index = self._runner = None
         self._hold_ne, self._hold_d = (ctx.body.n_m, ctx.body.e_m), ctx.body.d_m
         if ctx.landed and ctx.armed:
             ctx.disarm("mission complete")
@@ -219,6 +244,9 @@ class Auto(Mode):
             mission.update()
         if self._index is None or not ctx.armed or (ctx.landed and not ctx.auto_armed):
             self._hold(ctx, sp)
+            return
+        if self._runner is not None:
+            self._runner.update(ctx, sp, dt)
             return
         item = self._item
         if item.command == CMD_RTL:
@@ -301,6 +329,8 @@ class Auto(Mode):
     def landed_state_hint(self, ctx: ModeContext) -> str | None:
         if self._index is None:
             return None
+        if self._runner is not None:
+            return self._runner.landed_state_hint(ctx)
         command = self._item.command
         if command == CMD_TAKEOFF:
             return "TAKEOFF"

@@ -10,6 +10,7 @@ next waypoint starts afresh from where the vehicle can stop.
 from __future__ import annotations
 
 from ..control.wpnav import NavLimits, WaypointNav
+from ..mission.commands import is_nav
 from ..views import Vector3
 from .auto_yaw import AutoYaw
 from .base import Setpoint
@@ -18,7 +19,6 @@ from .context import ModeContext
 CMD_WAYPOINT, CMD_LOITER_UNLIM, CMD_LOITER_TIME = 16, 17, 19
 CMD_DO_JUMP = 177
 NAV_BY_LEGS = {CMD_WAYPOINT, CMD_LOITER_UNLIM, CMD_LOITER_TIME}
-ALL_NAV = NAV_BY_LEGS | {20, 21, 22, 84, 85}  # + RTL, LAND, TAKEOFF and the VTOL takeoff and land
 
 
 def next_nav_index(items, index: int, jumps_done: dict) -> int | None:
@@ -29,7 +29,7 @@ def next_nav_index(items, index: int, jumps_done: dict) -> int | None:
         if i >= len(items):
             return None
         item = items[i]
-        if item.command in ALL_NAV:
+        if is_nav(item.command):  # as AP_Mission looks ahead: also an item AUTO will skip
             return i
         if item.command == CMD_DO_JUMP:
             target, repeat = int(item.p1) - 1, int(item.p2)
