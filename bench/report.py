@@ -57,6 +57,11 @@ def speed_rows(r: dict) -> list[str]:
     if "rtf_headless_python_reference" in r:
         rows.append(f"| rtf_headless with the Python reference cascade | "
                     f"{fmt(r['rtf_headless_python_reference'], '', 0)} |")
+    if r.get("headless_instructions"):
+        h = r["headless_instructions"]
+        rows.append(f"| instructions of the headless pattern (callgrind, PYTHONHASHSEED=0; compare commits by this, "
+                    f"not by wall time, on a busy machine) | {h['instructions_M']:.0f} M for {h['sim_s']:.0f} sim s "
+                    f"= {h['per_sim_s_M']:.2f} M per sim s |")
     if "dataflash_cost" in r:
         d = r["dataflash_cost"]
         rows.append(f"| dataflash .BIN log cost: headless flight ticked at 100 Hz, logging / not (the recorder's tick "

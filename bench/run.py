@@ -409,6 +409,9 @@ def main() -> int:
         print("headless real-time factor ...", flush=True)
         results["rtf_headless"] = rtf_headless(args.runs)
         results["rtf_headless_python_reference"] = rtf_headless(args.runs, compiled=False)
+        from instructions import headless_pattern_instructions
+        print("instructions of the headless pattern (callgrind) ...", flush=True)
+        results["headless_instructions"] = headless_pattern_instructions()
         if compiled_cascade.available():
             from step_cost import batched, single
             print("step cost ...", flush=True)

@@ -16,7 +16,7 @@ from .base import Mode, Setpoint, stopping_point
 from .context import ModeContext
 from .guided_angle import AttitudeTarget, guided_timeout_s
 from .guided_stop import JerkLimitedStop
-from .guided_yaw import SLEW_YAW_DEFAULT_CDEG_S, TURNING, GuidedYaw
+from .guided_yaw import DEFAULT, SLEW_YAW_DEFAULT_CDEG_S, TURNING, GuidedYaw
 from .numbers import ModeNumber
 
 VELOCITY_TIMEOUT_S = 3.0  # GUID_TIMEOUT's default: ArduCopter stops if velocity setpoints stop arriving
@@ -221,7 +221,7 @@ class Guided(Mode):
         if self.paused_d is not None and self.stopping is not None:
             self.stopping.fly(ctx, sp, dt)
             sp.pos_d = self.paused_d
-            sp.yaw = ctx.attitude[2] if self.yaw.kind == "default" else self.yaw.angle
+            sp.yaw = ctx.attitude[2] if self.yaw.kind == DEFAULT else self.yaw.angle
             return
         if (self.submode != POS or self.yaw.kind in TURNING) and ctx.time_s - self.updated_s > guided_timeout_s(ctx):
             self._timed_out(ctx)
@@ -232,9 +232,12 @@ class Guided(Mode):
             self._fly_pos_vel_accel(ctx, sp, dt)
         else:
             self._fly_vel_accel(ctx, sp, dt)
-        if not self.yaw.fly(sp, dt) and sp.yaw is None:
+        # The guards below save two calls a tick in the usual case (no yaw asked, no speed change).
+        yaw = self.yaw
+        if (yaw.kind == DEFAULT or not yaw.fly(sp, dt)) and sp.yaw is None:
             sp.yaw = self.auto_yaw.facing(ctx, *sp.vel_ne)
-        self._limit_vertical(ctx, sp)
+        if self.speed_up is not None or self.speed_dn is not None:
+            self._limit_vertical(ctx, sp)
         if self.takeoff_d is not None and abs(ctx.body.d_m - self.takeoff_d) < TAKEOFF_DONE_M:
             self.takeoff_d = None
 
@@ -257,7 +260,7 @@ class Guided(Mode):
             self.stopping_vertically = False
             self.target_d = ctx.body.d_m
         sp.pos_ne, sp.pos_d = self.target_ne, None if self.stopping_vertically else self.target_d
-        if self.yaw.kind != "default":
+        if self.yaw.kind != DEFAULT:
             return
         # ArduCopter's desired velocity points at the target until the last centimetres (its
         # path stops there); the vehicle's own would turn it round on a small overshoot.
@@ -304,8 +307,6 @@ class Guided(Mode):
     def _limit_vertical(self, ctx: ModeContext, sp: Setpoint) -> None:
         """DO_CHANGE_SPEED's climb and descent speeds: a height target is approached no faster."""
         up, dn = self.speed_up, self.speed_dn
-        if up is None and dn is None:
-            return
         if dn is not None:
             sp.speed_dn = dn
         if up is not None and sp.pos_d is not None:
