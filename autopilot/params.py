@@ -33,9 +33,15 @@ INT_TYPE_BOUNDS = {2: (-2.0**7, 2.0**7 - 1), 4: (-2.0**15, 2.0**15 - 1), 6: (-2.
 FLOAT32_MAX = 3.4028234663852886e38  # a PARAM_VALUE carries a float32
 
 
+# Values counted from what is stored elsewhere at every start, never saved themselves (MIS_TOTAL:
+# the mission's length, home included, kept by the mission service).
+COUNTED = frozenset({"MIS_TOTAL"})
+
+
 def is_saved(name: str) -> bool:
-    """Whether a value persists across restarts: everything but the simulation's faults (SIM_*)."""
-    return not name.startswith("SIM_")
+    """Whether a value persists across restarts: everything but the simulation's faults (SIM_*)
+    and the counted values."""
+    return not name.startswith("SIM_") and name not in COUNTED
 
 
 @dataclass(frozen=True)
@@ -335,17 +341,19 @@ class ParamStore:
     def on_change(self, callback: Callable[[str, float], None]) -> None:
         self._listeners.append(callback)
 
-    def set(self, name: str, value, in_range: bool = True) -> float:
+    def set(self, name: str, value, in_range: bool = True, announce: bool = True) -> float:
         """Set and persist; raises ParamError (naming the problem) and changes nothing on bad input.
         in_range=False: as the vehicle's own code sets a value (AUTOTUNE saving its gains, which
-        may leave the documented ranges as ArduCopter's do): finite, not range-checked."""
+        may leave the documented ranges as ArduCopter's do): finite, not range-checked, and sent
+        to every ground station unless `announce` is False (a value set while booting)."""
         if in_range:
             value = checked_value(name, value)
         elif name not in STORED_AS or not math.isfinite(float(value)):
             raise ParamError(f"{name}: unknown, or value not finite")
         else:
             value = float(value)
-            self.vehicle_saved.append(name)
+            if announce:
+                self.vehicle_saved.append(name)
         name = STORED_AS[name]
         if value == self._values[name]:
             return value  # nothing changes: a GCS re-sending its whole list must not re-trigger faults

@@ -38,11 +38,16 @@ def saved_result(saved: bool) -> int:
 @dataclass
 class Upload:
     kind: int
-    count: int
+    count: int  # the last seq asked for + 1
     peer: tuple
     items: list = field(default_factory=list)
     last_request_s: float = 0.0
     retries: int = 0
+    first: int = 0  # the first seq asked for (MISSION_WRITE_PARTIAL_LIST's start_index)
+
+    @property
+    def next_seq(self) -> int:
+        return self.first + len(self.items)
 
 
 class MissionService:
@@ -56,6 +61,15 @@ class MissionService:
         self._cleared_at_home_set: int | None = None  # the vehicle's home_sets when the mission was cleared
         # ArduCopter warns once per list (and boot) about each of the two float-coordinate messages.
         self._warned: set[tuple[str, int]] = set()
+        self._count_mission(announce=False)
+
+    def _count_mission(self, announce: bool = True) -> None:
+        """MIS_TOTAL follows the mission's length, home included, as AP_Mission's count does; each
+        change is a PARAM_VALUE to every ground station (AP_Param's set_and_save)."""
+        params = self.vehicle.params
+        total = len(self.listed(MISSION))
+        if params["MIS_TOTAL"] != total:
+            params.set("MIS_TOTAL", total, in_range=False, announce=announce)
 
     # ----- helpers ----------------------------------------------------------------------------
     def _ack(self, peer: tuple, result: int, kind: int):
@@ -65,7 +79,7 @@ class MissionService:
         """ArduCopter asks for each item with MISSION_REQUEST (not _INT), whichever way the items
         come; a script that waits for MISSION_REQUEST depends on it."""
         up.last_request_s = link_s
-        return self.codec.mission_request_encode(up.peer[0], up.peer[1], len(up.items), up.kind)
+        return self.codec.mission_request_encode(up.peer[0], up.peer[1], up.next_seq, up.kind)
 
     def _warn_once(self, msg, text: str) -> None:
         key = (msg.get_type(), msg.mission_type)
@@ -105,6 +119,7 @@ class MissionService:
             saved = self.store.clear(kind)
             if kind == MISSION:  # AP_Mission::truncate(0) leaves no home either, as a clear
                 self._cleared_at_home_set = self.vehicle.home_sets
+                self._count_mission()
                 self.vehicle.notify("Flight plan received")
             return [self._ack(peer, saved_result(saved), kind)]
         self._completed = None
@@ -112,6 +127,7 @@ class MissionService:
         if kind == MISSION:
             if not self._cleared:  # stored items are seq 1.. (home is seq 0)
                 self.store.truncate(kind, msg.count - 1)
+                self._count_mission()
         elif kind == RALLY:
             self.store.truncate(kind, msg.count)
         return [self._request(up, link_s)]
@@ -137,7 +153,27 @@ class MissionService:
         if index > len(self.store.items(kind)):
             return mav.MAV_MISSION_ERROR
         self.store.put(kind, index, item)
+        if kind == MISSION:
+            self._count_mission()
         return mav.MAV_MISSION_ACCEPTED
+
+    def on_write_partial(self, msg, link_s: float) -> list:
+        """MISSION_WRITE_PARTIAL_LIST: rewrite the mission's items start_index..end_index (or
+        append at its end), each asked for as an upload's are. As ArduPilot: DENIED while an
+        upload runs, MAV_MISSION_ERROR and "Flight plan update rejected" for a range outside the
+        list. (Measured for the mission only; other lists are not answered.)"""
+        peer = (msg.get_srcSystem(), msg.get_srcComponent())
+        if msg.mission_type != MISSION:
+            return []
+        if MISSION in self.uploads:
+            return [self._ack(peer, mav.MAV_MISSION_DENIED, MISSION)]
+        count = len(self.listed(MISSION))
+        if not (0 <= msg.start_index <= count and 0 <= msg.end_index <= count and msg.end_index >= msg.start_index):
+            self.vehicle.notify("Flight plan update rejected", Severity.WARNING)
+            return [self._ack(peer, mav.MAV_MISSION_ERROR, MISSION)]
+        self._completed = None
+        up = self.uploads[MISSION] = Upload(MISSION, msg.end_index + 1, peer, first=msg.start_index)
+        return [self._request(up, link_s)]
 
     def _end(self, up: Upload) -> bool:
         """The upload is over, complete or not: what it wrote counts as a change and is saved;
@@ -155,8 +191,8 @@ class MissionService:
             return [self._ack(peer, mav.MAV_MISSION_ACCEPTED, msg.mission_type)]
         if up is None or peer != up.peer:
             return []
-        if msg.seq != len(up.items):  # a duplicate or out-of-order item: ask again for the one we need
-            return [self._request(up, link_s)] if msg.seq > len(up.items) else []
+        if msg.seq != up.next_seq:  # a duplicate or out-of-order item: ask again for the one we need
+            return [self._request(up, link_s)] if msg.seq > up.next_seq else []
         item = item_from_message(msg)
         result = check_item(item, up.kind)
         if result == mav.MAV_MISSION_ACCEPTED:
@@ -169,7 +205,7 @@ class MissionService:
             return [self._ack(peer, result, up.kind)]
         up.items.append(item)
         up.retries = 0
-        if len(up.items) < up.count:
+        if up.next_seq < up.count:
             return [self._request(up, link_s)]
         saved = self._end(up)
         self._completed = (peer, up.kind, up.count - 1)
@@ -242,6 +278,7 @@ class MissionService:
         saved = self.store.clear(msg.mission_type)
         if msg.mission_type == MISSION:
             self._cleared_at_home_set = self.vehicle.home_sets
+            self._count_mission()
         return [self._ack(peer, saved_result(saved), msg.mission_type)]
 
     def on_set_current(self, msg) -> list:

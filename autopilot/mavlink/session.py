@@ -12,6 +12,7 @@ from __future__ import annotations
 
 from .. import version
 from ..results import Result
+from .adsb_out import AdsbOut
 from .commands import Command, CommandService
 from .dialect import mavlink as mav
 from .fast_pack import FastCodec
@@ -19,7 +20,8 @@ from .ftp import FtpServer
 from .follow_messages import on_follow_target, on_global_position_int
 from .guided_setpoints import handle_attitude_target, handle_global_int, handle_local_ned
 from .guided_waypoint import guided_request
-from . import rc_input
+from . import device_ops, rc_input
+from .legacy_points import LegacyPoints
 from .log_service import LogService
 from .mission_service import MissionService
 from .params_service import ParamService
@@ -28,6 +30,7 @@ from .statustext import StatusTexts
 from .streams import StreamScheduler
 from .telemetry import BUILDERS
 
+FOLLOW_FEEDS = {"GLOBAL_POSITION_INT": on_global_position_int, "FOLLOW_TARGET": on_follow_target}
 GCS_SYSID_ENFORCE = 1 << 0  # MAV_OPTIONS: hear only the ground station (and the vehicle's own system)
 
 
@@ -44,6 +47,9 @@ class Session:
         self.params = ParamService(vehicle.params, codec)
         self.commands = CommandService()
         self.missions = MissionService(vehicle.mission, vehicle, codec)
+        self.adsb_out = AdsbOut()  # a uAvionix transponder's configuration and channel
+        self._channels: dict = {}  # link -> its channel number, in the order transceivers reported on them
+        self.legacy_points = LegacyPoints(vehicle.mission, vehicle.params, codec)  # older GCSs' fence and rally
         self.ftp = FtpServer(vehicle.params, vehicle.notify)
         self.logs = LogService(vehicle, codec)  # the I/O edge gives it the log files (logs.store)
         self.link_s = 0.0  # link clock (wall time from the I/O layer) for transfer retries
@@ -77,21 +83,27 @@ class Session:
             "LOG_REQUEST_END": self._on_log_request,
             "MISSION_REQUEST_LIST": lambda m, now: self._out.extend(self.missions.on_request_list(m)),
             "MISSION_COUNT": self._on_mission_count,
+            "MISSION_WRITE_PARTIAL_LIST": self._on_mission_write_partial,
             "MISSION_ITEM_INT": self._on_mission_item,
             "MISSION_ITEM": self._on_mission_item,
             "MISSION_REQUEST_INT": lambda m, now: self._out.extend(self.missions.on_request(m)),
             "MISSION_REQUEST": lambda m, now: self._out.extend(self.missions.on_request(m)),
             "MISSION_CLEAR_ALL": lambda m, now: self._out.extend(self.missions.on_clear_all(m)),
             "MISSION_SET_CURRENT": lambda m, now: self._out.extend(self.missions.on_set_current(m)),
+            "DEVICE_OP_READ": lambda m, now: self.queue(device_ops.read_reply(self.codec, m)),
+            "DEVICE_OP_WRITE": lambda m, now: self.queue(device_ops.write_reply(self.codec, m)),
+            "UAVIONIX_ADSB_OUT_CFG": self._on_adsb_config,
+            "UAVIONIX_ADSB_TRANSCEIVER_HEALTH_REPORT": self._on_adsb_health,
+            "FENCE_POINT": self._on_legacy_point,
+            "FENCE_FETCH_POINT": self._on_legacy_point,
+            "RALLY_POINT": self._on_legacy_point,
+            "RALLY_FETCH_POINT": self._on_legacy_point,
             "MANUAL_CONTROL": self._on_manual_control,
             "RC_CHANNELS_OVERRIDE": self._on_rc_override,
             "SET_POSITION_TARGET_LOCAL_NED": self._on_setpoint_local,
             "SET_POSITION_TARGET_GLOBAL_INT": self._on_setpoint_global,
             "SET_ATTITUDE_TARGET": lambda m, now: handle_attitude_target(self.vehicle, m),
             "TIMESYNC": self._on_timesync,
-            # Another system's position: FOLLOW's lead, from whichever system sends it
-            "GLOBAL_POSITION_INT": lambda m, now: on_global_position_int(self.vehicle, m, now),
-            "FOLLOW_TARGET": lambda m, now: on_follow_target(self.vehicle, m, now),
             "SETUP_SIGNING": lambda m, now: self.signing.setup(m, self.vehicle.armed),
             # The request older ground stations send before REQUEST_MESSAGE existed.
             "AUTOPILOT_VERSION_REQUEST": lambda m, now: self.queue(self.build(mav.MAVLINK_MSG_ID_AUTOPILOT_VERSION)),
@@ -147,6 +159,13 @@ class Session:
         if not self._for_me(msg):
             self.counters["ignored_other_system"] += 1
             return []
+        follow_feed = FOLLOW_FEEDS.get(msg.get_type())
+        if follow_feed is not None:  # another system's position: FOLLOW's lead, whoever sends it, heard
+            try:                     # before MAV_OPTIONS' enforcement, as ArduPilot's AP_Follow is
+                follow_feed(self.vehicle, msg, now_s)
+            except Exception as exc:  # noqa: BLE001 - a bug must not stop the vehicle loop
+                self.handler_failed(msg.get_type(), exc)
+            return self._take()
         if not self._accepted_sender(msg):
             self.counters["ignored_not_gcs"] += 1
             return []
@@ -194,6 +213,25 @@ class Session:
     def _on_mission_count(self, msg, now_s):
         self._missions_link = self._link
         self._out.extend(self.missions.on_count(msg, self.link_s))
+
+    def _on_adsb_config(self, msg, now_s):
+        severity, text = self.adsb_out.on_config(msg)
+        self.vehicle.notify(text, severity)
+
+    def _on_adsb_health(self, msg, now_s):
+        said = self.adsb_out.on_health(msg, self._channels.setdefault(self._link, len(self._channels)))
+        if said is not None:
+            self.vehicle.notify(said[1], said[0])
+
+    def _on_legacy_point(self, msg, now_s):
+        texts, replies = self.legacy_points.handle(msg, self._link)
+        for severity, text in texts:  # to the asking link only, as ArduPilot's link.send_text
+            self._out.extend(self.texts.encode(severity, text))
+        self._out.extend(replies)
+
+    def _on_mission_write_partial(self, msg, now_s):
+        self._missions_link = self._link
+        self._out.extend(self.missions.on_write_partial(msg, self.link_s))
 
     def _on_log_request(self, msg, now_s):
         # as ArduPilot's _log_sending_link: the rest of a transfer goes to the link that began it

@@ -182,3 +182,24 @@ def test_a_kept_heading_drifts_toward_the_tilt_axis_as_arducopter_rebuilds_it():
     # one rebuilding shrinks tan(heading - axis) by cos(tilt); the target takes ATC_INPUT_TC to follow
     step = math.atan(math.cos(0.3)) - math.radians(45)
     assert moved - math.radians(45) == pytest.approx(step * 0.01 / 0.15)
+
+
+def test_the_lead_is_heard_even_where_mav_options_hears_only_the_ground_station():
+    """ArduPilot hands every packet to AP_Follow before its GCS sysid enforcement (GCS_Common's
+    packetReceived): a lead that is not the ground station is followed all the same."""
+    from firefly.autopilot.mavlink.dialect import new_codec
+    from firefly.autopilot.mavlink.session import Session
+    from firefly.autopilot.vehicle import Vehicle, VehicleConfig
+    v = Vehicle(VehicleConfig())
+    session = Session(v, new_codec(1))
+    v.params.set("FOLL_ENABLE", 1)
+    v.params.set("MAV_OPTIONS", 1)
+    v.run_until(5.0)
+    lead = new_codec(7, 1)
+    o = v.origin
+    msg = lead.global_position_int_encode(4000, int(o.lat_deg * 1e7), int(o.lon_deg * 1e7) + 500,
+                                          int(o.alt_m * 1000) + 10000, 10000, 0, 0, 0, 0)
+    session.receive(new_codec(0, 0).parse_buffer(msg.pack(lead))[0], v.time_s, 1.0)
+    assert v.follow_target.heard_s is not None
+    ping = lead.command_long_encode(1, 1, 512, 0, 1, 0, 0, 0, 0, 0, 0)  # REQUEST_MESSAGE: not from the GCS
+    assert session.receive(new_codec(0, 0).parse_buffer(ping.pack(lead))[0], v.time_s, 1.0) == []

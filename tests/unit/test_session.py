@@ -215,7 +215,9 @@ def test_param_request_list_yields_every_parameter_once_with_consistent_indices(
     assert [_name(m) for m in values] == [spec.name for spec in SERVED]
     for m in values:
         spec = served[_name(m)]
-        assert m.param_value == pytest.approx(spec.default, rel=1e-6)
+        # MIS_TOTAL is counted, not a default: the mission's length with home, 1 for no mission
+        expected = 1.0 if spec.name == "MIS_TOTAL" else spec.default
+        assert m.param_value == pytest.approx(expected, rel=1e-6)
         assert m.param_type == spec.mav_type == link.vehicle.params.mav_type(spec.name)
     fs_thr = next(m for m in values if _name(m) == "FS_THR_ENABLE")
     assert fs_thr.param_type == mav.MAV_PARAM_TYPE_INT8  # the reference's type, not a generic INT32
