@@ -196,8 +196,13 @@ class Session:
 
     def _on_heartbeat(self, msg, now_s):
         if msg.type == mav.MAV_TYPE_GCS:
-            self.gcs_last_heartbeat_s = self.link_s
-            self.vehicle.failsafes.gcs_regained(self.vehicle)
+            self._ground_station_seen()
+
+    def _ground_station_seen(self) -> None:
+        """The ground station is there (ArduPilot's sysid_mygcs_seen): its heartbeat, and also the
+        pilot input it sends (MANUAL_CONTROL, RC_CHANNELS_OVERRIDE), hold off the GCS failsafe."""
+        self.gcs_last_heartbeat_s = self.link_s
+        self.vehicle.failsafes.gcs_regained(self.vehicle)
 
     def _on_param_request_list(self, msg, now_s):
         self._params_link = self._link
@@ -297,11 +302,15 @@ class Session:
             self._out.extend(self.texts.encode(severity, text))
 
     def _on_manual_control(self, msg, now_s):
-        if not rc_input.manual_control(self.vehicle, msg, now_s):
+        if rc_input.manual_control(self.vehicle, msg, now_s):
+            self._ground_station_seen()
+        else:
             self.counters["ignored_not_gcs"] += 1
 
     def _on_rc_override(self, msg, now_s):
-        if not rc_input.rc_channels_override(self.vehicle, msg, now_s):
+        if rc_input.rc_channels_override(self.vehicle, msg, now_s):
+            self._ground_station_seen()
+        else:
             self.counters["ignored_not_gcs"] += 1
 
     def _on_mission_item(self, msg, now_s):
