@@ -19,6 +19,7 @@ from ..mission.commands import (CMD_DO_CHANGE_SPEED, CMD_DO_REPEAT_RELAY, CMD_DO
                                 FLOWN_AS, is_nav)
 from ..mission.progress import DONE_UNREPORTED, MissionProgress
 from ..mission.store import MissionItem
+from ..params import DEFAULTS as PARAM_DEFAULTS
 from ..results import Severity
 from ..views import Vector3
 from .auto_items import ITEMS, AutoItem
@@ -79,8 +80,12 @@ class Auto(Mode):
     # navigator of a waypoint leg): a spline leaves a waypoint along the leg that came in.
     previous_nav: AutoItem | WaypointNav | None = None
     # The circle navigator's radius, kept from one NAV_LOITER_TURNS to the next as ArduCopter's
-    # AC_Circle keeps it (an item's radius 0 flies the last one; 0 at boot: a turn on the spot).
+    # AC_Circle keeps it (an item's radius 0 flies the last one; 0 at boot: a turn on the spot),
+    # and its rate: CIRCLE_RATE's default, which ArduCopter's AC_Circle copies when it is built,
+    # before the parameters are loaded; a CIRCLE_RATE set later does not reach AUTO (measured: a
+    # turn of 10 m takes 18.6 s with CIRCLE_RATE set to 10 after boot, as at 20).
     circle_radius_m: float = 0.0
+    circle_rate_deg_s: float = PARAM_DEFAULTS["CIRCLE_RATE"]
 
     def __init__(self) -> None:
         # Until enter() (which may wait for home): no item flown, no destination.

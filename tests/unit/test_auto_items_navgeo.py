@@ -135,3 +135,16 @@ def test_a_spline_leg_with_no_length_or_limits_ends_rather_than_hangs():
     stuck = SplineLeg((0.0, 0.0, 0.0), (10.0, 0.0, 0.0), (0.0, 0.0, 0.0), (0.0, 0.0, 0.0), 0, 0, 0, 0, 0)
     stuck.advance(0.01, 0.0)
     assert stuck.reached
+
+
+def test_a_circle_rate_set_after_boot_does_not_reach_auto():
+    """ArduCopter's AC_Circle copies CIRCLE_RATE's default when built: with CIRCLE_RATE set to 10
+    after boot a turn of 10 m still takes 18.6 s (at 10 deg/s it would take 36)."""
+    v = hovering_vehicle()
+    v.params.set("CIRCLE_RATE", 10.0)
+    v.mission.replace(0, [item_at(v, TURNS, 10, 0, p1=1, p3=10), item_at(v, WAYPOINT, 0, 0)])
+    v.set_mode(3)
+    assert fly_until(v, lambda x: "Mission: starting circle 1/1" in said(x), 30.0)
+    start = v.time_s
+    assert fly_until(v, lambda x: 1 in x.mission_progress.reached, 40.0)
+    assert 17.5 < v.time_s - start < 20.0

@@ -4,8 +4,9 @@ its circle navigator (circle_nav.py, shared with CIRCLE mode).
 The item as AP_Mission stores it: param 1 the turns (a whole number up to 255, or a fraction
 below 1 in 256ths), param 3 the radius in whole metres (above 255 m in tens of metres), its sign
 the direction (negative: counter-clockwise). A radius of 0 keeps the radius the last such item
-set (0 after boot: the vehicle turns on the spot). The rate is CIRCLE_RATE's size, signed by the
-direction. More than 3 m from the centre, the vehicle first flies a waypoint leg to the nearest
+set (0 after boot: the vehicle turns on the spot). The rate is the size of CIRCLE_RATE's default
+(ArduCopter's AC_Circle copies it when built: a CIRCLE_RATE set later is not flown here), signed
+by the direction. More than 3 m from the centre, the vehicle first flies a waypoint leg to the nearest
 point of the circle at the item's height (nose along the leg from outside the circle, else held);
 then it circles from where it is, holding that height, and says "Mission: starting circle k/n"
 as each turn begins. Done (reported reached, with no "Reached command" text) once the turns are
@@ -65,7 +66,7 @@ class LoiterTurns(AutoItem):
         radius = radius_of(item.p3)
         if radius > 0:
             auto.circle_radius_m = radius
-        rate = abs(ctx.params["CIRCLE_RATE"])
+        rate = abs(auto.circle_rate_deg_s)
         cn, ce, cd = auto.item_position(ctx, item)
         if item.z == 0:  # no altitude given: the present one
             cd = ctx.body.d_m
