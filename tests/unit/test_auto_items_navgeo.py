@@ -148,3 +148,17 @@ def test_a_circle_rate_set_after_boot_does_not_reach_auto():
     start = v.time_s
     assert fly_until(v, lambda x: 1 in x.mission_progress.reached, 40.0)
     assert 17.5 < v.time_s - start < 20.0
+
+
+def test_a_spline_with_a_hold_time_stops_at_its_point_and_waits_whole_seconds():
+    """Param 1: the curve ends at rest on the point (no vector onwards) and 'Reached command'
+    comes once the hold is over (ArduCopter counts whole seconds)."""
+    v = hovering_vehicle()
+    v.mission.replace(0, [item_at(v, SPLINE, 15, 0, p1=3.7), item_at(v, WAYPOINT, 0, 0)])
+    v.set_mode(3)
+    assert fly_until(v, lambda x: math.hypot(x.body.n_m - 15, x.body.e_m) < 1.0 and
+                     math.hypot(x.body.vn_m_s, x.body.ve_m_s) < 0.2, 30.0)
+    arrived = v.time_s
+    assert fly_until(v, lambda x: 1 in x.mission_progress.reached, 10.0)
+    assert 2.0 < v.time_s - arrived < 4.0
+    assert math.hypot(v.body.n_m - 15, v.body.e_m) < 1.0

@@ -11,15 +11,17 @@ MISSION_START, watched until the vehicle lands and disarms or a vehicle-time lim
             land
   splines   takeoff 10 m; spline waypoints round a 20 m square (the middle one 4 m higher), a
             waypoint home; land
+  wp_spline   takeoff; a waypoint 20 m north; a spline to 10 m past it, off to the east; a waypoint
+              back west of that; land
   rate_param  CIRCLE_RATE set to 10 by PARAM_SET after boot; takeoff; 1 turn of 10 m; land
 
-Per item (facts "itemN.*", N its seq): the seconds from its "Mission: N" text to the next one, and for a loiter the circling
-phase's (from its first "starting circle" text) mean radius and spread round the centre it flew,
+Per item (facts "itemN.*", N its seq): the seconds from its "Mission: N" text to the next one,
+and for a loiter the circling phase's (from its first "starting circle" text) mean radius and spread round the centre it flew,
 how far that centre is from the item's point, the turns flown round it (signed: + clockwise seen
 from above) and the nose's turns, the seconds between the "starting circle" texts (one turn
 each); for a loiter to altitude the height and distance from its point at its end and its fastest
 climb and descent; for the splines the largest distance from the straight legs and beyond the
-square, and the time round it.
+square, and the time round it; for the waypoint before a spline the slowest speed by it.
 """
 from __future__ import annotations
 
@@ -66,6 +68,14 @@ MISSIONS: dict[str, list[tuple]] = {
         (WP, (0, 0, 0, 0), (0.0, 0.0), ALT_M),
         (LAND, (0, 0, 0, 0), None, 0.0),
     ],
+    # a plain waypoint before a spline: ArduCopter passes it at the speed the spline starts with
+    "wp_spline": [
+        (TAKEOFF, (0, 0, 0, 0), None, ALT_M),
+        (WP, (0, 0, 0, 0), (20.0, 0.0), ALT_M),
+        (SPLINE, (0, 0, 0, 0), (30.0, 10.0), ALT_M),
+        (WP, (0, 0, 0, 0), (20.0, 20.0), ALT_M),
+        (LAND, (0, 0, 0, 0), None, 0.0),
+    ],
     # CIRCLE_RATE set after boot: does AUTO's circle take it?
     "rate_param": [
         (TAKEOFF, (0, 0, 0, 0), None, ALT_M),
@@ -91,6 +101,8 @@ TOL_ALT = Tol(abs=1.0, why="where the height counts as reached and its overshoot
 TOL_DIST = Tol(abs=1.5, why="the point counts as reached within the waypoint radius (2 m)")
 TOL_CLIMB = Tol(abs=0.6, rel=0.15, why="peak vertical speed: both are limited by WPNAV_SPEED_UP/DN; how "
                                        "close each gets to it in a short climb differs")
+TOL_PASS = Tol(abs=0.8, why="the slowest speed near a waypoint, from 10 Hz samples: passing it and "
+                              "stopping at it differ by metres a second")
 TOL_OFF = Tol(abs=1.5, rel=0.2, why="the spline's bulge off the straight legs: same curve, the controllers "
                                     "track it within a metre or so")
 TOL_TRACK_S = Tol(abs=3.0, rel=0.1, why="time round the square: speed along the curve is limited by the "
@@ -133,8 +145,9 @@ class Flight:
         self.geo, self.log = geo, log
         self.end_ms = log[-1][0] if log else 0
         self.currents = self.of("MISSION_CURRENT")
-        self.positions = [(t, geo.ne(m.lat, m.lon), m.relative_alt / 1000.0, m.vz / 100.0, m.hdg)
-                          for t, m in self.of("GLOBAL_POSITION_INT")]
+        # (time, (north, east), altitude, descent speed, heading, ground speed)
+        self.positions = [(t, geo.ne(m.lat, m.lon), m.relative_alt / 1000.0, m.vz / 100.0, m.hdg,
+                           math.hypot(m.vx, m.vy) / 100.0) for t, m in self.of("GLOBAL_POSITION_INT")]
         self.texts = [(t, m.text) for t, m in self.of("STATUSTEXT")]
 
     def of(self, kind: str) -> list:
@@ -265,6 +278,21 @@ def _spline_facts(trace: Trace, flight: Flight) -> None:
     trace.fact("item3.alt_max_m", round(max((p[2] for p in during), default=0.0), 1), TOL_ALT)
 
 
+def _wp_spline_facts(trace: Trace, flight: Flight) -> None:
+    """The waypoint A (20, 0) before the spline to (30, 10): the slowest speed within 3 m of A,
+    the spline's time and its bulge off the straight line A-(30, 10)."""
+    spline = flight.window(3)
+    a_window = flight.window(2)
+    if spline is None or a_window is None:
+        trace.fact("wp_spline.seconds_spline", None)
+        return
+    trace.fact("wp_spline.seconds_spline", round((spline[1] - spline[0]) / 1000.0, 1), TOL_SECONDS)
+    near_a = [p for p in flight.during(a_window[0], spline[1]) if math.hypot(p[1][0] - 20.0, p[1][1]) < 3.0]
+    trace.fact("wp_spline.speed_at_a_min_ms", round(min(p[5] for p in near_a), 1) if near_a else None, TOL_PASS)
+    trace.fact("item3.off_leg_max_m", round(max((_off_polyline(p[1], [(20.0, 0.0), (30.0, 10.0)])
+                                                 for p in flight.during(*spline)), default=0.0), 1), TOL_OFF)
+
+
 def run(target) -> dict[str, Trace]:
     traces: dict[str, Trace] = {}
     try:
@@ -289,6 +317,8 @@ def run(target) -> dict[str, Trace]:
                     _to_alt_facts(trace, flight, seq, at)
             if name == "splines":
                 _spline_facts(trace, flight)
+            elif name == "wp_spline":
+                _wp_spline_facts(trace, flight)
     finally:
         target.close()
     return traces
