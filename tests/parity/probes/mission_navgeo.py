@@ -258,19 +258,25 @@ def _off_polyline(p: tuple[float, float], corners: list[tuple[float, float]]) ->
     return best
 
 
+def _span(trace: Trace, flight: Flight, fact: str, first_seq: int, end_seq: int,
+          tol: Tol) -> tuple[int, int] | None:
+    """From item first_seq's start to item end_seq's, its seconds recorded as `fact`."""
+    first, end = flight.window(first_seq), flight.window(end_seq)
+    span = None if first is None or end is None else (first[0], end[0])
+    trace.fact(fact, None if span is None else round((span[1] - span[0]) / 1000.0, 1), tol)
+    return span
+
+
 def _spline_facts(trace: Trace, flight: Flight) -> None:
-    first = flight.window(2)
-    last = flight.window(5)
-    if first is None or last is None:
-        trace.fact("splines.seconds_round", None)
+    span = _span(trace, flight, "splines.seconds_round", 2, 5, TOL_TRACK_S)
+    if span is None:
         return
-    trace.fact("splines.seconds_round", round((last[0] - first[0]) / 1000.0, 1), TOL_TRACK_S)
     for seq, leg in ((2, SQUARE[0:2]), (3, SQUARE[1:3]), (4, SQUARE[2:4])):
         window = flight.window(seq)
         during = flight.during(*window) if window else []
         trace.fact(f"item{seq}.off_leg_max_m",
                    round(max((_off_polyline(p[1], leg) for p in during), default=0.0), 1), TOL_OFF)
-    during = flight.during(first[0], last[1])
+    during = flight.during(*span)
     outside = [max(-p[1][0], p[1][0] - 20.0, -p[1][1], p[1][1] - 20.0, 0.0) for p in during]
     trace.fact("splines.outside_square_max_m", round(max(outside, default=0.0), 1), TOL_OFF)
     trace.fact("splines.off_square_max_m", round(max((_off_polyline(p[1], SQUARE) for p in during), default=0.0), 1),
@@ -281,13 +287,10 @@ def _spline_facts(trace: Trace, flight: Flight) -> None:
 def _wp_spline_facts(trace: Trace, flight: Flight) -> None:
     """The waypoint A (20, 0) before the spline to (30, 10): the slowest speed within 3 m of A,
     the spline's time and its bulge off the straight line A-(30, 10)."""
-    spline = flight.window(3)
-    a_window = flight.window(2)
-    if spline is None or a_window is None:
-        trace.fact("wp_spline.seconds_spline", None)
+    spline = _span(trace, flight, "wp_spline.seconds_spline", 3, 4, TOL_SECONDS)
+    if spline is None:
         return
-    trace.fact("wp_spline.seconds_spline", round((spline[1] - spline[0]) / 1000.0, 1), TOL_SECONDS)
-    near_a = [p for p in flight.during(a_window[0], spline[1]) if math.hypot(p[1][0] - 20.0, p[1][1]) < 3.0]
+    near_a = [p for p in flight.during(spline[0] - 5000, spline[1]) if math.hypot(p[1][0] - 20.0, p[1][1]) < 3.0]
     trace.fact("wp_spline.speed_at_a_min_ms", round(min(p[5] for p in near_a), 1) if near_a else None, TOL_PASS)
     trace.fact("item3.off_leg_max_m", round(max((_off_polyline(p[1], [(20.0, 0.0), (30.0, 10.0)])
                                                  for p in flight.during(*spline)), default=0.0), 1), TOL_OFF)
