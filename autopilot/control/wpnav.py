@@ -109,6 +109,11 @@ class WaypointNav:
     def destination(self) -> tuple:
         return self._this.destination
 
+    @property
+    def origin(self) -> tuple:
+        """Where the current leg started (its chord is destination - origin)."""
+        return self._this.origin
+
     def _stopping_point(self) -> tuple:
         """Where the position controller brings the vehicle to rest from its present motion:
         along its horizontal velocity (capped at the leg speed), and vertically within

@@ -37,6 +37,11 @@ class MissionState(Enum):
     COMPLETE = "COMPLETE"
 
 
+# What a runner's verify_command answers (truthy) for an item done without a MISSION_ITEM_REACHED:
+# ArduCopter's NAV_LOITER_TO_ALT returns from its verify before the report.
+DONE_UNREPORTED = "done, unreported"
+
+
 class NullRunner:
     """What runs items while AUTO has not bound itself: nothing starts, nothing completes."""
 
@@ -180,9 +185,11 @@ class MissionProgress:
             return False
         if items[index].command in RUN_BY_MISSION:  # done when started; never reported reached
             return True
-        if not self.runner.verify_command(index, items[index]):
+        done = self.runner.verify_command(index, items[index])
+        if not done:
             return False
-        self._reached.append(index + 1)
+        if done != DONE_UNREPORTED:
+            self._reached.append(index + 1)
         return True
 
     def _start(self, index: int, item) -> bool:

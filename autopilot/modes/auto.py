@@ -12,12 +12,14 @@ import math
 from dataclasses import replace
 
 from ..c_casts import as_int16, as_uint16
+from ..control.wpnav import WaypointNav
 from ..mission.commands import (CMD_DO_CHANGE_SPEED, CMD_DO_REPEAT_RELAY, CMD_DO_REPEAT_SERVO, CMD_DO_SET_HOME,
                                 CMD_DO_SET_RELAY, CMD_DO_SET_SERVO, CMD_LAND,
                                 CMD_LOITER_TIME, CMD_LOITER_UNLIM, CMD_RTL, CMD_TAKEOFF, CMD_WAYPOINT, COPTER_DO,
                                 FLOWN_AS, is_nav)
-from ..mission.progress import MissionProgress
+from ..mission.progress import DONE_UNREPORTED, MissionProgress
 from ..mission.store import MissionItem
+from ..params import DEFAULTS as PARAM_DEFAULTS
 from ..results import Severity
 from ..views import Vector3
 from .auto_items import ITEMS, AutoItem
@@ -74,6 +76,16 @@ class Auto(Mode):
     _stopping: JerkLimitedStop | None = None  # ... slowing down as it does
     _runner: AutoItem | None = None  # the navigation item being flown, when it is one of ITEMS
     _do_runner: tuple[int, AutoItem] | None = None  # the "do" or condition item of ITEMS running
+    # What the navigation item before the one starting left behind (its runner, or the waypoint
+    # navigator of a waypoint leg): a spline leaves a waypoint along the leg that came in.
+    previous_nav: AutoItem | WaypointNav | None = None
+    # The circle navigator's radius, kept from one NAV_LOITER_TURNS to the next as ArduCopter's
+    # AC_Circle keeps it (an item's radius 0 flies the last one; 0 at boot: a turn on the spot),
+    # and its rate: CIRCLE_RATE's default, which ArduCopter's AC_Circle copies when it is built,
+    # before the parameters are loaded; a CIRCLE_RATE set later does not reach AUTO (measured: a
+    # turn of 10 m takes 18.6 s with CIRCLE_RATE set to 10 after boot, as at 20).
+    circle_radius_m: float = 0.0
+    circle_rate_deg_s: float = PARAM_DEFAULTS["CIRCLE_RATE"]
 
     def __init__(self) -> None:
         # Until enter() (which may wait for home): no item flown, no destination.
@@ -164,6 +176,7 @@ class Auto(Mode):
         if not is_nav(item.command):
             self._do_runner = (index, runner)
             return runner.start(self, ctx, index, item)
+        self.previous_nav = self._runner if self._runner is not None else self._legs.nav
         self._index, self._item, self._nav_done = index, item, False
         self._runner = runner
         self._target = self._target_ned(ctx, item)
@@ -173,13 +186,16 @@ class Auto(Mode):
         self._index = self._runner = None
         return False
 
-    def verify_command(self, index: int, item: MissionItem) -> bool:
+    def verify_command(self, index: int, item: MissionItem) -> bool | str:
         item = _flown(item)
         if item.command in NAV_COMMANDS:
             return index == self._index and self._nav_done
         if item.command in ITEMS:
             if is_nav(item.command):
-                return index == self._index and self._runner is not None and self._runner.done(self._ctx)
+                runner = self._runner
+                if index != self._index or runner is None or not runner.done(self._ctx):
+                    return False
+                return True if runner.reports_reached else DONE_UNREPORTED
             return self._do_runner is None or self._do_runner[0] != index or self._do_runner[1].done(self._ctx)
         if item.command not in COPTER_DO:
             self._ctx.notify(f"Skipping invalid cmd #{item.command}", Severity.WARNING)
@@ -192,6 +208,10 @@ class Auto(Mode):
         self._hold_ne, self._hold_d = (ctx.body.n_m, ctx.body.e_m), ctx.body.d_m
         if ctx.landed and ctx.armed:
             ctx.disarm("mission complete")
+
+    def item_position(self, ctx: ModeContext, item: MissionItem) -> Vector3:
+        """An item's point in local NED, as AUTO flies to it (for items looking ahead)."""
+        return self._target_ned(ctx, item)
 
     def _target_ned(self, ctx: ModeContext, item: MissionItem) -> Vector3:
         """Item position in local NED; lat/lon 0 = here, altitude 0 for takeoff/land = keep."""

@@ -19,6 +19,7 @@ if TYPE_CHECKING:
 
 class AutoItem:
     """One mission item as AUTO runs it; a new instance for every start."""
+    reports_reached = True  # done: MISSION_ITEM_REACHED is sent (ArduCopter's LOITER_TO_ALT sends none)
 
     def start(self, auto: Auto, ctx: ModeContext, index: int, item: MissionItem) -> bool:
         """Begin the item; False: this vehicle cannot run it (it is passed over)."""
@@ -36,5 +37,13 @@ class AutoItem:
         return None
 
 
+from .loiter_to_alt import LoiterToAlt  # noqa: E402 - the items build on AutoItem above
+from .loiter_turns import LoiterTurns  # noqa: E402
+from .spline_waypoint import SplineWaypoint  # noqa: E402
+
 # MAV_CMD number -> the class that runs it. A new item joins here, in one line.
-ITEMS: dict[int, type[AutoItem]] = {}
+ITEMS: dict[int, type[AutoItem]] = {
+    18: LoiterTurns,  # NAV_LOITER_TURNS
+    31: LoiterToAlt,  # NAV_LOITER_TO_ALT
+    82: SplineWaypoint,  # NAV_SPLINE_WAYPOINT
+}
