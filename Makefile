@@ -20,10 +20,13 @@ run: install
 	$(PY) -m firefly.groundstation explore --scenario scenarios/default.toml
 
 # The unit tests share no sockets, ports or wall-clock timing: two workers halve their time. The
-# rest flies real processes against wall-clock budgets and runs one test at a time.
+# parity areas wait mostly on their vehicles' sim time at speedup 20 (a mismatch is run again
+# before it fails), so two run at once too. The rest flies real processes against wall-clock
+# budgets and runs one test at a time.
 test: install
 	$(PY) -m pytest -q -ra -n 2 tests/unit
-	$(PY) -m pytest -q -ra --durations=30 --ignore=tests/unit
+	$(PY) -m pytest -q -ra -n 2 --durations=15 tests/parity
+	$(PY) -m pytest -q -ra --durations=30 --ignore=tests/unit --ignore=tests/parity
 
 unit: install
 	$(PY) -m pytest -q tests/unit
