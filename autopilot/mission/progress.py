@@ -23,7 +23,9 @@ from __future__ import annotations
 
 from enum import Enum
 
-from .commands import CMD_DO_JUMP, RUN_BY_MISSION, command_name, is_nav, is_takeoff
+from .commands import RUN_BY_MISSION, is_nav, is_takeoff
+from .jumps import JUMPS, jump_of
+from .own_items import RUN_BY_MISSION_TEXTS, start_text
 from .store import MISSION
 
 MAX_ADVANCE = 255  # items looked at in one advance (AP_Mission's guard against endless loops)
@@ -186,7 +188,10 @@ class MissionProgress:
         return True
 
     def _start(self, index: int, item) -> bool:
-        self.notify(f"Mission: {index + 1} {command_name(item.command)}")
+        self.notify(start_text(index, item))
+        said = RUN_BY_MISSION_TEXTS.get(item.command)
+        if said is not None and (text := said(item)) is not None:
+            self.notify(text)
         return self.runner.start_command(index, item)
 
     def _set_current_index(self, index: int) -> bool:
@@ -269,10 +274,10 @@ class MissionProgress:
         followed = 0
         while index < len(items):
             item = items[index]
-            if item.command != CMD_DO_JUMP:
+            if item.command not in JUMPS:
                 return index
             followed += 1
-            target, repeat = int(item.p1) - 1, int(item.p2)  # seq -> index
+            target, repeat = jump_of(items, item)
             if followed > MAX_JUMPS_FOLLOWED or not 0 <= target < len(items):
                 return None
             if not count_jumps and first_jump == index:

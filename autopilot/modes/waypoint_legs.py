@@ -11,18 +11,18 @@ from __future__ import annotations
 
 from ..control.wpnav import NavLimits, WaypointNav
 from ..mission.commands import is_nav
+from ..mission.jumps import jump_of
 from ..views import Vector3
 from .auto_yaw import AutoYaw
 from .base import Setpoint
 from .context import ModeContext
 
 CMD_WAYPOINT, CMD_LOITER_UNLIM, CMD_LOITER_TIME = 16, 17, 19
-CMD_DO_JUMP = 177
 NAV_BY_LEGS = {CMD_WAYPOINT, CMD_LOITER_UNLIM, CMD_LOITER_TIME}
 
 
 def next_nav_index(items, index: int, jumps_done: dict) -> int | None:
-    """The navigation item that will follow item `index`, following DO_JUMPs as AUTO will take
+    """The navigation item that will follow item `index`, following DO_JUMPs (and DO_JUMP_TAGs) as AUTO will take
     them (`jumps_done`: jumps taken so far by index); None if the mission ends first."""
     i = index + 1
     for _ in range(len(items) + 1):  # a loop of DO_JUMPs ends the look-ahead, not the vehicle
@@ -31,8 +31,9 @@ def next_nav_index(items, index: int, jumps_done: dict) -> int | None:
         item = items[i]
         if is_nav(item.command):  # as AP_Mission looks ahead: also an item AUTO will skip
             return i
-        if item.command == CMD_DO_JUMP:
-            target, repeat = int(item.p1) - 1, int(item.p2)
+        jump = jump_of(items, item)
+        if jump is not None:
+            target, repeat = jump
             if 0 <= target < len(items) and (repeat < 0 or jumps_done.get(i, 0) < repeat):
                 i = target
                 continue
