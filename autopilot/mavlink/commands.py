@@ -17,6 +17,7 @@ from ..safety.arming import FORCE_ARM_MAGIC, FORCE_DISARM_MAGIC, prearm_failures
 from ..vehicle import LOCATION_ALT_MAX_M
 from .dialect import mavlink as mav
 from ..c_casts import as_int16, as_uint16
+from .do_item_commands import HANDLERS as DO_ITEM_HANDLERS
 from .preflight import HANDLERS as PREFLIGHT_HANDLERS
 
 RETRY_WINDOW_S = 1.5  # an unconfirmed repeat this close, in wall and in sim time, is a retry
@@ -373,6 +374,7 @@ HANDLERS = {
     mav.MAV_CMD_NAV_VTOL_TAKEOFF: takeoff,
     mav.MAV_CMD_NAV_VTOL_LAND: land,
     **PREFLIGHT_HANDLERS,  # reboot, storage, calibrations, banner (preflight.py)
+    **DO_ITEM_HANDLERS,  # fence switch, mission current and tags, ROI (do_item_commands.py)
     **{command: no_such_device for command in (
         mav.MAV_CMD_DO_MOUNT_CONFIGURE, mav.MAV_CMD_DO_MOUNT_CONTROL, mav.MAV_CMD_DO_GIMBAL_MANAGER_PITCHYAW,
         mav.MAV_CMD_DO_GIMBAL_MANAGER_CONFIGURE, mav.MAV_CMD_SET_CAMERA_FOCUS, mav.MAV_CMD_IMAGE_START_CAPTURE,

@@ -277,7 +277,7 @@ class MissionProgress:
             if item.command not in JUMPS:
                 return index
             followed += 1
-            target, repeat = jump_of(items, item)
+            target, repeat = jump_of(items, item) or (-1, 0)
             if followed > MAX_JUMPS_FOLLOWED or not 0 <= target < len(items):
                 return None
             if not count_jumps and first_jump == index:

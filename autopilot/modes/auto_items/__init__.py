@@ -36,5 +36,10 @@ class AutoItem:
         return None
 
 
+# The items subclass AutoItem: imported once it is defined.
+from .fence_enable import FenceEnable  # noqa: E402
+
 # MAV_CMD number -> the class that runs it. A new item joins here, in one line.
-ITEMS: dict[int, type[AutoItem]] = {}
+ITEMS: dict[int, type[AutoItem]] = {
+    207: FenceEnable,  # DO_FENCE_ENABLE
+}
