@@ -24,7 +24,7 @@ from __future__ import annotations
 from enum import Enum
 
 from .commands import RUN_BY_MISSION, is_nav, is_takeoff
-from .jumps import JUMPS, jump_of
+from .jumps import JUMPS, jump_of, tag_index
 from .own_items import RUN_BY_MISSION_TEXTS, start_text
 from .store import MISSION
 
@@ -141,6 +141,12 @@ class MissionProgress:
         if seq == 0 or self.state is MissionState.COMPLETE:
             self._jumps.clear()
         return self._set_current_index(max(seq, 1) - 1)
+
+    def jump_to_tag(self, tag: int) -> bool:
+        """DO_JUMP_TAG sent as a command: set_current to the first JUMP_TAG with `tag`; False
+        (refused) when no item carries it."""
+        index = tag_index(self.items(), tag)
+        return index is not None and self.set_current(index + 1)
 
     def restart_current_nav(self) -> bool:
         """Start the current navigation item again (a new list arrived while it was flown)."""
