@@ -542,6 +542,12 @@ class Vehicle:
         self.mode.turn(self.ctx, math.radians(angle_deg), rate, direction, relative)
         return Result.ACCEPTED
 
+    def set_roi(self, roi_ne: tuple[float, float] | None) -> Result:
+        """DO_SET_ROI and its kin as commands: the point (north, east) to face, None to clear.
+        ArduCopter accepts it in every mode and state; the modes whose heading follows one act."""
+        self.mode.set_roi(self.ctx, roi_ne)
+        return Result.ACCEPTED
+
     def fence_enable(self, action: int, fences: int) -> Result:
         """DO_FENCE_ENABLE as a command: fences switched on or off at run time (FENCE_ENABLE kept)."""
         ok = self.fence.command(action, fences, int(self.params["FENCE_TYPE"]), bool(self.fence_items()))

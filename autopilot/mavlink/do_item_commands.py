@@ -7,6 +7,7 @@ import math
 
 from ..c_casts import as_uint16
 from ..results import Result
+from .command_locations import is_location
 from .dialect import mavlink as mav
 
 UINT16_MAX = 0xFFFF
@@ -51,6 +52,33 @@ def do_jump_tag(s, c) -> Result:
     return Result.ACCEPTED
 
 
+def do_set_roi(s, c) -> Result:
+    """DO_SET_ROI_LOCATION and DO_SET_ROI (whose mode, param 1, ArduCopter does not read): a
+    location to face (DENIED: not a location); all zeros clears. Without a position the point
+    cannot be placed: accepted, and nothing turns (as ArduCopter)."""
+    if not c.is_int:
+        c = c._replace(frame=mav.MAV_FRAME_GLOBAL_RELATIVE_ALT)  # ArduCopter's frame for them
+    if not is_location(s, c):
+        return Result.DENIED
+    v = s.vehicle
+    if c.p5 == 0 and c.p6 == 0 and c.p7 == 0:
+        return v.set_roi(None)
+    if not v.has_position():
+        return Result.ACCEPTED
+    n, e, _ = v.ned_of(c.p5, c.p6, v.origin.alt_m)
+    return v.set_roi((n, e))
+
+
+def do_set_roi_none(s, c) -> Result:
+    return s.vehicle.set_roi(None)
+
+
+def do_set_roi_sysid(s, c) -> Result:
+    """Points a gimbal at a system: with none fitted, accepted and nothing moves (ArduCopter's
+    mount takes the id whatever it is)."""
+    return Result.ACCEPTED
+
+
 def _uint32(value: float) -> int | None:
     """A float parameter as C's (uint32_t) cast takes it; None where that cast means nothing
     (NaN, negative, too large: undefined in C, refused here)."""
@@ -63,4 +91,8 @@ HANDLERS = {
     mav.MAV_CMD_DO_FENCE_ENABLE: do_fence_enable,
     mav.MAV_CMD_DO_SET_MISSION_CURRENT: do_set_mission_current,
     mav.MAV_CMD_DO_JUMP_TAG: do_jump_tag,
+    mav.MAV_CMD_DO_SET_ROI_LOCATION: do_set_roi,
+    mav.MAV_CMD_DO_SET_ROI: do_set_roi,
+    mav.MAV_CMD_DO_SET_ROI_NONE: do_set_roi_none,
+    mav.MAV_CMD_DO_SET_ROI_SYSID: do_set_roi_sysid,
 }

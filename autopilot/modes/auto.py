@@ -131,6 +131,12 @@ class Auto(Mode):
         self._legs.vertical_speeds = (up if up_m_s is None else up_m_s, dn if dn_m_s is None else dn_m_s)
         return True
 
+    def set_roi(self, ctx: ModeContext, roi_ne: tuple[float, float] | None) -> bool:
+        """DO_SET_ROI (item or command): the legs face the point until it is cleared, or until a
+        takeoff, landing or return starts (ArduCopter's AUTO holds the heading there)."""
+        self._legs.auto_yaw.roi = roi_ne
+        return True
+
     @staticmethod
     def _restart(ctx: ModeContext) -> bool:
         return ctx.params["MIS_RESTART"] == 1
@@ -221,6 +227,7 @@ class Auto(Mode):
         """Waypoints and loiters are flown by the waypoint navigator; other items end its legs."""
         if item.command not in NAV_BY_LEGS:
             self._legs.end()
+            self._legs.auto_yaw.roi = None
             return
         mission = ctx.mission_progress
         items = mission.items()

@@ -185,6 +185,14 @@ class Guided(Mode):
         self.yaw.set_fixed(ctx.attitude[2], angle, rate, direction, relative, self._slew_max(ctx))
         return True
 
+    def set_roi(self, ctx: ModeContext, roi_ne: tuple[float, float] | None) -> bool:
+        """Face the point until a target or a turn says otherwise; None: the default heading."""
+        if roi_ne is None:
+            self.yaw = GuidedYaw()
+        else:
+            self.yaw.set_roi(roi_ne)
+        return True
+
     def pause(self, ctx: ModeContext, paused: bool) -> bool:
         """Slow to a stop and hold (ArduCopter's pause); the target stays for the resume."""
         if not paused:
@@ -232,7 +240,7 @@ class Guided(Mode):
             self._fly_pos_vel_accel(ctx, sp, dt)
         else:
             self._fly_vel_accel(ctx, sp, dt)
-        if not self.yaw.fly(sp, dt) and sp.yaw is None:
+        if not self.yaw.fly(sp, dt, ctx.body) and sp.yaw is None:
             sp.yaw = self.auto_yaw.facing(ctx, *sp.vel_ne)
         self._limit_vertical(ctx, sp)
         if self.takeoff_d is not None and abs(ctx.body.d_m - self.takeoff_d) < TAKEOFF_DONE_M:

@@ -38,8 +38,12 @@ class AutoItem:
 
 # The items subclass AutoItem: imported once it is defined.
 from .fence_enable import FenceEnable  # noqa: E402
+from .roi import SetRoi  # noqa: E402
 
 # MAV_CMD number -> the class that runs it. A new item joins here, in one line.
 ITEMS: dict[int, type[AutoItem]] = {
     207: FenceEnable,  # DO_FENCE_ENABLE
+    195: SetRoi,  # DO_SET_ROI_LOCATION
+    197: SetRoi,  # DO_SET_ROI_NONE
+    201: SetRoi,  # DO_SET_ROI
 }
