@@ -12,6 +12,7 @@ import math
 from dataclasses import replace
 
 from ..c_casts import as_int16, as_uint16
+from ..control.wpnav import WPNAV_SPEED_MIN_M_S
 from ..mission.commands import (CMD_DO_CHANGE_SPEED, CMD_DO_REPEAT_RELAY, CMD_DO_REPEAT_SERVO, CMD_DO_SET_HOME,
                                 CMD_DO_SET_RELAY, CMD_DO_SET_SERVO, CMD_LAND,
                                 CMD_LOITER_TIME, CMD_LOITER_UNLIM, CMD_RTL, CMD_TAKEOFF, CMD_WAYPOINT, COPTER_DO,
@@ -274,6 +275,9 @@ class Auto(Mode):
             return
         if self._legs.nav is None:  # the leg ended (a hold on the ground, a pause): fly it from here
             self._begin_leg(ctx, self._index, item)
+        elif self._legs.planned_for != max(ctx.nav_speed_m_s, WPNAV_SPEED_MIN_M_S):
+            self._legs.change_speed(ctx)
+        sp.speed_xy = self._legs.speed_cap
         if self._legs.update(ctx, sp, dt) and self._arrived_at is None:  # waypoints and loiters
             self._arrived_at = ctx.time_s
         if self._arrived_at is None:

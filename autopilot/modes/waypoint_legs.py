@@ -9,6 +9,8 @@ next waypoint starts afresh from where the vehicle can stop.
 """
 from __future__ import annotations
 
+import math
+
 from ..control.wpnav import NavLimits, WaypointNav
 from ..mission.commands import is_nav
 from ..mission.jumps import jump_of
@@ -55,6 +57,10 @@ class WaypointLegs:
         # The next leg's jerk, once, when it resumes a paused one: ArduCopter takes its track up
         # again at its position controller's jerk (PSC_JERK_XY), not as a new leg (WPNAV_JERK).
         self.resume_jerk: float | None = None
+        self.planned_for = 0.0  # the horizontal speed the legs were planned at [m/s]
+        # The position controller's speed limit while they are flown: ArduCopter's follows the
+        # legs' own speed, also where a speed change left one above the new limit.
+        self.speed_cap = math.inf
 
     @property
     def destination(self) -> Vector3 | None:
@@ -69,12 +75,7 @@ class WaypointLegs:
               speed_m_s: float | None = None) -> None:
         """Start the leg to `target` (local NED), flying through it to `next_target` if given,
         at `speed_m_s` (default: the navigation speed, WPNAV_SPEED or DO_CHANGE_SPEED's)."""
-        limits = NavLimits(ctx.params, ctx.nav_speed_m_s if speed_m_s is None else speed_m_s)
-        up, down = self.vertical_speeds
-        if up is not None:
-            limits.speed_up = up
-        if down is not None:
-            limits.speed_down = down
+        limits = self._limits(ctx, ctx.nav_speed_m_s if speed_m_s is None else speed_m_s)
         if self.resume_jerk is not None:
             limits.jerk, self.resume_jerk = self.resume_jerk, None
             limits.clock_tc = max(limits.accel_xy / limits.jerk, 0.01)
@@ -84,6 +85,26 @@ class WaypointLegs:
         else:
             self.nav.limits = limits
         self.nav.set_destination(target, next_target)
+        self.planned_for = limits.speed_xy
+        self.speed_cap = max(limits.speed_xy, self.nav.planned_speed)
+
+    def _limits(self, ctx: ModeContext, speed_m_s: float) -> NavLimits:
+        limits = NavLimits(ctx.params, speed_m_s)
+        up, down = self.vertical_speeds
+        if up is not None:
+            limits.speed_up = up
+        if down is not None:
+            limits.speed_down = down
+        return limits
+
+    def change_speed(self, ctx: ModeContext) -> None:
+        """The navigation speed changed (DO_CHANGE_SPEED) while legs are flown: they change
+        speed as ArduCopter's do (WaypointNav.set_speed), and the next ones start at it."""
+        limits = self._limits(ctx, ctx.nav_speed_m_s)
+        self.planned_for = limits.speed_xy
+        if self.nav is not None:
+            self.nav.set_speed(limits)
+            self.speed_cap = max(limits.speed_xy, self.nav.planned_speed)
 
     def update(self, ctx: ModeContext, sp: Setpoint, dt: float) -> bool:
         """Fill the setpoint with the navigator's target; returns whether the leg's point is
