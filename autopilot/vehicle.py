@@ -43,6 +43,7 @@ from .rates import LoopRates
 from .results import Result, Severity
 from .safety.arming import Arming, arm_refusals, prearm_failure
 from .safety.failsafe import Failsafes
+from .safety.fence_switch import FenceSwitch
 from .safety.internal_error import CONSTRAINING_NAN, FLOW_OF_CONTROL, InternalErrors
 from .safety.land_detector import AutoDisarm, LandDetector
 from .safety.thrust_loss import ThrustLossCheck
@@ -120,6 +121,7 @@ class Vehicle:
         self.land_detector = LandDetector(airframe.weight_n)
         self.auto_disarm = AutoDisarm()
         self.failsafes = Failsafes()
+        self.fence = FenceSwitch(self.params)
         self.thrust_loss = ThrustLossCheck()
         self.cascade = make_cascade(self.sim, self.params, config.rates, config.compiled)
         self._gains: Params = self.params  # what the controllers are configured from
@@ -398,6 +400,8 @@ class Vehicle:
         self._loiter_speed_max = self.params["LOIT_SPEED"] / 100.0 * 2.0
         if name == "WPNAV_SPEED":
             self.nav_speed_m_s = value / 100.0
+        elif name == "FENCE_ENABLE":
+            self.fence.follow_param(self.params)
 
     # ----- commands: arming ------------------------------------------------------------------
     def arm(self, force: bool = False) -> Result:
@@ -537,6 +541,23 @@ class Vehicle:
         # ArduCopter accepts it in every mode; only modes that steer the heading act on it.
         self.mode.turn(self.ctx, math.radians(angle_deg), rate, direction, relative)
         return Result.ACCEPTED
+
+    def set_roi(self, roi_ne: tuple[float, float] | None) -> Result:
+        """DO_SET_ROI and its kin as commands: the point (north, east) to face, None to clear.
+        ArduCopter accepts it in every mode and state; the modes whose heading follows one act."""
+        self.mode.set_roi(self.ctx, roi_ne)
+        return Result.ACCEPTED
+
+    def fence_enable(self, action: int, fences: int) -> Result:
+        """DO_FENCE_ENABLE as a command: fences switched on or off at run time (FENCE_ENABLE kept)."""
+        ok = self.fence.command(action, fences, int(self.params["FENCE_TYPE"]), bool(self.fence_items()))
+        return Result.ACCEPTED if ok else Result.FAILED
+
+    def fence_enable_item(self, action: int) -> None:
+        """DO_FENCE_ENABLE as a mission item: every configured fence, and AP_Mission's words."""
+        said = self.fence.mission_item(action, int(self.params["FENCE_TYPE"]))
+        if said is not None:
+            self.notify(said, Severity.NOTICE)
 
     def set_home(self, ned: Vector3 | None) -> Result:
         """DO_SET_HOME: here (None) or at a local NED point within HOME_RANGE_M; FAILED before the

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import math
 
+CHANGE_SEARCH_STEPS = 20  # halvings finding the speed a change short of room reaches
 
 def kinematic_limit(unit: tuple, horizontal: float, up: float, down: float) -> float:
     """The largest magnitude along the unit vector `unit` (north, east, down) whose horizontal
@@ -94,21 +95,85 @@ class SCurve:
         cruise = max(0.0, (self.length - 2.0 * _ramp_distance(v, a_lim, j)) / v)
         # (duration, jerk) of the seven phases; cruise is the fourth.
         plan = ((t_j, j), (t_a, 0.0), (t_j, -j), (cruise, 0.0), (t_j, -j), (t_a, 0.0), (t_j, j))
-        starts, phases = [], []
-        t = s = sv = sa = 0.0
+        self._starts, self._phases = [], []
+        t = self.duration = self._append(plan, 0.0, 0.0, 0.0)
+        self.accel_end = 2.0 * t_j + t_a
+        self.decel_start = t - self.accel_end
+
+    def set_speed_max(self, speed_xy: float, speed_up: float, speed_down: float, t: float,
+                      change_jerk_time: float) -> None:
+        """A new speed limit for a leg flown `t` seconds (ArduCopter's SCurve::set_speed_max): a
+        leg not yet begun is planned again; one begun changes speed where it cruises, from the end
+        of its acceleration or from now, if its cruise lasts over 12 `change_jerk_time`s at the old
+        speed (no room: it keeps its plan, as a short leg does); one slowing down keeps its plan."""
+        if self.length < 1e-6:
+            return
+        new = kinematic_limit(self.unit, speed_xy, speed_up, speed_down)
+        if new <= 0.0 or new == self.speed_max:
+            return
+        self.speed_max = new
+        if t <= 0.0:
+            self._build()
+            return
+        if t >= self.decel_start:
+            return
+        t0 = max(t, self.accel_end)
+        s0, v0, _ = self.along(t0)
+        cruise_s = self.length - _ramp_distance(v0, self.accel_max, self.jerk) - s0
+        if v0 <= 0.0 or cruise_s <= 0.0 or cruise_s / v0 <= 12.0 * change_jerk_time:
+            return
+        target = new if new < v0 else min(new, cruise_s / (12.0 * change_jerk_time))
+        # The change takes at most half the cruise left (as ArduCopter sizes it): short of room,
+        # the speed goes part of the way.
+        if self._change_distance(v0, target) > cruise_s * 0.5:
+            reached, missed = v0, target
+            for _ in range(CHANGE_SEARCH_STEPS):
+                middle = (reached + missed) / 2.0
+                if self._change_distance(v0, middle) <= cruise_s * 0.5:
+                    reached = middle
+                else:
+                    missed = middle
+            target = reached
+        if abs(target - v0) < 1e-3:
+            return
+        _, t_j, t_a = _ramp(abs(target - v0), self.accel_max, self.jerk)
+        left = self.length - s0 - self._change_distance(v0, target) - _ramp_distance(target, self.accel_max, self.jerk)
+        if left < 0.0:
+            return  # no room to change and still stop at the end: the plan stands
+        sign = 1.0 if target > v0 else -1.0
+        _, d_j, d_a = _ramp(target, self.accel_max, self.jerk)
+        plan = ((t_j, sign * self.jerk), (t_a, 0.0), (t_j, -sign * self.jerk), (left / target, 0.0),
+                (d_j, -self.jerk), (d_a, 0.0), (d_j, self.jerk))
+        self._replan_from(t0, plan)
+
+    def _change_distance(self, v0: float, v1: float) -> float:
+        """Distance covered changing speed from v0 to v1 within the leg's limits."""
+        _, t_j, t_a = _ramp(abs(v1 - v0), self.accel_max, self.jerk)
+        return (2.0 * t_j + t_a) * (v0 + v1) / 2.0
+
+    def _replan_from(self, t0: float, plan: tuple) -> None:
+        """Keep the phases up to t0 (where the acceleration is zero), then fly `plan`."""
+        s, v, _ = self.along(t0)
+        kept = [i for i, start in enumerate(self._starts) if start < t0]
+        self._starts = [self._starts[i] for i in kept]
+        self._phases = [self._phases[i] for i in kept]
+        t = self.duration = self._append(plan, t0, s, v)
+        self.decel_start = t - sum(d for d, _ in plan[4:])
+
+    def _append(self, plan: tuple, t: float, s: float, v: float) -> float:
+        """Add `plan`'s (duration, jerk) phases from time t at distance s and speed v (and no
+        acceleration); the time they end."""
+        a = 0.0
         for duration, jerk in plan:
             if duration <= 0.0:
                 continue
-            starts.append(t)
-            phases.append((s, sv, sa, jerk))
-            s += duration * (sv + duration * (sa / 2.0 + duration * jerk / 6.0))
-            sv += duration * (sa + duration * jerk / 2.0)
-            sa += duration * jerk
+            self._starts.append(t)
+            self._phases.append((s, v, a, jerk))
+            s += duration * (v + duration * (a / 2.0 + duration * jerk / 6.0))
+            v += duration * (a + duration * jerk / 2.0)
+            a += duration * jerk
             t += duration
-        self._starts, self._phases = starts, phases
-        self.duration = t
-        self.accel_end = 2.0 * t_j + t_a
-        self.decel_start = t - self.accel_end
+        return t
 
     def along(self, t: float) -> tuple[float, float, float]:
         """(distance, speed, acceleration) along the leg at time t since its start; before the

@@ -40,7 +40,7 @@ STOPPING_DOWN_MAX_M = 2.0   # and descending
 class NavLimits:
     """The navigator's limits from the parameters (ArduCopter's names, SI units here)."""
     __slots__ = ("speed_xy", "speed_up", "speed_down", "accel_xy", "accel_z", "jerk", "radius",
-                 "corner_accel", "pos_p", "pos_z_p", "clock_tc")
+                 "corner_accel", "pos_p", "pos_z_p", "clock_tc", "change_jerk_time")
 
     def __init__(self, params, speed_xy: float | None = None):
         wp_speed = params["WPNAV_SPEED"] / 100.0 if speed_xy is None else speed_xy
@@ -59,6 +59,9 @@ class NavLimits:
         self.pos_z_p = params["PSC_POSZ_P"]
         # The navigator's clock changes its rate over the time a change of acceleration takes.
         self.clock_tc = max(self.accel_xy / self.jerk, 0.01)
+        # The jerk time a speed change mid-leg is sized by: ArduCopter's SCurve takes it as
+        # min(1 s, jerk / snap), and its snap limit makes jerk / snap the attitude time constant.
+        self.change_jerk_time = min(1.0, max(params.get("ATC_INPUT_TC", 0.15), 0.1))
 
     def leg(self, origin: tuple, destination: tuple) -> SCurve:
         return SCurve(origin, destination, self.speed_xy, self.speed_up, self.speed_down,
@@ -113,6 +116,23 @@ class WaypointNav:
     def origin(self) -> tuple:
         """Where the current leg started (its chord is destination - origin)."""
         return self._this.origin
+
+    def set_speed(self, limits: NavLimits) -> None:
+        """New limits with a new horizontal speed: the legs being flown change speed as
+        ArduCopter's set_speed_NE_cms changes them (SCurve.set_speed_max)."""
+        self.limits = lim = limits
+        for leg, t in ((self._this, self._t_this), (self._next, self._t_next)):
+            if leg is not None:
+                leg.set_speed_max(lim.speed_xy, lim.speed_up, lim.speed_down, t, lim.change_jerk_time)
+
+    @property
+    def planned_speed(self) -> float:
+        """The fastest horizontal speed the legs being flown are planned to reach [m/s]."""
+        fastest = 0.0
+        for leg in (self._prev, self._this, self._next):
+            if leg is not None:
+                fastest = max(fastest, leg.peak * math.hypot(leg.unit[0], leg.unit[1]))
+        return fastest
 
     def _stopping_point(self) -> tuple:
         """Where the position controller brings the vehicle to rest from its present motion:

@@ -14,17 +14,14 @@ from typing import NamedTuple
 from ..modes.numbers import ModeNumber
 from ..results import Result, Severity
 from ..safety.arming import FORCE_ARM_MAGIC, FORCE_DISARM_MAGIC, prearm_failures
-from ..vehicle import LOCATION_ALT_MAX_M
 from .dialect import mavlink as mav
 from ..c_casts import as_int16, as_uint16
+from .command_locations import is_location, target_ned
+from .do_item_commands import HANDLERS as DO_ITEM_HANDLERS
 from .preflight import HANDLERS as PREFLIGHT_HANDLERS
 
 RETRY_WINDOW_S = 1.5  # an unconfirmed repeat this close, in wall and in sim time, is a retry
 INT32_MAX = 2**31 - 1
-ABSOLUTE_ALT_FRAMES = {mav.MAV_FRAME_GLOBAL, mav.MAV_FRAME_GLOBAL_INT}
-# Altitude above home (ArduPilot's terrain frames fall back to home over flat ground, as here).
-RELATIVE_ALT_FRAMES = {mav.MAV_FRAME_GLOBAL_RELATIVE_ALT, mav.MAV_FRAME_GLOBAL_RELATIVE_ALT_INT,
-                       mav.MAV_FRAME_GLOBAL_TERRAIN_ALT, mav.MAV_FRAME_GLOBAL_TERRAIN_ALT_INT}
 
 
 class Command(NamedTuple):
@@ -166,38 +163,6 @@ def do_repeat_relay(s, c: Command) -> Result:
     """Param 2 the number of cycles (an int16), param 3 the cycle time [s] (to whole ms)."""
     cycle_ms = as_uint16(c.p3 * 1000.0) if math.isfinite(c.p3) else 0
     return s.vehicle.repeat_relay(as_uint16(c.p1) & 0xFF, as_int16(c.p2), cycle_ms / 1000.0)
-
-
-def is_location(s, c: Command) -> bool:
-    """Whether a command's lat/lon/alt make a location, as ArduPilot converts a command to one: a
-    latitude and longitude on the globe, an altitude that is a number within LOCATION_ALT_MAX_M, a frame it
-    knows (an unknown one is named in a STATUSTEXT, as ArduPilot's SITL names it). False: DENIED."""
-    lat, lon, alt = c.p5, c.p6, c.p7
-    if not (_finite(lat, lon) and -90 <= lat <= 90 and -180 <= lon <= 180):
-        return False
-    if not (math.isfinite(alt) and abs(alt) <= LOCATION_ALT_MAX_M):
-        return False
-    if c.frame not in ABSOLUTE_ALT_FRAMES and c.frame not in RELATIVE_ALT_FRAMES:
-        s.vehicle.notify(f"Unknown mavlink coordinate frame {c.frame}", Severity.INFO)
-        return False
-    return True
-
-
-def target_ned(s, c: Command):
-    """A location (is_location) in local NED, or None while the vehicle cannot place it: a height
-    above home needs home, and any point the EKF's origin (a position)."""
-    v = s.vehicle
-    lat, lon, alt = c.p5, c.p6, c.p7
-    if not v.has_position() and v.home_ned is None:
-        return None
-    if c.frame in ABSOLUTE_ALT_FRAMES:
-        d = v.ned_of(lat, lon, alt)[2]
-    elif v.home_ned is not None:
-        d = v.home_ned[2] - alt
-    else:
-        return None
-    n, e, _ = v.ned_of(lat, lon, v.origin.alt_m)
-    return n, e, d
 
 
 def do_reposition(s, c: Command) -> Result:
@@ -373,6 +338,7 @@ HANDLERS = {
     mav.MAV_CMD_NAV_VTOL_TAKEOFF: takeoff,
     mav.MAV_CMD_NAV_VTOL_LAND: land,
     **PREFLIGHT_HANDLERS,  # reboot, storage, calibrations, banner (preflight.py)
+    **DO_ITEM_HANDLERS,  # fence switch, mission current and tags, ROI (do_item_commands.py)
     **{command: no_such_device for command in (
         mav.MAV_CMD_DO_MOUNT_CONFIGURE, mav.MAV_CMD_DO_MOUNT_CONTROL, mav.MAV_CMD_DO_GIMBAL_MANAGER_PITCHYAW,
         mav.MAV_CMD_DO_GIMBAL_MANAGER_CONFIGURE, mav.MAV_CMD_SET_CAMERA_FOCUS, mav.MAV_CMD_IMAGE_START_CAPTURE,

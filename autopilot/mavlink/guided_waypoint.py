@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from ..mission import MISSION
 from ..results import Result
-from .commands import ABSOLUTE_ALT_FRAMES
+from .command_locations import ABSOLUTE_ALT_FRAMES
 from .dialect import mavlink as mav
 from .mission_checks import check_item, item_from_message
 

@@ -55,6 +55,16 @@ def heartbeat(v: TelemetryView, codec):
                                   v.mode_number, status)
 
 
+def fence_status(v: TelemetryView, codec):
+    """Streamed only while a fence is on, as ArduCopter's. Firefly keeps no breach count or
+    time: a breach reads as one, now, of the boundary."""
+    if not v.fence.enabled:
+        return None
+    breached = bool(v.fence_breached)
+    return codec.fence_status_encode(int(breached), int(breached), mav.FENCE_BREACH_BOUNDARY if breached
+                                     else mav.FENCE_BREACH_NONE, 0, mav.FENCE_MITIGATE_NONE)
+
+
 def sys_status(v: TelemetryView, codec):
     present = SENSORS | PREARM | ALWAYS_ON | mav.MAV_SYS_STATUS_GEOFENCE
     # The altitude and position controllers are enabled (and healthy) only in modes that use them.
@@ -63,7 +73,7 @@ def sys_status(v: TelemetryView, codec):
         enabled |= mav.MAV_SYS_STATUS_SENSOR_Z_ALTITUDE_CONTROL
     if v.controls_position():
         enabled |= mav.MAV_SYS_STATUS_SENSOR_XY_POSITION_CONTROL
-    if v.params["FENCE_ENABLE"]:
+    if v.fence.enabled:
         enabled |= mav.MAV_SYS_STATUS_GEOFENCE
     healthy = (enabled & ~PREARM & ~mav.MAV_SYS_STATUS_GEOFENCE) | mav.MAV_SYS_STATUS_SENSOR_PROXIMITY
     if v.is_armable():
@@ -232,6 +242,7 @@ BUILDERS: dict[int, Builder] = {
     mav.MAVLINK_MSG_ID_EXTENDED_SYS_STATE: extended_sys_state,
     mav.MAVLINK_MSG_ID_SYSTEM_TIME: system_time,
     mav.MAVLINK_MSG_ID_MISSION_CURRENT: mission_current,
+    mav.MAVLINK_MSG_ID_FENCE_STATUS: fence_status,
     mav.MAVLINK_MSG_ID_AUTOPILOT_VERSION: autopilot_version,
     mav.MAVLINK_MSG_ID_EKF_STATUS_REPORT: ekf_status_report,
     mav.MAVLINK_MSG_ID_NAMED_VALUE_FLOAT: ground_temperature,
@@ -247,7 +258,8 @@ _STREAM_GROUP_NAMES = {
                                                       "SCALED_PRESSURE", "SCALED_PRESSURE2")),
     mav.MAV_DATA_STREAM_EXTENDED_STATUS: ("MAV1_EXT_STAT", ("SYS_STATUS", "POWER_STATUS", "MEMINFO",
                                                           "MISSION_CURRENT", "GPS_RAW_INT",
-                                                          "NAV_CONTROLLER_OUTPUT", "POSITION_TARGET_GLOBAL_INT")),
+                                                          "NAV_CONTROLLER_OUTPUT", "FENCE_STATUS",
+                                                          "POSITION_TARGET_GLOBAL_INT")),
     mav.MAV_DATA_STREAM_POSITION: ("MAV1_POSITION", ("GLOBAL_POSITION_INT", "LOCAL_POSITION_NED")),
     mav.MAV_DATA_STREAM_RC_CHANNELS: ("MAV1_RC_CHAN", ("SERVO_OUTPUT_RAW", "RC_CHANNELS")),
     # ATTITUDE_QUATERNION is Firefly's addition to EXTRA1 (ArduCopter sends it only when asked).

@@ -23,7 +23,9 @@ from __future__ import annotations
 
 from enum import Enum
 
-from .commands import CMD_DO_JUMP, RUN_BY_MISSION, command_name, is_nav, is_takeoff
+from .commands import RUN_BY_MISSION, is_nav, is_takeoff
+from .jumps import JUMPS, jump_of, tag_index
+from .own_items import RUN_BY_MISSION_TEXTS, start_text
 from .store import MISSION
 
 MAX_ADVANCE = 255  # items looked at in one advance (AP_Mission's guard against endless loops)
@@ -145,6 +147,12 @@ class MissionProgress:
             self._jumps.clear()
         return self._set_current_index(max(seq, 1) - 1)
 
+    def jump_to_tag(self, tag: int) -> bool:
+        """DO_JUMP_TAG sent as a command: set_current to the first JUMP_TAG with `tag`; False
+        (refused) when no item carries it."""
+        index = tag_index(self.items(), tag)
+        return index is not None and self.set_current(index + 1)
+
     def restart_current_nav(self) -> bool:
         """Start the current navigation item again (a new list arrived while it was flown)."""
         if not self.running or self.nav_index is None or self.nav_index >= len(self.items()):
@@ -193,7 +201,10 @@ class MissionProgress:
         return True
 
     def _start(self, index: int, item) -> bool:
-        self.notify(f"Mission: {index + 1} {command_name(item.command)}")
+        self.notify(start_text(index, item))
+        said = RUN_BY_MISSION_TEXTS.get(item.command)
+        if said is not None and (text := said(item)) is not None:
+            self.notify(text)
         return self.runner.start_command(index, item)
 
     def _set_current_index(self, index: int) -> bool:
@@ -276,10 +287,10 @@ class MissionProgress:
         followed = 0
         while index < len(items):
             item = items[index]
-            if item.command != CMD_DO_JUMP:
+            if item.command not in JUMPS:
                 return index
             followed += 1
-            target, repeat = int(item.p1) - 1, int(item.p2)  # seq -> index
+            target, repeat = jump_of(items, item) or (-1, 0)
             if followed > MAX_JUMPS_FOLLOWED or not 0 <= target < len(items):
                 return None
             if not count_jumps and first_jump == index:

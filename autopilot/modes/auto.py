@@ -12,7 +12,7 @@ import math
 from dataclasses import replace
 
 from ..c_casts import as_int16, as_uint16
-from ..control.wpnav import WaypointNav
+from ..control.wpnav import WPNAV_SPEED_MIN_M_S, WaypointNav
 from ..mission.commands import (CMD_DO_CHANGE_SPEED, CMD_DO_REPEAT_RELAY, CMD_DO_REPEAT_SERVO, CMD_DO_SET_HOME,
                                 CMD_DO_SET_RELAY, CMD_DO_SET_SERVO, CMD_LAND,
                                 CMD_LOITER_TIME, CMD_LOITER_UNLIM, CMD_RTL, CMD_TAKEOFF, CMD_WAYPOINT, COPTER_DO,
@@ -143,6 +143,12 @@ class Auto(Mode):
         self._legs.vertical_speeds = (up if up_m_s is None else up_m_s, dn if dn_m_s is None else dn_m_s)
         return True
 
+    def set_roi(self, ctx: ModeContext, roi_ne: tuple[float, float] | None) -> bool:
+        """DO_SET_ROI (item or command): the legs face the point until it is cleared, or until a
+        takeoff, landing or return starts (ArduCopter's AUTO holds the heading there)."""
+        self._legs.auto_yaw.roi = roi_ne
+        return True
+
     @staticmethod
     def _restart(ctx: ModeContext) -> bool:
         return ctx.params["MIS_RESTART"] == 1
@@ -241,6 +247,7 @@ class Auto(Mode):
         """Waypoints and loiters are flown by the waypoint navigator; other items end its legs."""
         if item.command not in NAV_BY_LEGS:
             self._legs.end()
+            self._legs.auto_yaw.roi = None
             return
         mission = ctx.mission_progress
         items = mission.items()
@@ -287,6 +294,9 @@ class Auto(Mode):
             return
         if self._legs.nav is None:  # the leg ended (a hold on the ground, a pause): fly it from here
             self._begin_leg(ctx, self._index, item)
+        elif self._legs.planned_for != max(ctx.nav_speed_m_s, WPNAV_SPEED_MIN_M_S):
+            self._legs.change_speed(ctx)
+        sp.speed_xy = self._legs.speed_cap
         if self._legs.update(ctx, sp, dt) and self._arrived_at is None:  # waypoints and loiters
             self._arrived_at = ctx.time_s
         if self._arrived_at is None:

@@ -168,6 +168,11 @@ class Mode:
         """CONDITION_YAW's turn, in the modes that steer the heading by it."""
         return False
 
+    def set_roi(self, ctx: ModeContext, roi_ne: tuple[float, float] | None) -> bool:
+        """DO_SET_ROI's point (north, east) to face, in the modes whose heading follows one (None:
+        cleared); False where the heading is the pilot's or the mode's own."""
+        return False
+
     def pause(self, ctx: ModeContext, paused: bool) -> bool:
         """DO_PAUSE_CONTINUE: stop (paused) or go on; False if the mode cannot."""
         return False

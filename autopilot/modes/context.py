@@ -48,6 +48,7 @@ class ModeContext:
                                  update(now, own position), the point to fly to, the lead's heading
         set_speed(m_s)           as DO_CHANGE_SPEED
         set_home(ned or None)    as DO_SET_HOME (None = here)
+        fence_enable_item(action) as the mission's DO_FENCE_ENABLE (0 off, 1 on, 2 the floor off)
         set_servo(channel, pwm), repeat_servo(channel, pwm, count, cycle_s), set_relay(relay,
         state), repeat_relay(relay, count, cycle_s)
                                  as DO_SET_SERVO / DO_REPEAT_SERVO / DO_SET_RELAY /
@@ -60,8 +61,8 @@ class ModeContext:
                                  (AUTOTUNE's trial sets); None: the parameters' own again
     """
     __slots__ = ("_v", "_estimate", "_arming", "_land", "_sim", "params", "mission_progress", "return_path",
-                 "follow_target", "notify", "disarm", "set_speed", "set_home", "set_servo", "repeat_servo",
-                 "set_relay", "repeat_relay", "ned_of", "set_mode",
+                 "follow_target", "notify", "disarm", "set_speed", "set_home", "fence_enable_item", "set_servo",
+                 "repeat_servo", "set_relay", "repeat_relay", "ned_of", "set_mode",
                  "hover_thrust_share", "restart_position_control", "use_gains")
     params: ParamStore
     mission_progress: MissionProgress
@@ -71,6 +72,7 @@ class ModeContext:
     disarm: Callable[[str], Result]
     set_speed: Callable[[float], Result]
     set_home: Callable[[Vector3 | None], Result]
+    fence_enable_item: Callable[[int], None]
     set_servo: Callable[[int, int], Result]
     repeat_servo: Callable[[int, int, int, float], Result]
     set_relay: Callable[[int, int], Result]
@@ -94,6 +96,7 @@ class ModeContext:
         self.disarm = vehicle.disarm
         self.set_speed = vehicle.set_speed
         self.set_home = vehicle.set_home
+        self.fence_enable_item = vehicle.fence_enable_item
         self.set_servo = vehicle.set_servo
         self.repeat_servo = vehicle.repeat_servo
         self.set_relay = vehicle.set_relay

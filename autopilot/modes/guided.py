@@ -185,6 +185,14 @@ class Guided(Mode):
         self.yaw.set_fixed(ctx.attitude[2], angle, rate, direction, relative, self._slew_max(ctx))
         return True
 
+    def set_roi(self, ctx: ModeContext, roi_ne: tuple[float, float] | None) -> bool:
+        """Face the point until a target or a turn says otherwise; None: the default heading."""
+        if roi_ne is None:
+            self.yaw = GuidedYaw()
+        else:
+            self.yaw.set_roi(roi_ne)
+        return True
+
     def pause(self, ctx: ModeContext, paused: bool) -> bool:
         """Slow to a stop and hold (ArduCopter's pause); the target stays for the resume."""
         if not paused:
@@ -234,7 +242,7 @@ class Guided(Mode):
             self._fly_vel_accel(ctx, sp, dt)
         # The guards below save two calls a tick in the usual case (no yaw asked, no speed change).
         yaw = self.yaw
-        if (yaw.kind == DEFAULT or not yaw.fly(sp, dt)) and sp.yaw is None:
+        if (yaw.kind == DEFAULT or not yaw.fly(sp, dt, ctx.body)) and sp.yaw is None:
             sp.yaw = self.auto_yaw.facing(ctx, *sp.vel_ne)
         if self.speed_up is not None or self.speed_dn is not None:
             self._limit_vertical(ctx, sp)

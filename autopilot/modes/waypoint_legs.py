@@ -9,20 +9,22 @@ next waypoint starts afresh from where the vehicle can stop.
 """
 from __future__ import annotations
 
+import math
+
 from ..control.wpnav import NavLimits, WaypointNav
 from ..mission.commands import is_nav
+from ..mission.jumps import jump_of
 from ..views import Vector3
 from .auto_yaw import AutoYaw
 from .base import Setpoint
 from .context import ModeContext
 
 CMD_WAYPOINT, CMD_LOITER_UNLIM, CMD_LOITER_TIME = 16, 17, 19
-CMD_DO_JUMP = 177
 NAV_BY_LEGS = {CMD_WAYPOINT, CMD_LOITER_UNLIM, CMD_LOITER_TIME}
 
 
 def next_nav_index(items, index: int, jumps_done: dict) -> int | None:
-    """The navigation item that will follow item `index`, following DO_JUMPs as AUTO will take
+    """The navigation item that will follow item `index`, following DO_JUMPs (and DO_JUMP_TAGs) as AUTO will take
     them (`jumps_done`: jumps taken so far by index); None if the mission ends first."""
     i = index + 1
     for _ in range(len(items) + 1):  # a loop of DO_JUMPs ends the look-ahead, not the vehicle
@@ -31,8 +33,9 @@ def next_nav_index(items, index: int, jumps_done: dict) -> int | None:
         item = items[i]
         if is_nav(item.command):  # as AP_Mission looks ahead: also an item AUTO will skip
             return i
-        if item.command == CMD_DO_JUMP:
-            target, repeat = int(item.p1) - 1, int(item.p2)
+        jump = jump_of(items, item)
+        if jump is not None:
+            target, repeat = jump
             if 0 <= target < len(items) and (repeat < 0 or jumps_done.get(i, 0) < repeat):
                 i = target
                 continue
@@ -54,6 +57,10 @@ class WaypointLegs:
         # The next leg's jerk, once, when it resumes a paused one: ArduCopter takes its track up
         # again at its position controller's jerk (PSC_JERK_XY), not as a new leg (WPNAV_JERK).
         self.resume_jerk: float | None = None
+        self.planned_for = 0.0  # the horizontal speed the legs were planned at [m/s]
+        # The position controller's speed limit while they are flown: ArduCopter's follows the
+        # legs' own speed, also where a speed change left one above the new limit.
+        self.speed_cap = math.inf
 
     @property
     def destination(self) -> Vector3 | None:
@@ -68,12 +75,7 @@ class WaypointLegs:
               speed_m_s: float | None = None) -> None:
         """Start the leg to `target` (local NED), flying through it to `next_target` if given,
         at `speed_m_s` (default: the navigation speed, WPNAV_SPEED or DO_CHANGE_SPEED's)."""
-        limits = NavLimits(ctx.params, ctx.nav_speed_m_s if speed_m_s is None else speed_m_s)
-        up, down = self.vertical_speeds
-        if up is not None:
-            limits.speed_up = up
-        if down is not None:
-            limits.speed_down = down
+        limits = self._limits(ctx, ctx.nav_speed_m_s if speed_m_s is None else speed_m_s)
         if self.resume_jerk is not None:
             limits.jerk, self.resume_jerk = self.resume_jerk, None
             limits.clock_tc = max(limits.accel_xy / limits.jerk, 0.01)
@@ -83,6 +85,26 @@ class WaypointLegs:
         else:
             self.nav.limits = limits
         self.nav.set_destination(target, next_target)
+        self.planned_for = limits.speed_xy
+        self.speed_cap = max(limits.speed_xy, self.nav.planned_speed)
+
+    def _limits(self, ctx: ModeContext, speed_m_s: float) -> NavLimits:
+        limits = NavLimits(ctx.params, speed_m_s)
+        up, down = self.vertical_speeds
+        if up is not None:
+            limits.speed_up = up
+        if down is not None:
+            limits.speed_down = down
+        return limits
+
+    def change_speed(self, ctx: ModeContext) -> None:
+        """The navigation speed changed (DO_CHANGE_SPEED) while legs are flown: they change
+        speed as ArduCopter's do (WaypointNav.set_speed), and the next ones start at it."""
+        limits = self._limits(ctx, ctx.nav_speed_m_s)
+        self.planned_for = limits.speed_xy
+        if self.nav is not None:
+            self.nav.set_speed(limits)
+            self.speed_cap = max(limits.speed_xy, self.nav.planned_speed)
 
     def update(self, ctx: ModeContext, sp: Setpoint, dt: float) -> bool:
         """Fill the setpoint with the navigator's target; returns whether the leg's point is

@@ -230,7 +230,7 @@ class Failsafes:
     def fence_breach(self, v: FailsafeView) -> str | None:
         """Which fence the vehicle is outside of, or None."""
         p, b = v.params, v.body
-        kinds = int(p["FENCE_TYPE"])
+        kinds = int(p["FENCE_TYPE"]) & v.fence.enabled_fences
         home = v.home_ned or (0.0, 0.0, 0.0)
         if kinds & FENCE_ALT and home[2] - b.d_m > p["FENCE_ALT_MAX"]:
             return "maximum altitude"
@@ -246,7 +246,7 @@ class Failsafes:
         return None
 
     def check_fence(self, v: FailsafeView) -> None:
-        if not v.params["FENCE_ENABLE"] or not v.armed:
+        if not v.fence.enabled or not v.armed:
             self.fence_breached = False
             return
         breach = self.fence_breach(v)

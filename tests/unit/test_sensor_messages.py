@@ -91,6 +91,7 @@ def test_every_streamed_message_has_a_builder_and_builds():
     v.guided_goto(1e9, 0.0, -5.0)  # a hostile target off the globe: not sent, and no internal error
     assert BUILDERS[mav.MAVLINK_MSG_ID_POSITION_TARGET_GLOBAL_INT](v, CODEC) is None
     v.guided_goto(10.0, 0.0, -5.0)
+    v.fence_enable(1, 0)  # FENCE_STATUS is sent only while a fence is on (as ArduCopter's)
     for _, ids in STREAM_GROUPS.values():
         for msg_id in ids:
             msg = BUILDERS[msg_id](v, CODEC)

@@ -37,8 +37,11 @@ class AutoItem:
         return None
 
 
-from .loiter_to_alt import LoiterToAlt  # noqa: E402 - the items build on AutoItem above
+# The items subclass AutoItem: imported once it is defined.
+from .fence_enable import FenceEnable  # noqa: E402
+from .loiter_to_alt import LoiterToAlt  # noqa: E402
 from .loiter_turns import LoiterTurns  # noqa: E402
+from .roi import SetRoi  # noqa: E402
 from .spline_waypoint import SplineWaypoint  # noqa: E402
 
 # MAV_CMD number -> the class that runs it. A new item joins here, in one line.
@@ -46,4 +49,8 @@ ITEMS: dict[int, type[AutoItem]] = {
     18: LoiterTurns,  # NAV_LOITER_TURNS
     31: LoiterToAlt,  # NAV_LOITER_TO_ALT
     82: SplineWaypoint,  # NAV_SPLINE_WAYPOINT
+    207: FenceEnable,  # DO_FENCE_ENABLE
+    195: SetRoi,  # DO_SET_ROI_LOCATION
+    197: SetRoi,  # DO_SET_ROI_NONE
+    201: SetRoi,  # DO_SET_ROI
 }
