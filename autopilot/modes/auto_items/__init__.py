@@ -38,3 +38,21 @@ class AutoItem:
 
 # MAV_CMD number -> the class that runs it. A new item joins here, in one line.
 ITEMS: dict[int, type[AutoItem]] = {}
+
+
+def _register() -> None:
+    # imported here: each item's module imports AutoItem from this one
+    from .condition_yaw import ConditionYaw
+    from .conditions import ConditionDelay, ConditionDistance
+    from .nav_attitude_time import NavAttitudeTime
+    from .nav_delay import NavDelay
+    from .nav_guided_enable import NavGuidedEnable
+    from .nav_script_time import NavScriptTime
+    from .payload_place import PayloadPlace
+    ITEMS.update({
+        92: NavGuidedEnable, 93: NavDelay, 94: PayloadPlace, 42702: NavScriptTime, 42703: NavAttitudeTime,
+        112: ConditionDelay, 114: ConditionDistance, 115: ConditionYaw,
+    })
+
+
+_register()
