@@ -179,6 +179,8 @@ class Auto(Mode):
             return runner.start(self, ctx, index, item)
         self._index, self._item, self._nav_done = index, item, False
         self._runner = runner
+        if runner.resets_heading:
+            self.heading.kind = DEFAULT
         self._target = self._target_ned(ctx, item)
         self._legs.end()
         if runner.start(self, ctx, index, item):

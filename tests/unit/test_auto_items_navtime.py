@@ -179,3 +179,23 @@ def test_payload_place_stops_at_its_maximum_descent_and_climbs_back():
     assert min(lowest) == pytest.approx(5.8, abs=0.5)  # the reference: 5.8
     assert "PayloadPlace: Reached maximum descent" in texts(v)
     assert altitude(v) == pytest.approx(10.0, abs=0.3)
+
+
+@pytest.mark.parametrize("bad", [math.nan, math.inf, -math.inf, 1e30])
+def test_items_with_unusable_params_do_not_bring_the_vehicle_down(bad):
+    v = hovering_vehicle()
+    odd = [item(c, bad, bad, bad, bad) for c in (COND_YAW, NAV_DELAY, COND_DELAY, COND_DISTANCE, SCRIPT_TIME,
+                                                  ATTITUDE_TIME, PAYLOAD_PLACE, GUIDED_ENABLE)]
+    flown(v, [odd[0], odd[1], odd[2], odd[3], odd[4], odd[5], odd[6], odd[7]])
+    v.run_until(v.time_s + 20.0)
+    assert v.armed and not v.internal_errors and v.mode.number == 3
+
+
+def test_a_navigation_item_after_condition_yaw_flies_its_own_heading():
+    """ArduCopter's attitude hold steers its own yaw; a delay keeps the turn."""
+    v = flown(hovering_vehicle(), [item(COND_YAW, 180), item(NAV_DELAY, 4), item(ATTITUDE_TIME, 4, 0, 0, 90)])
+    reached_at(v, 2, 40.0)  # the turn, met during the delay
+    reached_at(v, 3, 10.0)
+    assert heading_deg(v) == pytest.approx(180.0, abs=3.0)
+    reached_at(v, 4, 10.0)
+    assert heading_deg(v) == pytest.approx(90.0, abs=3.0)

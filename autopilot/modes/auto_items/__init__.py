@@ -20,6 +20,10 @@ if TYPE_CHECKING:
 class AutoItem:
     """One mission item as AUTO runs it; a new instance for every start."""
 
+    # A navigation item sets AUTO's heading back to its default when it starts, as ArduCopter's
+    # waypoint, circle and guided starts do; False: it leaves a CONDITION_YAW's turn as it is.
+    resets_heading = True
+
     def start(self, auto: Auto, ctx: ModeContext, index: int, item: MissionItem) -> bool:
         """Begin the item; False: this vehicle cannot run it (it is passed over)."""
         return True

@@ -14,6 +14,7 @@ if TYPE_CHECKING:
     from ..auto import Auto
 
 DAY_MS = 86_400_000
+UINT32_MAX_S = 4_294_967.0  # the longest delay ArduCopter's uint32 of ms holds
 
 
 def _int8(value: float) -> int:
@@ -41,12 +42,13 @@ def ms_until_utc(now_ms_of_day: int, hour: int, minute: int, second: int) -> int
 
 
 class NavDelay(HoldHere):
+    resets_heading = False  # ArduCopter's delay leaves the flight as it was
     _delay_s: float
 
     def start(self, auto: Auto, ctx: ModeContext, index: int, item: MissionItem) -> bool:
         super().start(auto, ctx, index, item)
         if item.p1 > 0:  # NaN is not: it waits for the time of day instead
-            delay_ms = int(item.p1 * 1000) % (1 << 32)
+            delay_ms = int(min(item.p1, UINT32_MAX_S) * 1000)
         else:
             ms_of_day = (ctx.unix_time_us() // 1000) % DAY_MS
             delay_ms = ms_until_utc(ms_of_day, _int8(item.p2), _int8(item.p3), _int8(item.p4))
