@@ -21,6 +21,7 @@ from ..mission.store import MissionItem
 from ..results import Severity
 from ..views import Vector3
 from .auto_items import ITEMS, AutoItem
+from .auto_items.guided_limits import GuidedLimits
 from .base import Mode, Setpoint
 from .context import ModeContext
 from .guided_stop import JERK_DEFAULT_M_S3, JerkLimitedStop
@@ -78,12 +79,15 @@ class Auto(Mode):
     # ArduCopter's auto_yaw as items other than the legs set it (CONDITION_YAW's FIXED turn): it
     # overrides the legs' heading until a navigation item sets it back to DEFAULT
     heading: GuidedYaw
+    guided_limits: GuidedLimits
 
     def __init__(self) -> None:
         # Until enter() (which may wait for home): no item flown, no destination.
         self._index = None
         self._rtl = Rtl(disarm_on_land=False)
         self.heading = GuidedYaw()
+        # DO_GUIDED_LIMITS' last limits: kept from one AUTO to the next, as ArduCopter's GUIDED keeps them
+        self.guided_limits = GuidedLimits()
 
     def enter(self, ctx: ModeContext) -> str | None:
         mission = ctx.mission_progress

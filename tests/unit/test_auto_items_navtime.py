@@ -9,6 +9,7 @@ import math
 import pytest
 
 from firefly.autopilot.mission import MissionItem
+from firefly.autopilot.modes.auto_items.guided_limits import GuidedLimits
 from firefly.autopilot.modes.auto_items.nav_delay import ms_until_utc
 
 from ._util import altitude, fly_until, hovering_vehicle
@@ -199,3 +200,22 @@ def test_a_navigation_item_after_condition_yaw_flies_its_own_heading():
     assert heading_deg(v) == pytest.approx(180.0, abs=3.0)
     reached_at(v, 4, 10.0)
     assert heading_deg(v) == pytest.approx(90.0, abs=3.0)
+
+
+def test_guided_enable_ends_at_the_timeout_of_the_guided_limits_before_it():
+    v = flown(hovering_vehicle(), [item(222, 5, 0, 0, 0), item(GUIDED_ENABLE, 1)])
+    reached_at(v, 2, 30.0)  # the limits: a "do" item, reported as ArduCopter's AUTO does
+    t0 = v.time_s
+    assert reached_at(v, 3, 10.0) - t0 == pytest.approx(5.0, abs=0.2)
+
+
+def test_guided_limits_on_height_and_distance_end_the_guided_item():
+    v = hovering_vehicle()
+    ctx = v.ctx
+    start = (v.body.n_m, v.body.e_m)
+    assert not GuidedLimits().broken(ctx, v.time_s, start)
+    assert GuidedLimits(alt_range_m=(0.0, 5.0)).broken(ctx, v.time_s, start)
+    assert GuidedLimits(alt_range_m=(15.0, 0.0)).broken(ctx, v.time_s, start)
+    assert not GuidedLimits(alt_range_m=(5.0, 15.0), horiz_max_m=1.0).broken(ctx, v.time_s, start)
+    assert GuidedLimits(horiz_max_m=1.0).broken(ctx, v.time_s, (start[0] + 2.0, start[1]))
+    assert GuidedLimits(timeout_s=1.0).broken(ctx, v.time_s - 1.0, start)

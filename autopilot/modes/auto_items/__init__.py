@@ -48,6 +48,7 @@ def _register() -> None:
     # imported here: each item's module imports AutoItem from this one
     from .condition_yaw import ConditionYaw
     from .conditions import ConditionDelay, ConditionDistance
+    from .guided_limits import DoGuidedLimits
     from .nav_attitude_time import NavAttitudeTime
     from .nav_delay import NavDelay
     from .nav_guided_enable import NavGuidedEnable
@@ -55,7 +56,7 @@ def _register() -> None:
     from .payload_place import PayloadPlace
     ITEMS.update({
         92: NavGuidedEnable, 93: NavDelay, 94: PayloadPlace, 42702: NavScriptTime, 42703: NavAttitudeTime,
-        112: ConditionDelay, 114: ConditionDistance, 115: ConditionYaw,
+        112: ConditionDelay, 114: ConditionDistance, 115: ConditionYaw, 222: DoGuidedLimits,
     })
 
 

@@ -15,7 +15,10 @@ from __future__ import annotations
 
 import math
 import re
+
+from ..client import mav
 from ..facts import Tol, Trace
+from .missions import REL
 from .surface_mission import (ALT_M, LEG_B, OFF_PATH, STREAMS_US, Geometry, Spec, _spec, boot_watched, build,
                               fly_mission, held_seqs)
 from .texts import said
@@ -37,10 +40,14 @@ PROBES: dict[str, tuple[str, Spec]] = {
     # guided enable off: nothing to hand over, the mission goes on
     "guided_enable_off": ("MAV_CMD_NAV_GUIDED_ENABLE", _spec(0)),
     "guided_enable_on": ("MAV_CMD_NAV_GUIDED_ENABLE", _spec(1, hold_s=6.0)),
+    # after DO_GUIDED_LIMITS of 5 s (alt 0..0 and horizontal 0: no other limit): ends at its timeout
+    "guided_enable_limited_5s": ("MAV_CMD_NAV_GUIDED_ENABLE", _spec(1, limit_s=90.0)),
     "payload_place": ("MAV_CMD_NAV_PAYLOAD_PLACE", _spec(0, at=OFF_PATH, alt=ALT_M, limit_s=120.0)),
     # at most 4 m down: it climbs back without touching down
     "payload_place_4m": ("MAV_CMD_NAV_PAYLOAD_PLACE", _spec(4, limit_s=120.0)),
 }
+
+LIMITED = {"guided_enable_limited_5s": (5, 0, 0, 0)}  # probe -> DO_GUIDED_LIMITS' params 1..4
 
 TOL_S = Tol(abs=1.0, rel=0.1, why="a timer's start and end are read at the 10 Hz stream's beats and the "
                                   "items around it end where each controller counts a point reached")
@@ -68,10 +75,13 @@ def masked(texts: list[str]) -> list[str]:
     return [NUMBER.sub("#", t) for t in joined]
 
 
-def fly(client, command: str, spec: Spec, trace: Trace) -> None:
+def fly(client, probe: str, command: str, spec: Spec, trace: Trace) -> None:
     pos0 = client.last["GLOBAL_POSITION_INT"]
     geo = Geometry(pos0.lat, pos0.lon)
     items, seq, b_seq = build(command, spec, geo)
+    if probe in LIMITED:  # DO_GUIDED_LIMITS just before the command
+        items.insert(seq - 1, (mav.MAV_CMD_DO_GUIDED_LIMITS, REL, *LIMITED[probe], 0, 0, 0.0))
+        seq, b_seq = seq + 1, b_seq + 1
     uploaded, _, log = fly_mission(client, items, spec, seq)
     trace.fact("upload", uploaded)
 
@@ -129,7 +139,7 @@ def run(target) -> dict[str, Trace]:
     traces: dict[str, Trace] = {}
     try:
         for probe, (command, spec) in PROBES.items():
-            fly(boot_watched(target, STREAMS_US), command, spec, traces.setdefault(probe, Trace()))
+            fly(boot_watched(target, STREAMS_US), probe, command, spec, traces.setdefault(probe, Trace()))
     finally:
         target.close()
     return traces
