@@ -23,9 +23,11 @@ from ..params import DEFAULTS as PARAM_DEFAULTS
 from ..results import Severity
 from ..views import Vector3
 from .auto_items import ITEMS, AutoItem
+from .auto_items.guided_limits import GuidedLimits
 from .base import Mode, Setpoint
 from .context import ModeContext
 from .guided_stop import JERK_DEFAULT_M_S3, JerkLimitedStop
+from .guided_yaw import DEFAULT, GuidedYaw
 from .land import Rtl, descend_and_disarm
 from .numbers import ModeNumber
 from .waypoint_legs import NAV_BY_LEGS, WaypointLegs, flies_through, next_nav_index
@@ -86,11 +88,18 @@ class Auto(Mode):
     # turn of 10 m takes 18.6 s with CIRCLE_RATE set to 10 after boot, as at 20).
     circle_radius_m: float = 0.0
     circle_rate_deg_s: float = PARAM_DEFAULTS["CIRCLE_RATE"]
+    # ArduCopter's auto_yaw as items other than the legs set it (CONDITION_YAW's FIXED turn): it
+    # overrides the legs' heading until a navigation item sets it back to DEFAULT
+    heading: GuidedYaw
+    guided_limits: GuidedLimits
 
     def __init__(self) -> None:
         # Until enter() (which may wait for home): no item flown, no destination.
         self._index = None
         self._rtl = Rtl(disarm_on_land=False)
+        self.heading = GuidedYaw()
+        # DO_GUIDED_LIMITS' last limits: kept from one AUTO to the next, as ArduCopter's GUIDED keeps them
+        self.guided_limits = GuidedLimits()
 
     def enter(self, ctx: ModeContext) -> str | None:
         mission = ctx.mission_progress
@@ -109,6 +118,7 @@ class Auto(Mode):
         self._waiting_to_start = True  # the mission starts (or resumes) at the first tick
         self._paused_d = None
         self._runner = self._do_runner = None
+        self.heading = GuidedYaw()
         mission.bind(self)
         return None
 
@@ -136,6 +146,13 @@ class Auto(Mode):
         self._stopping = JerkLimitedStop(ctx)
         self._legs.end()
         return True
+
+    def heading_target(self, ctx: ModeContext) -> float:
+        """The heading AUTO steers to now [rad] (where a FIXED turn starts from)."""
+        if self.heading.kind != DEFAULT:
+            return self.heading.angle
+        yaw = self._legs.auto_yaw.yaw
+        return ctx.attitude[2] if yaw is None else yaw
 
     def set_vertical_speed(self, ctx: ModeContext, up_m_s: float | None, dn_m_s: float | None) -> bool:
         """DO_CHANGE_SPEED's climb or descent speed, for the legs begun from now on."""
@@ -185,6 +202,8 @@ class Auto(Mode):
         self.previous_nav = self._runner if self._runner is not None else self._legs.nav
         self._index, self._item, self._nav_done = index, item, False
         self._runner = runner
+        if runner.resets_heading:
+            self.heading.kind = DEFAULT
         self._target = self._target_ned(ctx, item)
         self._legs.end()
         if runner.start(self, ctx, index, item):
@@ -233,6 +252,7 @@ class Auto(Mode):
         return n, e, d
 
     def _begin_nav(self, ctx: ModeContext, index: int, item: MissionItem) -> None:
+        self.heading.kind = DEFAULT  # as ArduCopter's wp_start, takeoff and land set auto_yaw
         self._target = self._target_ned(ctx, item)
         self._arrived_at = None
         if item.command == CMD_TAKEOFF:
@@ -259,6 +279,11 @@ class Auto(Mode):
 
     # ----- loop ----------------------------------------------------------------------------------
     def update(self, ctx: ModeContext, sp: Setpoint, dt: float) -> None:
+        self._fly(ctx, sp, dt)
+        if self.heading.kind != DEFAULT:
+            self.heading.fly(sp, dt)
+
+    def _fly(self, ctx: ModeContext, sp: Setpoint, dt: float) -> None:
         sp.clear()
         sp.speed_xy = ctx.nav_speed_m_s
         mission = ctx.mission_progress

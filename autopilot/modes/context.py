@@ -38,6 +38,7 @@ class ModeContext:
         accel_body    what the accelerometer reads (FRD, m/s^2): 1 g up at rest, 0 in free fall
         mode_number   the vehicle's mode: while a mode's enter() runs, the one it would take over from
         hover_thrust_share the airframe's weight over its full thrust
+        unix_time_us() the UTC clock (sim time from a fixed epoch: NAV_DELAY's time of day)
     Actions:
         notify(text, severity)   a STATUSTEXT
         disarm(reason)           a Result: FAILED while flying
@@ -123,6 +124,9 @@ class ModeContext:
     origin_alt_m: ReadThrough[float] = property(attrgetter("_v.origin.alt_m"))
     accel_body: ReadThrough[Vector3] = property(attrgetter("_estimate.accel_body"))
     mode_number: ReadThrough[int] = property(attrgetter("_v.mode_number"))
+
+    def unix_time_us(self) -> int:
+        return self._v.unix_time_us()
 
     def has_position(self) -> bool:
         return self._estimate.has_position()

@@ -21,6 +21,10 @@ class AutoItem:
     """One mission item as AUTO runs it; a new instance for every start."""
     reports_reached = True  # done: MISSION_ITEM_REACHED is sent (ArduCopter's LOITER_TO_ALT sends none)
 
+    # A navigation item sets AUTO's heading back to its default when it starts, as ArduCopter's
+    # waypoint, circle and guided starts do; False: it leaves a CONDITION_YAW's turn as it is.
+    resets_heading = True
+
     def start(self, auto: Auto, ctx: ModeContext, index: int, item: MissionItem) -> bool:
         """Begin the item; False: this vehicle cannot run it (it is passed over)."""
         return True
@@ -38,9 +42,17 @@ class AutoItem:
 
 
 # The items subclass AutoItem: imported once it is defined.
+from .condition_yaw import ConditionYaw  # noqa: E402
+from .conditions import ConditionDelay, ConditionDistance  # noqa: E402
 from .fence_enable import FenceEnable  # noqa: E402
+from .guided_limits import DoGuidedLimits  # noqa: E402
 from .loiter_to_alt import LoiterToAlt  # noqa: E402
 from .loiter_turns import LoiterTurns  # noqa: E402
+from .nav_attitude_time import NavAttitudeTime  # noqa: E402
+from .nav_delay import NavDelay  # noqa: E402
+from .nav_guided_enable import NavGuidedEnable  # noqa: E402
+from .nav_script_time import NavScriptTime  # noqa: E402
+from .payload_place import PayloadPlace  # noqa: E402
 from .roi import SetRoi  # noqa: E402
 from .spline_waypoint import SplineWaypoint  # noqa: E402
 
@@ -49,8 +61,17 @@ ITEMS: dict[int, type[AutoItem]] = {
     18: LoiterTurns,  # NAV_LOITER_TURNS
     31: LoiterToAlt,  # NAV_LOITER_TO_ALT
     82: SplineWaypoint,  # NAV_SPLINE_WAYPOINT
-    207: FenceEnable,  # DO_FENCE_ENABLE
+    92: NavGuidedEnable,  # NAV_GUIDED_ENABLE
+    93: NavDelay,  # NAV_DELAY
+    94: PayloadPlace,  # NAV_PAYLOAD_PLACE
+    112: ConditionDelay,  # CONDITION_DELAY
+    114: ConditionDistance,  # CONDITION_DISTANCE
+    115: ConditionYaw,  # CONDITION_YAW
     195: SetRoi,  # DO_SET_ROI_LOCATION
     197: SetRoi,  # DO_SET_ROI_NONE
     201: SetRoi,  # DO_SET_ROI
+    207: FenceEnable,  # DO_FENCE_ENABLE
+    222: DoGuidedLimits,  # DO_GUIDED_LIMITS
+    42702: NavScriptTime,  # NAV_SCRIPT_TIME
+    42703: NavAttitudeTime,  # NAV_ATTITUDE_TIME
 }

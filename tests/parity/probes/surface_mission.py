@@ -271,25 +271,32 @@ class Window:
             self.end = len(self.c.log)
 
 
-def fly(client: Client, name: str, spec: Spec, trace: Trace) -> None:
-    pos0 = client.last["GLOBAL_POSITION_INT"]
-    geo = Geometry(pos0.lat, pos0.lon)
-    items, seq, b_seq = build(name, spec, geo)
-    final_seq = len(items)
-    f = lambda fact: f"{SCENARIO}.{fact}"  # noqa: E731 - the scenario's fact names
-
-    trace.fact(f("upload"), upload(client, items))
+def fly_mission(client: Client, items: list, spec: Spec, seq: int) -> tuple[int | None, int | None, list]:
+    """Upload the items, arm in GUIDED, start the mission and watch it until its Window ends (seq:
+    the command under test's): the upload's MISSION_ACK, MISSION_START's ACK and the window's log."""
+    uploaded = upload(client, items)
     client.set_mode(GUIDED)
     client.command(mav.MAV_CMD_COMPONENT_ARM_DISARM, 1)
     client.try_wait(lambda: client.armed, 10)
     client.log.clear()
     client.logging = True
-    window = Window(client, spec, seq, final_seq)
+    window = Window(client, spec, seq, len(items))
     with client.listening(window):
-        trace.fact(f("start"), client.command(mav.MAV_CMD_MISSION_START))
+        started = client.command(mav.MAV_CMD_MISSION_START)
         client.wait(lambda: window.end is not None, spec.limit_s + 10, what="the mission's end")
     client.logging = False
-    log = client.log[:window.end]
+    return uploaded, started, client.log[:window.end]
+
+
+def fly(client: Client, name: str, spec: Spec, trace: Trace) -> None:
+    pos0 = client.last["GLOBAL_POSITION_INT"]
+    geo = Geometry(pos0.lat, pos0.lon)
+    items, seq, b_seq = build(name, spec, geo)
+    f = lambda fact: f"{SCENARIO}.{fact}"  # noqa: E731 - the scenario's fact names
+
+    uploaded, started, log = fly_mission(client, items, spec, seq)
+    trace.fact(f("upload"), uploaded)
+    trace.fact(f("start"), started)
 
     def of(kind):
         return [(t, m) for t, m in log if m.get_type() == kind]
@@ -363,20 +370,27 @@ STREAMS_US = {  # message -> interval: the mission's progress and position (head
 SERVO_STREAM_US = 100_000  # servo outputs at 10 Hz where a servo is watched: a 1 s cycle has 0.5 s halves
 
 
+def boot_watched(target, streams: dict) -> Client:
+    """A fresh vehicle streaming slowly but for `streams` (message id -> interval [us]), once its
+    mission state and position have come."""
+    client = target.boot()
+    client.request_streams(BACKGROUND_HZ)
+    for msg_id, interval in streams.items():
+        client.command(mav.MAV_CMD_SET_MESSAGE_INTERVAL, msg_id, interval)
+    client.wait(lambda: "MISSION_CURRENT" in client.last and "GLOBAL_POSITION_INT" in client.last,
+                10, what="MISSION_CURRENT and position")
+    return client
+
+
 def run(target) -> dict[str, Trace]:
     traces = {}
     try:
         for name in in_scope():
             spec = SPECS.get(name, DEFAULT_SPEC)
-            client = target.boot()
-            client.request_streams(BACKGROUND_HZ)
             streams = dict(STREAMS_US)
             if "servo" in spec.watch:
                 streams[mav.MAVLINK_MSG_ID_SERVO_OUTPUT_RAW] = SERVO_STREAM_US
-            for msg_id, interval in streams.items():
-                client.command(mav.MAV_CMD_SET_MESSAGE_INTERVAL, msg_id, interval)
-            client.wait(lambda: "MISSION_CURRENT" in client.last and "GLOBAL_POSITION_INT" in client.last,
-                        10, what="MISSION_CURRENT and position")
+            client = boot_watched(target, streams)
             trace = traces[name] = Trace()
             fly(client, name, spec, trace)
     finally:
