@@ -199,3 +199,65 @@ def fly_mission(vehicle, watch: Watch) -> None:
     end = vehicle.location.global_relative_frame
     assert abs(end.alt) < 0.5
     assert metres(home.lat, home.lon, end.lat, end.lon) < 2.0
+
+
+# A Mission Planner `.waypoints` file (QGC WPL 110): line 0 is home, then one item a line, tab
+# separated: seq, current, frame, command, param1..4, x (lat), y (lon), z (alt), autocontinue.
+WAYPOINTS = """QGC WPL 110
+0\t1\t0\t16\t0\t0\t0\t0\t-35.363261\t149.165230\t584.000000\t1
+1\t0\t3\t22\t0\t0\t0\t0\t0\t0\t15\t1
+2\t0\t3\t16\t2\t0\t0\t0\t-35.362900\t149.165230\t15\t1
+3\t0\t3\t178\t0\t3\t-1\t0\t0\t0\t0\t1
+4\t0\t3\t82\t0\t0\t0\t0\t-35.362900\t149.165600\t20\t1
+5\t0\t3\t17\t0\t0\t0\t0\t-35.363261\t149.165600\t20\t1
+6\t0\t0\t20\t0\t0\t0\t0\t0\t0\t0\t1
+"""
+
+
+def read_waypoints(text: str) -> list[Command]:
+    """Commands from a `.waypoints` file as DroneKit's mission_import_export example reads one,
+    without its home line: the vehicle keeps its own home at seq 0."""
+    lines = text.splitlines()
+    assert lines[0].startswith("QGC WPL 110")
+    commands = []
+    for line in lines[2:]:
+        f = line.split("\t")
+        commands.append(Command(0, 0, 0, int(f[2]), int(f[3]), int(f[1]), int(f[11]),
+                                *(float(v) for v in f[4:11])))
+    return commands
+
+
+def write_waypoints(home, commands) -> str:
+    """The example's export: home as line 0, then the downloaded items."""
+    rows = [f"0\t1\t0\t16\t0\t0\t0\t0\t{home.lat}\t{home.lon}\t{home.alt}\t1"]
+    rows += ["\t".join(str(v) for v in (c.seq, c.current, c.frame, c.command, c.param1, c.param2, c.param3,
+                                         c.param4, c.x, c.y, c.z, c.autocontinue)) for c in commands]
+    return "QGC WPL 110\n" + "\n".join(rows) + "\n"
+
+
+def test_a_waypoints_file_goes_up_and_comes_back_through_dronekit(dronekit_url):
+    """Import, upload, download, export: passed unchanged against the reference ArduCopter
+    (instance 1, udpin), DO_CHANGE_SPEED's frame 0 included."""
+    vehicle = connect_when_listening(dronekit_url)
+    try:
+        watch = Watch(vehicle)
+        cmds = vehicle.commands
+        cmds.download()
+        cmds.wait_ready()
+        cmds.clear()
+        imported = read_waypoints(WAYPOINTS)
+        for cmd in imported:
+            cmds.add(cmd)
+        cmds.upload(timeout=30)
+        watch.until(lambda: "Flight plan received" in watch.texts, "the upload's text")
+        cmds.download()
+        cmds.wait_ready()
+        exported = write_waypoints(vehicle.home_location, list(cmds))
+    finally:
+        vehicle.close()
+    again = read_waypoints(exported)
+    assert [c.seq for c in cmds] == [1, 2, 3, 4, 5, 6]
+    expected = [tuple(as_float32(v) if i >= 6 else v for i, v in enumerate(fields(c))) for c in imported]
+    # ArduCopter keeps a frame only for items stored with a location: DO_CHANGE_SPEED comes back in 0.
+    expected[2] = (mav.MAV_CMD_DO_CHANGE_SPEED, mav.MAV_FRAME_GLOBAL, *expected[2][2:])
+    assert [fields(c) for c in again] == expected
