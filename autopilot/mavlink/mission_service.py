@@ -20,6 +20,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from ..mission import FENCE, MISSION, RALLY, MissionItem
+from ..mission.commands import downloaded_frame
 from ..results import Severity
 from .dialect import mavlink as mav
 from .mission_checks import GLOBAL_FRAMES, check_item, check_list_item, fence_problem, item_from_message
@@ -261,12 +262,13 @@ class MissionService:
         current = 1 if msg.seq == self.vehicle.mission_progress.current_seq() else 0
         if msg.get_type() == "MISSION_REQUEST":
             self._warn_once(msg, "got MISSION_REQUEST; use MISSION_REQUEST_INT!")
+        frame = downloaded_frame(it.command, it.frame) if msg.mission_type == MISSION else it.frame
         if msg.get_type() == "MISSION_REQUEST_INT":
-            return [self.codec.mission_item_int_encode(peer[0], peer[1], msg.seq, it.frame, it.command,
+            return [self.codec.mission_item_int_encode(peer[0], peer[1], msg.seq, frame, it.command,
                                                        current, it.autocontinue, it.p1, it.p2, it.p3,
                                                        it.p4, it.x, it.y, it.z, msg.mission_type)]
-        scale = 1e-7 if it.frame in GLOBAL_FRAMES else 1.0
-        return [self.codec.mission_item_encode(peer[0], peer[1], msg.seq, it.frame, it.command, current,
+        scale = 1e-7 if frame in GLOBAL_FRAMES else 1.0
+        return [self.codec.mission_item_encode(peer[0], peer[1], msg.seq, frame, it.command, current,
                                                it.autocontinue, it.p1, it.p2, it.p3, it.p4,
                                                it.x * scale, it.y * scale, it.z, msg.mission_type)]
 

@@ -27,6 +27,16 @@ COPTER_DO = frozenset({
     205, 222, 207, 42600, 188, 189,  # DO_MOUNT_CONTROL, DO_GUIDED_LIMITS, DO_FENCE_ENABLE, DO_WINCH,
 })                                   # DO_RETURN_PATH_START, DO_LAND_START
 
+# The commands AP_Mission stores with a Location (AP_Mission::stored_in_location): only they keep
+# their frame; a download gives any other MAV_FRAME_GLOBAL, whatever frame it was uploaded in
+# (measured: an RTL uploaded in GLOBAL_RELATIVE_ALT comes back in frame 0).
+STORED_IN_LOCATION = frozenset({
+    16, 17, 18, 19, 21, 22, 30, 31, 82, 92,  # WAYPOINT, LOITERs, LAND, TAKEOFF, CHANGE_ALT, TO_ALT, SPLINE, GUIDED
+    179, 188, 189, 191, 195, 201, 84, 85, 94,  # SET_HOME, RETURN_PATH/LAND_START, GO_AROUND, ROIs, VTOL, PAYLOAD
+    5000, 5001, 5002, 5003, 5004, 5100,  # fence return point and vertices, rally point
+})
+FRAME_GLOBAL = 0
+
 # A multicopter flies the VTOL takeoff and landing as the plain ones (ArduCopter's AUTO does).
 FLOWN_AS = {84: CMD_TAKEOFF, 85: CMD_LAND}
 
@@ -55,6 +65,11 @@ def is_nav(command: int) -> bool:
 
 def is_takeoff(command: int) -> bool:
     return command in TAKEOFF_COMMANDS
+
+
+def downloaded_frame(command: int, frame: int) -> int:
+    """The frame a mission download reports for an item stored as uploaded in `frame`."""
+    return frame if command in STORED_IN_LOCATION else FRAME_GLOBAL
 
 
 def command_name(command: int) -> str:

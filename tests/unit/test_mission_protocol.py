@@ -156,6 +156,19 @@ def test_download_completes_over_a_lossy_link(setup, seed):
     assert gcs.downloaded[0].command == mav.MAV_CMD_NAV_WAYPOINT  # home
 
 
+def test_a_download_keeps_the_frame_only_of_items_stored_with_a_location(setup):
+    """AP_Mission keeps a frame only in a Location: measured on ArduCopter, an RTL uploaded in
+    GLOBAL_RELATIVE_ALT (as DroneKit's scripts send it) downloads in frame 0, a waypoint in its own."""
+    v, session = setup
+    relative = mav.MAV_FRAME_GLOBAL_RELATIVE_ALT
+    v.mission.replace(0, [MissionItem(16, relative, x=-353600000, y=1491600000, z=10.0),
+                          MissionItem(20, relative), MissionItem(178, relative, p2=5.0)])
+    gcs = GroundStation()
+    gcs.start_download(0.0)
+    run(session, gcs, LossyLink(0.0, 0))
+    assert [gcs.downloaded[s].frame for s in (1, 2, 3)] == [relative, mav.MAV_FRAME_GLOBAL, mav.MAV_FRAME_GLOBAL]
+
+
 @pytest.mark.parametrize("cut_after", [3, 8, 15, 40])
 def test_an_interrupted_upload_leaves_the_mission_as_far_as_it_got(setup, cut_after):
     """The items that got through before the link died are written over the old ones; the old
