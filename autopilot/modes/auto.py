@@ -281,7 +281,7 @@ class Auto(Mode):
     def update(self, ctx: ModeContext, sp: Setpoint, dt: float) -> None:
         self._fly(ctx, sp, dt)
         if self.heading.kind != DEFAULT:
-            self.heading.fly(sp, dt)
+            self.heading.fly(sp, dt, ctx.body)
 
     def _fly(self, ctx: ModeContext, sp: Setpoint, dt: float) -> None:
         sp.clear()
