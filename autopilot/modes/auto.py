@@ -97,6 +97,7 @@ class Auto(Mode):
         # Until enter() (which may wait for home): no item flown, no destination.
         self._index = None
         self._rtl = Rtl(disarm_on_land=False)
+        self._legs = WaypointLegs()  # an ROI or speed change may come before the mode is entered
         self.heading = GuidedYaw()
         # DO_GUIDED_LIMITS' last limits: kept from one AUTO to the next, as ArduCopter's GUIDED keeps them
         self.guided_limits = GuidedLimits()

@@ -16,7 +16,9 @@ from .test_mavproxy import MavProxy
 pytestmark = pytest.mark.sitl
 CHANGED = {"WPNAV_SPEED": 1234.5, "FENCE_TYPE": 3.0}  # set over MAVLink before the download
 DEFAULTS = {spec.name: spec.default for spec in SERVED}
-REPORTED = {"SIM_SPEEDUP": 10.0}  # the process's --speedup (the autopilot fixture's), as SITL reports it
+# The process's --speedup (the autopilot fixture's), as SITL reports it; the mission's length with
+# home (MIS_TOTAL is counted, as AP_Mission's, not a default)
+REPORTED = {"SIM_SPEEDUP": 10.0, "MIS_TOTAL": 1.0}
 
 
 def _expected() -> dict:
