@@ -8,7 +8,9 @@ from firefly.autopilot.mavlink.dialect import new_codec
 from firefly.autopilot.mavlink.session import Session
 from firefly.autopilot.vehicle import Vehicle, VehicleConfig
 
-GCS = new_codec(255, 190)
+from ._util import client_codec, wire
+
+GCS = client_codec()
 
 
 @pytest.fixture
@@ -18,7 +20,7 @@ def setup():
 
 
 def send(session, msg):
-    return session.receive(new_codec(0, 0).parse_buffer(msg.pack(GCS))[0], 0.0, 1.0)
+    return session.receive(wire(msg), 0.0, 1.0)
 
 
 @pytest.mark.parametrize("bustype, result", [(mav.DEVICE_OP_BUSTYPE_I2C, 4), (mav.DEVICE_OP_BUSTYPE_SPI, 2), (7, 1)])

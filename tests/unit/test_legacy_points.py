@@ -10,7 +10,9 @@ from firefly.autopilot.mavlink.session import Session
 from firefly.autopilot.mission import RALLY, MissionItem
 from firefly.autopilot.vehicle import Vehicle, VehicleConfig
 
-GCS = new_codec(255, 190)
+from ._util import client_codec, wire
+
+GCS = client_codec()
 
 
 @pytest.fixture
@@ -20,8 +22,7 @@ def setup():
 
 
 def send(session, msg):
-    decoded = new_codec(0, 0).parse_buffer(msg.pack(GCS))[0]
-    replies = session.receive(decoded, 0.0, 1.0)
+    replies = session.receive(wire(msg), 0.0, 1.0)
     texts = [m.text for m in replies if m.get_type() == "STATUSTEXT"]
     return texts, [m for m in replies if m.get_type() != "STATUSTEXT"]
 

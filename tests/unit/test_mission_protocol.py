@@ -18,6 +18,8 @@ from firefly.autopilot.mission import MissionItem, MissionStore
 from firefly.autopilot.results import Result
 from firefly.autopilot.vehicle import Vehicle, VehicleConfig
 
+from ._util import wire
+
 TICK_S = 0.05  # link-clock step between exchanges
 CLIENT_RETRY_S = 1.0
 
@@ -449,10 +451,6 @@ def test_float_coordinate_messages_are_served_with_arducopters_one_warning_each(
     assert said.count("got MISSION_REQUEST; use MISSION_REQUEST_INT!") == 1
 
 
-def _one(codec_msg, codec):
-    return new_codec(0, 0).parse_buffer(codec_msg.pack(codec))[0]
-
-
 def test_a_partial_write_rewrites_only_the_items_asked_for(setup):
     v, session = setup
     gcs = GroundStation()
@@ -460,9 +458,9 @@ def test_a_partial_write_rewrites_only_the_items_asked_for(setup):
     run(session, gcs, LossyLink(0.0, 0))
     before = stored_lats(v)
     partial = gcs.codec.mission_write_partial_list_encode(1, 1, 2, 2, 0)
-    asked = session.receive(_one(partial, gcs.codec), 0.0, 1.0)
+    asked = session.receive(wire(partial, gcs.codec), 0.0, 1.0)
     assert [(m.get_type(), m.seq) for m in asked] == [("MISSION_REQUEST", 2)]
-    replies = session.receive(_one(item(2, lat=-35.0), gcs.codec), 0.0, 1.1)
+    replies = session.receive(wire(item(2, lat=-35.0), gcs.codec), 0.0, 1.1)
     assert [(m.get_type(), m.type) for m in replies] == [("MISSION_ACK", mav.MAV_MISSION_ACCEPTED)]
     after = stored_lats(v)
     assert after[1] == int(-35.0 * 1e7) != before[1]  # seq 2 is stored item 1 (seq 0 is home)
@@ -478,7 +476,7 @@ def test_a_partial_write_outside_the_list_is_rejected_and_changes_nothing(setup,
     before = stored_lats(v)
     v.drain_events()
     partial = gcs.codec.mission_write_partial_list_encode(1, 1, start, end, 0)
-    replies = session.receive(_one(partial, gcs.codec), 0.0, 1.0)
+    replies = session.receive(wire(partial, gcs.codec), 0.0, 1.0)
     assert [(m.get_type(), m.type) for m in replies] == [("MISSION_ACK", mav.MAV_MISSION_ERROR)]
     assert stored_lats(v) == before and not session.missions.uploads
     assert "Flight plan update rejected" in [text for _, text in v.drain_events()]
@@ -494,7 +492,7 @@ def test_mis_total_counts_the_mission_with_home_and_each_change_is_announced(set
     # to every link (sets of one name between two takes coalesce into the last value)
     assert [(m.param_id, m.param_value) for _, m in session.take_announced()] == [("MIS_TOTAL", 4.0)]
     clear = gcs.codec.mission_clear_all_encode(1, 1, 0)
-    session.receive(_one(clear, gcs.codec), 0.0, 3.0)
+    session.receive(wire(clear, gcs.codec), 0.0, 3.0)
     assert v.params["MIS_TOTAL"] == 0  # a cleared mission has no home either (AP_Mission::truncate(0))
     session.poll(0.0, 3.1)
     assert [(m.param_id, m.param_value) for _, m in session.take_announced()] == [("MIS_TOTAL", 0.0)]
