@@ -50,6 +50,7 @@ from firefly.autopilot.mavlink.dialect import mavlink as mav
 from firefly.autopilot.mavlink.dialect import new_codec
 from firefly.autopilot.mavlink.link import Link
 from firefly.autopilot.mavlink.session import Session
+from firefly.autopilot.mission.commands import NAMES as MISSION_COMMAND_NAMES
 from firefly.autopilot.modes import MODE_BY_NUMBER
 from firefly.autopilot.startup import StartupTimeline
 from firefly.autopilot.vehicle import Vehicle, VehicleConfig
@@ -608,6 +609,12 @@ def act_pilot(w: Walk, r) -> None:
                                              r.choice((1000, 1500, 1700, 2000)), r.randint(1100, 1900), 0, 0, 0, 0))
 
 
+# Every mission command AUTO names (a new item joins the walk by joining that table), and values its
+# parameters mean something with: turns, radii, seconds, metres, flags, angles, a negative direction.
+MISSION_COMMANDS = tuple(sorted(MISSION_COMMAND_NAMES))
+PLAUSIBLE_PARAMS = (0.0, 1.0, 2.0, 3.0, 5.0, 10.0, 45.0, 90.0, -1.0, -90.0, 300.0)
+
+
 def mission_items(w: Walk, r) -> list:
     """A mission as a ground station uploads it (seq 0 home), with a DO_JUMP, speeds, loiters and
     landings, and hostile parameters (NaN most of all) in some of them."""
@@ -615,7 +622,7 @@ def mission_items(w: Walk, r) -> list:
     for _ in range(r.randint(1, 8)):
         lat, lon = near(w.origin, r, 120)
         alt = param_f(r, r.uniform(3, 40), 0.1)
-        pick = r.randrange(10)
+        pick = r.randrange(12)
         n = len(items) + 1
         if pick < 4:
             items.append((16, REL, param_f(r, 0.0), 0, 0, param_f(r, math.nan, 0.1), lat, lon, alt))
@@ -628,9 +635,10 @@ def mission_items(w: Walk, r) -> list:
             items.append((178, 2, 0, param_f(r, 5.0, 0.5), -1, 0, 0, 0, math.nan))
         elif pick == 7:
             items.append((19, REL, param_f(r, 2.0, 0.4), 0, 0, 0, lat, lon, alt))
-        elif pick == 8:
-            items.append((r.choice((20, 21, 17, 18, 82, 112, 115, 189, 201)), r.choice((REL, 2, 0)),
-                          param_f(r, 1.0, 0.5), param_f(r, 0.0, 0.3), 0, 0, lat, lon, alt))
+        elif pick <= 10:  # any command the mission knows, with the parameters its items read
+            command = r.choice(MISSION_COMMANDS)
+            items.append((command, r.choice((REL, 2, 0)), *(param_f(r, r.choice(PLAUSIBLE_PARAMS), 0.3)
+                                                            for _ in range(4)), lat, lon, alt))
         else:
             items.append((hostile.command_id(r), hostile.frame(r), *(hostile.f32(r) for _ in range(4)),
                           hostile.i32(r), hostile.i32(r), hostile.f32(r)))
