@@ -26,6 +26,7 @@ from .auto_items import ITEMS, AutoItem
 from .auto_items.guided_limits import GuidedLimits
 from .base import Mode, Setpoint
 from .context import ModeContext
+from .guided import Guided
 from .guided_stop import JERK_DEFAULT_M_S3, JerkLimitedStop
 from .guided_yaw import DEFAULT, GuidedYaw
 from .land import Rtl, descend_and_disarm
@@ -166,6 +167,28 @@ class Auto(Mode):
         takeoff, landing or return starts (ArduCopter's AUTO holds the heading there)."""
         self._legs.auto_yaw.roi = roi_ne
         return True
+
+    # ----- a companion's targets, while a guided item runs (auto_items/guided_inside.py) ---------
+    def _guided(self) -> Guided | None:
+        return self._runner.guided if self._runner is not None else None
+
+    @property
+    def in_guided_mode(self) -> bool:  # type: ignore[override]
+        return self._guided() is not None
+
+    def set_target(self, ctx: ModeContext, pos: Vector3 | None, vel: Vector3 | None, accel: Vector3 | None,
+                   yaw: float | None, yaw_rate: float | None, yaw_relative: bool = False) -> bool:
+        guided = self._guided()
+        return guided is not None and guided.set_target(ctx, pos, vel, accel, yaw, yaw_rate, yaw_relative)
+
+    def set_attitude(self, ctx: ModeContext, attitude: Vector3 | None, rates: Vector3, climb_or_thrust: float,
+                     use_thrust: bool) -> bool:
+        guided = self._guided()
+        return guided is not None and guided.set_attitude(ctx, attitude, rates, climb_or_thrust, use_thrust)
+
+    def stop(self, ctx: ModeContext) -> bool:
+        guided = self._guided()
+        return guided is not None and guided.stop(ctx)
 
     @staticmethod
     def _restart(ctx: ModeContext) -> bool:

@@ -64,12 +64,18 @@ class Guided(Mode):
         self.stopping_vertically = False
 
     def enter(self, ctx: ModeContext) -> str | None:
+        self.begin(ctx)
+        self._default_speeds(ctx)
+        return None
+
+    def begin(self, ctx: ModeContext) -> None:
+        """ArduCopter's ModeGuided::init, which AUTO's guided items also call: stop and hold, no
+        takeoff, not paused; the speeds are left as they are."""
         self.yaw = GuidedYaw()
         self.hold(ctx)
         self.takeoff_d = None
         self.paused_d = None
-        self._default_speeds(ctx)
-        return None
+        self.speed_up = self.speed_dn = None
 
     def _default_speeds(self, ctx: ModeContext) -> None:
         """A new kind of target starts ArduCopter's controller afresh, at WPNAV_SPEED(_UP/_DN):

@@ -11,6 +11,7 @@ import pytest
 from firefly.autopilot.mission import MissionItem
 from firefly.autopilot.modes.auto_items.guided_limits import GuidedLimits
 from firefly.autopilot.modes.auto_items.nav_delay import ms_until_utc
+from firefly.autopilot.results import Result
 
 from ._util import altitude, fly_until, hovering_vehicle
 
@@ -219,3 +220,31 @@ def test_guided_limits_on_height_and_distance_end_the_guided_item():
     assert not GuidedLimits(alt_range_m=(5.0, 15.0), horiz_max_m=1.0).broken(ctx, v.time_s, start)
     assert GuidedLimits(horiz_max_m=1.0).broken(ctx, v.time_s, (start[0] + 2.0, start[1]))
     assert GuidedLimits(timeout_s=1.0).broken(ctx, v.time_s - 1.0, start)
+
+
+def _companion_east(v) -> bool:
+    """A companion's 2 m/s east, sent every tick while AUTO takes it; True once item 3 is reached."""
+    if v.mode.in_guided_mode:
+        v.guided_target(None, (0.0, 2.0, 0.0), None)
+    return 3 in v.mission_progress.reached
+
+
+@pytest.mark.parametrize("command", [GUIDED_ENABLE, SCRIPT_TIME])
+def test_a_companion_steers_auto_during_its_guided_items_and_the_limits_end_them(command):
+    """ArduCopter's AUTO is "in guided mode" during NAV_GUIDED_ENABLE and NAV_SCRIPT_TIME: a
+    velocity target flies it; DO_GUIDED_LIMITS' 15 m ends the guided item, not the script's."""
+    v = flown(hovering_vehicle(), [item(222, 0, 0, 0, 15), item(command, 1, 0)])
+    assert not v.mode.in_guided_mode
+    assert v.guided_target(None, (0.0, 2.0, 0.0), None) == Result.DENIED  # no guided item yet
+    reached_at(v, 2, 30.0)
+    assert fly_until(v, lambda x: x.mission_progress.current_seq() == 3, 2.0)
+    start_e, t0 = v.body.e_m, v.time_s
+    assert v.mode.in_guided_mode
+    if command == GUIDED_ENABLE:
+        assert fly_until(v, _companion_east, 20.0)
+        assert v.body.e_m - start_e == pytest.approx(15.0, abs=1.0)
+        assert v.time_s - t0 == pytest.approx(8.5, abs=1.5)  # 2 m/s, after speeding up
+        assert not v.mode.in_guided_mode
+    else:  # no script to end it, no limit: the companion flies it on
+        assert not fly_until(v, _companion_east, 10.0)
+        assert v.body.e_m - start_e > 15.0 and v.mode.in_guided_mode

@@ -15,6 +15,7 @@ from ..context import ModeContext
 if TYPE_CHECKING:
     from ...mission.store import MissionItem
     from ..auto import Auto
+    from ..guided import Guided
 
 
 class AutoItem:
@@ -24,6 +25,10 @@ class AutoItem:
     # A navigation item sets AUTO's heading back to its default when it starts, as ArduCopter's
     # waypoint, circle and guided starts do; False: it leaves a CONDITION_YAW's turn as it is.
     resets_heading = True
+
+    # GUIDED's controller while the item runs (guided_inside.py): AUTO takes a companion's targets
+    # into it, as ArduCopter's in_guided_mode() says of NAV_GUIDED_ENABLE and NAV_SCRIPT_TIME.
+    guided: Guided | None = None
 
     def start(self, auto: Auto, ctx: ModeContext, index: int, item: MissionItem) -> bool:
         """Begin the item; False: this vehicle cannot run it (it is passed over)."""

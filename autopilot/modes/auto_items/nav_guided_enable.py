@@ -1,23 +1,21 @@
-"""NAV_GUIDED_ENABLE: param 1 > 0 hands navigation to a companion computer (ArduCopter's AUTO
-runs GUIDED inside itself); the item ends when the limits of the last DO_GUIDED_LIMITS
-(guided_limits.py) are broken, counted from the item's start, and with none set it never does:
-the mission waits here, holding where GUIDED's start put it. Param 1 0 (off) ends it at once.
-
-Firefly holds the point; a companion's targets sent while the item runs are not taken yet."""
+"""NAV_GUIDED_ENABLE: param 1 > 0 hands navigation to a companion computer: ArduCopter's AUTO runs
+GUIDED inside itself (guided_inside.py) and takes the companion's targets; the item ends when the
+limits of the last DO_GUIDED_LIMITS (guided_limits.py) are broken, counted from the item's start,
+and with none set it never does. Param 1 0 (off) ends it at once."""
 from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
 from ...c_casts import as_uint16
 from ..context import ModeContext
-from .hold_here import HoldHere
+from .guided_inside import GuidedInside
 
 if TYPE_CHECKING:
     from ...mission.store import MissionItem
     from ..auto import Auto
 
 
-class NavGuidedEnable(HoldHere):
+class NavGuidedEnable(GuidedInside):
     _on: bool
     _auto: Auto
 
