@@ -9,6 +9,7 @@ NAV_EXCEPTIONS = {213, 42702, 42703}  # NAV_SET_YAW_SPEED, NAV_SCRIPT_TIME, NAV_
 TAKEOFF_COMMANDS = {CMD_TAKEOFF, 84, 24}  # NAV_TAKEOFF, NAV_VTOL_TAKEOFF, NAV_TAKEOFF_LOCAL
 
 CMD_DO_SET_SERVO, CMD_DO_REPEAT_SERVO, CMD_DO_SET_RELAY, CMD_DO_REPEAT_RELAY = 183, 184, 181, 182
+CMD_DO_SET_RESUME_REPEAT_DIST = 215
 
 # The "do" commands AP_Mission runs itself (servos, relays, cameras, payloads, tags): done as soon
 # as they start, with no MISSION_ITEM_REACHED and no "Skipping invalid cmd" (measured: a mission

@@ -17,15 +17,18 @@ AP_Mission's rules, as the reference vehicle shows them:
   current item is started again — also after a new list was uploaded, if that index still exists;
 - start_or_resume(): MIS_RESTART = 1 starts over, 0 resumes;
 - set_current(seq): in a running mission the item starts at once; otherwise it becomes the item
-  a resume starts from (seq 0 means the first item; a completed mission's jumps are cleared).
+  a resume starts from (seq 0 means the first item; a completed mission's jumps are cleared);
+- DO_SET_RESUME_REPEAT_DIST: a resume first flies back over the last metres flown (rewind.py).
 """
 from __future__ import annotations
 
 from enum import Enum
 
-from .commands import RUN_BY_MISSION, is_nav, is_takeoff
+from ..c_casts import as_uint16
+from .commands import CMD_DO_SET_RESUME_REPEAT_DIST, RUN_BY_MISSION, is_nav, is_takeoff
 from .jumps import JUMPS, jump_of, tag_index
 from .own_items import RUN_BY_MISSION_TEXTS, start_text
+from .rewind import RETURNED, WaypointHistory
 from .store import MISSION
 
 MAX_ADVANCE = 255  # items looked at in one advance (AP_Mission's guard against endless loops)
@@ -70,6 +73,11 @@ class MissionProgress:
         self.do_all_done = False
         self._jumps: dict[int, int] = {}  # DO_JUMP index -> times followed
         self._reached: list[int] = []  # seqs reached since the MAVLink layer last asked
+        self.repeat_dist_m = 0  # DO_SET_RESUME_REPEAT_DIST's metres (0: a resume does not rewind)
+        self.history = WaypointHistory()
+        # Where AUTO was when the mission last stopped (lat, lon in 1e-7 degrees): AUTO sets it
+        # as it is left, where AP_Mission notes it on every update while running.
+        self.exit_e7: tuple[float, float] | None = None
 
     # ----- the list and the current item -------------------------------------------------------
     def jumps_followed(self) -> dict[int, int]:
@@ -104,6 +112,12 @@ class MissionProgress:
         self.nav_index, self.nav_loaded = None, False
         self.do_index, self.do_loaded, self.do_all_done = None, False, False
         self._jumps.clear()
+        self._forget_history()
+
+    def _forget_history(self) -> None:
+        """AP_Mission's reset_wp_history: the rewind's history and its distance go."""
+        self.history.clear()
+        self.repeat_dist_m = 0
 
     def start(self) -> None:
         self.state = MissionState.ACTIVE
@@ -122,6 +136,11 @@ class MissionProgress:
                 return
         if self.nav_index is not None and self.nav_index >= len(self.items()):
             self.start()  # the item belonged to a longer list uploaded before this one
+            return
+        rewound = self.history.rewind(self.items(), self.exit_e7, self.repeat_dist_m)
+        if rewound is not None and self._start(*rewound):
+            self.nav_index, self.nav_loaded = rewound[0], True
+            self.history.resuming = True
             return
         if self.do_loaded and self.do_index is not None:
             self._set_current_index(self.do_index)
@@ -202,6 +221,8 @@ class MissionProgress:
 
     def _start(self, index: int, item) -> bool:
         self.notify(start_text(index, item))
+        if item.command == CMD_DO_SET_RESUME_REPEAT_DIST:
+            self.repeat_dist_m = as_uint16(item.p1)
         said = RUN_BY_MISSION_TEXTS.get(item.command)
         if said is not None and (text := said(item)) is not None:
             self.notify(text)
@@ -211,6 +232,7 @@ class MissionProgress:
         items = self.items()
         if index >= len(items):
             return False
+        self._forget_history()  # as AP_Mission's set_current_cmd
         self.do_index, self.do_loaded, self.do_all_done = None, False, False
         self.nav_loaded = False
         if self.state is not MissionState.ACTIVE:
@@ -258,6 +280,8 @@ class MissionProgress:
             if is_nav(item.command):
                 self.nav_index = found
                 self.nav_loaded = self._start(found, item)
+                if self.history.loaded(found, item, self.repeat_dist_m):
+                    self.notify(RETURNED)
             elif not self.do_loaded:
                 self.do_index, self.do_loaded = found, True
                 self._start(found, item)

@@ -125,8 +125,11 @@ class Auto(Mode):
         return None
 
     def exit(self, ctx: ModeContext) -> None:
-        if ctx.mission_progress.running:
-            ctx.mission_progress.stop()
+        mission = ctx.mission_progress
+        if mission.running:
+            here = ctx.position_global()  # where a resume's rewind measures back from
+            mission.exit_e7 = (here.lat_deg * 1e7, here.lon_deg * 1e7)
+            mission.stop()
 
     def destination(self) -> tuple[float, float, float | None] | None:
         return getattr(self, "_target", None) if self._index is not None else None

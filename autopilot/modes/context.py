@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING
 from ..views import FollowTargetView, ModeHost, Notify, ReadThrough, Vector3
 
 if TYPE_CHECKING:
+    from firefly.sim.geo import GeoPoint
     from firefly.sim.rigid_body import BodyState
 
     from ..mission.progress import MissionProgress
@@ -35,6 +36,7 @@ class ModeContext:
         auto_armed    AUTO may start its mission from the ground
         origin_alt_m  altitude of the local frame's origin above sea level
         ned_of(lat, lon, alt_amsl) -> (n, e, d) in the local frame
+        position_global() where the vehicle is (GeoPoint: degrees, metres above sea level)
         accel_body    what the accelerometer reads (FRD, m/s^2): 1 g up at rest, 0 in free fall
         mode_number   the vehicle's mode: while a mode's enter() runs, the one it would take over from
         hover_thrust_share the airframe's weight over its full thrust
@@ -63,7 +65,7 @@ class ModeContext:
     """
     __slots__ = ("_v", "_estimate", "_arming", "_land", "_sim", "params", "mission_progress", "return_path",
                  "follow_target", "notify", "disarm", "set_speed", "set_home", "fence_enable_item", "set_servo",
-                 "repeat_servo", "set_relay", "repeat_relay", "ned_of", "set_mode",
+                 "repeat_servo", "set_relay", "repeat_relay", "ned_of", "position_global", "set_mode",
                  "hover_thrust_share", "restart_position_control", "use_gains")
     params: ParamStore
     mission_progress: MissionProgress
@@ -79,6 +81,7 @@ class ModeContext:
     set_relay: Callable[[int, int], Result]
     repeat_relay: Callable[[int, int, float], Result]
     ned_of: Callable[[float, float, float], Vector3]
+    position_global: Callable[[], GeoPoint]
     set_mode: Callable[[int], Result]
     restart_position_control: Callable[[], None]
     use_gains: Callable[[Mapping[str, float] | None], None]
@@ -103,6 +106,7 @@ class ModeContext:
         self.set_relay = vehicle.set_relay
         self.repeat_relay = vehicle.repeat_relay
         self.ned_of = vehicle.ned_of
+        self.position_global = vehicle.position_global
         self.set_mode = vehicle.set_mode
         self.restart_position_control = vehicle.restart_position_control
         self.use_gains = vehicle.use_gains
