@@ -22,6 +22,7 @@ after a reboot. With no camera every command still answers as ArduCopter's does,
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from typing import NamedTuple
 
 from ..params import ParamStore
@@ -47,7 +48,7 @@ class Feedback(NamedTuple):
     alt_rel_m: float
     roll_deg: float
     pitch_deg: float
-    yaw_deg: float
+    yaw_deg: float  # 0..360
 
 
 class CameraStatus(NamedTuple):
@@ -69,6 +70,8 @@ class Camera:
         self.image_index = 0
         self.feedback: Feedback | None = None  # the last picture's
         self.feedback_due = False  # a picture not yet reported on the links
+        # Who else hears of each picture (the dataflash log's CAM records): set by the I/O edge
+        self.picture_listener: Callable[[Feedback], None] | None = None
         self.busy = False
         self.interval_s = 0.0  # an interval capture: seconds between pictures
         self.remaining = 0  # ... pictures still to take (CAPTURE_FOREVER: no end)
@@ -109,6 +112,8 @@ class Camera:
         self._last_ne = (b.n_m, b.e_m)
         self.feedback = self._feedback(v, self.image_index)
         self.feedback_due = self.busy = True
+        if self.picture_listener is not None:
+            self.picture_listener(self.feedback)
         return True
 
     def control(self, shoot: float) -> None:
@@ -252,7 +257,7 @@ class Camera:
         alt_cm = round(pos.alt_m * 100)
         home_cm = round((home or v.origin).alt_m * 100)
         roll, pitch, yaw = v.attitude
-        yaw_deg = math.degrees(math.remainder(yaw, 2.0 * math.pi))
+        yaw_deg = math.degrees(yaw) % 360.0  # AHRS's yaw in degrees: 0..360
         return Feedback(v.unix_time_us(), image_index, round(pos.lat_deg * 1e7), round(pos.lon_deg * 1e7),
                         alt_cm / 100.0, (alt_cm - home_cm) / 100.0, math.degrees(roll), math.degrees(pitch),
                         yaw_deg)
