@@ -36,6 +36,7 @@ UPDATES_PER_S = 50  # how AP_Camera counts CAM1_DURATION down: updates at 50 Hz
 CAPTURE_FOREVER = -1
 CHANNELS, RELAYS = 16, 6
 AUTO = 3  # mode number
+YAW_FULL_TURN_F32 = 359.99998  # from here up a float32 rounds to 360
 
 
 class Feedback(NamedTuple):
@@ -258,6 +259,8 @@ class Camera:
         home_cm = round((home or v.origin).alt_m * 100)
         roll, pitch, yaw = v.attitude
         yaw_deg = math.degrees(yaw) % 360.0  # AHRS's yaw in degrees: 0..360
+        if yaw_deg >= YAW_FULL_TURN_F32:  # a hair under north: the message's float32 would read 360
+            yaw_deg = 0.0
         return Feedback(v.unix_time_us(), image_index, round(pos.lat_deg * 1e7), round(pos.lon_deg * 1e7),
                         alt_cm / 100.0, (alt_cm - home_cm) / 100.0, math.degrees(roll), math.degrees(pitch),
                         yaw_deg)
