@@ -11,21 +11,28 @@ survey_leg    AUTO: DO_SET_CAM_TRIGG_DIST 10 m with a picture at once at the sta
               1 m), their count, and each feedback's fields (heights, attitude, index, flags).
 guided_dist   distance triggering outside AUTO: 8 m set by command, flown 30 m north in GUIDED
               (CAM_AUTO_ONLY 0: pictures), then back with CAM_AUTO_ONLY 1 (none).
+relay_camera  CAM1_TYPE 2 (a relay camera) set and saved, rebooted: the commands' answers and
+              pictures, an interval, CAMERA_INFORMATION.
 """
 from __future__ import annotations
 
 import math
+import time
 
-from ..client import Client, mav
+from ..client import Client, ProbeTimeout, mav
 from ..facts import Tol, Trace
 from .missions import upload
 from .states import GUIDED, reach_flying
 from .surface_mission import ALT_M, Geometry, item
+from ..targets import ready
 
 AREA = "camera"
 # The trigger output is read off SERVO_OUTPUT_RAW at 50 Hz: at 20x that is a thousand messages a
 # wall second, more than a client on a busy machine drains; at 10x, as the reference is recorded
 FIREFLY_SPEEDUP = "10"
+# (ArduCopter takes CAM1_TYPE from a defaults file as unsaved, and derives an unsaved one at boot
+# from the servo functions: with a trigger output it is 1, so the two agree. A relay camera needs
+# CAM1_TYPE saved: relay_camera sets it and reboots.)
 BOOT_PARAMS = {"CAM1_TYPE": 1, "SERVO9_FUNCTION": 10}
 SERVO = 9
 POSITION = Tol(abs=1.0, why="where a picture is taken: 50 Hz checks along a leg flown at up to 10 m/s by two "
@@ -38,6 +45,7 @@ HEIGHT = Tol(abs=0.3, why="height on the leg within the position controllers' ho
 ANGLE = Tol(abs=5.0, why="attitude while cruising: the airframes lean differently for the same speed")
 YAW = Tol(abs=5.0, why="heading along a leg north")
 LIMIT_S = 90.0
+REBOOT_WAIT_S = 60.0  # wall seconds for a rebooted vehicle to speak again
 # MAVLink 2 messages the client's dialect module does not name
 MSG_CAMERA_FEEDBACK, MSG_CAMERA_INFORMATION, MSG_CAMERA_SETTINGS = 180, 259, 260
 MSG_CAMERA_CAPTURE_STATUS, MSG_CAMERA_FOV_STATUS = 262, 271
@@ -238,14 +246,68 @@ def guided_dist(c: Client, trace: Trace) -> None:
     trace.fact("auto_only.pictures", len(_feedbacks(log)))
 
 
-PROBES = {"commands": commands, "survey_leg": survey_leg, "guided_dist": guided_dist}
+def rebooted(c: Client) -> Client:
+    """PREFLIGHT_REBOOT_SHUTDOWN, and a client for the vehicle that comes back, ready to arm. The
+    reboot is seen in wall time (the new vehicle's clock starts again, below the client's, and
+    ArduCopter streams nothing until asked, so streams are asked for while waiting)."""
+    c.idle(3.0)  # up long enough that the new clock is seen to go back (by more than 2 s)
+    newest = c.now_ms
+    went_back: list[int] = []
+
+    def watch(msg) -> None:
+        stamp = getattr(msg, "time_boot_ms", None)
+        if stamp is not None and msg.get_type() != "TIMESYNC" and stamp + 2000 < newest:
+            went_back.append(stamp)
+    with c.listening(watch):
+        if c.command(mav.MAV_CMD_PREFLIGHT_REBOOT_SHUTDOWN, 1) != mav.MAV_RESULT_ACCEPTED:
+            raise ProbeTimeout("reboot refused")
+        wall0 = asked = time.monotonic()
+        while not went_back:
+            if time.monotonic() - wall0 > REBOOT_WAIT_S:
+                raise ProbeTimeout("no reboot seen")
+            c.pump(0.05)
+            if time.monotonic() - asked > 0.5:
+                c.request_streams()
+                asked = time.monotonic()
+    url = c.url
+    c.close()
+    return ready(Client(url), 10)
+
+
+def relay_camera(c: Client, trace: Trace) -> None:
+    # CAM1_TYPE set and saved, then a reboot, as a user sets a camera up: ArduCopter builds the
+    # camera at boot, and a CAM1_TYPE it finds unsaved (a defaults file's) it derives from the
+    # older CAM_TRIGG_TYPE and the servo functions instead (AP_Camera::convert_params)
+    trace.fact("type_set", c.set_param("CAM1_TYPE", 2))
+    c = rebooted(c)
+    for name, command, params in (("shoot", mav.MAV_CMD_DO_DIGICAM_CONTROL, (0, 0, 0, 0, 1)),
+                                  ("start_one", mav.MAV_CMD_IMAGE_START_CAPTURE, (0, 0, 1)),
+                                  ("trigg_dist_once", mav.MAV_CMD_DO_SET_CAM_TRIGG_DIST, (0, 0, 1)),
+                                  ("source_all", mav.MAV_CMD_SET_CAMERA_SOURCE, (0, 1, 0))):
+        _command(c, trace, name, command, *params)
+    log: list = []
+    with _record(c, log):
+        trace.fact("interval.result", c.command(mav.MAV_CMD_IMAGE_START_CAPTURE, 0, 0.5, 3))
+        c.idle(2.5)
+    trace.fact("interval.img_idx", [m.img_idx for m in _feedbacks(log)])
+    log = []
+    with _record(c, log):
+        c.command(mav.MAV_CMD_REQUEST_MESSAGE, MSG_CAMERA_INFORMATION)
+        c.idle(0.3)
+    trace.fact("information", len([m for _, m in log if m.get_type() == "CAMERA_INFORMATION"]))
+
+
+PROBES = {"commands": (commands, BOOT_PARAMS), "survey_leg": (survey_leg, BOOT_PARAMS),
+          "guided_dist": (guided_dist, BOOT_PARAMS),
+          # CAM1_TYPE 2 (set by the probe): a relay camera on SITL's relay 1 (RELAY1_FUNCTION 4: the camera)
+          "relay_camera": (relay_camera, {"RELAY1_FUNCTION": 4})}
 
 
 def run(target) -> dict[str, Trace]:
     traces = {}
     try:
-        for name, probe in PROBES.items():
-            client = target.boot(params=BOOT_PARAMS)
+        for name, (probe, params) in PROBES.items():
+            client = target.boot(params=params)
             trace = traces[name] = Trace()
             probe(client, trace)
     finally:
