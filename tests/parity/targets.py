@@ -63,7 +63,10 @@ class FireflyTarget:
         """A fresh vehicle; with streams_hz, streams requested and ready to arm; with
         realistic_startup, booting as ArduCopter does instead of armable at once; with params,
         those parameters in force from power-on: SIM_* faults as a scenario's [faults], the
-        rest as saved parameters it boots with (CAM1_TYPE, read at boot on both vehicles)."""
+        rest as saved parameters it boots with (CAM1_TYPE, read at boot on both vehicles). Mind
+        that ArduCopter takes its boot parameters unsaved, and replaces an unsaved CAM1_TYPE by
+        1 if an output has SERVOn_FUNCTION 10, else 0 (AP_Camera::convert_params): boot a servo
+        camera with CAM1_TYPE 1 and its trigger output; any other camera, set it and reboot."""
         self.close()
         extra = (f"--home={HOME}",) + (("--startup", "realistic") if realistic_startup else ())
         saved = {name: value for name, value in (params or {}).items() if not name.startswith("SIM_")}
