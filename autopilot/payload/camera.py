@@ -107,7 +107,7 @@ class Camera:
             return False
         self._shutter(True)
         self._hold = min(int(self.params["CAM1_DURATION"] * UPDATES_PER_S), 65535)
-        self.image_index += 1
+        self.image_index = (self.image_index + 1) & 0xFFFF  # ArduPilot's count is a uint16
         self._last_picture_s = now
         b = v.body
         self._last_ne = (b.n_m, b.e_m)
