@@ -157,3 +157,24 @@ def test_each_picture_is_logged_as_a_cam_record_as_arducopter_writes_it(tmp_path
     assert (cam.I, cam.Img, cam.RelAlt) == (0, 1, 0.0)
     assert math.isclose(cam.Lat, f.lat_e7 * 1e-7) and math.isclose(cam.Alt, f.alt_msl_m)
     assert abs(cam.GPSAlt - f.alt_msl_m) < 1.0 and 0 <= cam.Y < 360 and cam.GPSWeek > 2000
+
+
+def test_mission_items_shoot_start_and_stop_an_interval_capture():
+    """DIGICAM_CONTROL (x = 1: shoot), IMAGE_START_CAPTURE every 1 s until stopped, then
+    IMAGE_STOP_CAPTURE two waypoints on: pictures only between the two, a second apart."""
+    v = camera_vehicle()
+    v.mission.replace(0, [takeoff(), MissionItem(203, 2, x=1), MissionItem(2000, 2, 0, 1.0, 0),
+                          wp_at(v, 20, 0), MissionItem(2001, 2, 0), wp_at(v, 20, 20), MissionItem(21, 3)])
+    v.set_mode(4)
+    v.arm()
+    v.set_mode(3)
+    v.mission_start()
+    taken = pictures(v, 40.0)
+    assert len(taken) >= 4
+    easts = [v.ned_of(f.lat_e7 * 1e-7, f.lon_e7 * 1e-7, f.alt_msl_m)[1] for _, f in taken]
+    assert max(easts) < 1.0  # none on the leg east, after IMAGE_STOP_CAPTURE
+    assert v.body.e_m > 19.0  # ... which was flown
+    gaps = [b[0] - a[0] for a, b in zip(taken[1:], taken[2:])]
+    assert all(abs(g - 1.0) < 0.03 for g in gaps), gaps
+    assert [f.image_index for _, f in taken] == list(range(1, len(taken) + 1))
+    assert not v.camera.busy and not v.camera_status().capturing
