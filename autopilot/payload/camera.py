@@ -17,7 +17,8 @@ one was taken (the first position it sees is the start), in AUTO only if CAM_AUT
 and not while rolled beyond CAM_MAX_ROLL (0: any roll).
 
 CAM1_TYPE is read at boot, as ArduPilot builds its camera backend once: a change takes effect
-after a reboot. With no camera every command still answers as ArduCopter's does, and nothing runs.
+after a reboot. Left 0 with an output set to the camera trigger, it becomes 1 at boot (ArduPilot
+converts a CAM1_TYPE it has not stored from the older settings so). With no camera every command still answers as ArduCopter's does, and nothing runs.
 """
 from __future__ import annotations
 
@@ -65,6 +66,11 @@ class Camera:
     def __init__(self, view: CameraView, params: ParamStore, servo_pwm: list[int], relays: list[bool]):
         self._v = view  # the vehicle, read-only
         self.params = params
+        if params["CAM1_TYPE"] == NONE and any(params.get(f"SERVO{i}_FUNCTION", 0) == TRIGGER_FUNCTION
+                                               for i in range(1, CHANNELS + 1)):
+            # AP_Camera::convert_params: a CAM1_TYPE never set (the default, which is not
+            # stored) becomes a servo camera when an output is the camera trigger, and is saved
+            params.set("CAM1_TYPE", SERVO)
         self.kind = int(params["CAM1_TYPE"])
         self.present = self.kind in (SERVO, RELAY)
         self._servo_pwm, self._relays = servo_pwm, relays  # the outputs it drives (servo_relay.py's)

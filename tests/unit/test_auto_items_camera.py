@@ -18,10 +18,11 @@ from .test_auto import takeoff, wp_at
 SERVO9 = 8  # 0-based
 
 
-def camera_vehicle(kind: int = 1, **params) -> Vehicle:
+def camera_vehicle(kind: int = 1, trigger_output: bool = True, **params) -> Vehicle:
     store = ParamStore()
     store.set("CAM1_TYPE", kind)
-    store.set("SERVO9_FUNCTION", 10)
+    if trigger_output:
+        store.set("SERVO9_FUNCTION", 10)
     for name, value in params.items():
         store.set(name, value)
     v = Vehicle(VehicleConfig(), store)
@@ -61,13 +62,18 @@ def test_a_picture_holds_the_trigger_output_for_cam1_duration_and_is_reported():
 
 
 def test_without_a_camera_commands_answer_as_arducopters_and_nothing_runs():
-    v = camera_vehicle(kind=0)
+    v = camera_vehicle(kind=0, trigger_output=False)
     assert command(v, mav.MAV_CMD_DO_DIGICAM_CONTROL, 0, 0, 0, 0, 1) == Result.ACCEPTED
     assert command(v, mav.MAV_CMD_DO_SET_CAM_TRIGG_DIST, 10, 0, 1) == Result.ACCEPTED
     assert command(v, mav.MAV_CMD_IMAGE_START_CAPTURE, 0, 1, 3) == Result.FAILED
     assert command(v, mav.MAV_CMD_IMAGE_STOP_CAPTURE, 0) == Result.ACCEPTED
     assert command(v, mav.MAV_CMD_SET_CAMERA_SOURCE, 0, 1, 0) == Result.DENIED
     assert not v.camera.busy and v.camera.image_index == 0 and v.servo_pwm[SERVO9] == 0
+
+
+def test_cam1_type_left_unset_with_a_trigger_output_becomes_a_servo_camera_at_boot():
+    v = camera_vehicle(kind=0)
+    assert v.params["CAM1_TYPE"] == 1 and v.camera.present and v.servo_pwm[SERVO9] == 1100
 
 
 def test_capture_commands_refuse_what_the_reference_refuses():

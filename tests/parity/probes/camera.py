@@ -13,6 +13,7 @@ guided_dist   distance triggering outside AUTO: 8 m set by command, flown 30 m n
               (CAM_AUTO_ONLY 0: pictures), then back with CAM_AUTO_ONLY 1 (none).
 relay_camera  CAM1_TYPE 2 (a relay camera) set and saved, rebooted: the commands' answers and
               pictures, an interval, CAMERA_INFORMATION.
+converted_type CAM1_TYPE never set, SERVO9_FUNCTION 10: CAM1_TYPE after boot, a picture.
 """
 from __future__ import annotations
 
@@ -297,10 +298,20 @@ def relay_camera(c: Client, trace: Trace) -> None:
     trace.fact("information", len([m for _, m in log if m.get_type() == "CAMERA_INFORMATION"]))
 
 
+def converted_type(c: Client, trace: Trace) -> None:
+    c.conn.mav.param_request_read_send(1, 1, b"CAM1_TYPE", -1)
+    c.last.pop("PARAM_VALUE", None)
+    c.wait(lambda: "PARAM_VALUE" in c.last and c.last["PARAM_VALUE"].param_id == "CAM1_TYPE", 5, what="CAM1_TYPE")
+    trace.fact("cam1_type", c.last["PARAM_VALUE"].param_value)
+    _command(c, trace, "shoot", mav.MAV_CMD_DO_DIGICAM_CONTROL, 0, 0, 0, 0, 1)
+
+
 PROBES = {"commands": (commands, BOOT_PARAMS), "survey_leg": (survey_leg, BOOT_PARAMS),
           "guided_dist": (guided_dist, BOOT_PARAMS),
           # CAM1_TYPE 2 (set by the probe): a relay camera on SITL's relay 1 (RELAY1_FUNCTION 4: the camera)
-          "relay_camera": (relay_camera, {"RELAY1_FUNCTION": 4})}
+          "relay_camera": (relay_camera, {"RELAY1_FUNCTION": 4}),
+          # CAM1_TYPE left alone, a trigger output set: the camera is a servo camera after boot
+          "converted_type": (converted_type, {"SERVO9_FUNCTION": 10})}
 
 
 def run(target) -> dict[str, Trace]:
