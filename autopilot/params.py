@@ -184,6 +184,22 @@ PARAM_TABLE: tuple[ParamSpec, ...] = (
     *(spec for axis, accel, accel_high, jerk, jerk_high in (("NE", 2.5, 5, 5, 20), ("D", 2.5, 2.5, 5, 5),
                                                             ("H", 90, 90, 360, 360))
       for spec in (_f(f"FOLL_ACCEL_{axis}", accel, 0, accel_high), _f(f"FOLL_JERK_{axis}", jerk, 0, jerk_high))),
+    # The camera (AP_Camera, payload/camera.py): ArduCopter shows CAM1_* but the type once CAM1_TYPE is set
+    _i("CAM1_TYPE", 0, 0, 8, "0 none, 1 a servo output (SERVOn_FUNCTION 10), 2 a relay (RELAYn_FUNCTION 4); read at boot"),
+    _f("CAM1_DURATION", 0.1, 0, 5, "seconds the shutter is held"),
+    _i("CAM1_SERVO_ON", 1300, 1000, 2000, "trigger output while the shutter is held [us]"),
+    _i("CAM1_SERVO_OFF", 1100, 1000, 2000, "trigger output otherwise [us]"),
+    _f("CAM1_TRIGG_DIST", 0, 0, 1000, "a picture every this many metres moved, 0 = off"),
+    _i("CAM1_RELAY_ON", 1, 0, 1, "the relay's state while the shutter is held"),
+    _f("CAM1_INTRVAL_MIN", 0, 0, 10, "seconds at least between pictures; one asked for sooner waits"),
+    _i("CAM1_FEEDBAK_PIN", -1, -1, 127, "served; SITL has no hot-shoe pin"),
+    _i("CAM1_FEEDBAK_POL", 1, 0, 1, "served; SITL has no hot-shoe pin"),
+    _i("CAM1_OPTIONS", 0, 0, 1, "served; bit 0 records video while armed (no video here)"),
+    _i("CAM1_MNT_INST", 0, 0, 2, "served; no mount"),
+    _f("CAM1_HFOV", 0, 0, 360, "served; field of view [deg], 0 unknown"),
+    _f("CAM1_VFOV", 0, 0, 180, "served; field of view [deg], 0 unknown"),
+    _i("CAM_AUTO_ONLY", 0, 0, 1, "1: distance triggering in AUTO only"),
+    _i("CAM_MAX_ROLL", 0, 0, 180, "no distance-triggered picture while rolled beyond this [deg], 0 = any roll"),
     # Mission (AP_Mission)
     _i("MIS_RESTART", 0, 0, 1, "AUTO after leaving it: 0 resumes the mission, 1 restarts it"),
     # The pilot's radio (autopilot/rc/): channel roles, the mode switch, overrides, the ground station

@@ -66,6 +66,12 @@ FIREFLY_ONLY: dict[str, str] = {
        for name in ("FOLL_SYSID", "FOLL_DIST_MAX", "FOLL_OFS_TYPE", "FOLL_OFS_X", "FOLL_OFS_Y", "FOLL_OFS_Z",
                     "FOLL_YAW_BEHAVE", "FOLL_POS_P", "FOLL_ALT_TYPE", "FOLL_OPTIONS", "FOLL_ACCEL_NE",
                     "FOLL_JERK_NE", "FOLL_ACCEL_D", "FOLL_JERK_D", "FOLL_ACCEL_H", "FOLL_JERK_H")},
+    **{name: "the camera's (AP_Camera): ArduCopter serves it once CAM1_TYPE is set and the vehicle rebooted "
+             "(the reference's set was recorded with CAM1_TYPE 0); Firefly serves it always, so that it can "
+             "be set before the camera is"
+       for name in ("CAM1_DURATION", "CAM1_SERVO_ON", "CAM1_SERVO_OFF", "CAM1_TRIGG_DIST", "CAM1_RELAY_ON",
+                    "CAM1_INTRVAL_MIN", "CAM1_FEEDBAK_PIN", "CAM1_FEEDBAK_POL", "CAM1_OPTIONS", "CAM1_MNT_INST",
+                    "CAM1_HFOV", "CAM1_VFOV")},
 }
 
 _OLD_NAME = "ArduPilot 4.5's name of {}, which scenarios and scripts written for 4.5 set"

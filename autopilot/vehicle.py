@@ -47,6 +47,7 @@ from .safety.fence_switch import FenceSwitch
 from .safety.internal_error import CONSTRAINING_NAN, FLOW_OF_CONTROL, InternalErrors
 from .safety.land_detector import AutoDisarm, LandDetector
 from .safety.thrust_loss import ThrustLossCheck
+from .payload.camera import Camera
 from .servo_relay import ServoRelayEvents
 from .views import ReadThrough, Vector3
 
@@ -130,6 +131,10 @@ class Vehicle:
         # the session polls them while this is not empty.
         self.stores_waiting: set = set()
         self.params.file.waiting = self.mission.file.waiting = self.stores_waiting
+        self.servo_relay = ServoRelayEvents(self.params, self.notify)  # DO_SET_SERVO / _RELAY and repeats
+        # CAM1 (AP_Camera): pictures on command, by interval and by distance; drives those outputs
+        self.camera = Camera(self, self.params, self.servo_relay.pwm, self.servo_relay.relays)
+        self.camera_status = self.camera.status
         self.ctx = ModeContext(self)
         # The parts' own methods that readers call through their views (views.py), bound once:
         # no call in between (telemetry and the failsafes call them for every vehicle, often).
@@ -159,7 +164,6 @@ class Vehicle:
         self._power_on_mode_switch = self.rc.settle_switches()
         self.motors_emergency_stopped = False  # aux MOTOR_ESTOP / ARM_EMERGENCY_STOP
         self.events: list[tuple[int, str]] = []
-        self.servo_relay = ServoRelayEvents(self.params, self.notify)  # DO_SET_SERVO / _RELAY and repeats
         # Who else hears each status text as it is made (the dataflash log's MSG records): set by
         # the I/O edge, None when nothing logs.
         self.text_listener: Callable[[int, str], None] | None = None
@@ -674,6 +678,8 @@ class Vehicle:
                     self.mode.update(self.ctx, self.setpoint, dt)
                 except Exception as exc:  # noqa: BLE001 - the checks below must still run
                     self.internal_error(exc, f"{self.mode.name} update")
+            if self.camera.busy:  # a picture, an interval or distance triggering under way
+                self.camera.update()
             armed, detector = self.arming.armed, self.land_detector
             if armed or not detector.landed:  # disarmed on the ground neither check has anything to do
                 body = estimate.body

@@ -278,6 +278,7 @@ def attach_dataflash(vehicle, session, directory: Path):
     log_files = LogFiles(directory, vehicle.params)
     recorder = Recorder(vehicle, log_files)
     vehicle.text_listener = recorder.text
+    vehicle.camera.picture_listener = recorder.picture
     session.logs.store = log_files
     session.ftp.tree.logs = log_files
     return recorder, log_files

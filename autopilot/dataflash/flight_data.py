@@ -62,13 +62,19 @@ def pos(v: StreamedView, b: BodyState) -> tuple:
             p.alt_m - v.ekf_origin().alt_m)
 
 
+def gps_week_time(unix_us: int) -> tuple[int, int]:
+    """(milliseconds into the GPS week, GPS week) of a UTC time."""
+    gps_ms = (unix_us // 1000) - (GPS_EPOCH_UNIX_S - GPS_LEAP_S) * 1000
+    return gps_ms % WEEK_MS, gps_ms // WEEK_MS
+
+
 def gps(v: StreamedView, b: BodyState) -> tuple:
     g = v.gps
     p = v.ned_to_global(g.n_m, g.e_m, g.d_m)
     speed = math.hypot(g.vn_m_s, g.ve_m_s)
     course = _heading_deg(math.atan2(g.ve_m_s, g.vn_m_s)) if speed > 0.2 else 0.0
-    gps_ms = (v.unix_time_us() // 1000) - (GPS_EPOCH_UNIX_S - GPS_LEAP_S) * 1000
-    return (0, g.fix_type, gps_ms % WEEK_MS, gps_ms // WEEK_MS, g.satellites, GPS_HDOP,
+    week_ms, week = gps_week_time(v.unix_time_us())
+    return (0, g.fix_type, week_ms, week, g.satellites, GPS_HDOP,
             round(p.lat_deg * 1e7), round(p.lon_deg * 1e7), round(p.alt_m * 100), speed, course,
             g.vd_m_s, 0.0, 1)
 

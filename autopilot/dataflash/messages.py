@@ -22,6 +22,7 @@ from .encoding import FMT, LogFormat
 # LOG_BITMASK bits (ArduCopter defines.h)
 ATTITUDE_FAST, ATTITUDE_MED, GPS, PM, CTUN, NTUN, RCIN, IMU = (1 << b for b in range(8))
 CMD, CURRENT, RCOUT = 1 << 8, 1 << 9, 1 << 10
+CAMERA = 1 << 15
 ALWAYS = 0  # logged whatever the bitmask
 
 UNITS = {  # UNIT records: id -> label
@@ -79,6 +80,8 @@ MESSAGES: dict[str, LogMessage] = {m.format.name: m for m in (
     _row(184, "ERR", "QBB", "TimeUS,Subsys,ECode", "s--", "F--"),
     _row(93, "CMD", "QHHHffffLLfB", "TimeUS,CTot,CNum,CId,Prm1,Prm2,Prm3,Prm4,Lat,Lng,Alt,Frame",
          "s-------DUm-", "F-------GG0-"),
+    _row(81, "CAM", "QBHIHLLeeeccC", "TimeUS,I,Img,GPSTime,GPSWeek,Lat,Lng,Alt,RelAlt,GPSAlt,R,P,Y",
+         "s#---DUmmmddd", "F----GGBBBBBB"),
     _row(72, "ATT", "QffffffB", "TimeUS,DesRoll,Roll,DesPitch,Pitch,DesYaw,Yaw,AEKF", "sddddhh-",
          "F000000-", Periodic(TEN_HZ, ALWAYS, fd.att)),
     _row(75, "RATE", "Qfffffffffffff", "TimeUS,RDes,R,ROut,PDes,P,POut,YDes,Y,YOut,ADes,A,AOut,AOutSlew",

@@ -21,14 +21,19 @@ at their rates (messages.py).
 from __future__ import annotations
 
 import math
-from typing import Protocol
+from typing import TYPE_CHECKING, Protocol
 
+from ..c_casts import as_int16
 from ..modes import MODE_BY_NAME
 from ..params import SERVED_BY_NAME
 from ..results import Severity
 from ..views import DataflashView
 from .encoding import fmt_record
-from .messages import FORMATS, MESSAGES, MULTS, PERIODIC, UNITS
+from .flight_data import gps_week_time
+from .messages import CAMERA, FORMATS, MESSAGES, MULTS, PERIODIC, UNITS
+
+if TYPE_CHECKING:
+    from ..payload.camera import Feedback
 
 INSTANCE_AT = 11  # offset of a per-instance record's instance number: after the header and TimeUS
 ARM_PERSIST_S = 15.0  # ArduPilot's HAL_LOGGER_ARM_PERSIST
@@ -120,6 +125,20 @@ class Recorder:
             mode = next((cls for cls in MODE_BY_NAME.values() if cls.text_name == name), None)
             if mode is not None:
                 self._queue(FORMATS["ERR"].pack(t_us, ERR_FLIGHT_MODE, int(mode.number)))
+
+    def picture(self, f: Feedback) -> None:
+        """A picture the camera took (payload/camera.py): a CAM record, as AP_Camera writes one
+        (LOG_BITMASK's camera bit), with the GPS's own altitude beside the estimate's."""
+        if not self._settings["LOG_BITMASK"] & CAMERA:
+            return
+        v = self.v
+        week_ms, week = gps_week_time(f.time_usec)
+        g = v.gps
+        gps_alt_cm = round(v.ned_to_global(g.n_m, g.e_m, g.d_m).alt_m * 100) if g.fix_type >= 3 else 0
+        self._queue(FORMATS["CAM"].pack(_us(v.time_s), 0, f.image_index, week_ms, week, f.lat_e7, f.lon_e7,
+                                        round(f.alt_msl_m * 100), round(f.alt_rel_m * 100), gps_alt_cm,
+                                        as_int16(f.roll_deg * 100), as_int16(f.pitch_deg * 100),
+                                        round(f.yaw_deg * 100) % 36000))
 
     def _param_changed(self, name: str, value: float) -> None:
         if name in LOGGING_PARAMS:

@@ -16,6 +16,7 @@ from ..results import Result, Severity
 from ..safety.arming import FORCE_ARM_MAGIC, FORCE_DISARM_MAGIC, prearm_failures
 from .dialect import mavlink as mav
 from ..c_casts import as_int16, as_uint16
+from .camera_commands import HANDLERS as CAMERA_HANDLERS
 from .command_locations import is_location, target_ned
 from .do_item_commands import HANDLERS as DO_ITEM_HANDLERS
 from .preflight import HANDLERS as PREFLIGHT_HANDLERS
@@ -339,9 +340,10 @@ HANDLERS = {
     mav.MAV_CMD_NAV_VTOL_LAND: land,
     **PREFLIGHT_HANDLERS,  # reboot, storage, calibrations, banner (preflight.py)
     **DO_ITEM_HANDLERS,  # fence switch, mission current and tags, ROI (do_item_commands.py)
+    **CAMERA_HANDLERS,  # CAM1: pictures, intervals, distance triggering (camera_commands.py)
     **{command: no_such_device for command in (
         mav.MAV_CMD_DO_MOUNT_CONFIGURE, mav.MAV_CMD_DO_MOUNT_CONTROL, mav.MAV_CMD_DO_GIMBAL_MANAGER_PITCHYAW,
-        mav.MAV_CMD_DO_GIMBAL_MANAGER_CONFIGURE, mav.MAV_CMD_SET_CAMERA_FOCUS, mav.MAV_CMD_IMAGE_START_CAPTURE,
+        mav.MAV_CMD_DO_GIMBAL_MANAGER_CONFIGURE, mav.MAV_CMD_SET_CAMERA_FOCUS,
         mav.MAV_CMD_VIDEO_START_CAPTURE, mav.MAV_CMD_VIDEO_STOP_CAPTURE, mav.MAV_CMD_DO_GRIPPER,
         mav.MAV_CMD_DO_WINCH, mav.MAV_CMD_DO_ADSB_OUT_IDENT, mav.MAV_CMD_STORAGE_FORMAT)},
 }

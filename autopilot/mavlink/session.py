@@ -344,7 +344,8 @@ class Session:
         last = self.gcs_last_heartbeat_s
         return (now_s + 1e-9 < self.streams.next_due_s and not self.vehicle.events
                 and not self.missions.uploads and not self.params.streaming and not self._stores_waiting
-                and not self.vehicle.mission_progress.has_reached and not self.logs.activity
+                and not self.vehicle.mission_progress.has_reached and not self.vehicle.camera.feedback_due
+                and not self.logs.activity
                 and (last is None or link_s - last <= self.vehicle.params["FS_GCS_TIMEOUT"]))
 
     def poll(self, now_s: float, link_s: float | None = None) -> list:
@@ -370,6 +371,12 @@ class Session:
         if reached:  # ArduPilot keeps one pending MISSION_ITEM_REACHED: items reached together
             # (a waypoint and the "do" item verified in the same step) report the last one only
             out.append(self.codec.mission_item_reached_encode(reached[-1]))
+        camera = vehicle.camera
+        if camera.feedback_due:  # a picture taken: its CAMERA_FEEDBACK to every link
+            camera.feedback_due = False
+            feedback = self.build(mav.MAVLINK_MSG_ID_CAMERA_FEEDBACK)
+            if feedback is not None:
+                out.append(feedback)
         for msg_id in self.streams.due(now_s):  # heartbeat first, then the rest; most ticks none
             msg = self.build(msg_id)
             if msg is not None:

@@ -12,6 +12,7 @@ from ..views import StreamedView, TelemetryView
 from .dialect import mavlink as mav
 from .encoding import deg_e7 as _deg_e7
 from .encoding import time_boot_ms as _ms
+from .camera_messages import BUILDERS as CAMERA_BUILDERS
 from .sensor_messages import BUILDERS as SENSOR_BUILDERS
 from .terrain import BUILDERS as TERRAIN_BUILDERS
 from .terrain import REQUEST_MIN_INTERVAL_S
@@ -248,6 +249,7 @@ BUILDERS: dict[int, Builder] = {
     mav.MAVLINK_MSG_ID_NAMED_VALUE_FLOAT: ground_temperature,
     **SENSOR_BUILDERS,
     **TERRAIN_BUILDERS,
+    **CAMERA_BUILDERS,
 }
 
 # ArduPilot's stream groups (REQUEST_DATA_STREAM ids), the MAV1_ parameter that sets each rate,

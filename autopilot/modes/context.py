@@ -18,6 +18,7 @@ if TYPE_CHECKING:
 
     from ..mission.progress import MissionProgress
     from ..params import ParamStore
+    from ..payload.camera import Camera
     from ..pilot import PilotInput
     from .return_path import ReturnPath
     from ..results import Result
@@ -49,6 +50,7 @@ class ModeContext:
         return_path              modes/return_path.py: the way back SMART_RTL takes (pop, peek)
         follow_target            follow_target.py: the lead FOLLOW flies after (views.FollowTargetView):
                                  update(now, own position), the point to fly to, the lead's heading
+        camera                   payload/camera.py: CAM1, as the mission's camera items drive it
         set_speed(m_s)           as DO_CHANGE_SPEED
         set_home(ned or None)    as DO_SET_HOME (None = here)
         fence_enable_item(action) as the mission's DO_FENCE_ENABLE (0 off, 1 on, 2 the floor off)
@@ -64,13 +66,14 @@ class ModeContext:
                                  (AUTOTUNE's trial sets); None: the parameters' own again
     """
     __slots__ = ("_v", "_estimate", "_arming", "_land", "_sim", "params", "mission_progress", "return_path",
-                 "follow_target", "notify", "disarm", "set_speed", "set_home", "fence_enable_item", "set_servo",
-                 "repeat_servo", "set_relay", "repeat_relay", "ned_of", "position_global", "set_mode",
+                 "follow_target", "camera", "notify", "disarm", "set_speed", "set_home", "fence_enable_item",
+                 "set_servo", "repeat_servo", "set_relay", "repeat_relay", "ned_of", "position_global", "set_mode",
                  "hover_thrust_share", "restart_position_control", "use_gains")
     params: ParamStore
     mission_progress: MissionProgress
     return_path: ReturnPath
     follow_target: FollowTargetView
+    camera: Camera
     notify: Notify
     disarm: Callable[[str], Result]
     set_speed: Callable[[float], Result]
@@ -96,6 +99,7 @@ class ModeContext:
         self.mission_progress = vehicle.mission_progress
         self.return_path = vehicle.return_path
         self.follow_target = vehicle.follow_target
+        self.camera = vehicle.camera
         self.notify = vehicle.notify
         self.disarm = vehicle.disarm
         self.set_speed = vehicle.set_speed

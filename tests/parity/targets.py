@@ -5,6 +5,7 @@ ready to arm: Firefly at once, ArduCopter once its EKF and GPS are ready (its pr
 """
 from __future__ import annotations
 
+import json
 import os
 import shutil
 import subprocess
@@ -61,22 +62,35 @@ class FireflyTarget:
              params: dict | None = None) -> Client:
         """A fresh vehicle; with streams_hz, streams requested and ready to arm; with
         realistic_startup, booting as ArduCopter does instead of armable at once; with params,
-        those parameters in force from power-on (SIM_* faults only: a scenario's [faults])."""
+        those parameters in force from power-on: SIM_* faults as a scenario's [faults], the
+        rest as saved parameters it boots with (CAM1_TYPE, read at boot on both vehicles). Mind
+        that ArduCopter takes its boot parameters unsaved, and replaces an unsaved CAM1_TYPE by
+        1 if an output has SERVOn_FUNCTION 10, else 0 (AP_Camera::convert_params): boot a servo
+        camera with CAM1_TYPE 1 and its trigger output; any other camera, set it and reboot."""
         self.close()
         extra = (f"--home={HOME}",) + (("--startup", "realistic") if realistic_startup else ())
+        saved = {name: value for name, value in (params or {}).items() if not name.startswith("SIM_")}
+        faults = {name: value for name, value in (params or {}).items() if name.startswith("SIM_")}
         if params:
-            extra += ("--scenario", str(self._faults_scenario(params)))
-        self.process = start_autopilot(speedup=self.speedup, extra=extra, capture_stderr=True)
+            self.scenario_dir = tempfile.TemporaryDirectory(prefix="firefly-parity-")
+        if faults:
+            extra += ("--scenario", str(self._faults_scenario(faults)))
+        state_dir = self._saved_params(saved) if saved else None
+        self.process = start_autopilot(state_dir=state_dir, speedup=self.speedup, extra=extra, capture_stderr=True,
+                                       wipe=not saved)
         return ready(Client(self.process.pymavlink_url, streams_hz), streams_hz)
 
     def _faults_scenario(self, params: dict) -> Path:
-        unsupported = [name for name in params if not name.startswith("SIM_")]
-        if unsupported:
-            raise ValueError(f"Firefly takes only SIM_* parameters at boot (a scenario's [faults]), not {unsupported}")
-        self.scenario_dir = tempfile.TemporaryDirectory(prefix="firefly-parity-")
         path = Path(self.scenario_dir.name) / "faults.toml"
         path.write_text("[faults]\n" + "".join(f"{name} = {float(value)!r}\n" for name, value in params.items()))
         return path
+
+    def _saved_params(self, params: dict) -> Path:
+        """A state directory whose vehicle (instance 0) has these parameters saved."""
+        state_dir = Path(self.scenario_dir.name) / "state"
+        (state_dir / "instance-0").mkdir(parents=True)
+        (state_dir / "instance-0" / "params.json").write_text(json.dumps({k: float(v) for k, v in params.items()}))
+        return state_dir
 
     def close(self) -> None:
         if self.process is not None:

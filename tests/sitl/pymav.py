@@ -89,8 +89,9 @@ def expect_failsafe(gcs: Gcs, words: str, mode: int, timeout: float = 30.0):
 
 
 def upload_mission(gcs: Gcs, items: list) -> None:
-    """Upload a mission; items are (command, x, y, z) in MAV_FRAME_GLOBAL_RELATIVE_ALT_INT, seq 0
-    (home) is added in front. Waits for an accepting MISSION_ACK."""
+    """Upload a mission; items are (command, x, y, z) or (command, x, y, z, (p1, p2, p3, p4)) in
+    MAV_FRAME_GLOBAL_RELATIVE_ALT_INT, seq 0 (home) is added in front. Waits for an accepting
+    MISSION_ACK."""
     full = [(mav.MAV_CMD_NAV_WAYPOINT, 0, 0, 0.0)] + list(items)
     gcs.mav.mission_count_send(gcs.conn.target_system, gcs.conn.target_component, len(full), 0)
     while True:
@@ -99,7 +100,8 @@ def upload_mission(gcs: Gcs, items: list) -> None:
         if msg.get_type() == "MISSION_ACK":
             assert msg.type == mav.MAV_MISSION_ACCEPTED, msg
             return
-        command, x, y, z = full[msg.seq]
+        command, x, y, z, *params = full[msg.seq]
+        p1, p2, p3, p4 = params[0] if params else (0, 0, 0, 0)
         gcs.mav.mission_item_int_send(gcs.conn.target_system, gcs.conn.target_component, msg.seq,
-                                      mav.MAV_FRAME_GLOBAL_RELATIVE_ALT_INT, command, 0, 1, 0, 0, 0, 0,
+                                      mav.MAV_FRAME_GLOBAL_RELATIVE_ALT_INT, command, 0, 1, p1, p2, p3, p4,
                                       x, y, z, 0)

@@ -47,6 +47,7 @@ class AutoItem:
 
 
 # The items subclass AutoItem: imported once it is defined.
+from .camera import CameraItem  # noqa: E402
 from .condition_yaw import ConditionYaw  # noqa: E402
 from .conditions import ConditionDelay, ConditionDistance  # noqa: E402
 from .fence_enable import FenceEnable  # noqa: E402
@@ -75,8 +76,14 @@ ITEMS: dict[int, type[AutoItem]] = {
     195: SetRoi,  # DO_SET_ROI_LOCATION
     197: SetRoi,  # DO_SET_ROI_NONE
     201: SetRoi,  # DO_SET_ROI
+    202: CameraItem,  # DO_DIGICAM_CONFIGURE
+    203: CameraItem,  # DO_DIGICAM_CONTROL
+    206: CameraItem,  # DO_SET_CAM_TRIGG_DIST
     207: FenceEnable,  # DO_FENCE_ENABLE
     222: DoGuidedLimits,  # DO_GUIDED_LIMITS
+    534: CameraItem,  # SET_CAMERA_SOURCE
+    2000: CameraItem,  # IMAGE_START_CAPTURE
+    2001: CameraItem,  # IMAGE_STOP_CAPTURE
     42702: NavScriptTime,  # NAV_SCRIPT_TIME
     42703: NavAttitudeTime,  # NAV_ATTITUDE_TIME
 }

@@ -1,0 +1,47 @@
+"""The camera's mission items, as AP_Mission hands them to AP_Camera (payload/camera.py): done as
+they start (RUN_BY_MISSION), whatever the camera makes of them.
+
+DO_DIGICAM_CONFIGURE (param 4 the ISO), DO_DIGICAM_CONTROL (x the shooting command: 1 a picture),
+DO_SET_CAM_TRIGG_DIST (param 1 the distance, param 3 = 1 a picture now), IMAGE_START_CAPTURE
+(param 1 the camera, 0 all; 2 the interval [s]; 3 the number of pictures, 0 until stopped),
+IMAGE_STOP_CAPTURE (param 1 the camera) and SET_CAMERA_SOURCE (nothing: these cameras have one).
+Parameters are cut to AP_Mission's integer fields (camera numbers bytes, counts uint16).
+"""
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+from ...c_casts import as_uint16
+from . import AutoItem
+
+if TYPE_CHECKING:
+    from ...mission.store import MissionItem
+    from ..auto import Auto
+    from ..context import ModeContext
+
+DIGICAM_CONFIGURE, DIGICAM_CONTROL, SET_CAM_TRIGG_DIST = 202, 203, 206
+IMAGE_START_CAPTURE, IMAGE_STOP_CAPTURE, SET_CAMERA_SOURCE = 2000, 2001, 534
+
+
+def _camera_index(item: MissionItem) -> int | None:
+    number = as_uint16(item.p1) & 0xFF
+    return None if number == 0 else number - 1
+
+
+class CameraItem(AutoItem):
+    def start(self, auto: Auto, ctx: ModeContext, index: int, item: MissionItem) -> bool:
+        camera = ctx.camera
+        command = item.command
+        if command == DIGICAM_CONFIGURE:
+            camera.configure(item.p4)
+        elif command == DIGICAM_CONTROL:
+            camera.control(item.x)
+        elif command == SET_CAM_TRIGG_DIST:
+            camera.trigger_distance(item.p1, as_uint16(item.p3) & 0xFF == 1)
+        elif command == IMAGE_START_CAPTURE:
+            camera.start_capture(_camera_index(item), item.p2, as_uint16(item.p3))
+        elif command == IMAGE_STOP_CAPTURE:
+            which = _camera_index(item)
+            if camera.is_instance(which):
+                camera.stop_capture()
+        return True

@@ -1,0 +1,1 @@
+"""Payloads the autopilot drives itself: the camera (camera.py)."""

@@ -1,0 +1,272 @@
+"""The autopilot's own camera driver, as ArduPilot's AP_Camera runs CAM1 (CAM1_TYPE 1: a servo
+output, 2: a relay) for the commands and mission items that reach it.
+
+A picture (take_picture) is refused while CAM1_INTRVAL_MIN has not passed since the last one (it
+is then taken as soon as it has: pending) and while the shutter is still held from the last one.
+Taken, it moves the shutter: the outputs whose SERVOn_FUNCTION is the camera trigger (10) go to
+CAM1_SERVO_ON, or the relays whose RELAYn_FUNCTION is the camera (4) to CAM1_RELAY_ON, for
+CAM1_DURATION; it counts the image and stores its feedback (where and how the vehicle was, with
+the GPS time), which the MAVLink layer sends as CAMERA_FEEDBACK to every link.
+
+update() runs at AP_Camera's 50 Hz, only while something is to do (busy): the shutter held, a
+picture pending, an interval capture (IMAGE_START_CAPTURE) or distance triggering on (a
+CAM1_TRIGG_DIST above 0, also set by DO_SET_CAM_TRIGG_DIST). An interval capture takes a picture
+each time the interval has passed since the last one and, while it runs, distance triggering
+waits. Distance triggering takes one each time the vehicle is CAM1_TRIGG_DIST from where the last
+one was taken (the first position it sees is the start), in AUTO only if CAM_AUTO_ONLY says so,
+and not while rolled beyond CAM_MAX_ROLL (0: any roll).
+
+CAM1_TYPE is read at boot, as ArduPilot builds its camera backend once: a change takes effect
+after a reboot. Left 0 with an output set to the camera trigger, it becomes 1 at boot (ArduPilot
+converts a CAM1_TYPE it has not stored from the older settings so). With no camera every command still answers as ArduCopter's does, and nothing runs.
+"""
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from typing import NamedTuple
+
+from ..params import ParamStore
+from ..views import CameraView
+
+NONE, SERVO, RELAY = 0, 1, 2  # CAM1_TYPE
+TRIGGER_FUNCTION = 10  # SERVOn_FUNCTION: camera trigger (SRV_Channel k_cam_trigger)
+RELAY_CAMERA_FUNCTION = 4  # RELAYn_FUNCTION: camera
+UPDATE_S = 0.02  # AP_Camera::update's rate, 50 Hz
+UPDATES_PER_S = 50  # how AP_Camera counts CAM1_DURATION down: updates at 50 Hz
+CAPTURE_FOREVER = -1
+CHANNELS, RELAYS = 16, 6
+AUTO = 3  # mode number
+YAW_FULL_TURN_F32 = 359.99998  # from here up a float32 rounds to 360
+
+
+class Feedback(NamedTuple):
+    """One picture as CAMERA_FEEDBACK reports it."""
+    time_usec: int  # GPS time the picture was taken
+    image_index: int  # pictures taken since boot, this one included
+    lat_e7: int
+    lon_e7: int
+    alt_msl_m: float  # to the centimetre, as ArduPilot's Location holds it
+    alt_rel_m: float
+    roll_deg: float
+    pitch_deg: float
+    yaw_deg: float  # 0..360
+
+
+class CameraStatus(NamedTuple):
+    """What the camera's messages report (mavlink/camera_messages.py)."""
+    present: bool
+    image_index: int
+    interval_s: float  # an interval capture's, 0 if none
+    capturing: bool  # an interval capture with pictures still to take
+    feedback: Feedback | None
+
+
+class Camera:
+    def __init__(self, view: CameraView, params: ParamStore, servo_pwm: list[int], relays: list[bool]):
+        self._v = view  # the vehicle, read-only
+        self.params = params
+        if params["CAM1_TYPE"] == NONE and any(params.get(f"SERVO{i}_FUNCTION", 0) == TRIGGER_FUNCTION
+                                               for i in range(1, CHANNELS + 1)):
+            # AP_Camera::convert_params: a CAM1_TYPE never set (the default, which is not
+            # stored) becomes a servo camera when an output is the camera trigger, and is saved
+            params.set("CAM1_TYPE", SERVO)
+        self.kind = int(params["CAM1_TYPE"])
+        self.present = self.kind in (SERVO, RELAY)
+        self._servo_pwm, self._relays = servo_pwm, relays  # the outputs it drives (servo_relay.py's)
+        self.image_index = 0
+        self.feedback: Feedback | None = None  # the last picture's
+        self.feedback_due = False  # a picture not yet reported on the links
+        # Who else hears of each picture (the dataflash log's CAM records): set by the I/O edge
+        self.picture_listener: Callable[[Feedback], None] | None = None
+        self.busy = False
+        self.interval_s = 0.0  # an interval capture: seconds between pictures
+        self.remaining = 0  # ... pictures still to take (CAPTURE_FOREVER: no end)
+        self.trigg_dist_m = params["CAM1_TRIGG_DIST"]
+        self._pending = False
+        self._hold = 0  # updates the shutter stays open
+        self._last_picture_s = 0.0
+        self._last_ne: tuple[float, float] | None = None  # where distance triggering measures from
+        self._next_update_s = 0.0
+        self._shutter_open = False
+        self._trigger_outputs: tuple[int, ...] = ()  # 0-based outputs or relays the shutter moves
+        if self.present:
+            params.on_change(self._param_changed)
+            self._find_outputs()
+            self._shutter(False)
+
+    def status(self) -> CameraStatus:
+        return CameraStatus(self.present, self.image_index, self.interval_s, self.remaining > 0, self.feedback)
+
+    # ----- what commands and mission items ask ---------------------------------------------------
+    def take_picture(self) -> bool:
+        """One picture now; False if refused (too soon after the last: taken once it may be)."""
+        if not self.present:
+            return False
+        v = self._v
+        now = v.time_s
+        if now - self._last_picture_s < self.params["CAM1_INTRVAL_MIN"] - 1e-9:
+            self._pending = self.busy = True
+            return False
+        self._pending = False
+        if self._hold > 0:  # the shutter is still held from the last picture
+            return False
+        self._shutter(True)
+        self._hold = min(int(self.params["CAM1_DURATION"] * UPDATES_PER_S), 65535)
+        self.image_index = (self.image_index + 1) & 0xFFFF  # ArduPilot's count is a uint16
+        self._last_picture_s = now
+        b = v.body
+        self._last_ne = (b.n_m, b.e_m)
+        self.feedback = self._feedback(v, self.image_index)
+        self.feedback_due = self.busy = True
+        if self.picture_listener is not None:
+            self.picture_listener(self.feedback)
+        return True
+
+    def control(self, shoot: float) -> None:
+        """DO_DIGICAM_CONTROL: its shooting command 1 takes a picture (nothing else is modelled)."""
+        if self.present and shoot == 1:
+            self.take_picture()
+
+    def configure(self, iso: float) -> None:
+        """DO_DIGICAM_CONFIGURE: a servo camera moves its ISO output (function 12), which this
+        vehicle has none of; accepted, and nothing shows."""
+
+    def set_trigger_distance(self, distance_m: float) -> None:
+        """DO_SET_CAM_TRIGG_DIST: CAM1_TRIGG_DIST for now (not saved, as AP_Param::set)."""
+        if not self.present:
+            return
+        self.trigg_dist_m = distance_m
+        self.params.report("CAM1_TRIGG_DIST", distance_m)
+        self._check_busy()
+        if self.busy:
+            self._next_update_s = min(self._next_update_s, self._v.time_s)
+
+    def take_pictures(self, interval_s: float, count: int) -> bool:
+        """IMAGE_START_CAPTURE with an interval: `count` pictures (CAPTURE_FOREVER: until stopped),
+        the first at the next update; False with no camera."""
+        if not self.present:
+            return False
+        self.interval_s, self.remaining = interval_s, count
+        self._check_busy()
+        self._next_update_s = min(self._next_update_s, self._v.time_s)
+        return True
+
+    def stop_capture(self) -> None:
+        self.interval_s, self.remaining = 0.0, 0
+        self._check_busy()
+
+    def is_instance(self, index: int | None) -> bool:
+        """Whether camera `index` (0-based; None: every camera) is there: CAM1 only."""
+        return self.present and (index is None or index == 0)
+
+    def start_capture(self, index: int | None, interval_s: float, count: int) -> bool:
+        """IMAGE_START_CAPTURE as AP_Camera reads it, for a command or a mission item: one picture
+        when `count` is 1 or both are 0; else pictures every `interval_s` (whole milliseconds,
+        not 0), `count` of them or, for 0, until stopped. False: no such camera, no picture
+        (too soon) or no interval."""
+        if not self.is_instance(index):
+            return False
+        if count == 1 or (interval_s == 0 and count == 0):
+            return self.take_picture()
+        interval_ms = int(interval_s * 1000) & 0xFFFFFFFF if math.isfinite(interval_s) and interval_s > 0 else 0
+        if interval_ms == 0:
+            return False
+        return self.take_pictures(interval_ms / 1000.0, CAPTURE_FOREVER if count == 0 else count)
+
+    def trigger_distance(self, distance_m: float, shoot_now: bool) -> None:
+        """DO_SET_CAM_TRIGG_DIST, command or mission item: the distance, and a picture now if asked."""
+        self.set_trigger_distance(distance_m)
+        if shoot_now:
+            self.take_picture()
+
+    # ----- the 50 Hz update ----------------------------------------------------------------------
+    def update(self) -> None:
+        """AP_Camera's update, at 50 Hz of sim time; the vehicle calls it while busy."""
+        v = self._v
+        now = v.time_s
+        if now < self._next_update_s - 1e-9:
+            return
+        self._next_update_s = max(self._next_update_s + UPDATE_S, now)
+        if self._hold > 0:
+            self._hold -= 1
+        elif self._shutter_open:
+            self._shutter(False)
+        if self._pending:
+            self.take_picture()
+        if self.remaining != 0:
+            if now - self._last_picture_s >= self.interval_s - 1e-9 and self.take_picture() and self.remaining > 0:
+                self.remaining -= 1
+        else:
+            self._by_distance()
+        self._check_busy()
+
+    def _by_distance(self) -> None:
+        if not self.trigg_dist_m > 0:
+            self._last_ne = None
+            return
+        params = self.params
+        v = self._v
+        if params["CAM_AUTO_ONLY"] != 0 and v.mode_number != AUTO:
+            return
+        max_roll = params["CAM_MAX_ROLL"]
+        if max_roll > 0 and abs(math.degrees(v.attitude[0])) > max_roll:
+            return
+        b = v.body
+        here = (b.n_m, b.e_m)
+        last = self._last_ne
+        if last is None:
+            self._last_ne = here
+            return
+        if math.hypot(here[0] - last[0], here[1] - last[1]) >= self.trigg_dist_m:
+            self.take_picture()
+
+    def _check_busy(self) -> None:
+        self.busy = self.present and (self._hold > 0 or self._pending or self.remaining != 0
+                                      or self.trigg_dist_m > 0 or self._shutter_open)
+
+    # ----- the outputs ---------------------------------------------------------------------------
+    def _find_outputs(self) -> None:
+        """The outputs the shutter moves: read at boot and when an output's function changes."""
+        get = self.params.get
+        if self.kind == SERVO:
+            self._trigger_outputs = tuple(i for i in range(CHANNELS)
+                                          if get(f"SERVO{i + 1}_FUNCTION", 0) == TRIGGER_FUNCTION)
+        else:
+            self._trigger_outputs = tuple(i for i in range(RELAYS)
+                                          if get(f"RELAY{i + 1}_FUNCTION", 0) == RELAY_CAMERA_FUNCTION)
+
+    def _shutter(self, open_: bool) -> None:
+        """The trigger outputs to CAM1_SERVO_ON / _OFF, or the camera relays to CAM1_RELAY_ON or not."""
+        self._shutter_open = open_
+        params = self.params
+        if self.kind == SERVO:
+            pwm = int(params["CAM1_SERVO_ON" if open_ else "CAM1_SERVO_OFF"])
+            for i in self._trigger_outputs:
+                self._servo_pwm[i] = pwm
+        else:
+            on = params["CAM1_RELAY_ON"] != 0
+            for i in self._trigger_outputs:
+                self._relays[i] = on if open_ else not on
+
+    def _param_changed(self, name: str, value: float) -> None:
+        if name == "CAM1_TRIGG_DIST":
+            self.trigg_dist_m = value
+            self._check_busy()
+        elif name.endswith("_FUNCTION") and name.startswith(("SERVO", "RELAY")):
+            self._find_outputs()
+            self._shutter(self._shutter_open)
+
+    @staticmethod
+    def _feedback(v: CameraView, image_index: int) -> Feedback:
+        pos = v.position_global()
+        home = v.home
+        alt_cm = round(pos.alt_m * 100)
+        home_cm = round((home or v.origin).alt_m * 100)
+        roll, pitch, yaw = v.attitude
+        yaw_deg = math.degrees(yaw) % 360.0  # AHRS's yaw in degrees: 0..360
+        if yaw_deg >= YAW_FULL_TURN_F32:  # a hair under north: the message's float32 would read 360
+            yaw_deg = 0.0
+        return Feedback(v.unix_time_us(), image_index, round(pos.lat_deg * 1e7), round(pos.lon_deg * 1e7),
+                        alt_cm / 100.0, (alt_cm - home_cm) / 100.0, math.degrees(roll), math.degrees(pitch),
+                        yaw_deg)

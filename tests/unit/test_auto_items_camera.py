@@ -1,0 +1,186 @@
+"""CAM1 (payload/camera.py) on the real vehicle model: the shutter's output, pictures by command,
+by interval and by distance in AUTO, and the camera commands' answers as ArduCopter's."""
+from __future__ import annotations
+
+import math
+
+from firefly.autopilot.mavlink.camera_commands import HANDLERS
+from firefly.autopilot.mavlink.commands import Command
+from firefly.autopilot.mavlink.dialect import mavlink as mav
+from firefly.autopilot.mission import MissionItem
+from firefly.autopilot.params import ParamStore
+from firefly.autopilot.results import Result
+from firefly.autopilot.vehicle import Vehicle, VehicleConfig
+
+from ._util import fly_until
+from .test_auto import takeoff, wp_at
+
+SERVO9 = 8  # 0-based
+
+
+def camera_vehicle(kind: int = 1, trigger_output: bool = True, **params) -> Vehicle:
+    store = ParamStore()
+    store.set("CAM1_TYPE", kind)
+    if trigger_output:
+        store.set("SERVO9_FUNCTION", 10)
+    for name, value in params.items():
+        store.set(name, value)
+    v = Vehicle(VehicleConfig(), store)
+    v.run_until(0.5)
+    return v
+
+
+def pictures(v: Vehicle, seconds: float) -> list[tuple[float, object]]:
+    """Run `seconds`; each picture reported (as the session drains them) with its time."""
+    taken = []
+    end = v.time_s + seconds
+    while v.time_s < end - 1e-9:
+        v.run_until(v.time_s + 0.01)
+        if v.camera.feedback_due:
+            v.camera.feedback_due = False
+            taken.append((v.time_s, v.camera.feedback))
+    return taken
+
+
+def command(v: Vehicle, number: int, *params: float) -> Result:
+    p = (list(params) + [0.0] * 7)[:7]
+    session = type("Session", (), {"vehicle": v})()
+    return HANDLERS[number](session, Command(number, *p, mav.MAV_FRAME_GLOBAL, False, 0, (255, 190)))
+
+
+def test_a_picture_holds_the_trigger_output_for_cam1_duration_and_is_reported():
+    v = camera_vehicle()
+    assert v.servo_pwm[SERVO9] == 1100  # CAM1_SERVO_OFF from boot
+    assert command(v, mav.MAV_CMD_DO_DIGICAM_CONTROL, 0, 0, 0, 0, 1) == Result.ACCEPTED
+    assert v.servo_pwm[SERVO9] == 1300 and v.camera.feedback_due
+    f = v.camera.feedback
+    assert f.image_index == 1 and f.alt_rel_m == 0.0 and f.time_usec == v.unix_time_us()
+    v.run_until(v.time_s + 0.08)
+    assert v.servo_pwm[SERVO9] == 1300
+    v.run_until(v.time_s + 0.06)
+    assert v.servo_pwm[SERVO9] == 1100 and not v.camera.busy
+
+
+def test_without_a_camera_commands_answer_as_arducopters_and_nothing_runs():
+    v = camera_vehicle(kind=0, trigger_output=False)
+    assert command(v, mav.MAV_CMD_DO_DIGICAM_CONTROL, 0, 0, 0, 0, 1) == Result.ACCEPTED
+    assert command(v, mav.MAV_CMD_DO_SET_CAM_TRIGG_DIST, 10, 0, 1) == Result.ACCEPTED
+    assert command(v, mav.MAV_CMD_IMAGE_START_CAPTURE, 0, 1, 3) == Result.FAILED
+    assert command(v, mav.MAV_CMD_IMAGE_STOP_CAPTURE, 0) == Result.ACCEPTED
+    assert command(v, mav.MAV_CMD_SET_CAMERA_SOURCE, 0, 1, 0) == Result.DENIED
+    assert not v.camera.busy and v.camera.image_index == 0 and v.servo_pwm[SERVO9] == 0
+
+
+def test_cam1_type_left_unset_with_a_trigger_output_becomes_a_servo_camera_at_boot():
+    v = camera_vehicle(kind=0)
+    assert v.params["CAM1_TYPE"] == 1 and v.camera.present and v.servo_pwm[SERVO9] == 1100
+
+
+def test_capture_commands_refuse_what_the_reference_refuses():
+    v = camera_vehicle()
+    assert command(v, mav.MAV_CMD_IMAGE_START_CAPTURE, -1, 0, 0) == Result.UNSUPPORTED
+    assert command(v, mav.MAV_CMD_IMAGE_START_CAPTURE, 2, 0, 0) == Result.FAILED  # no camera 2
+    assert command(v, mav.MAV_CMD_IMAGE_START_CAPTURE, 0, 0, 3) == Result.FAILED  # three, no interval
+    assert command(v, mav.MAV_CMD_IMAGE_STOP_CAPTURE, 2) == Result.UNSUPPORTED
+    assert command(v, mav.MAV_CMD_IMAGE_STOP_CAPTURE, 1) == Result.ACCEPTED
+    assert command(v, mav.MAV_CMD_SET_CAMERA_SOURCE, 1, 1, 0) == Result.DENIED
+    assert v.camera.image_index == 0
+
+
+def test_an_interval_capture_takes_its_count_a_interval_apart_then_stops():
+    v = camera_vehicle()
+    assert command(v, mav.MAV_CMD_IMAGE_START_CAPTURE, 0, 1.0, 3) == Result.ACCEPTED
+    taken = pictures(v, 4.5)
+    assert len(taken) == 3
+    gaps = [b[0] - a[0] for a, b in zip(taken, taken[1:])]
+    assert all(abs(g - 1.0) < 0.03 for g in gaps), gaps
+    assert [f.image_index for _, f in taken] == [1, 2, 3]
+    status = v.camera_status()
+    assert not status.capturing and status.interval_s == 1.0
+
+
+def test_a_picture_asked_within_cam1_intrval_min_waits_for_it():
+    v = camera_vehicle(CAM1_INTRVAL_MIN=2.0)
+    v.run_until(3.0)
+    assert command(v, mav.MAV_CMD_DO_DIGICAM_CONTROL, 0, 0, 0, 0, 1) == Result.ACCEPTED
+    first = v.time_s
+    v.camera.feedback_due = False
+    v.run_until(v.time_s + 0.5)
+    command(v, mav.MAV_CMD_DO_DIGICAM_CONTROL, 0, 0, 0, 0, 1)
+    assert not v.camera.feedback_due  # postponed
+    taken = pictures(v, 2.0)
+    assert len(taken) == 1 and abs(taken[0][0] - first - 2.0) < 0.03
+
+
+def test_auto_triggers_by_distance_along_a_leg_from_the_picture_taken_at_its_start():
+    v = camera_vehicle()
+    v.mission.replace(0, [takeoff(), wp_at(v, 0.5, 0), MissionItem(206, 3, 10, 0, 1, 0), wp_at(v, 60, 0),
+                          MissionItem(206, 3, 0), wp_at(v, 60, 30), MissionItem(21, 3)])
+    v.set_mode(4)
+    v.arm()
+    v.set_mode(3)
+    v.mission_start()
+    taken = pictures(v, 45.0)
+    norths = [v.ned_of(f.lat_e7 * 1e-7, f.lon_e7 * 1e-7, f.alt_msl_m)[0] for _, f in taken]
+    assert len(taken) == 6, norths  # at the start, then every 10 m up to 50 (the leg ends at 60)
+    assert abs(norths[0] - 0.5) < 0.5
+    spacing = [b - a for a, b in zip(norths, norths[1:])]
+    assert all(10.0 <= s < 10.6 for s in spacing), spacing
+    assert all(abs(f.alt_rel_m - 10.0) < 0.3 for _, f in taken[1:])
+    assert v.camera.trigg_dist_m == 0 and v.params["CAM1_TRIGG_DIST"] == 0
+
+
+def test_distance_triggering_waits_outside_auto_when_cam_auto_only():
+    v = camera_vehicle(CAM_AUTO_ONLY=1)
+    v.set_mode(4)
+    v.arm()
+    v.takeoff(10.0)
+    assert fly_until(v, lambda x: x.home_ned[2] - x.body.d_m > 9.5, 20.0)
+    assert command(v, mav.MAV_CMD_DO_SET_CAM_TRIGG_DIST, 5) == Result.ACCEPTED
+    v.guided_goto(30.0, 0.0, v.body.d_m)
+    assert not pictures(v, 12.0) and v.body.n_m > 25.0
+    v.params.set("CAM_AUTO_ONLY", 0)
+    v.guided_goto(0.0, 0.0, v.body.d_m)
+    taken = pictures(v, 12.0)
+    assert len(taken) >= 4 and math.isclose(v.camera.trigg_dist_m, 5.0)
+
+
+def test_each_picture_is_logged_as_a_cam_record_as_arducopter_writes_it(tmp_path):
+    from firefly.autopilot.dataflash.recorder import Recorder
+
+    from .test_dataflash import MemorySink, read_log, run
+
+    v = camera_vehicle(LOG_DISARMED=1)
+    sink = MemorySink()
+    rec = Recorder(v, sink)
+    v.camera.picture_listener = rec.picture
+    run(v, rec, 0.5)
+    assert command(v, mav.MAV_CMD_DO_DIGICAM_CONTROL, 0, 0, 0, 0, 1) == Result.ACCEPTED
+    run(v, rec, 0.5)
+    cams = read_log(tmp_path, sink.logs[-1])["CAM"]
+    assert len(cams) == 1
+    cam, f = cams[0], v.camera.feedback
+    assert (cam.I, cam.Img, cam.RelAlt) == (0, 1, 0.0)
+    assert math.isclose(cam.Lat, f.lat_e7 * 1e-7) and math.isclose(cam.Alt, f.alt_msl_m)
+    assert abs(cam.GPSAlt - f.alt_msl_m) < 1.0 and 0 <= cam.Y < 360 and cam.GPSWeek > 2000
+
+
+def test_mission_items_shoot_start_and_stop_an_interval_capture():
+    """DIGICAM_CONTROL (x = 1: shoot), IMAGE_START_CAPTURE every 1 s until stopped, then
+    IMAGE_STOP_CAPTURE two waypoints on: pictures only between the two, a second apart."""
+    v = camera_vehicle()
+    v.mission.replace(0, [takeoff(), MissionItem(203, 2, x=1), MissionItem(2000, 2, 0, 1.0, 0),
+                          wp_at(v, 20, 0), MissionItem(2001, 2, 0), wp_at(v, 20, 20), MissionItem(21, 3)])
+    v.set_mode(4)
+    v.arm()
+    v.set_mode(3)
+    v.mission_start()
+    taken = pictures(v, 40.0)
+    assert len(taken) >= 4
+    easts = [v.ned_of(f.lat_e7 * 1e-7, f.lon_e7 * 1e-7, f.alt_msl_m)[1] for _, f in taken]
+    assert max(easts) < 1.0  # none on the leg east, after IMAGE_STOP_CAPTURE
+    assert v.body.e_m > 19.0  # ... which was flown
+    gaps = [b[0] - a[0] for a, b in zip(taken[1:], taken[2:])]
+    assert all(abs(g - 1.0) < 0.03 for g in gaps), gaps
+    assert [f.image_index for _, f in taken] == list(range(1, len(taken) + 1))
+    assert not v.camera.busy and not v.camera_status().capturing
