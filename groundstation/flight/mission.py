@@ -41,8 +41,9 @@ def to_raw_items(plan: MissionPlan, home) -> list:
     raw = [MissionItem(0, FRAME_GLOBAL, 16, 1, 1, 0, 0, 0, 0, int(round(home.latitude_deg * 1e7)),
                        int(round(home.longitude_deg * 1e7)), home.absolute_altitude_m, 0)]
     for seq, it in enumerate(plan.items, start=1):
+        scale = 1 if it.frame == FRAME_MISSION else 1e7  # a MISSION-frame item's x, y are plain numbers
         raw.append(MissionItem(seq, it.frame, it.command, 0, int(it.autocontinue), *it.params,
-                               int(round(it.lat_deg * 1e7)), int(round(it.lon_deg * 1e7)), it.alt_m, 0))
+                               int(round(it.lat_deg * scale)), int(round(it.lon_deg * scale)), it.alt_m, 0))
     return raw
 
 
