@@ -55,7 +55,7 @@ def return_to_launch() -> PlannedItem:
 
 def trigger_distance(metres: float, shoot_now: bool) -> PlannedItem:
     """DO_SET_CAM_TRIGG_DIST: a photo every `metres` (0 stops); param 3 = 1 shoots one at once."""
-    return PlannedItem(DO_SET_CAM_TRIGG_DIST, FRAME_MISSION, (metres, 0.0, 1.0 if shoot_now else 0.0, 0.0), 0, 0, 0)
+    return PlannedItem(DO_SET_CAM_TRIGG_DIST, FRAME_MISSION, (metres, 0.0, 1.0 if shoot_now else 0.0, 0.0), 0.0, 0.0, 0.0)
 
 
 def land_start(lat: float, lon: float) -> PlannedItem:
