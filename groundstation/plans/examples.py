@@ -3,6 +3,8 @@
   survey.plan        QGC survey of a 40 x 60 m field at 20 m, transects 15 m apart, a photo every 8 m
   corridor.plan      QGC corridor scan, 20 m wide, along 100 m with a right-angle bend, at 20 m
   structure.plan     QGC structure scan of a 20 x 20 m, 20 m tall building: 2 layers, 10 m off its walls
+                     (ArduCopter 4.7 refuses its DO_SET_ROI_WPNEXT_OFFSET at upload)
+  structure_roi.waypoints  the same scan pointing at the building's centre (DO_SET_ROI_LOCATION)
   splines.waypoints  Mission Planner: takeoff, spline waypoints round a loop, a landing sequence
                      after DO_LAND_START
 """
@@ -51,6 +53,9 @@ def write_examples(out: Path) -> list[Path]:
         path = out / f"{name}.plan"
         write_plan(path, HOME, [takeoff(alt), scan, return_to_launch()])
         written.append(path)
-    path = out / "splines.waypoints"
-    write_waypoints(path, HOME, SPLINES)
-    return written + [path]
+    for name, items in (("structure_roi", [takeoff(STRUCTURE.entrance_alt_m), *STRUCTURE.items_pointing_at_centre(),
+                                           return_to_launch()]), ("splines", SPLINES)):
+        path = out / f"{name}.waypoints"
+        write_waypoints(path, HOME, items)
+        written.append(path)
+    return written

@@ -3,14 +3,19 @@ footprint grown by the scan distance is flown once per layer, round from the ent
 it, with the camera triggered by distance round each layer and pointed at the structure
 (DO_SET_ROI_WPNEXT_OFFSET, 90 degrees off the next waypoint) for the whole scan. QGC saves only
 these settings, not the items: it makes them again when it loads the plan, and so does
-`from_qgc_json` here."""
+`from_qgc_json` here.
+
+ArduCopter 4.7 refuses DO_SET_ROI_WPNEXT_OFFSET at upload (MAV_MISSION_UNSUPPORTED: QGC issue
+6824, ArduPilot issue 30710; it comes in 4.8), so a QGC structure scan stops there on it.
+`items_pointing_at_centre` is the scan as ArduPilot's developers advise flying it meanwhile: the
+same items with the structure's centre as a fixed ROI (DO_SET_ROI_LOCATION) instead."""
 from __future__ import annotations
 
 from dataclasses import dataclass
 
 from .geo import LocalFrame, offset_polygon
-from .items import (DO_SET_ROI_NONE, DO_SET_ROI_WPNEXT_OFFSET, FRAME_MISSION, PlannedItem, trigger_distance,
-                    waypoint)
+from .items import (DO_SET_ROI_LOCATION, DO_SET_ROI_NONE, DO_SET_ROI_WPNEXT_OFFSET, FRAME_MISSION, FRAME_RELATIVE,
+                    PlannedItem, trigger_distance, waypoint)
 
 MANUAL_CAMERA = "Manual (no camera specs)"
 
@@ -56,6 +61,15 @@ class StructureScan:
         items.append(PlannedItem(DO_SET_ROI_NONE, FRAME_MISSION, (0.0, 0.0, 0.0, 0.0), 0.0, 0.0, 0.0))
         items.append(waypoint(*entrance, self.entrance_alt_m))
         return items
+
+    def items_pointing_at_centre(self) -> list:
+        """items() with the ROI a fixed point: the footprint's centre, half way up the structure."""
+        frame = self.frame
+        ring = [frame.to_ne(*v) for v in self.footprint]
+        centre = frame.to_latlon(sum(p[0] for p in ring) / len(ring), sum(p[1] for p in ring) / len(ring))
+        roi = PlannedItem(DO_SET_ROI_LOCATION, FRAME_RELATIVE, (0.0, 0.0, 0.0, 0.0), *centre,
+                          (self.bottom_alt_m + self.structure_height_m) / 2)
+        return [roi if it.command == DO_SET_ROI_WPNEXT_OFFSET else it for it in self.items()]
 
     def qgc_json(self, first_jump_id: int = 0) -> dict:
         return {
