@@ -3,7 +3,14 @@
 Uploads the mission (mission_raw), arms, starts it, shows progress (item k of n, distance to the
 next waypoint, battery) on a progress bar, waits for the end measured in vehicle time (the GPS
 timestamps the vehicle sends), returns home if the mission did not land, and writes a summary and
-a PNG of the planned against the flown track.
+a PNG of the planned against the flown track, with the camera's photos where it took them.
+
+The photos come from CAMERA_FEEDBACK, which MAVSDK's Python API does not expose: a pymavlink
+listener (camera_feedback.py) reads it on a link of its own. When this command starts its own
+autopilot it adds an `--out` for that listener; against a running vehicle (--url) it listens on
+--camera-url if given (a MAVProxy output, say), else the photos are not watched and the summary
+says so. A plan that uses the camera gets CAM1_TYPE 1 (a servo camera) when the vehicle has it at
+0; ArduCopter makes its camera at boot, so there the photos start from its next boot.
 """
 from __future__ import annotations
 
@@ -15,15 +22,19 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from mavsdk.asyncio.plugins.mission_raw import MissionItem, MissionRawAsync
+from mavsdk.asyncio.plugins.param import ParamAsync, ParamError
 
 from ..plots import draw_track, label_map, png
 from ..progress import Progress
-from .autopilot_process import run_flight
+from .autopilot_process import free_udp_port, run_flight
+from .camera_feedback import CameraFeedbackListener
 from .mission_files import MissionPlan, load_mission
 from .vehicle_link import LinkError, VehicleLink, first
 
 FRAME_GLOBAL, FRAME_MISSION = 0, 2
 NAV_RTL, NAV_LAND = 20, 21
+CAMERA_COMMANDS = {202, 203, 206, 214, 2000, 2001}  # DIGICAM_CONFIGURE/CONTROL, CAM_TRIGG_DIST/INTERVAL, IMAGE_*
+SERVO_CAMERA = 1
 VEHICLE_TIME_MARGIN_S = 180.0
 
 
@@ -57,12 +68,26 @@ def path_length(points: list) -> float:
     return sum(math.dist(a[:2], b[:2]) for a, b in zip(points, points[1:]))
 
 
-async def fly_mission(url: str, plan: MissionPlan, plot: Path | None) -> dict:
+async def camera_ready(link: VehicleLink) -> None:
+    """CAM1_TYPE 1 where the vehicle has a camera parameter set to none."""
+    params = ParamAsync(link.system)
+    try:
+        if await params.get_param_int("CAM1_TYPE") == 0:
+            await params.set_param_int("CAM1_TYPE", SERVO_CAMERA)
+            print("CAM1_TYPE set to 1 (servo camera); ArduCopter takes it at its next boot")
+    except ParamError:
+        print("the vehicle has no CAM1_TYPE: no camera to trigger")
+
+
+async def fly_mission(url: str, plan: MissionPlan, plot: Path | None,
+                      camera: CameraFeedbackListener | None = None) -> dict:
     link = await VehicleLink.connect(url)
     rec = FlightRecord()
     tasks = []
     try:
         await link.wait_armable()
+        if any(it.command in CAMERA_COMMANDS for it in plan.items):
+            await camera_ready(link)
         mission = MissionRawAsync(link.system)
         raw = to_raw_items(plan, link.home)
         await mission.upload_mission(raw)
@@ -130,30 +155,46 @@ async def fly_mission(url: str, plan: MissionPlan, plot: Path | None) -> dict:
             "wall_time_s": time.monotonic() - wall0, "flown_m": path_length(rec.track),
             "planned_m": path_length(planned), "battery_used_pct": rec.battery_start_pct - rec.battery_pct,
             "landed_from_home_m": math.hypot(*link.north_east_m(final)),
+            "camera_triggers": len(camera.photos) if camera is not None else "not watched",
         }
+        photos = [link.north_east_of(lat, lon) for lat, lon, _ in camera.photos] if camera is not None else []
     finally:
         for t in tasks:
             t.cancel()
         link.close()
     if plot is not None:
-        write_plot(planned, rec.track, plot)
+        write_plot(planned, rec.track, plot, photos=photos)
         summary["plot"] = str(plot)
     return summary
 
 
-def write_plot(planned: list, flown: list, path: Path, title: str = "Mission: planned and flown") -> None:
+def write_plot(planned: list, flown: list, path: Path, title: str = "Mission: planned and flown",
+               photos: list = ()) -> None:
     with png(path, (6, 6)) as (fig, ax):
         draw_track(ax, planned, "k--o", lw=0.9, ms=4, label="planned")
         draw_track(ax, flown, lw=1.5, label="flown")
+        if photos:
+            draw_track(ax, photos, "rx", ms=6, label=f"camera triggers ({len(photos)})")
         ax.plot(0, 0, "g^", ms=10, label="home")
         label_map(ax, title)
         ax.set_aspect("equal")
         ax.legend(loc="best")
 
 
-def run(path: Path, url: str | None, speedup: float, plot: Path | None) -> int:
+def run(path: Path, url: str | None, speedup: float, plot: Path | None, camera_url: str | None = None) -> int:
     plan = load_mission(path)
-    summary = run_flight(lambda at: fly_mission(at, plan, plot), url, speedup)
+    extra: tuple = ()
+    if url is None:  # an autopilot of our own: one more output, for the camera listener
+        port = free_udp_port()
+        camera_url, extra = f"udpin:127.0.0.1:{port}", ("--out", f"udp:127.0.0.1:{port}")
+    camera = CameraFeedbackListener(camera_url) if camera_url else None
+    if camera is not None:
+        camera.start()
+    try:
+        summary = run_flight(lambda at: fly_mission(at, plan, plot, camera), url, speedup, extra=extra)
+    finally:
+        if camera is not None:
+            camera.stop()
     print("summary: " + ", ".join(f"{k} {v:.1f}" if isinstance(v, float) else f"{k} {v}"
                                   for k, v in summary.items()))
     return 0
