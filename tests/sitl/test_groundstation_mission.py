@@ -33,12 +33,32 @@ def test_mission_file_is_flown_to_the_end(autopilot, tmp_path, name):
     assert plot.stat().st_size > 10_000 and plot.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 
+def test_a_qgc_survey_is_flown_with_its_own_autopilot_and_the_camera_watched(tmp_path):
+    """The survey QGC's rules make (examples/plans/), flown end to end by an autopilot the command
+    starts, with the camera listener on an output of its own."""
+    plot = tmp_path / "survey.png"
+    result = run_groundstation("mission", str(EXAMPLES / "plans" / "survey.plan"), "--speedup", "20",
+                               "--plot", str(plot), timeout=240)
+    assert result.returncode == 0, result.stderr[-2000:]
+    assert "uploaded 24 items" in result.stdout and "item 24/24" in result.stdout
+    summary = next(line for line in result.stdout.splitlines() if line.startswith("summary:"))
+    fields = dict(part.rsplit(" ", 1) for part in summary.removeprefix("summary: ").split(", "))
+    assert float(fields["landed_from_home_m"]) < 2.0
+    # the transects and turnarounds: over 300 m; the photos counted (0 until Firefly has a camera)
+    assert float(fields["flown_m"]) > 300.0
+    assert int(fields["camera_triggers"]) >= 0
+    assert plot.stat().st_size > 10_000
+
+
 @pytest.mark.parametrize("content, mentions", [
     ("QGC WPL 110\n0\t1\t0\t16\t0\t0\t0\t0\t-35.36\t149.16\t584\t1\n1\t0\t3\t16\t0\t0\t0\n", ":3: expected 12 fields"),
     ("QGC WPL 110\n0\t1\t0\t16\t0\t0\t0\t0\t-35.36\t149.16\t584\t1\n1\t0\t3\t16\t0\t0\t0\t0\t95\t149\t10\t1\n", "latitude"),
     ("QGC WPL 100\n", ":1: expected the header"),
     ("not a mission", "neither"),
     (json.dumps({"fileType": "Plan", "mission": {"items": [{"type": "ComplexItem"}]}}), "items[0]"),
+    (json.dumps({"fileType": "Plan", "mission": {"items": [{"type": "ComplexItem", "complexItemType": "survey",
+                                                            "TransectStyleComplexItem": {"Items": []}}]}}),
+     "items[0].TransectStyleComplexItem.Items"),
     (json.dumps({"fileType": "Plan", "mission": {"items": [{"type": "SimpleItem", "command": 16,
                                                             "frame": 3, "params": [0, 0, 0]}]}}), "params"),
     ("{\n  \"fileType\": \"Plan\",\n  oops\n}", ":3: not valid JSON"),
