@@ -21,7 +21,7 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from mavsdk.asyncio.plugins.mission_raw import MissionItem, MissionRawAsync
+from mavsdk.asyncio.plugins.mission_raw import MissionItem, MissionRawAsync, MissionRawError
 from mavsdk.asyncio.plugins.param import ParamAsync, ParamError
 
 from ..plots import draw_track, label_map, png
@@ -45,6 +45,7 @@ class FlightRecord:
     battery_pct: float = math.nan
     battery_start_pct: float = math.nan
     current_item: int = 0
+    furthest_item: int = 0  # the mission's end is judged by this: a landed vehicle resets to item 1
 
 
 def to_raw_items(plan: MissionPlan, home) -> list:
@@ -90,7 +91,10 @@ async def fly_mission(url: str, plan: MissionPlan, plot: Path | None,
             await camera_ready(link)
         mission = MissionRawAsync(link.system)
         raw = to_raw_items(plan, link.home)
-        await mission.upload_mission(raw)
+        try:
+            await mission.upload_mission(raw)
+        except MissionRawError as exc:  # a command it does not fly, a parameter it refuses
+            raise LinkError(f"the vehicle refused the mission: {exc.result.name}") from None
         print(f"uploaded {len(plan.items)} items")
         targets = {seq: link.north_east_of(it.lat_deg, it.lon_deg)
                    for seq, it in enumerate(plan.items, start=1) if it.has_position}
@@ -127,6 +131,7 @@ async def fly_mission(url: str, plan: MissionPlan, plot: Path | None,
                 if mp.current == 0 and rec.current_item > 0:
                     continue  # ArduCopter resets the mission when it disarms: the last item stands
                 rec.current_item = min(mp.current, len(plan.items))  # MAVSDK reports n+1 when done
+                rec.furthest_item = max(rec.furthest_item, rec.current_item)
 
         tasks = [asyncio.ensure_future(c()) for c in (watch_time, watch_battery, watch_position, watch_progress)]
         await link.action.arm()
@@ -136,7 +141,7 @@ async def fly_mission(url: str, plan: MissionPlan, plot: Path | None,
 
         async def mission_over():
             while True:
-                if ends_landed and not await link.telemetry.armed() and rec.current_item >= len(plan.items) - 1:
+                if ends_landed and not await link.telemetry.armed() and rec.furthest_item >= len(plan.items) - 1:
                     return
                 if not ends_landed and await mission.is_mission_finished():
                     return
