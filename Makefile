@@ -5,7 +5,7 @@ VENV ?= .venv
 PY := $(VENV)/bin/python
 STAMP := $(VENV)/.installed
 
-.PHONY: install run test unit sitl install-check bench fuzz soak clean parity record-parity
+.PHONY: install run test unit sitl install-check bench fuzz soak clean parity record-parity plans
 
 install: $(STAMP)
 
@@ -46,6 +46,11 @@ parity: install
 REF_DIR ?= ../ref
 record-parity: install
 	$(PY) -m tests.parity.record $(REF_DIR)
+
+# The example plans (QGC survey, corridor and structure scans; a Mission Planner spline mission)
+# made by the ground stations' rules: groundstation/plans/.
+plans: install
+	$(PY) -m groundstation.plans examples/plans
 
 clean:
 	rm -rf $(VENV) build *.egg-info .pytest_cache autopilot/control/_cascade*.so

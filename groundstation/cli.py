@@ -41,6 +41,8 @@ def build_parser() -> argparse.ArgumentParser:
     mission.add_argument("--url", help="MAVSDK connection URL of a running vehicle (default: start one)")
     mission.add_argument("--speedup", type=positive, default=10.0, help="speedup of the autopilot it starts")
     mission.add_argument("--plot", type=Path, default=Path("out/mission_track.png"), help="PNG of planned vs flown")
+    mission.add_argument("--camera-url", help="pymavlink URL where the vehicle's messages arrive, to show its "
+                                              "photos (CAMERA_FEEDBACK) with --url; a started autopilot needs none")
     explore = sub.add_parser("explore", help="find the fire: fly the exploration strategy (starts its own autopilot unless --url)")
     explore.add_argument("--url", help="MAVSDK connection URL of a running vehicle (with --vehicles K: K URLs, "
                                        "comma-separated, the first vehicle's home being the area's origin)")
@@ -222,7 +224,7 @@ def run_command(args) -> int:
         return explore.run(args.url, args.scenario, args.policy or "gig", args.speedup, args.plot, not args.no_truth,
                            args.max_fires)
     from .flight import mission
-    return mission.run(args.file, args.url, args.speedup, args.plot)
+    return mission.run(args.file, args.url, args.speedup, args.plot, args.camera_url)
 
 
 if __name__ == "__main__":

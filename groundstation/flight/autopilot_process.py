@@ -168,19 +168,19 @@ def check_scenario(path: Path) -> None:
 
 
 def run_flight(flight: Callable[[str], Awaitable[T]], url: str | None, speedup: float,
-               scenario: Path | None = None, say=print) -> T:
+               scenario: Path | None = None, say=print, extra: tuple = ()) -> T:
     """`flight(url)` against the vehicle at `url`, or, without one, against an autopilot process
-    started for it (at `speedup`, on `scenario`) and stopped after it."""
-    return run_team_flight(lambda urls: flight(urls[0]), [url] if url else None, speedup, scenario, say, 1)
+    started for it (at `speedup`, on `scenario`, with `extra` options) and stopped after it."""
+    return run_team_flight(lambda urls: flight(urls[0]), [url] if url else None, speedup, scenario, say, 1, extra)
 
 
 def run_team_flight(flight: Callable[[list], Awaitable[T]], urls: list | None, speedup: float,
-                    scenario: Path | None = None, say=print, count: int = 1) -> T:
+                    scenario: Path | None = None, say=print, count: int = 1, extra: tuple = ()) -> T:
     """`flight(urls)` against the vehicles at `urls`, or, without them, against one autopilot
     process with `count` vehicles started for it (at `speedup`, on `scenario`) and stopped after it."""
     if urls:
         return asyncio.run(flight(urls))
-    extra = ("--scenario", str(scenario)) if scenario else ()
+    extra += ("--scenario", str(scenario)) if scenario else ()
     if count > 1:
         extra += ("--count", str(count))
     with start_autopilot(speedup=speedup, extra=extra, capture_stderr=True) as ap:

@@ -3,7 +3,14 @@
 Uploads the mission (mission_raw), arms, starts it, shows progress (item k of n, distance to the
 next waypoint, battery) on a progress bar, waits for the end measured in vehicle time (the GPS
 timestamps the vehicle sends), returns home if the mission did not land, and writes a summary and
-a PNG of the planned against the flown track.
+a PNG of the planned against the flown track, with the camera's photos where it took them.
+
+The photos come from CAMERA_FEEDBACK, which MAVSDK's Python API does not expose: a pymavlink
+listener (camera_feedback.py) reads it on a link of its own. When this command starts its own
+autopilot it adds an `--out` for that listener; against a running vehicle (--url) it listens on
+--camera-url if given (a MAVProxy output, say), else the photos are not watched and the summary
+says so. A plan that uses the camera gets CAM1_TYPE 1 (a servo camera) when the vehicle has it at
+0; ArduCopter makes its camera at boot, so there the photos start from its next boot.
 """
 from __future__ import annotations
 
@@ -14,16 +21,20 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from mavsdk.asyncio.plugins.mission_raw import MissionItem, MissionRawAsync
+from mavsdk.asyncio.plugins.mission_raw import MissionItem, MissionRawAsync, MissionRawError
+from mavsdk.asyncio.plugins.param import ParamAsync, ParamError
 
 from ..plots import draw_track, label_map, png
 from ..progress import Progress
-from .autopilot_process import run_flight
+from .autopilot_process import free_udp_port, run_flight
+from .camera_feedback import CameraFeedbackListener
 from .mission_files import MissionPlan, load_mission
 from .vehicle_link import LinkError, VehicleLink, first
 
 FRAME_GLOBAL, FRAME_MISSION = 0, 2
 NAV_RTL, NAV_LAND = 20, 21
+CAMERA_COMMANDS = {202, 203, 206, 214, 2000, 2001}  # DIGICAM_CONFIGURE/CONTROL, CAM_TRIGG_DIST/INTERVAL, IMAGE_*
+SERVO_CAMERA = 1
 VEHICLE_TIME_MARGIN_S = 180.0
 
 
@@ -34,6 +45,7 @@ class FlightRecord:
     battery_pct: float = math.nan
     battery_start_pct: float = math.nan
     current_item: int = 0
+    furthest_item: int = 0  # the mission's end is judged by this: a landed vehicle resets to item 1
 
 
 def to_raw_items(plan: MissionPlan, home) -> list:
@@ -41,8 +53,9 @@ def to_raw_items(plan: MissionPlan, home) -> list:
     raw = [MissionItem(0, FRAME_GLOBAL, 16, 1, 1, 0, 0, 0, 0, int(round(home.latitude_deg * 1e7)),
                        int(round(home.longitude_deg * 1e7)), home.absolute_altitude_m, 0)]
     for seq, it in enumerate(plan.items, start=1):
+        scale = 1 if it.frame == FRAME_MISSION else 1e7  # a MISSION-frame item's x, y are plain numbers
         raw.append(MissionItem(seq, it.frame, it.command, 0, int(it.autocontinue), *it.params,
-                               int(round(it.lat_deg * 1e7)), int(round(it.lon_deg * 1e7)), it.alt_m, 0))
+                               int(round(it.lat_deg * scale)), int(round(it.lon_deg * scale)), it.alt_m, 0))
     return raw
 
 
@@ -56,15 +69,32 @@ def path_length(points: list) -> float:
     return sum(math.dist(a[:2], b[:2]) for a, b in zip(points, points[1:]))
 
 
-async def fly_mission(url: str, plan: MissionPlan, plot: Path | None) -> dict:
+async def camera_ready(link: VehicleLink) -> None:
+    """CAM1_TYPE 1 where the vehicle has a camera parameter set to none."""
+    params = ParamAsync(link.system)
+    try:
+        if await params.get_param_int("CAM1_TYPE") == 0:
+            await params.set_param_int("CAM1_TYPE", SERVO_CAMERA)
+            print("CAM1_TYPE set to 1 (servo camera); ArduCopter takes it at its next boot")
+    except ParamError:
+        print("the vehicle has no CAM1_TYPE: no camera to trigger")
+
+
+async def fly_mission(url: str, plan: MissionPlan, plot: Path | None,
+                      camera: CameraFeedbackListener | None = None) -> dict:
     link = await VehicleLink.connect(url)
     rec = FlightRecord()
     tasks = []
     try:
         await link.wait_armable()
+        if any(it.command in CAMERA_COMMANDS for it in plan.items):
+            await camera_ready(link)
         mission = MissionRawAsync(link.system)
         raw = to_raw_items(plan, link.home)
-        await mission.upload_mission(raw)
+        try:
+            await mission.upload_mission(raw)
+        except MissionRawError as exc:  # a command it does not fly, a parameter it refuses
+            raise LinkError(f"the vehicle refused the mission: {exc.result.name}") from None
         print(f"uploaded {len(plan.items)} items")
         targets = {seq: link.north_east_of(it.lat_deg, it.lon_deg)
                    for seq, it in enumerate(plan.items, start=1) if it.has_position}
@@ -101,6 +131,7 @@ async def fly_mission(url: str, plan: MissionPlan, plot: Path | None) -> dict:
                 if mp.current == 0 and rec.current_item > 0:
                     continue  # ArduCopter resets the mission when it disarms: the last item stands
                 rec.current_item = min(mp.current, len(plan.items))  # MAVSDK reports n+1 when done
+                rec.furthest_item = max(rec.furthest_item, rec.current_item)
 
         tasks = [asyncio.ensure_future(c()) for c in (watch_time, watch_battery, watch_position, watch_progress)]
         await link.action.arm()
@@ -110,7 +141,7 @@ async def fly_mission(url: str, plan: MissionPlan, plot: Path | None) -> dict:
 
         async def mission_over():
             while True:
-                if ends_landed and not await link.telemetry.armed() and rec.current_item >= len(plan.items) - 1:
+                if ends_landed and not await link.telemetry.armed() and rec.furthest_item >= len(plan.items) - 1:
                     return
                 if not ends_landed and await mission.is_mission_finished():
                     return
@@ -129,30 +160,46 @@ async def fly_mission(url: str, plan: MissionPlan, plot: Path | None) -> dict:
             "wall_time_s": time.monotonic() - wall0, "flown_m": path_length(rec.track),
             "planned_m": path_length(planned), "battery_used_pct": rec.battery_start_pct - rec.battery_pct,
             "landed_from_home_m": math.hypot(*link.north_east_m(final)),
+            "camera_triggers": len(camera.photos) if camera is not None else "not watched",
         }
+        photos = [link.north_east_of(lat, lon) for lat, lon, _ in camera.photos] if camera is not None else []
     finally:
         for t in tasks:
             t.cancel()
         link.close()
     if plot is not None:
-        write_plot(planned, rec.track, plot)
+        write_plot(planned, rec.track, plot, photos=photos)
         summary["plot"] = str(plot)
     return summary
 
 
-def write_plot(planned: list, flown: list, path: Path, title: str = "Mission: planned and flown") -> None:
+def write_plot(planned: list, flown: list, path: Path, title: str = "Mission: planned and flown",
+               photos: list = ()) -> None:
     with png(path, (6, 6)) as (fig, ax):
         draw_track(ax, planned, "k--o", lw=0.9, ms=4, label="planned")
         draw_track(ax, flown, lw=1.5, label="flown")
+        if photos:
+            draw_track(ax, photos, "rx", ms=6, label=f"camera triggers ({len(photos)})")
         ax.plot(0, 0, "g^", ms=10, label="home")
         label_map(ax, title)
         ax.set_aspect("equal")
         ax.legend(loc="best")
 
 
-def run(path: Path, url: str | None, speedup: float, plot: Path | None) -> int:
+def run(path: Path, url: str | None, speedup: float, plot: Path | None, camera_url: str | None = None) -> int:
     plan = load_mission(path)
-    summary = run_flight(lambda at: fly_mission(at, plan, plot), url, speedup)
+    extra: tuple = ()
+    if url is None:  # an autopilot of our own: one more output, for the camera listener
+        port = free_udp_port()
+        camera_url, extra = f"udpin:127.0.0.1:{port}", ("--out", f"udp:127.0.0.1:{port}")
+    camera = CameraFeedbackListener(camera_url) if camera_url else None
+    if camera is not None:
+        camera.start()
+    try:
+        summary = run_flight(lambda at: fly_mission(at, plan, plot, camera), url, speedup, extra=extra)
+    finally:
+        if camera is not None:
+            camera.stop()
     print("summary: " + ", ".join(f"{k} {v:.1f}" if isinstance(v, float) else f"{k} {v}"
                                   for k, v in summary.items()))
     return 0

@@ -1,6 +1,9 @@
 """Mission files ground stations write: QGroundControl `.plan` (JSON) and "QGC WPL 110"
 `.waypoints` (Mission Planner, MAVProxy). Both become the same list of plain items; every
-mistake is a MissionFileError naming the file and the line or field."""
+mistake is a MissionFileError naming the file and the line or field. A `.plan`'s complex items
+give the items QGC would upload: a survey's or corridor scan's are saved in it
+(TransectStyleComplexItem.Items); a structure scan's are made again from its settings, as QGC
+makes them when it loads the plan."""
 from __future__ import annotations
 
 import json
@@ -8,24 +11,15 @@ import math
 from dataclasses import dataclass
 from pathlib import Path
 
+from ..plans.items import PlannedItem
+from ..plans.structure import from_qgc_json as structure_scan
+
+__all__ = ["MissionFileError", "MissionPlan", "PlannedItem", "load_mission"]
+TRANSECT_STYLE = ("survey", "CorridorScan")
+
 
 class MissionFileError(ValueError):
     pass
-
-
-@dataclass(frozen=True)
-class PlannedItem:
-    command: int
-    frame: int
-    params: tuple  # p1..p4
-    lat_deg: float
-    lon_deg: float
-    alt_m: float
-    autocontinue: bool = True
-
-    @property
-    def has_position(self) -> bool:
-        return not (self.lat_deg == 0 and self.lon_deg == 0) and self.frame != 2
 
 
 @dataclass
@@ -98,24 +92,56 @@ def load_plan(path: Path, text: str) -> MissionPlan:
         where = f"{path}: mission.items[{k}]"
         if not isinstance(raw, dict):
             raise MissionFileError(f"{where}: expected an object")
-        if raw.get("type") != "SimpleItem":
-            raise MissionFileError(f"{where}: type {raw.get('type')!r} not supported (only SimpleItem)")
-        for key in ("command", "frame", "params"):
-            if key not in raw:
-                raise MissionFileError(f"{where}: missing '{key}'")
-        params = raw["params"]
-        if not isinstance(params, list) or len(params) != 7:
-            raise MissionFileError(f"{where}.params: expected 7 values")
-        # QGC writes null for "not set" (NaN); positions must be real numbers.
-        p = [math.nan if v is None else _finite(f"{where}.params", v) for v in params[:4]]
-        lat, lon, alt = (_finite(f"{where}.params[{i}]", params[i] if params[i] is not None else 0.0)
-                         for i in (4, 5, 6))
-        _checked_position(where, lat, lon)
-        command, frame = raw["command"], raw["frame"]
-        if not isinstance(command, int) or not isinstance(frame, int):
-            raise MissionFileError(f"{where}: command and frame must be integers")
-        items.append(PlannedItem(command, frame, tuple(p), lat, lon, alt, bool(raw.get("autoContinue", True))))
+        if raw.get("type") == "SimpleItem":
+            items.append(_simple_item(where, raw))
+        elif raw.get("type") == "ComplexItem":
+            items.extend(_complex_items(where, raw))
+        else:
+            raise MissionFileError(f"{where}.type: {raw.get('type')!r} is neither SimpleItem nor ComplexItem")
     return MissionPlan(home, items)
+
+
+def _simple_item(where: str, raw) -> PlannedItem:
+    if not isinstance(raw, dict):
+        raise MissionFileError(f"{where}: expected an object")
+    for key in ("command", "frame", "params"):
+        if key not in raw:
+            raise MissionFileError(f"{where}: missing '{key}'")
+    params = raw["params"]
+    if not isinstance(params, list) or len(params) != 7:
+        raise MissionFileError(f"{where}.params: expected 7 values")
+    # QGC writes null for "not set" (NaN); positions must be real numbers.
+    p = [math.nan if v is None else _finite(f"{where}.params", v) for v in params[:4]]
+    lat, lon, alt = (_finite(f"{where}.params[{i}]", params[i] if params[i] is not None else 0.0) for i in (4, 5, 6))
+    command, frame = raw["command"], raw["frame"]
+    if not isinstance(command, int) or not isinstance(frame, int) or isinstance(command, bool):
+        raise MissionFileError(f"{where}: command and frame must be integers")
+    if frame != 2:
+        _checked_position(where, lat, lon)
+    return PlannedItem(command, frame, tuple(p), lat, lon, alt, bool(raw.get("autoContinue", True)))
+
+
+def _complex_items(where: str, raw: dict) -> list:
+    kind = raw.get("complexItemType")
+    if kind in TRANSECT_STYLE:
+        inner = raw.get("TransectStyleComplexItem")
+        if not isinstance(inner, dict):
+            raise MissionFileError(f"{where}.TransectStyleComplexItem: missing")
+        saved = inner.get("Items")
+        if not isinstance(saved, list) or not saved:
+            raise MissionFileError(f"{where}.TransectStyleComplexItem.Items: expected the {kind}'s items")
+        return [_simple_item(f"{where}.TransectStyleComplexItem.Items[{k}]", item) for k, item in enumerate(saved)]
+    if kind == "StructureScan":
+        def number(field: str, value) -> float:
+            return _finite(f"{where}.{field}", value)
+        try:
+            scan = structure_scan(raw, where, number)
+        except ValueError as exc:  # a MissionFileError from number() too
+            raise MissionFileError(str(exc)) from None
+        if scan.layer_height_m <= 0 or scan.scan_distance_m < 0:
+            raise MissionFileError(f"{where}.CameraCalc: layer height must be positive and the scan distance not negative")
+        return scan.items()
+    raise MissionFileError(f"{where}.complexItemType: {kind!r} not supported (survey, CorridorScan, StructureScan)")
 
 
 def load_mission(path: Path) -> MissionPlan:

@@ -110,7 +110,11 @@ TOL_TRACK_S = Tol(abs=3.0, rel=0.1, why="time round the square: speed along the 
 
 
 def _boot(target) -> Client:
-    client = target.boot()
+    return streaming(target.boot())
+
+
+def streaming(client: Client) -> Client:
+    """MISSION_CURRENT and positions at 10 Hz, the rest at 2 Hz."""
     client.request_streams(2)
     for msg_id, interval in STREAMS_US.items():
         client.command(mav.MAV_CMD_SET_MESSAGE_INTERVAL, msg_id, interval)
@@ -120,10 +124,13 @@ def _boot(target) -> Client:
 
 
 def _fly(client: Client, plan: list[tuple]) -> tuple[Geometry, list]:
-    """Upload, arm, start; the log until disarmed after the flight or LIMIT_S."""
     pos0 = client.last["GLOBAL_POSITION_INT"]
     geo = Geometry(pos0.lat, pos0.lon)
-    items = [item(cmd, geo, params, at, alt) for cmd, params, at, alt in plan]
+    return geo, fly(client, [item(cmd, geo, params, at, alt) for cmd, params, at, alt in plan])
+
+
+def fly(client: Client, items: list, limit_s: float = LIMIT_S) -> list:
+    """Upload, arm, start; [the MISSION_ACK, the log until disarmed after the flight or limit_s]."""
     result = upload(client, items)
     client.set_mode(GUIDED)
     client.command(mav.MAV_CMD_COMPONENT_ARM_DISARM, 1)
@@ -132,10 +139,10 @@ def _fly(client: Client, plan: list[tuple]) -> tuple[Geometry, list]:
     client.logging = True
     start = client.now_ms
     client.command(mav.MAV_CMD_MISSION_START)
-    client.wait(lambda: (client.now_ms - start > 5000 and not client.armed) or client.now_ms - start > LIMIT_S * 1000,
-                LIMIT_S + 20, what="the mission's end")
+    client.wait(lambda: (client.now_ms - start > 5000 and not client.armed) or client.now_ms - start > limit_s * 1000,
+                limit_s + 20, what="the mission's end")
     client.logging = False
-    return geo, [result, list(client.log)]
+    return [result, list(client.log)]
 
 
 class Flight:
