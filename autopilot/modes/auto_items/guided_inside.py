@@ -19,6 +19,7 @@ if TYPE_CHECKING:
 
 
 class GuidedInside(AutoItem):
+    guided: Guided  # always, from start()
     start_s: float
     start_ne: tuple[float, float]
 
