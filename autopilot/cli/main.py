@@ -96,6 +96,9 @@ def build_parser() -> argparse.ArgumentParser:
                    help="instant: armable at once (default); realistic: boot as ArduCopter does, "
                         "about 42 s of vehicle time before a mode that needs a position can arm")
     p.add_argument("--wipe", action="store_true", help="reset saved parameters to defaults (like SITL -w)")
+    p.add_argument("--param", action="append", default=[], type=param_setting, metavar="NAME=VALUE",
+                   help="set and save a parameter before the vehicle boots, as a ground station's set and a "
+                        "reboot would (repeatable; e.g. CAM1_TYPE=1 for a camera, which is made at boot)")
     p.add_argument("--duration", type=float, default=math.inf, help="stop after this many sim seconds")
     p.add_argument("--tlog", default=None, metavar="FILE",
                    help="record every MAVLink frame sent and received to this .tlog (appends)")
@@ -235,6 +238,9 @@ def assemble(args, scenario, k: int, state_dir: Path, board_id: str, *, epoch_us
     if wipe:
         params.save_all()
         missions_path.unlink(missing_ok=True)
+    if not powered_on_at_s:  # --param: saved before the first boot, kept by later reboots
+        for name, value in args.param:
+            params.set(name, value)
     mission = MissionStore(missions_path)
     for store_file in (params.file, mission.file):
         store_file.min_interval_s, store_file.clock = SAVE_EVERY_S, time.monotonic  # the link clock
@@ -421,6 +427,16 @@ def main(argv=None) -> int:
 
 PARENT_POLL_S = 0.5
 SAVE_EVERY_S = 0.5  # a store writes its file at most this often (link time); the rest at exit
+
+
+def param_setting(text: str) -> tuple[str, float]:
+    from ..params import ParamError, checked_value
+
+    name, _, value = text.partition("=")
+    try:
+        return name, checked_value(name, value)
+    except ParamError as exc:
+        raise argparse.ArgumentTypeError(f"expected NAME=VALUE of a known parameter: {exc}") from None
 
 
 def positive_pid(text: str) -> int:

@@ -7,7 +7,8 @@ a PNG of the planned against the flown track, with the camera's photos where it 
 
 The photos come from CAMERA_FEEDBACK, which MAVSDK's Python API does not expose: a pymavlink
 listener (camera_feedback.py) reads it on a link of its own. When this command starts its own
-autopilot it adds an `--out` for that listener; against a running vehicle (--url) it listens on
+autopilot it adds an `--out` for that listener, and for a plan that uses the camera boots it with
+a servo camera (`--param CAM1_TYPE=1`); against a running vehicle (--url) it listens on
 --camera-url if given (a MAVProxy output, say), else the photos are not watched and the summary
 says so. A plan that uses the camera gets CAM1_TYPE 1 (a servo camera) when the vehicle has it at
 0; ArduCopter makes its camera at boot, so there the photos start from its next boot.
@@ -69,6 +70,10 @@ def path_length(points: list) -> float:
     return sum(math.dist(a[:2], b[:2]) for a, b in zip(points, points[1:]))
 
 
+def uses_camera(plan: MissionPlan) -> bool:
+    return any(it.command in CAMERA_COMMANDS for it in plan.items)
+
+
 async def camera_ready(link: VehicleLink) -> None:
     """CAM1_TYPE 1 where the vehicle has a camera parameter set to none."""
     params = ParamAsync(link.system)
@@ -87,7 +92,7 @@ async def fly_mission(url: str, plan: MissionPlan, plot: Path | None,
     tasks = []
     try:
         await link.wait_armable()
-        if any(it.command in CAMERA_COMMANDS for it in plan.items):
+        if uses_camera(plan):
             await camera_ready(link)
         mission = MissionRawAsync(link.system)
         raw = to_raw_items(plan, link.home)
@@ -192,6 +197,8 @@ def run(path: Path, url: str | None, speedup: float, plot: Path | None, camera_u
     if url is None:  # an autopilot of our own: one more output, for the camera listener
         port = free_udp_port()
         camera_url, extra = f"udpin:127.0.0.1:{port}", ("--out", f"udp:127.0.0.1:{port}")
+        if uses_camera(plan):  # a servo camera, there from boot (the camera is made at boot)
+            extra += ("--param", f"CAM1_TYPE={SERVO_CAMERA}")
     camera = CameraFeedbackListener(camera_url) if camera_url else None
     if camera is not None:
         camera.start()
