@@ -414,7 +414,7 @@ class Vehicle:
             return Result.FAILED
         if self.home_ned is None and self.estimate.origin_known():  # without a fix it stays unset
             self._set_home_here()
-        self.arming.arm()
+        self.arming.arm(self.attitude[2])
         b = self.body
         self.return_path.set_home(self.has_position(), (b.n_m, b.e_m, b.d_m), self.time_s)
         self.land_detector.set_landed()

@@ -159,9 +159,12 @@ class Arming:
         self.armed = False
         self.auto_armed = False
         self.changes = 0  # arms and disarms so far: a reader that looks now and then sees each one
+        # The heading when last armed [rad] (ArduCopter's initial_armed_bearing): RTL turns back to it
+        self.armed_yaw = 0.0
 
-    def arm(self) -> None:
+    def arm(self, yaw: float = 0.0) -> None:
         self.armed = True
+        self.armed_yaw = yaw
         self.changes += 1
 
     def disarm(self) -> None:
