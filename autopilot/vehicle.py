@@ -30,6 +30,7 @@ from .faults.world import Faults, world_values
 from .follow_target import FollowTarget
 from .mission import FENCE, MISSION, MissionStore
 from .mission.progress import MissionProgress
+from .mission.terrain import TerrainItems
 from .modes import MODE_BY_NUMBER, Mode, ModeNumber, Setpoint
 from .modes.auto_rtl import EITHER, AutoRtl
 from .modes.context import ModeContext
@@ -141,6 +142,7 @@ class Vehicle:
         self.mission_status = self.mission_progress.status
         self.fence_items = partial(self.mission.items, FENCE)
         self.mission_items = partial(self.mission.items, MISSION)
+        self.mission_uses_terrain = TerrainItems(self.mission)
         self.modes: dict[int, Mode] = {number: cls() for number, cls in MODE_BY_NUMBER.items()}
         self.mode = self.modes[ModeNumber.STABILIZE]
         # A mode entered before what it needs is there (disarmed before home, as ArduCopter

@@ -1,11 +1,11 @@
 """Probes by area. Each module has AREA and run(target) -> {probe name: Trace}; a module with KIND
 covers one kind of ArduCopter's surface (surface/score.py), one probe per entry."""
 from . import (autotune, commands, flight, flip, follow, ftp, guided, mavsdk_client, mission_doitems, mission_navgeo,
-               mission_navtime, mission_wpyaw, missions, modes, nav_flight,
+               mission_navtime, mission_terrain, mission_wpyaw, missions, modes, nav_flight,
                offboard, params, pilot, refusals, startup, surface_commands, surface_messages, surface_mission,
                surface_modes, surface_sim_faults, telemetry, throw)
 
 AREAS = {m.AREA: m for m in (commands, modes, telemetry, flight, missions, mavsdk_client, params, ftp, startup,
                              refusals, surface_commands, surface_modes, surface_messages, surface_mission,
                              surface_sim_faults, flip, nav_flight, guided, offboard, pilot, follow, autotune, throw,
-                             mission_navgeo, mission_doitems, mission_navtime, mission_wpyaw)}
+                             mission_navgeo, mission_doitems, mission_navtime, mission_wpyaw, mission_terrain)}
