@@ -106,7 +106,7 @@ PARAM_TABLE: tuple[ParamSpec, ...] = (
     _f("WPNAV_SPEED_DN", 150, 10, 500, "descent speed [cm/s]"),
     _f("WPNAV_ACCEL", 250, 50, 500, "horizontal acceleration [cm/s/s]"),
     _f("WPNAV_RADIUS", 200, 5, 1000, "waypoint radius [cm]"),
-    _i("WP_YAW_BEHAVIOR", 2, 0, 3, "AUTO/GUIDED heading: 0 never changes, else faces the way it flies"),
+    _i("WP_YAW_BEHAVIOR", 2, 0, 3, "AUTO/GUIDED/RTL heading: 0 hold, 1 face the way, 2 not in RTL, 3 course"),
     _f("WPNAV_ACCEL_Z", 100, 50, 500, "vertical acceleration of waypoint legs [cm/s/s]"),
     _f("WPNAV_ACCEL_C", 0, 0, 500, "cornering acceleration [cm/s/s], 0 = 2 x WPNAV_ACCEL"),
     _f("WPNAV_JERK", 1, 1, 20, "jerk limit of waypoint legs [m/s/s/s]"),

@@ -30,6 +30,7 @@ from .faults.world import Faults, world_values
 from .follow_target import FollowTarget
 from .mission import FENCE, MISSION, MissionStore
 from .mission.progress import MissionProgress
+from .mission.terrain import TerrainItems
 from .modes import MODE_BY_NUMBER, Mode, ModeNumber, Setpoint
 from .modes.auto_rtl import EITHER, AutoRtl
 from .modes.context import ModeContext
@@ -146,6 +147,7 @@ class Vehicle:
         self.mission_status = self.mission_progress.status
         self.fence_items = partial(self.mission.items, FENCE)
         self.mission_items = partial(self.mission.items, MISSION)
+        self.mission_uses_terrain = TerrainItems(self.mission)
         self.modes: dict[int, Mode] = {number: cls() for number, cls in MODE_BY_NUMBER.items()}
         self.mode = self.modes[ModeNumber.STABILIZE]
         # A mode entered before what it needs is there (disarmed before home, as ArduCopter
@@ -418,7 +420,7 @@ class Vehicle:
             return Result.FAILED
         if self.home_ned is None and self.estimate.origin_known():  # without a fix it stays unset
             self._set_home_here()
-        self.arming.arm()
+        self.arming.arm(self.attitude[2])
         b = self.body
         self.return_path.set_home(self.has_position(), (b.n_m, b.e_m, b.d_m), self.time_s)
         self.land_detector.set_landed()

@@ -2,6 +2,9 @@
 
 The profile along the leg has seven phases: jerk up, constant acceleration, jerk down (reaching
 the cruise speed), cruise, and the mirror image of the first three to stop at the destination.
+A leg may also start or end moving (ArduCopter's set_origin_speed_max / set_destination_speed_max:
+a spline before or after it): then its first or last three phases change speed from or to that
+one, the cruise speed being the one the leg reaches from rest in half its length.
 Acceleration is continuous, jerk is bounded by the jerk limit, acceleration by the acceleration
 limit and speed by the speed limit; a leg too short to reach the cruise speed peaks lower.
 ArduCopter shapes its jerk ramps with a raised cosine (a snap limit); the constant-jerk phases
@@ -34,6 +37,8 @@ def kinematic_limit(unit: tuple, horizontal: float, up: float, down: float) -> f
 def _ramp(speed: float, accel: float, jerk: float) -> tuple[float, float, float]:
     """(peak acceleration, jerk time, constant-acceleration time) of the phases taking the speed
     from 0 to `speed` within the acceleration and jerk limits."""
+    if speed <= 0.0:
+        return 0.0, 0.0, 0.0
     peak = min(accel, math.sqrt(speed * jerk))
     t_jerk = peak / jerk
     return peak, t_jerk, max(0.0, speed / peak - t_jerk)
@@ -66,7 +71,8 @@ class SCurve:
     acceleration along it at any time since its start. A zero-length leg is finished at once."""
 
     __slots__ = ("origin", "destination", "unit", "length", "speed_max", "accel_max", "jerk",
-                 "peak", "_starts", "_phases", "duration", "accel_end", "decel_start")
+                 "peak", "_starts", "_phases", "duration", "accel_end", "decel_start", "speed_start",
+                 "speed_end")
 
     def __init__(self, origin: tuple, destination: tuple, speed_xy: float, speed_up: float,
                  speed_down: float, accel_xy: float, accel_z: float, jerk: float):
@@ -77,7 +83,7 @@ class SCurve:
         self._starts: list[float] = [0.0]
         self._phases: list[tuple] = [(0.0, 0.0, 0.0, 0.0)]
         self.duration = self.accel_end = self.decel_start = 0.0
-        self.peak = 0.0
+        self.peak = self.speed_start = self.speed_end = 0.0
         if self.length < 1e-6 or min(speed_xy, accel_xy, jerk) <= 0.0:
             self.unit = (0.0, 0.0, 0.0)
             self.speed_max = self.accel_max = self.jerk = 0.0
@@ -89,16 +95,39 @@ class SCurve:
         self._build()
 
     def _build(self) -> None:
+        """Plan the leg between its start and end speeds, cruising at the speed it reaches from
+        rest in half its length (so either end speed, no faster, fits in the other half)."""
         a_lim, j = self.accel_max, self.jerk
         v = self.peak = peak_speed(self.length, self.speed_max, a_lim, j)
-        _, t_j, t_a = _ramp(v, a_lim, j)
-        cruise = max(0.0, (self.length - 2.0 * _ramp_distance(v, a_lim, j)) / v)
+        v0 = self.speed_start = min(self.speed_start, v)
+        v1 = self.speed_end = min(self.speed_end, v)
+        _, up_j, up_a = _ramp(v - v0, a_lim, j)
+        _, down_j, down_a = _ramp(v - v1, a_lim, j)
+        cruise = max(0.0, (self.length - self._change_distance(v0, v) - self._change_distance(v, v1)) / v)
         # (duration, jerk) of the seven phases; cruise is the fourth.
-        plan = ((t_j, j), (t_a, 0.0), (t_j, -j), (cruise, 0.0), (t_j, -j), (t_a, 0.0), (t_j, j))
+        plan = ((up_j, j), (up_a, 0.0), (up_j, -j), (cruise, 0.0), (down_j, -j), (down_a, 0.0), (down_j, j))
         self._starts, self._phases = [], []
-        t = self.duration = self._append(plan, 0.0, 0.0, 0.0)
-        self.accel_end = 2.0 * t_j + t_a
-        self.decel_start = t - self.accel_end
+        t = self.duration = self._append(plan, 0.0, 0.0, v0)
+        self.accel_end = 2.0 * up_j + up_a
+        self.decel_start = t - 2.0 * down_j - down_a
+
+    def set_origin_speed(self, speed: float) -> float:
+        """Start the leg moving at `speed` (ArduCopter's SCurve::set_origin_speed_max, for a leg
+        after a spline); the speed it starts with: no faster than its cruise speed, 0 if it has
+        no length."""
+        if self.length < 1e-6 or self.speed_max <= 0.0:
+            return 0.0
+        self.speed_start = max(speed, 0.0)
+        self._build()
+        return self.speed_start
+
+    def set_destination_speed(self, speed: float) -> None:
+        """End the leg moving at `speed` (ArduCopter's SCurve::set_destination_speed_max, for a
+        leg before a spline), no faster than its cruise speed."""
+        if self.length < 1e-6 or self.speed_max <= 0.0:
+            return
+        self.speed_end = max(speed, 0.0)
+        self._build()
 
     def set_speed_max(self, speed_xy: float, speed_up: float, speed_down: float, t: float,
                       change_jerk_time: float) -> None:
@@ -119,7 +148,8 @@ class SCurve:
             return
         t0 = max(t, self.accel_end)
         s0, v0, _ = self.along(t0)
-        cruise_s = self.length - _ramp_distance(v0, self.accel_max, self.jerk) - s0
+        v_end = self.speed_end
+        cruise_s = self.length - self._change_distance(v0, v_end) - s0
         if v0 <= 0.0 or cruise_s <= 0.0 or cruise_s / v0 <= 12.0 * change_jerk_time:
             return
         target = new if new < v0 else min(new, cruise_s / (12.0 * change_jerk_time))
@@ -137,11 +167,11 @@ class SCurve:
         if abs(target - v0) < 1e-3:
             return
         _, t_j, t_a = _ramp(abs(target - v0), self.accel_max, self.jerk)
-        left = self.length - s0 - self._change_distance(v0, target) - _ramp_distance(target, self.accel_max, self.jerk)
+        left = self.length - s0 - self._change_distance(v0, target) - self._change_distance(target, v_end)
         if left < 0.0:
             return  # no room to change and still stop at the end: the plan stands
         sign = 1.0 if target > v0 else -1.0
-        _, d_j, d_a = _ramp(target, self.accel_max, self.jerk)
+        _, d_j, d_a = _ramp(max(target - v_end, 0.0), self.accel_max, self.jerk)
         plan = ((t_j, sign * self.jerk), (t_a, 0.0), (t_j, -sign * self.jerk), (left / target, 0.0),
                 (d_j, -self.jerk), (d_a, 0.0), (d_j, self.jerk))
         self._replan_from(t0, plan)
@@ -177,11 +207,12 @@ class SCurve:
 
     def along(self, t: float) -> tuple[float, float, float]:
         """(distance, speed, acceleration) along the leg at time t since its start; before the
-        start it is at the origin, after the end at the destination, at rest."""
+        start it is at the origin, after the end at the destination, moving at the leg's start and
+        end speeds (0 unless set)."""
         if t >= self.duration:
-            return self.length, 0.0, 0.0
+            return self.length, self.speed_end, 0.0
         if t <= 0.0:
-            return 0.0, 0.0, 0.0
+            return 0.0, self.speed_start, 0.0
         starts = self._starts
         i = len(starts) - 1
         while starts[i] > t:

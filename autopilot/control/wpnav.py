@@ -14,6 +14,10 @@ inside. The waypoint counts as reached at the mid point of the turn. Without a s
 with a hold time) the leg stops at the waypoint, which is reached once the leg is over and the
 vehicle is within the radius.
 
+Next to a spline (ArduCopter's AC_WPNav joining its S-curves to its splines): a leg before one
+ends at the speed the spline can start with and counts as reached when its target gets there; a
+leg after one starts at the speed the spline's target left with (continue_at).
+
 A leg interrupted before its end (a new destination mid-leg) is left from the vehicle's stopping
 point as ArduCopter's position controller computes it: from the vehicle's own position and
 velocity (not the target's), by the square-root controller's stopping distance, which at low
@@ -86,6 +90,14 @@ class WaypointNav:
         self.pos, self.vel, self.accel = start, velocity, (0.0, 0.0, 0.0)
         self._vehicle = (start, velocity)  # the vehicle's position and velocity, as last seen
         self.reached = False
+        self._origin_speed = 0.0  # the speed the next leg starts at (continue_at)
+
+    def continue_at(self, point: tuple, speed: float) -> None:
+        """The target is at `point` moving at `speed` (a spline ended there, flown through): the
+        next leg starts there at that speed, as far as it can (SCurve.set_origin_speed)."""
+        self._this, self._t_this = self.limits.leg(point, point), 0.0
+        self._prev = self._next = None
+        self.reached, self._origin_speed = True, speed
 
     def set_destination(self, destination: tuple, next_destination: tuple | None = None) -> None:
         """Fly to `destination` from the current one; through it towards `next_destination` if
@@ -103,10 +115,23 @@ class WaypointNav:
                 origin, self._time_scale = self._stopping_point(), 1.0
             self._prev = None
             self._this, self._t_this = self.limits.leg(origin, destination), 0.0
+            if self._origin_speed > 0.0:
+                self._this.set_origin_speed(self._origin_speed)
+        self._origin_speed = 0.0
         self._next, self._t_next = None, 0.0
         if next_destination is not None and next_destination != destination:
             self._next = self.limits.leg(destination, next_destination)
         self.reached = False
+
+    def set_destination_speed(self, speed: float) -> None:
+        """Pass the current destination at `speed` rather than stopping there (ArduCopter's
+        set_spline_destination_next: a spline follows); reached when the target gets there."""
+        self._this.set_destination_speed(speed)
+
+    @property
+    def destination_speed(self) -> float:
+        """The speed the current leg passes its destination at (0: it stops there)."""
+        return self._this.speed_end
 
     @property
     def destination(self) -> tuple:
@@ -200,7 +225,7 @@ class WaypointNav:
                 finished = self._t_next >= remaining
         self.pos, self.vel, self.accel = (pn, pe, pd), (vn, ve, vd), (an, ae, ad)
         if not self.reached and finished:
-            if nxt is not None:
+            if nxt is not None or this.speed_end > 0.0:
                 self.reached = True
             else:
                 d = this.destination

@@ -24,6 +24,7 @@ from ..results import Severity
 from ..views import Vector3
 from .auto_items import ITEMS, AutoItem
 from .auto_items.guided_limits import GuidedLimits
+from .auto_items.spline_waypoint import CMD_NAV_SPLINE_WAYPOINT, entry_speed
 from .base import Mode, Setpoint
 from .context import ModeContext
 from .guided import Guided
@@ -203,9 +204,10 @@ class Auto(Mode):
         ctx = self._ctx
         item = _flown(item)
         if item.command in NAV_COMMANDS:
+            start = self._runner.hand_over() if self._runner is not None else None
             self._index, self._item, self._nav_done = index, item, False
             self._runner = None
-            self._begin_nav(ctx, index, item)
+            self._begin_nav(ctx, index, item, start)
             return True
         runner_class = ITEMS.get(item.command)
         if runner_class is not None:
@@ -278,7 +280,8 @@ class Auto(Mode):
             d = ctx.require_home()[2] - item.z
         return n, e, d
 
-    def _begin_nav(self, ctx: ModeContext, index: int, item: MissionItem) -> None:
+    def _begin_nav(self, ctx: ModeContext, index: int, item: MissionItem,
+                   start: tuple[Vector3, Vector3] | None = None) -> None:
         self.heading.kind = DEFAULT  # as ArduCopter's wp_start, takeoff and land set auto_yaw
         self._target = self._target_ned(ctx, item)
         self._arrived_at = None
@@ -288,10 +291,12 @@ class Auto(Mode):
         if item.command == CMD_RTL:
             self._rtl.enter(ctx)
         self._land_d = ctx.body.d_m
-        self._begin_leg(ctx, index, item)
+        self._begin_leg(ctx, index, item, start)
 
-    def _begin_leg(self, ctx: ModeContext, index: int, item: MissionItem) -> None:
-        """Waypoints and loiters are flown by the waypoint navigator; other items end its legs."""
+    def _begin_leg(self, ctx: ModeContext, index: int, item: MissionItem,
+                   start: tuple[Vector3, Vector3] | None = None) -> None:
+        """Waypoints and loiters are flown by the waypoint navigator; other items end its legs.
+        `start`: where a spline flown through left its target moving (the leg starts there)."""
         if item.command not in NAV_BY_LEGS:
             self._legs.end()
             self._legs.auto_yaw.roi = None
@@ -302,7 +307,11 @@ class Auto(Mode):
         next_item = None if following is None else items[following]
         through = flies_through(item, next_item)
         next_target = self._target_ned(ctx, next_item) if through and next_item is not None else None
-        self._legs.begin(ctx, self._target, next_target)
+        self._legs.begin(ctx, self._target, next_target, start=start)
+        nav = self._legs.nav
+        if (following is not None and nav is not None and item.command == CMD_WAYPOINT and not item.p1 > 0
+                and items[following].command == CMD_NAV_SPLINE_WAYPOINT):  # passed at the spline's speed
+            nav.set_destination_speed(entry_speed(self, ctx, following, nav.origin, nav.destination))
 
     # ----- loop ----------------------------------------------------------------------------------
     def update(self, ctx: ModeContext, sp: Setpoint, dt: float) -> None:

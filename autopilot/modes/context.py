@@ -129,6 +129,7 @@ class ModeContext:
     height_ref_d: ReadThrough[float] = property(attrgetter("_v.height_ref_d"))
     nav_speed_m_s: ReadThrough[float] = property(attrgetter("_v.nav_speed_m_s"))
     auto_armed: ReadThrough[bool] = property(attrgetter("_arming.auto_armed"))
+    armed_yaw: ReadThrough[float] = property(attrgetter("_arming.armed_yaw"))  # heading at arming [rad]
     origin_alt_m: ReadThrough[float] = property(attrgetter("_v.origin.alt_m"))
     accel_body: ReadThrough[Vector3] = property(attrgetter("_estimate.accel_body"))
     mode_number: ReadThrough[int] = property(attrgetter("_v.mode_number"))

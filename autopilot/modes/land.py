@@ -3,7 +3,9 @@ from __future__ import annotations
 
 import math
 
+from ..control.attitude import wrap_pi
 from ..params import ParamStore
+from .auto_yaw import holds_in_rtl
 from .base import Mode, Setpoint, hold_here
 from .context import ModeContext
 from .numbers import ModeNumber
@@ -11,6 +13,7 @@ from .waypoint_legs import WaypointLegs
 
 
 GROUND_DISARM_S = 0.9  # LAND entered on the ground disarms this long after
+ARMED_YAW_MARGIN_RAD = math.radians(2.0)  # RTL's loiter over home ends this close to the armed heading
 
 
 def descent_rate_m_s(ctx: ModeContext) -> float:
@@ -97,7 +100,10 @@ def return_altitude(ctx: ModeContext) -> float:
 class Rtl(Mode):
     """Climb to RTL_ALT (or stay higher), fly home, loiter RTL_LOIT_TIME, land and disarm.
     The climb and the return are waypoint legs, as ArduCopter flies them with its wp_nav: the
-    climb blends into the return leg, which stops over home."""
+    climb blends into the return leg, which stops over home. The nose on the way home follows
+    WP_YAW_BEHAVIOR as an RTL's (auto_yaw.py); where that faces the way (1, 3), the loiter over
+    home also turns back to the heading the vehicle was armed at, and lasts until within 2° of it
+    (ArduCopter's RESET_TO_ARMED_YAW, measured: the descent faces the armed heading)."""
     takes_speed_change = True
     number = ModeNumber.RTL
     requires_position = True
@@ -135,7 +141,11 @@ class Rtl(Mode):
             self._fly_home(ctx, sp, dt, home_ne, sp.speed_xy)
         if self._stage == "LOITER":
             sp.pos_ne, sp.pos_d = home_ne, self._return_d
-            if ctx.time_s >= self._loiter_until:
+            turned = True
+            if not holds_in_rtl(ctx.params):
+                sp.yaw = ctx.armed_yaw
+                turned = abs(wrap_pi(ctx.attitude[2] - ctx.armed_yaw)) <= ARMED_YAW_MARGIN_RAD
+            if ctx.time_s >= self._loiter_until and turned:
                 self._stage = "LAND"
         if self._stage == "GROUND":
             sp.vel_d = sp.speed_dn = descent_rate_m_s(ctx)
@@ -162,6 +172,7 @@ class Rtl(Mode):
         legs = self._legs
         if legs is None:
             legs = self._legs = WaypointLegs()
+            legs.auto_yaw.rtl = True
             climb_target = (self._hold_ne[0], self._hold_ne[1], self._return_d)
             legs.begin(ctx, climb_target, return_target, speed)
         if not legs.update(ctx, sp, dt):

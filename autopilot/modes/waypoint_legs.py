@@ -72,9 +72,11 @@ class WaypointLegs:
         self.nav = None
 
     def begin(self, ctx: ModeContext, target: Vector3, next_target: Vector3 | None,
-              speed_m_s: float | None = None) -> None:
+              speed_m_s: float | None = None, start: tuple[Vector3, Vector3] | None = None) -> None:
         """Start the leg to `target` (local NED), flying through it to `next_target` if given,
-        at `speed_m_s` (default: the navigation speed, WPNAV_SPEED or DO_CHANGE_SPEED's)."""
+        at `speed_m_s` (default: the navigation speed, WPNAV_SPEED or DO_CHANGE_SPEED's). With
+        no leg flown before it, it starts where the vehicle can stop, or from `start` (a point
+        and the velocity a spline's target left it with) at that speed."""
         limits = self._limits(ctx, ctx.nav_speed_m_s if speed_m_s is None else speed_m_s)
         if self.resume_jerk is not None:
             limits.jerk, self.resume_jerk = self.resume_jerk, None
@@ -82,6 +84,9 @@ class WaypointLegs:
         if self.nav is None:
             b = ctx.body
             self.nav = WaypointNav(limits, (b.n_m, b.e_m, b.d_m), (b.vn_m_s, b.ve_m_s, b.vd_m_s))
+            if start is not None:
+                point, (vn, ve, vd) = start
+                self.nav.continue_at(point, math.sqrt(vn * vn + ve * ve + vd * vd))
         else:
             self.nav.limits = limits
         self.nav.set_destination(target, next_target)

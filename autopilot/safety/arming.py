@@ -68,10 +68,19 @@ def _battery_low(v: PrearmView) -> str | None:
     return "Battery below minimum arming voltage" if low > 0 and v.battery.voltage_v < low else None
 
 
+def _terrain_data(v: PrearmView) -> str | None:
+    """A mission at heights above terrain needs the terrain database (AP_Arming::terrain_checks);
+    Firefly has none, as ArduCopter SITL has none until a ground station serves its tiles
+    (measured: "Arm: waiting for terrain data", and no arming)."""
+    if not v.mission_uses_terrain():
+        return None
+    return "waiting for terrain data" if v.params["TERRAIN_ENABLE"] else "terrain disabled"
+
+
 # In ArduCopter's order; a check gives its words, a list of them, or None when it passes.
 PREARM_CHECKS: tuple[Callable[[PrearmView], str | list[str] | None], ...] = (
     _starting_up, _throttle_below_failsafe, _internal_errors, _need_position, _gps_glitching, _leaning, _battery_low,
-    _emergency_stopped)
+    _terrain_data, _emergency_stopped)
 
 
 def prearm_failures(v: PrearmView) -> list[str]:
@@ -159,9 +168,12 @@ class Arming:
         self.armed = False
         self.auto_armed = False
         self.changes = 0  # arms and disarms so far: a reader that looks now and then sees each one
+        # The heading when last armed [rad] (ArduCopter's initial_armed_bearing): RTL turns back to it
+        self.armed_yaw = 0.0
 
-    def arm(self) -> None:
+    def arm(self, yaw: float = 0.0) -> None:
         self.armed = True
+        self.armed_yaw = yaw
         self.changes += 1
 
     def disarm(self) -> None:

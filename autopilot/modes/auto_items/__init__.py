@@ -9,6 +9,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
+from ...views import Vector3
 from ..base import Setpoint
 from ..context import ModeContext
 
@@ -40,6 +41,11 @@ class AutoItem:
     def done(self, ctx: ModeContext) -> bool:
         """Whether the item is complete (verified): the mission moves on."""
         return True
+
+    def hand_over(self) -> tuple[Vector3, Vector3] | None:
+        """(point, velocity) of a target this navigation item left moving, for a straight leg
+        after it to start from at that speed (a spline flown through); None: it stopped."""
+        return None
 
     def landed_state_hint(self, ctx: ModeContext) -> str | None:
         """EXTENDED_SYS_STATE's landed state while this item is flown (None: from the vehicle)."""

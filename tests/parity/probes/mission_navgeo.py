@@ -303,6 +303,17 @@ def _wp_spline_facts(trace: Trace, flight: Flight) -> None:
                                                  for p in flight.during(*spline)), default=0.0), 1), TOL_OFF)
 
 
+def mission_facts(trace: Trace, flight: Flight, upload_result) -> None:
+    """The upload's result, the items reached, the current items seen and the texts said."""
+    trace.fact("upload", upload_result)
+    trace.fact("reached", [m.seq for _, m in flight.of("MISSION_ITEM_REACHED")])
+    # up to the disarm: whether the reset to item 1 after it shows depends on when the window ends
+    disarmed = next((t for t, text in flight.texts if text == "Disarming motors"), flight.end_ms)
+    # and from item 1: how long seq 0 shows after an upload is not these items' business
+    trace.fact("current_seq_seen", held_seqs([m.seq for t, m in flight.currents if t <= disarmed and m.seq]))
+    trace.fact("said", said([text for _, text in flight.texts]))
+
+
 def run(target) -> dict[str, Trace]:
     traces: dict[str, Trace] = {}
     try:
@@ -313,13 +324,7 @@ def run(target) -> dict[str, Trace]:
                 trace.fact(f"set_{param}", client.set_param(param, value))
             geo, (result, log) = _fly(client, plan)
             flight = Flight(geo, log)
-            trace.fact("upload", result)
-            trace.fact("reached", [m.seq for _, m in flight.of("MISSION_ITEM_REACHED")])
-            # up to the disarm: whether the reset to item 1 after it shows depends on when the window ends
-            disarmed = next((t for t, text in flight.texts if text == "Disarming motors"), flight.end_ms)
-            # and from item 1: how long seq 0 shows after an upload is not these items' business
-            trace.fact("current_seq_seen", held_seqs([m.seq for t, m in flight.currents if t <= disarmed and m.seq]))
-            trace.fact("said", said([text for _, text in flight.texts]))
+            mission_facts(trace, flight, result)
             for seq, (cmd, _, at, _) in enumerate(plan, start=1):
                 if cmd == TURNS:
                     _circle_facts(trace, flight, seq, at)
