@@ -118,6 +118,7 @@ class Vehicle:
         airframe = config.sim.airframe
         self.thrust_max_n = 4.0 * airframe.max_rotor_thrust_n
         self.omega_max_rad_s = airframe.omega_max_rad_s
+        self.omega_idle_rad_s = airframe.omega_idle_rad_s
         self.arming = Arming()
         self.internal_errors = InternalErrors()
         self.land_detector = LandDetector(airframe.weight_n)
@@ -190,6 +191,8 @@ class Vehicle:
     attitude: ReadThrough[Vector3] = property(attrgetter("estimate.attitude"), doc="(roll, pitch, yaw) [rad].")
     gps: ReadThrough[GpsReading] = property(attrgetter("estimate.gps"), doc="The last GPS sample.")
     armed: ReadThrough[bool] = property(attrgetter("arming.armed"))
+    interlock_at_s: ReadThrough[float] = property(attrgetter("arming.interlock_at_s"),
+                                                  doc="Sim time the arming delay ends [s].")
     arm_changes: ReadThrough[int] = property(attrgetter("arming.changes"), doc="Arms and disarms so far.")
     landed: ReadThrough[bool] = property(attrgetter("land_detector.landed"))
     # ... the rest of the estimate and the sensors, as telemetry reports them
@@ -420,7 +423,7 @@ class Vehicle:
             return Result.FAILED
         if self.home_ned is None and self.estimate.origin_known():  # without a fix it stays unset
             self._set_home_here()
-        self.arming.arm(self.attitude[2])
+        self.arming.arm(self.attitude[2], self.time_s)
         b = self.body
         self.return_path.set_home(self.has_position(), (b.n_m, b.e_m, b.d_m), self.time_s)
         self.land_detector.set_landed()
@@ -652,7 +655,14 @@ class Vehicle:
         sp = self.setpoint
         if est.alt_error_m and sp.pos_d is not None:
             sp = in_true_height(sp, est.alt_error_m)
-        self.cascade.command(sp, self.arming.armed and not (self.motors_emergency_stopped or self.mode.motors_stopped),
+        arming, mode = self.arming, self.mode
+        spinning = arming.armed and not (self.motors_emergency_stopped or mode.motors_stopped)
+        if spinning and self.sim.time_s < arming.interlock_at_s:  # the arming delay
+            if mode.skips_arming_delay:
+                arming.interlock_at_s = self.sim.time_s
+            else:
+                spinning = False
+        self.cascade.command(sp, spinning,
                              self.land_detector.landed,
                              min(sp.speed_xy, self._loiter_speed_max))
         self.cascade.run(min(most, self._chunk - steps % self._chunk))
@@ -693,7 +703,10 @@ class Vehicle:
                     landed = detector.landed
                     # A mode that never auto-disarms (THROW, waiting armed) counts as wanting to climb.
                     wants_climb = landed and (self.setpoint.wants_climb(body.d_m) or not self.mode.auto_disarms)
-                    if wants_climb and self.mode.climbs_without_takeoff:
+                    # ArduCopter's check: throttle above half the hover's while landed, motors at full
+                    # range; asked by the mode (the thrust of a landing's last tick does not count)
+                    if wants_climb and self.mode.climbs_without_takeoff and \
+                            self.cascade.thrust_t > 0.5 * detector.weight_n:
                         self._climbed_while_landed()
                     delay = self.params["DISARM_DELAY"]
                     if self.motors_emergency_stopped:  # ArduCopter halves it: nothing spins to show it is armed

@@ -32,7 +32,7 @@ static int wants_climb(const Command *cmd, double d_m) /* Setpoint.wants_climb *
     if (!isnan(cmd->throttle))
         return cmd->throttle > 0.05;
     if (!isnan(cmd->pos_d))
-        return cmd->pos_d < d_m - 0.2;
+        return cmd->pos_d < d_m - 0.2 || cmd->vel_d < -0.05;
     return cmd->vel_d < -0.05;
 }
 

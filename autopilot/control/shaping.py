@@ -93,6 +93,19 @@ def shape_vel_accel_2d(vel_input: Vec2, accel_input: Vec2, vel: Vec2, accel: Vec
     return shape_accel_2d(target, accel, jerk_max, dt)
 
 
+def shape_pos_vel_accel(pos_input: float, vel_input: float, accel_input: float, pos: float, vel: float,
+                        accel: float, vel_min: float, vel_max: float, accel_min: float, accel_max: float,
+                        jerk_max: float, dt: float) -> float:
+    """The acceleration that brings the state (pos, vel) onto the input's along one axis. The
+    approach brakes at half the limit on the side it brakes with, so a target far away is met
+    without overshoot; the correcting speed stays within vel_min..vel_max, then vel_input adds."""
+    error = pos_input - pos
+    brake = -accel_min if error > 0.0 else accel_max
+    correction = sqrt_controller(error, 0.5 * jerk_max / brake, 0.5 * brake, dt)
+    correction = max(vel_min, min(vel_max, correction))
+    return shape_vel_accel(correction + vel_input, accel_input, vel, accel, accel_min, accel_max, jerk_max, dt)
+
+
 def shape_pos_vel_accel_2d(pos_input: Vec2, vel_input: Vec2, accel_input: Vec2, pos: Vec2, vel: Vec2,
                            accel: Vec2, accel_max: float, jerk_max: float, dt: float, vel_max: float = 0.0) -> Vec2:
     """The horizontal acceleration that brings the state (pos, vel) onto the input's; the speed

@@ -128,16 +128,23 @@ def motor_pwm(v: SensorView) -> list[int]:
     """Each motor's PWM as ArduCopter's motor library makes it: thrust as a fraction of the most
     a rotor gives, turned into throttle through the MOT_THST_EXPO curve, spread over
     MOT_SPIN_MIN..MOT_SPIN_MAX of the MOT_PWM_MIN..MOT_PWM_MAX range; MOT_PWM_MIN disarmed, and for
-    a motor commanded to stop (armed with the motors shut down: emergency stop, THROW waiting)."""
+    a motor commanded to stop (armed with the motors shut down: the arming delay, emergency stop,
+    THROW waiting); MOT_SPIN_ARM at ground idle."""
     params = v.params
     low, high = params["MOT_PWM_MIN"] or 1000.0, params["MOT_PWM_MAX"] or 2000.0
     if not v.armed:
         return [int(low)] * 4
     expo, spin_min, spin_max = params["MOT_THST_EXPO"], params["MOT_SPIN_MIN"], params["MOT_SPIN_MAX"]
     out = []
+    idle = v.omega_idle_rad_s
     for omega in v.motor_commands:
         if omega <= 0.0:
             out.append(int(low))
+            continue
+        if omega == idle:  # at ground idle: ArduCopter's MOT_SPIN_ARM, reached MOT_SPOOL_TIME after the arming delay
+            spool = params["MOT_SPOOL_TIME"]
+            share = max(0.0, min(1.0, (v.time_s - v.interlock_at_s) / spool)) if spool > 0.0 else 1.0
+            out.append(int(round(low + (high - low) * params["MOT_SPIN_ARM"] * share)))
             continue
         thrust = min(max(omega / v.omega_max_rad_s, 0.0), 1.0) ** 2
         throttle = thrust if expo <= 0 else \

@@ -32,6 +32,7 @@ from .guided_stop import JERK_DEFAULT_M_S3, JerkLimitedStop
 from .guided_yaw import DEFAULT, GuidedYaw
 from .land import Rtl, descend_and_disarm
 from .numbers import ModeNumber
+from .takeoff_climb import TakeoffClimb
 from .waypoint_legs import NAV_BY_LEGS, WaypointLegs, flies_through, next_nav_index
 
 # AP_Mission_ChangeDetector compares the current navigation item and the next two: a change
@@ -78,6 +79,7 @@ class Auto(Mode):
     _seen: tuple[int, int | None, tuple[tuple[int, MissionItem], ...]]
     _paused_d: float | None = None  # DO_PAUSE_CONTINUE stopped a waypoint leg at this height
     _stopping: JerkLimitedStop | None = None  # ... slowing down as it does
+    _takeoff: TakeoffClimb | None = None  # the takeoff item's climb, once it has started
     _runner: AutoItem | None = None  # the navigation item being flown, when it is one of ITEMS
     _do_runner: tuple[int, AutoItem] | None = None  # the "do" or condition item of ITEMS running
     # What the navigation item before the one starting left behind (its runner, or the waypoint
@@ -285,6 +287,7 @@ class Auto(Mode):
         self.heading.kind = DEFAULT  # as ArduCopter's wp_start, takeoff and land set auto_yaw
         self._target = self._target_ned(ctx, item)
         self._arrived_at = None
+        self._takeoff = None  # a takeoff's climb starts when the vehicle may take off
         if item.command == CMD_TAKEOFF:
             b = ctx.body
             self._target = (b.n_m, b.e_m, min(self._target[2], b.d_m))
@@ -345,9 +348,11 @@ class Auto(Mode):
             self._land(ctx, sp, item)
             return
         if item.command == CMD_TAKEOFF:
-            n, e, d = self._target
-            sp.pos_ne, sp.pos_d = (n, e), d
-            self._nav_done = ctx.body.d_m <= d + 0.5
+            takeoff = self._takeoff
+            if takeoff is None:
+                takeoff = self._takeoff = TakeoffClimb(ctx, self._target[2])
+            takeoff.fly(ctx, sp, dt)
+            self._nav_done = takeoff.done
             return
         if self._paused_d is not None and self._stopping is not None:
             self._stopping.fly(ctx, sp, dt)
@@ -423,8 +428,8 @@ class Auto(Mode):
         if self._runner is not None:
             return self._runner.landed_state_hint(ctx)
         command = self._item.command
-        if command == CMD_TAKEOFF:
-            return "TAKEOFF"
+        if command == CMD_TAKEOFF:  # ArduCopter's is_taking_off: until the climb is done
+            return None if self._takeoff is not None and self._takeoff.done else "TAKEOFF"
         if command == CMD_LAND:
             return "LANDING"
         if command == CMD_RTL:

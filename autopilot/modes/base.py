@@ -59,11 +59,12 @@ class Setpoint:
         self.rates = None
 
     def wants_climb(self, d_m: float) -> bool:
-        """Whether this setpoint asks a landed vehicle to leave the ground."""
+        """Whether this setpoint asks a landed vehicle to leave the ground: a height above it, or
+        a climb (alone, or fed forward to a height: a takeoff's profile leaving the ground)."""
         if self.throttle is not None:
             return self.throttle > 0.05
-        if self.pos_d is not None:
-            return self.pos_d < d_m - 0.2
+        if self.pos_d is not None and self.pos_d < d_m - 0.2:
+            return True
         return self.vel_d < -0.05
 
 
@@ -94,6 +95,7 @@ class Mode:
     # Armed with the motors shut down (ArduCopter's SHUT_DOWN spool state: THROW waiting with
     # THROW_MOT_START 0): nothing spins and nothing is controlled. A mode sets it on itself.
     motors_stopped = False
+    skips_arming_delay = False  # the motors may spin at once on arming (ArduCopter: THROW)
 
     def __init_subclass__(cls, **kwargs: object) -> None:
         super().__init_subclass__(**kwargs)

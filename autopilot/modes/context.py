@@ -35,6 +35,7 @@ class ModeContext:
         nav_speed_m_s the horizontal speed AUTO and GUIDED fly (WPNAV_SPEED, DO_CHANGE_SPEED)
         has_position() whether the horizontal position is known (3D GPS fix)
         auto_armed    AUTO may start its mission from the ground
+        interlock_at_s when the arming delay ends and the motors may spin (sim seconds)
         origin_alt_m  altitude of the local frame's origin above sea level
         ned_of(lat, lon, alt_amsl) -> (n, e, d) in the local frame
         position_global() where the vehicle is (GeoPoint: degrees, metres above sea level)
@@ -130,6 +131,7 @@ class ModeContext:
     nav_speed_m_s: ReadThrough[float] = property(attrgetter("_v.nav_speed_m_s"))
     auto_armed: ReadThrough[bool] = property(attrgetter("_arming.auto_armed"))
     armed_yaw: ReadThrough[float] = property(attrgetter("_arming.armed_yaw"))  # heading at arming [rad]
+    interlock_at_s: ReadThrough[float] = property(attrgetter("_arming.interlock_at_s"))  # the arming delay's end
     origin_alt_m: ReadThrough[float] = property(attrgetter("_v.origin.alt_m"))
     accel_body: ReadThrough[Vector3] = property(attrgetter("_estimate.accel_body"))
     mode_number: ReadThrough[int] = property(attrgetter("_v.mode_number"))

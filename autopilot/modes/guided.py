@@ -18,11 +18,9 @@ from .guided_angle import AttitudeTarget, guided_timeout_s
 from .guided_stop import JerkLimitedStop
 from .guided_yaw import DEFAULT, SLEW_YAW_DEFAULT_CDEG_S, TURNING, GuidedYaw
 from .numbers import ModeNumber
+from .takeoff_climb import TakeoffClimb
 
 VELOCITY_TIMEOUT_S = 3.0  # GUID_TIMEOUT's default: ArduCopter stops if velocity setpoints stop arriving
-# The takeoff is over (EXTENDED_SYS_STATE TAKEOFF -> IN_AIR) this close to its altitude: ArduCopter's
-# ends at the altitude (measured on its SITL: IN_AIR at 9.99 m of a 10 m takeoff).
-TAKEOFF_DONE_M = 0.1
 FACE_TARGET_BEYOND_M = 1.0  # nearer than this the heading stays: an overshoot does not turn it
 # Taking over climbing or sinking faster than this, the height is held only once the climb or
 # sink has been stopped (below VERTICAL_STILL_M_S): ArduCopter's GUIDED starts as a velocity of
@@ -42,7 +40,7 @@ class Guided(Mode):
     allows_arming = True
     has_user_takeoff = True
     in_guided_mode = True
-    takeoff_d: float | None  # the height a user takeoff climbs to, until it is reached
+    takeoff: TakeoffClimb | None  # a user takeoff, until another target replaces it
     submode: str
     target_ne: tuple[float, float]
     target_d: float
@@ -73,7 +71,7 @@ class Guided(Mode):
         takeoff, not paused; the speeds are left as they are."""
         self.yaw = GuidedYaw()
         self.hold(ctx)
-        self.takeoff_d = None
+        self.takeoff = None
         self.paused_d = None
         self.speed_up = self.speed_dn = None
 
@@ -101,7 +99,7 @@ class Guided(Mode):
 
     def stop(self, ctx: ModeContext) -> bool:
         """A target ArduCopter finds invalid: it stops (re-initialises the mode)."""
-        self.takeoff_d = None
+        self.takeoff = None
         self.hold(ctx)
         return True
 
@@ -109,8 +107,8 @@ class Guided(Mode):
     def user_takeoff(self, ctx: ModeContext, alt_above_home_m: float) -> None:
         self.hold(ctx)
         self.stopping_vertically = False
-        self.takeoff_d = ctx.height_ref_d - alt_above_home_m  # above home, or the boot ground before it
-        self.target_d = self.takeoff_d
+        self.target_d = ctx.height_ref_d - alt_above_home_m  # above home, or the boot ground before it
+        self.takeoff = TakeoffClimb(ctx, self.target_d)
 
     def goto(self, ctx: ModeContext, n: float, e: float, d: float | None, yaw: float | None = None,
              vel_ff: Vector3 = ZERO3) -> bool:
@@ -127,7 +125,7 @@ class Guided(Mode):
                    yaw: float | None, yaw_rate: float | None, yaw_relative: bool = False) -> bool:
         """A SET_POSITION_TARGET's parts (local NED; None = ignored), as ArduCopter takes them:
         position [+ velocity [+ acceleration]], velocity [+ acceleration], or acceleration."""
-        self.takeoff_d = None
+        self.takeoff = None
         self.stopping = None
         before = self.submode
         if pos is not None:
@@ -176,7 +174,7 @@ class Guided(Mode):
         """SET_ATTITUDE_TARGET (guided_angle.AttitudeTarget)."""
         if self.submode != ANGLE:
             self.submode = ANGLE
-            self.takeoff_d = None
+            self.takeoff = None
             self.has_waypoint = False
             self.angle.start(ctx, ctx.attitude[2])
         self.angle.set(ctx, attitude, rates, climb_or_thrust, use_thrust)
@@ -228,7 +226,8 @@ class Guided(Mode):
             self.angle.fly(ctx, sp, dt)
             return
         sp.speed_xy = ctx.nav_speed_m_s
-        if ctx.landed and self.takeoff_d is None:
+        takeoff = self.takeoff
+        if ctx.landed and takeoff is None:
             # ArduCopter's guided controllers do nothing on the ground: only a takeoff leaves it.
             self.target_d = sp.pos_d = ctx.body.d_m
             return
@@ -240,7 +239,9 @@ class Guided(Mode):
         if (self.submode != POS or self.yaw.kind in TURNING) and ctx.time_s - self.updated_s > guided_timeout_s(ctx):
             self._timed_out(ctx)
         submode = self.submode
-        if submode == POS:
+        if takeoff is not None:  # climbing, then holding the height it climbed to
+            takeoff.fly(ctx, sp, dt)
+        elif submode == POS:
             self._fly_position(ctx, sp)
         elif submode == POS_VEL_ACCEL:
             self._fly_pos_vel_accel(ctx, sp, dt)
@@ -252,8 +253,6 @@ class Guided(Mode):
             sp.yaw = self.auto_yaw.facing(ctx, *sp.vel_ne)
         if self.speed_up is not None or self.speed_dn is not None:
             self._limit_vertical(ctx, sp)
-        if self.takeoff_d is not None and abs(ctx.body.d_m - self.takeoff_d) < TAKEOFF_DONE_M:
-            self.takeoff_d = None
 
     def _timed_out(self, ctx: ModeContext) -> None:
         """The target stream stopped: ArduCopter stops a rate turn, zeroes a velocity and an
@@ -331,4 +330,5 @@ class Guided(Mode):
             sp.vel_d = -up
 
     def landed_state_hint(self, ctx: ModeContext) -> str | None:
-        return "TAKEOFF" if self.takeoff_d is not None and not ctx.landed else None
+        takeoff = self.takeoff
+        return "TAKEOFF" if takeoff is not None and not takeoff.done and not ctx.landed else None

@@ -70,8 +70,8 @@ class PilotTakeoff:
         if not ctx.landed or climb <= 0.0:
             self.asked_at_s = None
             return False
-        if self.asked_at_s is None:
-            self.asked_at_s = ctx.time_s
+        if self.asked_at_s is None:  # asked during the arming delay: the spool-up starts at its end
+            self.asked_at_s = max(ctx.time_s, ctx.interlock_at_s)
         params = ctx.params
         # the motors spool up from ground idle first (MOT_SPOOL_TIME), then the throttle slews
         spool_s = params.get("MOT_SPOOL_TIME", 0.5) + \

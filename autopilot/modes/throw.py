@@ -44,6 +44,7 @@ class Throw(Mode):
     requires_position = True
     allows_arming = True
     auto_disarms = False
+    skips_arming_delay = True
 
     def __init__(self) -> None:
         self.stage = "DISARMED"  # DETECTING, SPOOLING, UPRIGHTING, HEIGHT, POSITION

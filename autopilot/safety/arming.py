@@ -160,6 +160,12 @@ def arm_refusal(v: PrearmView, force: bool) -> str | None:
     return refusals[0] if refusals else None
 
 
+# ArduCopter keeps the motors stopped this long after arming (ARMING_DELAY_SEC; measured on its
+# SITL: SERVO_OUTPUT_RAW reads MOT_PWM_MIN for 2.0-2.2 s after the arming ACK, in every mode but
+# THROW), then spools them up to ground idle.
+ARMING_DELAY_S = 2.0
+
+
 class Arming:
     """Whether the motors are armed, and ArduCopter's auto_armed: AUTO may start its
     mission from the ground (set by MISSION_START while armed and by a takeoff; cleared on disarm)."""
@@ -170,10 +176,13 @@ class Arming:
         self.changes = 0  # arms and disarms so far: a reader that looks now and then sees each one
         # The heading when last armed [rad] (ArduCopter's initial_armed_bearing): RTL turns back to it
         self.armed_yaw = 0.0
+        # Sim time the arming delay ends: the motors may spin from then on (ArduCopter's interlock)
+        self.interlock_at_s = 0.0
 
-    def arm(self, yaw: float = 0.0) -> None:
+    def arm(self, yaw: float = 0.0, now_s: float = 0.0) -> None:
         self.armed = True
         self.armed_yaw = yaw
+        self.interlock_at_s = now_s + ARMING_DELAY_S
         self.changes += 1
 
     def disarm(self) -> None:

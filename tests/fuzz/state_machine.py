@@ -569,11 +569,12 @@ def act_takeoff(w: Walk, r) -> None:
 
 
 def act_fly(w: Walk, r) -> None:
-    """GUIDED, arm (forced half the time: before the position estimate too), take off, climb a while."""
+    """GUIDED, arm (forced half the time: before the position estimate too), take off, climb a while
+    (the vehicle leaves the ground about 4 s after arming: the arming delay, then the spool-up)."""
     w.command(mav.MAV_CMD_DO_SET_MODE, mav.MAV_MODE_FLAG_CUSTOM_MODE_ENABLED, GUIDED)
     w.command(ARM, 1, FORCE_ARM if r.random() < 0.5 else 0)
     w.command(mav.MAV_CMD_NAV_TAKEOFF, 0, 0, 0, 0, 0, 0, r.choice((5.0, 10.0, 20.0)))
-    w.advance(r.choice((0.5, 1.0, 3.0)))
+    w.advance(r.choice((1.0, 4.5, 5.0, 7.0)))
 
 
 def act_land(w: Walk, r) -> None:

@@ -55,7 +55,7 @@ def test_without_gps_arming_sets_no_home_and_land_brings_it_down():
     assert v.set_mode(ModeNumber.ALT_HOLD) == Result.ACCEPTED
     assert v.arm() == Result.ACCEPTED and v.home_ned is None  # as ArduCopter: home needs a fix
     assert v.set_home(None) == Result.FAILED
-    end = v.time_s + 5.0  # the motors spool up and the throttle slews before it leaves the ground
+    end = v.time_s + 7.0  # the arming delay, the spool-up and the throttle's slew before it leaves the ground
     while v.time_s < end:  # climb on the throttle stick, held
         v.rc.hold_sticks(0.0, 0.0, 0.0, 0.9, v.time_s)
         v.run_until(v.time_s + 0.1)
@@ -228,7 +228,7 @@ def test_home_found_in_flight_takes_the_boot_grounds_height():
     v.run_until(1.0)
     v.set_mode(ModeNumber.ALT_HOLD)
     assert v.arm() == Result.ACCEPTED
-    end = v.time_s + 5.0  # past the pilot takeoff's spool-up and throttle slew
+    end = v.time_s + 7.0  # past the arming delay and the pilot takeoff's spool-up and throttle slew
     while v.time_s < end:
         v.rc.hold_sticks(0.0, 0.0, 0.0, 0.9, v.time_s)
         v.run_until(v.time_s + 0.1)

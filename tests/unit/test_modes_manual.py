@@ -162,7 +162,9 @@ def test_throw_waits_with_the_motors_stopped_unless_told_to_idle():
     stopped, idling = throw_armed(0), throw_armed(1)
     assert stopped.armed and sensor_messages.motor_pwm(stopped) == [1000] * 4
     assert stopped.motor_commands == (0.0, 0.0, 0.0, 0.0)
-    assert idling.armed and all(1100 < pwm < 1300 for pwm in sensor_messages.motor_pwm(idling))
+    # idling at ArduCopter's ground idle (MOT_SPIN_ARM): THROW skips the 2 s arming delay
+    assert idling.armed and sensor_messages.motor_pwm(idling) == [1100] * 4
+    assert all(omega > 0.0 for omega in idling.motor_commands)
 
 
 def test_throw_hands_over_as_soon_as_the_height_is_reached():

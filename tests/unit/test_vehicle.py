@@ -105,7 +105,9 @@ def test_mode_numbers_are_arducopters():
 
 
 # ----- flying -----------------------------------------------------------------------------------
-def test_guided_takeoff_reaches_10m_without_overshoot_and_settles_within_8s():
+def test_guided_takeoff_reaches_10m_without_overshoot_and_settles_as_arducopter():
+    """ArduCopter SITL, armed and told to take off to 10 m at once: off the ground after 4.0 s (the
+    arming delay and the throttle's slew), done at 10.0 m after 10.5 s (parity area `takeoff`)."""
     v = ready_vehicle()
     v.set_mode(Guided.number)
     v.arm()
@@ -118,9 +120,10 @@ def test_guided_takeoff_reaches_10m_without_overshoot_and_settles_within_8s():
         samples.append((v.time_s - t0, altitude(v)))
         saw_takeoff_state |= v.landed_state() == "TAKEOFF"
     assert saw_takeoff_state
+    assert all(a < 0.05 for t, a in samples if t < 3.0)  # the arming delay, then the slew: still down
     peak = max(a for _, a in samples)
     assert peak < 10.0 * 1.10
-    assert all(abs(a - 10.0) <= 0.3 for t, a in samples if t >= 8.0)
+    assert all(abs(a - 10.0) <= 0.3 for t, a in samples if t >= 11.0)
     assert abs(samples[-1][1] - 10.0) <= 0.3
     assert not v.landed and v.landed_state() == "IN_AIR"
     # It climbed straight up.
@@ -240,13 +243,15 @@ def test_auto_disarm_follows_the_parameter():
     assert v2.armed
 
 
-def test_idle_props_when_armed_on_the_ground_and_stopped_when_disarmed():
+def test_idle_props_when_armed_on_the_ground_after_the_arming_delay_and_stopped_when_disarmed():
     v = ready_vehicle()
     v.set_mode(Guided.number)
     v.run_until(v.time_s + 0.2)
     assert v.sim.state.omega_rad_s == (0.0,) * 4
     v.arm()
-    v.run_until(v.time_s + 0.5)
+    v.run_until(v.time_s + 1.9)  # ArduCopter's arming delay: nothing spins for 2 s
+    assert v.sim.state.omega_rad_s == (0.0,) * 4
+    v.run_until(v.time_s + 0.6)
     idle = v.sim.airframe.omega_idle_rad_s
     assert v.sim.state.omega_rad_s == pytest.approx((idle,) * 4, rel=1e-3)
     assert v.body.d_m == 0.0
