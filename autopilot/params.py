@@ -266,6 +266,11 @@ DEFAULTS = {STORED_AS[name]: spec.default for name, spec in KNOWN_BY_NAME.items(
 
 INVERSE_OLD_NAMES = {"SIM_GPS_DISABLE": "SIM_GPS1_ENABLE"}  # 4.5's name of a 0/1 that 4.7 inverted
 
+# Parameters a command sets with whatever it is sent, outside their range too, as ArduCopter does
+# (measured: DO_SET_CAM_TRIGG_DIST with NaN, -5, 21196 or inf is accepted, and PARAM_VALUE then
+# reads CAM1_TRIGG_DIST as exactly that).
+SET_UNCHECKED_BY_COMMANDS = {"CAM1_TRIGG_DIST": "MAV_CMD_DO_SET_CAM_TRIGG_DIST"}
+
 
 def served_equivalent(name: str, value: float) -> tuple[str, float]:
     """The served parameter and value that mean what setting `name` to `value` means: for a

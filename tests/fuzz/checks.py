@@ -4,7 +4,7 @@ from __future__ import annotations
 import math
 
 from firefly.autopilot.modes import MODE_BY_NUMBER
-from firefly.autopilot.params import PARAM_TABLE
+from firefly.autopilot.params import PARAM_TABLE, SET_UNCHECKED_BY_COMMANDS
 
 
 def terminal_speed_m_s(airframe) -> float:
@@ -37,6 +37,8 @@ def vehicle_problems(v, session=None) -> list[str]:
     if v.mode.number not in MODE_BY_NUMBER or v.modes[v.mode.number] is not v.mode:
         problems.append(f"mode {v.mode!r} not in the mode table")
     for spec in PARAM_TABLE:
+        if spec.name in SET_UNCHECKED_BY_COMMANDS:
+            continue
         value = v.params[spec.name]
         if not (math.isfinite(value) and spec.low <= value <= spec.high):
             problems.append(f"parameter {spec.name} = {value} outside {spec.low}..{spec.high}")

@@ -52,6 +52,7 @@ from firefly.autopilot.mavlink.link import Link
 from firefly.autopilot.mavlink.session import Session
 from firefly.autopilot.mission.commands import NAMES as MISSION_COMMAND_NAMES
 from firefly.autopilot.modes import MODE_BY_NUMBER
+from firefly.autopilot.params import ParamStore
 from firefly.autopilot.startup import StartupTimeline
 from firefly.autopilot.vehicle import Vehicle, VehicleConfig
 
@@ -70,7 +71,9 @@ ACCEPTED = mav.MAV_RESULT_ACCEPTED
 MODE_NAMES = {n: cls.name for n, cls in MODE_BY_NUMBER.items()}
 PHASES = {"ON_GROUND": "armed_ground", "TAKEOFF": "takeoff", "IN_AIR": "flying", "LANDING": "landing"}
 KIND_NAMES = {0: "mission", 1: "fence", 2: "rally"}
-STARTS = ("realistic", "instant")
+# "camera": an instant start with a servo camera (SERVO9_FUNCTION 10 at power-on makes CAM1_TYPE 1),
+# so that the camera's commands and mission items act rather than answer that there is none
+STARTS = ("realistic", "instant", "camera")
 
 
 # ----- failures ---------------------------------------------------------------------------------------
@@ -179,6 +182,8 @@ def facets(v, s) -> tuple:
         flags.append("xfer:params")
     if s.ftp.file is not None:
         flags.append("xfer:ftp")
+    if v.camera.busy:
+        flags.append("camera_busy")
     return startup_stage(v), mode, flight_phase(v), flags
 
 
@@ -217,14 +222,18 @@ def describe_message(msg) -> str:
 # ----- the walk ---------------------------------------------------------------------------------------
 class Walk:
     def __init__(self, start: str = "realistic", decode_every: int = 1):
-        """`start`: "realistic" (ArduCopter's start-up, startup.py) or "instant"; `decode_every`:
+        """`start`: "realistic" (ArduCopter's start-up, startup.py), "instant" or "camera" (instant,
+        with a camera); `decode_every`:
         every message the vehicle sends is packed, and every decode_every-th of its telemetry
         decoded again (answers to a message always are)."""
         if start not in STARTS:
             raise ValueError(f"start must be one of {STARTS}")
         self.start = start
         timeline = StartupTimeline() if start == "realistic" else None
-        self.vehicle = v = Vehicle(VehicleConfig(startup=timeline))
+        params = ParamStore()
+        if start == "camera":
+            params.set("SERVO9_FUNCTION", 10)
+        self.vehicle = v = Vehicle(VehicleConfig(startup=timeline), params)
         self.session = s = Session(v, new_codec(SYSTEM_ID))
         self.link = Link(s.codec, s.signing)  # what the vehicle sends is packed as the I/O edge packs it
         self.client = new_codec(*GCS)  # the ground station's codec: builds and packs what it sends
@@ -756,6 +765,20 @@ def act_hostile(w: Walk, r) -> None:
         w.send(hostile.hostile_message(w.client, r, w.awaiting()))
 
 
+def act_camera(w: Walk, r) -> None:
+    """A camera command, as a ground station sends them (its values hostile now and then): a
+    picture, an interval capture, distance triggering on or off, the capture stopped."""
+    how = r.randrange(4)
+    if how == 0:
+        w.command(mav.MAV_CMD_DO_DIGICAM_CONTROL, 0, 0, 0, 0, param_f(r, 1.0))
+    elif how == 1:
+        w.command(mav.MAV_CMD_IMAGE_START_CAPTURE, 0, param_f(r, r.choice((0.5, 1.0, 3.0))), param_f(r, r.randrange(6)))
+    elif how == 2:
+        w.command(mav.MAV_CMD_DO_SET_CAM_TRIGG_DIST, param_f(r, r.choice((0.0, 5.0, 20.0))), 0, param_f(r, 1.0))
+    else:
+        w.command(mav.MAV_CMD_IMAGE_STOP_CAPTURE)
+
+
 def act_known(w: Walk, r) -> None:
     w.send(r.choice(hostile.known_reproductions(w.client, w.origin)))
 
@@ -769,6 +792,7 @@ ACTIONS = {
     "rally": (1, act_rally), "mission_start": (2, act_mission_start), "battery": (2, act_battery),
     "gcs": (1, act_gcs), "gps": (2, act_gps), "fence_params": (2, act_fence_params),
     "param_list": (1, act_param_list), "ftp": (2, act_ftp), "known": (3, act_known),
+    "camera": (2, act_camera),
 }
 
 

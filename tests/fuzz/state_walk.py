@@ -1,6 +1,6 @@
 """The state-space walk as a long run: a seeded random walk over the sans-IO vehicle and session
 (state_machine.py's actions and invariants), episode after episode, each from a fresh vehicle
-(realistic start-up mostly, instant sometimes). A failure ends its episode; the walk goes on with
+(realistic start-up mostly, instant sometimes, now and then with a camera). A failure ends its episode; the walk goes on with
 the next, counting each distinct failure and keeping its first reproductions, shrunk.
 
     python -m tests.fuzz.state_walk --steps 1000000 --seed 1 --json out/state_walk.json
@@ -23,6 +23,7 @@ from .state_machine import ACTIONS, START_AT_S, Walk, WalkFailure, render, shrin
 
 EPISODE_STEPS = (20, 800)  # steps in one episode: a fresh vehicle each
 REALISTIC_SHARE = 0.75
+CAMERA_SHARE = 0.1  # instant starts with a camera; the rest of the episodes start instantly without one
 PROGRESS_EVERY_S = 5.0
 DECODE_EVERY = 16  # telemetry frames decoded again: one in this many (all of them pack; answers all decode)
 
@@ -44,7 +45,10 @@ def run(steps: int, seed: int = 1, progress=None, repros: int = 3, shrink_budget
     walk = None
     while done < steps:
         episodes += 1
-        walk = Walk("realistic" if rng.random() < REALISTIC_SHARE else "instant", decode_every=DECODE_EVERY)
+        draw = rng.random()
+        start = "realistic" if draw < REALISTIC_SHARE else "camera" if draw < REALISTIC_SHARE + CAMERA_SHARE \
+            else "instant"
+        walk = Walk(start, decode_every=DECODE_EVERY)
         length = rng.randint(*EPISODE_STEPS)
         try:
             if walk.start == "realistic":  # from any stage of the start-up

@@ -29,7 +29,7 @@ from .test_hostile_messages import MESSAGES
 
 SHRINK_S = 8.0  # wall seconds to shrink a failure's reproduction
 RANDOM = st.randoms(use_true_random=False)
-STARTS = [("instant", 0.0)] + [("realistic", t) for t in START_AT_S]
+STARTS = [("instant", 0.0), ("camera", 0.0)] + [("realistic", t) for t in START_AT_S]
 
 
 def _action(name: str):
@@ -78,6 +78,7 @@ class StateSpace(RuleBasedStateMachine):
     param_list = _action("param_list")
     ftp = _action("ftp")
     known = _action("known")
+    camera = _action("camera")
 
     @rule(msg=MESSAGES)
     def hostile_as_in_the_hostile_message_tests(self, msg):
@@ -105,7 +106,7 @@ WALK_SEED = 1  # one whose walk reaches every REQUIRED state with the modes of i
 
 # What the walk must reach (state_machine.facets names them): every start-up stage; every mode
 # disarmed and flying; armed on the ground in the modes that arm; landing; every failsafe; the
-# GPS lost; home not yet set; every transfer half done.
+# GPS lost; home not yet set; every transfer half done; the camera at work.
 MODES = ("STABILIZE", "ALT_HOLD", "AUTO", "GUIDED", "LOITER", "RTL", "LAND", "POSHOLD", "BRAKE")
 REQUIRED = (
     {f"stage:{s}" for s in ("boot", "no_fix", "no_home", "no_position", "ready", "instant")}
@@ -113,7 +114,8 @@ REQUIRED = (
     | {f"{m}|armed_ground" for m in ("STABILIZE", "ALT_HOLD", "GUIDED", "LOITER", "POSHOLD", "LAND")}
     | {"LAND|landing", "RTL|landing", "GUIDED|takeoff", "phase:disarmed_air"}
     | {"fs:batt_low", "fs:batt_crit", "fs:gcs", "fs:fence", "fs:ekf", "gps_lost", "gps_glitch", "no_home"}
-    | {f"xfer:{x}" for x in ("mission", "fence", "rally", "params", "ftp")})
+    | {f"xfer:{x}" for x in ("mission", "fence", "rally", "params", "ftp")}
+    | {"camera_busy"})  # a camera taking pictures: by time, by distance, or one under way
 
 
 @pytest.fixture(scope="module")
