@@ -160,12 +160,6 @@ def fraction(text: str) -> float:
     return value
 
 
-def quiet_mavsdk_logs() -> None:
-    """MAVSDK's own debug/info lines would drown the progress output; keep warnings and errors."""
-    from mavsdk import LogLevel, log_subscribe
-    log_subscribe(lambda level, message, file, line: level < LogLevel.WARN)
-
-
 def main(argv=None) -> int:
     try:
         args = build_parser().parse_args(argv)
@@ -173,6 +167,7 @@ def main(argv=None) -> int:
         print(f"groundstation: error: {exc}", file=sys.stderr)
         return 2
     if args.command not in ("evaluate", "campaign") or getattr(args, "flight", None):
+        from .flight.mavsdk_logs import quiet_mavsdk_logs
         quiet_mavsdk_logs()
     try:
         return guarded(args)

@@ -45,6 +45,6 @@ def quiet_mavsdk() -> None:
     """Once per worker process: MAVSDK's own log lines would bury the progress bar."""
     global _quiet
     if not _quiet:
-        from ..cli import quiet_mavsdk_logs
+        from ..flight.mavsdk_logs import quiet_mavsdk_logs
         quiet_mavsdk_logs()
         _quiet = True

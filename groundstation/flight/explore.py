@@ -25,7 +25,7 @@ from mavsdk.asyncio.plugins.mavlink_direct import MavlinkDirectAsync
 
 from firefly.sim.fire import FireWorld
 
-from ..evaluation.episodes import fires_found, judge
+from ..truth import fires_found, judge
 from ..strategy import Geometry, make_policy
 from ..strategy.controller import SearchConfig, SearchController
 from ..strategy.stopping import Declaration

@@ -30,7 +30,7 @@ from mavsdk.asyncio.plugins.mavlink_direct import MavlinkDirectAsync
 from firefly.sim.fire import FireWorld
 from firefly.sim.geo import ned_from_global
 
-from ..evaluation.episodes import judge
+from ..truth import judge
 from ..plots import draw_track, label_map, png
 from ..strategy import Geometry
 from ..strategy.controller import SearchConfig

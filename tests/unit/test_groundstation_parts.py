@@ -36,7 +36,7 @@ SOURCES = sorted(GROUNDSTATION.rglob("*.py"))
 def test_the_scan_sees_every_kind_of_import():
     explore = imported_modules(GROUNDSTATION / "flight" / "explore.py")
     assert {"asyncio", "sim.fire", "groundstation.strategy.controller", "groundstation.flight.survey",
-            "groundstation.evaluation.episodes"} <= explore
+            "groundstation.truth"} <= explore
 
 
 @pytest.mark.parametrize("path", SOURCES, ids=lambda p: str(p.relative_to(GROUNDSTATION)))

@@ -56,6 +56,42 @@ def test_imports_point_one_way(folder, forbidden):
     assert not wrong, sorted(wrong)
 
 
+# The companion's own layers, lowest first: each may import only those before it. The search's
+# decisions (strategy) and the plans know nothing of flying; judging against the truth sits on the
+# strategy; flying (flight) uses those; evaluation runs episodes, flown or not; a campaign runs
+# evaluations; the command line drives them all.
+GROUNDSTATION_LAYERS = (("strategy", "plans", "plots", "progress"), ("truth",), ("flight",),
+                        ("evaluation",), ("campaign",), ("cli",), ("__main__",))
+
+
+def groundstation_package(module: str) -> str | None:
+    """`groundstation.flight.explore` -> "flight"; None outside the companion."""
+    parts = module.split(".")
+    return parts[1] if parts[0] == "groundstation" and len(parts) > 1 else None
+
+
+def test_groundstation_layers_import_downward_only():
+    rank = {package: i for i, layer in enumerate(GROUNDSTATION_LAYERS) for package in layer}
+    wrong, unplaced = set(), set()
+    for path, modules in imports_under("groundstation").items():
+        own = groundstation_package(".".join(Path(path).with_suffix("").parts))
+        if own is None or own == "__init__":
+            continue
+        if own not in rank:
+            unplaced.add(own)
+            continue
+        for module in modules:
+            other = groundstation_package(module)
+            if other is None or other == own:
+                continue
+            if other not in rank:
+                unplaced.add(other)
+            elif rank[other] >= rank[own]:
+                wrong.add(f"{path} imports {module}")
+    assert not unplaced, f"packages not in GROUNDSTATION_LAYERS: {sorted(unplaced)}"
+    assert not wrong, sorted(wrong)
+
+
 def test_the_check_sees_relative_imports():
     modules = absolute_imports(ROOT / "autopilot" / "modes" / "auto.py")
     assert "autopilot.mission.commands" in modules and "autopilot.modes.base" in modules

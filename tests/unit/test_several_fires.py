@@ -8,7 +8,8 @@ import math
 import numpy as np
 import pytest
 
-from firefly.groundstation.evaluation.episodes import EpisodeConfig, judge_all, run_episode
+from firefly.groundstation.evaluation.episodes import EpisodeConfig, run_episode
+from firefly.groundstation.truth import judge_all
 from firefly.groundstation.strategy import Belief, Geometry, make_policy
 from firefly.groundstation.strategy.belief import symmetric_inverse
 from firefly.groundstation.strategy.refine import refine_hot_spots

@@ -415,7 +415,8 @@ def test_a_spread_belief_is_planned_on_pooled_blocks_that_keep_its_mass():
 
 
 def test_episodes_with_several_fires_keep_the_first_and_count_fires_found():
-    from firefly.groundstation.evaluation.episodes import episode_world, fires_found
+    from firefly.groundstation.evaluation.episodes import episode_world
+    from firefly.groundstation.truth import fires_found
     base = FireWorld()
     one = episode_world(base, 2, 5, EpisodeConfig())
     two = episode_world(base, 2, 5, EpisodeConfig(fires=2))
