@@ -101,7 +101,7 @@ def load_scenario(path: Path) -> Scenario:
 
 
 WORLD_TABLES = ("seed", "home", "airframe", "wind", "noise", "sim", "world", "fire")
-VEHICLE_TABLES = ("script", "signing", "faults", "startup")  # what the vehicle acts on: checked by the autopilot
+VEHICLE_TABLES = ("script", "signing", "faults", "startup", "params")  # what the vehicle acts on: checked by the autopilot
 KNOWN_TABLES = WORLD_TABLES + VEHICLE_TABLES
 
 

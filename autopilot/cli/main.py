@@ -238,8 +238,8 @@ def assemble(args, scenario, k: int, state_dir: Path, board_id: str, *, epoch_us
     if wipe:
         params.save_all()
         missions_path.unlink(missing_ok=True)
-    if not powered_on_at_s:  # --param: saved before the first boot, kept by later reboots
-        for name, value in args.param:
+    if not powered_on_at_s:  # [params] and --param: saved before the first boot, kept by later reboots
+        for name, value in [*scenario.params.items(), *args.param]:  # the command line has the last word
             params.set(name, value)
     mission = MissionStore(missions_path)
     for store_file in (params.file, mission.file):

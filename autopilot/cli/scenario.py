@@ -1,5 +1,6 @@
 """The scenario tables the vehicle acts on, on top of the world that sim/scenario.py reads:
-[faults] (SIM_* parameters to start with), [script] (commands in sim time), [signing] (the
+[faults] (SIM_* parameters to start with), [params] (other parameters, saved before the first
+boot as `autopilot --param` saves them), [script] (commands in sim time), [signing] (the
 MAVLink 2 key) and [startup] (boot as ArduCopter does instead of armable at once). Every mistake is one ScenarioError line naming the file, the table and the key.
 """
 from __future__ import annotations
@@ -28,6 +29,7 @@ class Scenario(world.Scenario):
     signing_key: bytes | None = None  # MAVLink 2 signing key ([signing] or --signing-key)
     faults: dict = dataclasses.field(default_factory=dict)  # SIM_* parameter values from [faults]
     startup: StartupTimeline | None = None  # [startup] or --startup realistic; None = armable at once
+    params: dict = dataclasses.field(default_factory=dict)  # [params]: saved before the first boot
 
 
 def load_scenario(path: Path) -> Scenario:
@@ -59,6 +61,8 @@ def scenario_from_dict(data: dict, name: str = "scenario", base_dir: Path = Path
         sc.signing_key = _signing_key(data["signing"], name, base_dir)
     if "startup" in data:
         sc.startup = startup_from_table(data["startup"], f"{name}: [startup]")
+    if "params" in data:
+        sc.params = _params(data["params"], name)
     return sc
 
 
@@ -89,23 +93,42 @@ def startup_from_table(table, where: str) -> StartupTimeline | None:
         raise ScenarioError(f"{where}: {exc}") from None
 
 
+def _params(table, name: str) -> dict:
+    """[params]: parameters by their names and values, as a ground station would set and save
+    them before a reboot (e.g. EK3_DRAG_BCOEF_X for a wind estimate, CAM1_TYPE for a camera)."""
+    def refused(key: str) -> str | None:
+        return "the simulator's parameters go in [faults]" if key.startswith("SIM_") else None
+    return _parameter_table(table, name, "params", refused)
+
+
 def _faults(table, name: str) -> dict:
     """[faults]: SIM_* parameters by their names, set before the vehicle first moves."""
-    if not isinstance(table, dict):
-        raise ScenarioError(f"{name}: [faults] must be a table")
-    faults = {}
-    for key, value in table.items():
-        where = f"{name}: [faults].{key}"
+    def refused(key: str) -> str | None:
         if key not in FAULT_NAMES:
-            raise ScenarioError(f"{where}: unknown fault (known: {', '.join(FAULT_NAMES)})")
+            return f"unknown fault (known: {', '.join(FAULT_NAMES)})"
         if key in WORLD_SOURCES:
-            raise ScenarioError(f"{where}: the scenario sets this with {WORLD_SOURCES[key]}")
+            return f"the scenario sets this with {WORLD_SOURCES[key]}"
+        return None
+    return _parameter_table(table, name, "faults", refused)
+
+
+def _parameter_table(table, name: str, section: str, refused) -> dict:
+    """A table of parameter names and values, each checked against the parameter table; a key
+    `refused(key)` has a reason against is refused with it."""
+    if not isinstance(table, dict):
+        raise ScenarioError(f"{name}: [{section}] must be a table")
+    values = {}
+    for key, value in table.items():
+        where = f"{name}: [{section}].{key}"
+        reason = refused(key)
+        if reason:
+            raise ScenarioError(f"{where}: {reason}")
         world.number(where, value)
         try:
-            faults[key] = checked_value(key, value)
+            values[key] = checked_value(key, value)
         except ParamError as exc:
             raise ScenarioError(f"{where}: {str(exc).removeprefix(key + ': ')}") from None
-    return faults
+    return values
 
 
 def _signing_key(table, name: str, base_dir: Path) -> bytes:

@@ -47,6 +47,8 @@ def test_bad_flags_get_one_line_not_a_traceback(args, mentions):
     ("this is = = not toml", "TOML"),
     ("[noise]\ngps_typo = 1\n", "gps_typo"),
     ("seed = 1.5\n", "seed"),
+    ("[params]\nEK3_DRAG_BCOEF = 9.5\n", "[params].EK3_DRAG_BCOEF"),
+    ("[params]\nSIM_WIND_SPD = 3\n", "[faults]"),
 ])
 def test_bad_scenario_gets_one_line_naming_the_key(tmp_path, text, mentions):
     path = tmp_path / "bad.toml"

@@ -41,6 +41,23 @@ def test_faults_must_be_a_table():
     assert "[faults] must be a table" in one_line_error({"faults": [1, 2]})
 
 
+def test_params_table_is_read_and_checked_against_the_parameter_table():
+    sc = scenario_from_dict({"params": {"EK3_DRAG_BCOEF_X": 9.5, "CAM1_TYPE": 1}})
+    assert sc.params == {"EK3_DRAG_BCOEF_X": 9.5, "CAM1_TYPE": 1.0}
+
+
+@pytest.mark.parametrize("params,words", [
+    ({"EK3_DRAG_BCOEF": 9.5}, ["[params].EK3_DRAG_BCOEF", "unknown parameter"]),
+    ({"SIM_WIND_SPD": 3.0}, ["[params].SIM_WIND_SPD", "[faults]"]),
+    ({"CAM1_TYPE": "servo"}, ["[params].CAM1_TYPE", "expected a number"]),
+    ({"WPNAV_SPEED": 5}, ["[params].WPNAV_SPEED", "out of range"]),
+])
+def test_params_mistakes_name_the_table_and_key(params, words):
+    message = one_line_error({"params": params})
+    for word in words:
+        assert word in message
+
+
 def test_a_wind_the_parameters_cannot_hold_is_refused():
     assert "[wind].speed_m_s" in one_line_error({"wind": {"speed_m_s": -3.0}})
 
