@@ -97,10 +97,19 @@ def vibration(v: SensorView, codec):
     return codec.vibration_encode(int(v.time_s * 1e6), 0.0, 0.0, 0.0, 0, 0, 0)
 
 
+DRAG_FUSION = ("EK3_DRAG_BCOEF_X", "EK3_DRAG_BCOEF_Y", "EK3_DRAG_MCOEF")
+
+
 def wind(v: SensorView, codec):
     """Where the wind blows from [deg, -180..180 as ArduPilot sends it], its horizontal speed and
-    its vertical speed (positive up)."""
-    wn, we, wd = v.wind_ned
+    its vertical speed (positive up), as ArduCopter estimates it: only when its EKF fuses the
+    rotors' drag (any of DRAG_FUSION above zero) and only in the air; otherwise zero (measured,
+    parity area `wind`: 0 with a 5 m/s wind blowing, and on the ground with drag fusion on)."""
+    params = v.params
+    if v.landed or not any(params[name] > 0.0 for name in DRAG_FUSION):
+        wn = we = wd = 0.0
+    else:
+        wn, we, wd = v.wind_ned
     return codec.wind_encode(math.degrees(math.atan2(-we, -wn)), math.hypot(wn, we), -wd)
 
 

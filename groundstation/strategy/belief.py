@@ -48,7 +48,8 @@ two set a wrong level under every hypothesis. With w = 0 both steps are the exac
 The sums are then kept per hypothesis (the weights differ from one hypothesis to the next).
 
 Wind. A plume leans downwind: its hot spot is at q + h (wind / rise), rise the speed its gases
-rise at. The vehicle reports the wind (the WIND message) but nobody knows the rise, so each
+rise at. The vehicle reports the wind (the WIND message, zero unless its EKF fuses the rotors'
+drag) but nobody knows the rise, so each
 sub-position holds one hypothesis per rise speed in PLUME_RISE_M_S and the cell's evidence is the
 average over them too: the marginal over a lean known in direction, uncertain in size.
 

@@ -50,6 +50,9 @@ def ready(client: Client, streams_hz: int | None) -> Client:
     return client
 
 
+WIND_KEYS = {"SIM_WIND_SPD": "speed_m_s", "SIM_WIND_DIR": "from_direction_deg"}  # a scenario's [wind]
+
+
 class FireflyTarget:
     name = "firefly"
 
@@ -81,8 +84,13 @@ class FireflyTarget:
         return ready(Client(self.process.pymavlink_url, streams_hz), streams_hz)
 
     def _faults_scenario(self, params: dict) -> Path:
+        """A scenario with these SIM_* values: the wind's in its [wind] table (where a scenario
+        sets them), the rest in [faults]."""
         path = Path(self.scenario_dir.name) / "faults.toml"
-        path.write_text("[faults]\n" + "".join(f"{name} = {float(value)!r}\n" for name, value in params.items()))
+        wind = {WIND_KEYS[name]: value for name, value in params.items() if name in WIND_KEYS}
+        faults = {name: value for name, value in params.items() if name not in WIND_KEYS}
+        path.write_text("".join(f"[{table}]\n" + "".join(f"{name} = {float(value)!r}\n" for name, value in values.items())
+                                for table, values in (("faults", faults), ("wind", wind)) if values))
         return path
 
     def _saved_params(self, params: dict) -> Path:

@@ -149,10 +149,14 @@ async def test_guard_passes_the_flight_result_while_its_autopilot_runs(autopilot
 
 def test_explore_reads_the_wind_and_finds_the_fire_under_a_leaning_plume(autopilot_factory, tmp_path):
     """The plume leans 20 m east at the survey height (4 m/s from the west, gases rising at 5 m/s):
-    the companion asks for WIND, says what it read, and declares the fire, not its hot spot."""
+    the companion asks for WIND, says what it read, and declares the fire, not its hot spot. The
+    vehicle estimates the wind because the scenario turns on its drag fusion (EK3_DRAG_*), as
+    ArduCopter needs; without, WIND reads zero (test_explore_reads_zero_wind_without_drag_fusion)."""
     scenario = tmp_path / "windy.toml"
     scenario.write_text(SMALL_WORLD.read_text().replace("[world]", "[wind]\nspeed_m_s = 4.0\n"
-                                                        "from_direction_deg = 270.0\n\n[world]\nplume_rise_m_s = 5.0"))
+                                                        "from_direction_deg = 270.0\n\n[params]\n"
+                                                        "EK3_DRAG_BCOEF_X = 9.5\nEK3_DRAG_BCOEF_Y = 9.5\n"
+                                                        "EK3_DRAG_MCOEF = 0.082\n\n[world]\nplume_rise_m_s = 5.0"))
     ap = autopilot_factory(speedup="20", extra=("--scenario", str(scenario)))
     result = subprocess.run([sys.executable, "-m", "firefly.groundstation", "explore", "--url", ap.mavsdk_url,
                              "--scenario", str(scenario), "--plot", str(tmp_path / "windy.png")],

@@ -12,7 +12,7 @@ from firefly.autopilot.mavlink.telemetry import BUILDERS, STREAM_GROUPS
 from firefly.sim.vehicle import SimConfig
 from firefly.sim.wind import SteadyWind
 
-from ._util import client_codec, hovering_vehicle, mav, ready_vehicle
+from ._util import client_codec, fly_until, hovering_vehicle, mav, ready_vehicle
 
 CODEC = client_codec()
 
@@ -48,8 +48,23 @@ def test_servo_outputs_idle_disarmed_and_spread_over_the_spin_range_when_flying(
     assert all(r > 1000 for r in esc.rpm)
 
 
-def test_wind_reports_where_the_wind_blows_from():
+DRAG_FUSION = {"EK3_DRAG_BCOEF_X": 9.5, "EK3_DRAG_BCOEF_Y": 9.5, "EK3_DRAG_MCOEF": 0.082}
+
+
+def test_wind_reads_zero_without_drag_fusion_as_arducopter_sends_it():
+    """ArduCopter estimates no wind unless its EKF fuses the rotors' drag: a 6 m/s wind, WIND 0."""
+    v = hovering_vehicle(sim=SimConfig(wind=SteadyWind(6.0, 270.0)))
+    w = sensor_messages.wind(v, CODEC)
+    assert (w.speed, w.speed_z) == (0.0, 0.0)
+
+
+def test_wind_with_drag_fusion_reports_where_the_wind_blows_from_once_flying():
     v = ready_vehicle(sim=SimConfig(wind=SteadyWind(6.0, 270.0)))
+    for name, value in DRAG_FUSION.items():
+        v.params.set(name, value)
+    assert sensor_messages.wind(v, CODEC).speed == 0.0  # on the ground: nothing fused yet
+    assert v.set_mode(4) == 0 and v.arm() == 0 and v.takeoff(10.0) == 0
+    assert fly_until(v, lambda x: not x.landed, 20.0)
     w = sensor_messages.wind(v, CODEC)
     assert w.speed == pytest.approx(6.0, abs=1e-6)
     assert w.direction % 360 == pytest.approx(270.0, abs=1e-6)
