@@ -32,6 +32,7 @@ class StateEstimate:
     def __init__(self, sim, physics_hz: int, startup=None):
         self.sim = sim
         self.startup = startup if startup is not None else Startup(None)
+        self.battery_reset_mah: float | None = None  # the monitor's count less the pack's, after a reset
         self.gps_every = max(1, physics_hz // GPS_RATE_HZ)  # physics steps between GPS samples
         self.temperature_every = max(1, physics_hz // TEMPERATURE_RATE_HZ)
         self.gps = sim.gps.read(sim.state.body)
@@ -89,13 +90,28 @@ class StateEstimate:
 
     @property
     def battery(self):
-        """The pack as a perfect monitor reads it: voltage_v, current_a, consumed_mah."""
-        return self.sim.battery
+        """The pack as a perfect monitor reads it: voltage_v, current_a, consumed_mah (counted
+        from the last BATTERY_RESET, as ArduPilot's monitor counts it; the pack itself is not
+        changed by a reset)."""
+        pack = self.sim.battery
+        if self.battery_reset_mah is None:
+            return pack
+        return pack._replace(consumed_mah=pack.consumed_mah + self.battery_reset_mah)
 
     @property
     def battery_remaining(self) -> float:
         """Remaining charge, 0..1."""
-        return self.sim.battery_remaining
+        if self.battery_reset_mah is None:
+            return self.sim.battery_remaining
+        capacity = self.sim.airframe.battery_capacity_mah
+        return min(max(1.0 - self.battery.consumed_mah / capacity, 0.0), 1.0)
+
+    def reset_battery(self, percentage: float) -> None:
+        """MAV_CMD_BATTERY_RESET: the monitor counts as if `percentage` of the pack were left
+        (0..100), as AP_BattMonitor's reset_remaining sets its consumed charge."""
+        capacity = self.sim.airframe.battery_capacity_mah
+        left = min(max(percentage, 0.0), 100.0) / 100.0
+        self.battery_reset_mah = (1.0 - left) * capacity - self.sim.battery.consumed_mah
 
     # ----- the inertial sensors and the air, as telemetry reports them -----------------------
     @property

@@ -307,8 +307,23 @@ def mission_start(s, c: Command) -> Result:
     return s.vehicle.mission_start()
 
 
+def battery_reset(s, c: Command) -> Result:
+    """Param 1 the batteries (a mask; bit 0 the one SITL has), param 2 the percentage left: the
+    monitor counts from there (measured: ACCEPTED armed, disarmed and flying; 10 % then reads
+    10 %). Bits of batteries the vehicle lacks are passed over, as AP_BattMonitor does; a NaN
+    percentage is ArduPilot's constrain of a NaN: 50 %, and its internal error."""
+    if as_uint16(c.p1) & 1:
+        percentage = c.p2
+        if math.isnan(percentage):
+            s.vehicle.constraining_nan()
+            percentage = 50.0
+        s.vehicle.estimate.reset_battery(percentage)
+    return Result.ACCEPTED
+
+
 HANDLERS = {
     mav.MAV_CMD_COMPONENT_ARM_DISARM: arm_disarm,
+    mav.MAV_CMD_BATTERY_RESET: battery_reset,
     mav.MAV_CMD_NAV_TAKEOFF: takeoff,
     mav.MAV_CMD_NAV_LAND: land,
     mav.MAV_CMD_NAV_RETURN_TO_LAUNCH: return_to_launch,
