@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import math
 
+from firefly.sim.battery import remaining_fraction
 from firefly.sim.physics import specific_force_body
 
 from .startup import Startup
@@ -103,8 +104,7 @@ class StateEstimate:
         """Remaining charge, 0..1."""
         if self.battery_reset_mah is None:
             return self.sim.battery_remaining
-        capacity = self.sim.airframe.battery_capacity_mah
-        return min(max(1.0 - self.battery.consumed_mah / capacity, 0.0), 1.0)
+        return remaining_fraction(self.battery, self.sim.airframe.battery_capacity_mah)
 
     def reset_battery(self, percentage: float) -> None:
         """MAV_CMD_BATTERY_RESET: the monitor counts as if `percentage` of the pack were left

@@ -153,8 +153,17 @@ class PositionController:
         return max(0.0, min(self.thrust_max, u1))
 
     def thrust_from_stick(self, stick: float) -> float:
-        """STABILIZE throttle curve: mid stick = hover thrust, full stick = full thrust."""
+        """STABILIZE throttle curve: mid stick = hover thrust, full stick = full thrust
+        (stick_for_thrust_share is its inverse)."""
         hover = self.weight
         if stick <= 0.5:
             return 2.0 * stick * hover
         return hover + (stick - 0.5) * 2.0 * (self.thrust_max - hover)
+
+
+def stick_for_thrust_share(share: float, hover_share: float) -> float:
+    """The manual-throttle stick that asks for `share` of full thrust: the inverse of
+    PositionController.thrust_from_stick's curve, which puts the hover at mid stick."""
+    if share <= hover_share:
+        return 0.5 * share / hover_share
+    return 0.5 + 0.5 * (share - hover_share) / (1.0 - hover_share)

@@ -12,7 +12,7 @@ profile, from the vehicle's own height and climb.
 """
 from __future__ import annotations
 
-from ..control.position import GRAVITY_M_S2
+from ..control.position import GRAVITY_M_S2, stick_for_thrust_share
 from ..control.shaping import shape_pos_vel_accel
 from .base import Setpoint
 from .context import ModeContext
@@ -22,16 +22,9 @@ ACCEL_Z_LIMIT_M_S2 = 7.5  # the most the position controller brakes a climb with
 DONE_SHARE = 0.1  # of the climb speed: slower than this and within its stopping distance, done
 
 
-def stick_for_thrust_share(share: float, hover_share: float) -> float:
-    """The manual-throttle stick that asks for `share` of full thrust: the cascade's throttle curve
-    puts the hover at mid stick."""
-    if share <= hover_share:
-        return 0.5 * share / hover_share
-    return 0.5 + 0.5 * (share - hover_share) / (1.0 - hover_share)
-
-
 class TakeoffClimb:
-    """One takeoff to a height (down coordinate `target_d`), flown from `start()` on."""
+    """One takeoff to a height (down coordinate `target_d`), flown from its construction on: the
+    mode calls it every tick until `done`."""
 
     def __init__(self, ctx: ModeContext, target_d: float) -> None:
         self.target_d = target_d
