@@ -53,6 +53,20 @@ drag) but nobody knows the rise, so each
 sub-position holds one hypothesis per rise speed in PLUME_RISE_M_S and the cell's evidence is the
 average over them too: the marginal over a lean known in direction, uncertain in size.
 
+Rebuilding (absorb). The search rebuilds its belief from every reading when what it holds fixed
+changes: a fire found and explained away, a find refitted, a new wind estimate. Replaying the
+readings through the filter above costs a full update per reading, over a second with a known fire
+and a hundred readings. A new belief instead takes them all at once, jointly: a round of
+expectation-maximisation over which readings are outliers, per hypothesis (the least-squares fit of
+ambient, strength and known fires to every reading; each reading's probability of being no outlier
+from its residual; the sums again with those weights), then the evidence of the weighted sums
+with the outlier terms of the variational bound,
+    log p(z | q) ~ log N-marginal(weighted sums) + sum_i [r_i log(1 - w) + (1 - r_i) log(w / range) + H(r_i)].
+Without outliers (every r_i = 1, or w = 0) that is the exact marginal, as the filter's is; with
+them, the joint fit sees every reading at once where the filter judges each against those before it
+(hence no burn-in here). Later readings go through the filter as before. Without a known fire a
+rebuild replays the filter instead, which is then the cheaper.
+
 Several fires. Fires found earlier can be `known`: their kernels, and the kernels' slopes along
 north and east (a hot spot is placed only to a few metres), join the ambient as nuisances with
 flat priors, projected out per hypothesis like the ambient; cells within EXCLUDED_CELLS of a known
@@ -71,6 +85,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.special import expit
 
 from firefly.sim.fire import KERNELS, kernel_value
 
@@ -138,6 +153,7 @@ def entropy_of_log_weights(logw: np.ndarray) -> np.ndarray:
 
 BURN_IN = 6  # readings whose evidence is marginalised exactly over their outliers before filtering starts
 BURN_IN_OUTLIERS = 2  # ... counting the cases of up to this many outliers among them
+ABSORB_ROUNDS = 1  # expectation-maximisation rounds of a rebuild (absorb) over which readings are outliers
 RIDGE = 1e-9  # keeps the known fires' normal equations invertible before the readings pin their strengths
 EXCLUDED_LOG_PRIOR = -1e4  # a cell next to a known fire: no prior mass (finite, so 0 x log 0 stays 0)
 EXCLUDED_CELLS = 2  # ... within this many cells (Chebyshev) of the known fire's
@@ -248,6 +264,15 @@ class Fit:
             kk_inv = a_g = a_z = None
         return cls(w, g_bar, z_bar, k_bar, kk_inv, a_g, a_z, gg_c, gz_c, zz_c, logdet)
 
+    def fitted(self, a_mean: np.ndarray, g: np.ndarray, k: np.ndarray) -> np.ndarray:
+        """The fit's value at readings with kernels g (N, H) and known fires' k (N, m), strength
+        a_mean per hypothesis: ambient + A g + the known fires' terms, (N, H)."""
+        base = self.z_bar - a_mean * self.g_bar
+        if self.a_g is None:
+            return base + a_mean * g
+        c = self.a_z - a_mean[:, None] * self.a_g  # (H, m) the known fires' coefficients
+        return base - (self.k_bar * c).sum(1) + a_mean * g + k @ c.T
+
     def take(self, hyps: np.ndarray) -> "Fit":
         values = (getattr(self, f.name) for f in dataclasses.fields(self))
         return Fit(*(None if v is None else v[hyps] for v in values))
@@ -261,11 +286,39 @@ class Fit:
         g's residual after the same projection, and the reading's leverage x^T (U^T U)^-1 x."""
         if self.a_g is None:
             return self.z_bar, g - self.g_bar, 1.0 / self.w
-        dk = k[..., None, :] - self.k_bar  # (..., H, m)
-        fit_z = self.z_bar + (dk * self.a_z).sum(-1)
-        dg = g - self.g_bar - (dk * self.a_g).sum(-1)
-        leverage = 1.0 / self.w + np.einsum("...hi,hij,...hj->...h", dk, self.kk_inv, dk)
+        m = k.shape[-1]
+        # per known-fire column, contiguous (..., H) arrays: cheaper than batched tiny matrices
+        dk = [k[..., i, None] - self.k_bar[:, i] for i in range(m)]
+        fit_z = self.z_bar + sum(d * self.a_z[:, i] for i, d in enumerate(dk))
+        dg = g - self.g_bar - sum(d * self.a_g[:, i] for i, d in enumerate(dk))
+        leverage = 1.0 / self.w
+        for i in range(m):  # the quadratic form dk^T kk_inv dk, its upper triangle twice
+            row = dk[i] * self.kk_inv[:, i, i]
+            for j in range(i + 1, m):
+                row = row + 2.0 * dk[j] * self.kk_inv[:, i, j]
+            leverage = leverage + row * dk[i]
         return fit_z, dg, leverage
+
+
+def _weighted_sums(r: np.ndarray | None, g: np.ndarray, k: np.ndarray, y: np.ndarray) -> tuple:
+    """Sums.FIELDS of readings y (N,) with kernels g (N, H), known fires' k (N, m) and weights r
+    (N, H; None: all 1): the sums Sums.add would reach adding them one by one with those weights.
+    Each family of sums is one matrix product over the readings."""
+    n, m = len(y), k.shape[1]
+    powers = np.stack([np.ones(n), y, y * y])  # (3, N)
+    rg = g if r is None else r * g
+    if r is None:
+        w, z, zz = np.full(g.shape[1], float(n)), np.full(g.shape[1], float(y.sum())), np.full(g.shape[1], float(y @ y))
+    else:
+        w, z, zz = powers @ r
+    g_sum, gz = powers[:2] @ rg
+    out = (w, z, zz, g_sum, (rg * g).sum(0), gz)
+    if not m:
+        return out
+    regressors = np.concatenate([k, (k[:, :, None] * k[:, None, :]).reshape(n, m * m), k * y[:, None]], axis=1)
+    known = regressors.T @ r if r is not None else np.repeat(regressors.sum(0)[:, None], g.shape[1], axis=1)
+    known = known.T  # (H, m + m^2 + m)
+    return out + (known[:, :m], known[:, m:m + m * m].reshape(-1, m, m), (k.T @ rg).T, known[:, m + m * m:])
 
 
 class Belief:
@@ -348,6 +401,7 @@ class Belief:
         self._burn_in: list[tuple] = []          # the first readings' terms (Sums.parts)
         self.closest_r2 = np.full(self.centres_n.size, np.inf)  # per cell: nearest reading, squared [m^2]
         self._cache = None
+        self._cells_cache = None  # (the _stats it was taken from, the cells array, _cells_fit's answer)
 
     # ----- updates ---------------------------------------------------------------------------------
     def kernel_at(self, n, e, height_m: float, hyps: np.ndarray | None = None) -> np.ndarray:
@@ -411,6 +465,60 @@ class Belief:
         else:
             self._filter(parts, k)
         np.minimum(self.closest_r2, (self.centres_n - n) ** 2 + (self.centres_e - e) ** 2, out=self.closest_r2)
+        self._cache = None
+
+    def absorb(self, readings: list[tuple]) -> None:
+        """Add readings (n, e, z, height_m) to a belief that has none yet, all at once (the module
+        docstring, "Rebuilding"): the same belief the filter would reach, up to how it judges
+        outliers, in one pass over the readings instead of one per reading."""
+        if self.n or len(readings) <= BURN_IN or not len(self.known):
+            # without a known fire the filter's own update is the cheaper: its fit needs no Gram
+            # matrix per hypothesis, and the joint round's N x H passes then cost more
+            for n, e, z, height_m in readings:
+                self.update(n, e, z, height_m)
+            return
+        data = np.asarray(readings, dtype=float)
+        if not np.isfinite(data).all():
+            raise ValueError("readings must be finite")
+        north, east, z, height = data.T
+        gs = np.stack([self.kernel_at(a, b, h) for a, b, h in zip(north, east, height)])  # (N, cell hyps)
+        if self.null_prior > 0:
+            gs = np.concatenate([gs, np.zeros((len(data), 1))], axis=1)
+        ks = np.stack([self.known_kernels_at(a, b, h) for a, b, h in zip(north, east, height)])  # (N, 3m)
+        self.z_ref = float(z[0])
+        y = z - self.z_ref
+        r = None  # per reading and hypothesis: the probability it is no outlier (None: 1)
+        odds = None  # ... as log odds
+        if self.outlier_rate > 0:
+            # log odds of inlier over outlier at a residual of 0: the density ratio of the two
+            level = self._log_inlier - 0.5 * math.log(2.0 * math.pi * self.s2) - self._log_outlier
+            for _ in range(ABSORB_ROUNDS):
+                fit = Fit.of(*_weighted_sums(r, gs, ks, y), evidence=False)
+                precision, h = fit.strength(self.mu_a, self.sa2, self.s2)
+                # single precision from here: the weights and the bound's terms need no more, and
+                # the exponentials over N x H entries are most of a rebuild's time
+                residual = (y[:, None] - fit.fitted(h / precision, gs, ks)).astype(np.float32)
+                residual *= residual
+                residual *= np.float32(-0.5 / self.s2)
+                residual += np.float32(level)
+                odds = residual
+                r = expit(odds)
+        sums = _weighted_sums(r, gs, ks, y)
+        for name, value in zip(self.sums.fields, sums):
+            getattr(self.sums, name)[...] = value
+        self.log_ev = self._log_marginal(Fit.of(*sums))
+        if odds is not None:
+            # r log(1 - w) + (1 - r) log(w / range) + H(r), H(r) = log(1 + e^odds) - r odds
+            prior_odds = self._log_inlier - self._log_outlier
+            # log(1 + e^odds) = -log(1 - r): r is at most expit(level), so 1 - r keeps its digits
+            odds -= np.float32(prior_odds)
+            odds *= r
+            odds += np.log1p(-r)
+            self.log_ev += len(data) * self._log_outlier - odds.sum(axis=0, dtype=np.float64)
+        self.n = len(data)
+        self._burn_in = []
+        for a, b in zip(north, east):
+            np.minimum(self.closest_r2, (self.centres_n - a) ** 2 + (self.centres_e - b) ** 2, out=self.closest_r2)
         self._cache = None
 
     def _log_marginal(self, fit: Fit) -> np.ndarray:
@@ -582,6 +690,22 @@ class Belief:
         return order[:min(k, p.size)]
 
     # ----- predictions (for planning) --------------------------------------------------------------
+    def _cells_fit(self, cells: np.ndarray | None):
+        """The representative hypotheses of `cells` (all when None), their Fit and strength's
+        mean and precision: kept while the belief and the cells asked about stay the same (a
+        planner asks about the same cells for every block of candidates)."""
+        stats = self._stats()
+        kept = self._cells_cache
+        if kept is not None and kept[0] is stats and kept[1] is cells:
+            return kept[2]
+        fit, rep = stats[0], stats[4]
+        hyps = rep if cells is None else rep[cells]
+        fit = fit.take(hyps)
+        precision, h = fit.strength(self.mu_a, self.sa2, self.s2)
+        answer = (hyps, fit, h / precision, precision)
+        self._cells_cache = (stats, cells, answer)
+        return answer
+
     def predictive(self, n, e, height_m: float | None = None, cells: np.ndarray | None = None):
         """Predictive mean and variance of a reading at point(s) (n, e), per cell.
 
@@ -595,11 +719,7 @@ class Belief:
         if self.n == 0:
             raise ValueError("no reading yet: the flat ambient prior makes the prediction improper")
         height = self.geometry.survey_alt_m if height_m is None else height_m
-        fit, _, _, _, rep, _ = self._stats()
-        hyps = rep if cells is None else rep[cells]
-        fit = fit.take(hyps)
-        precision, h = fit.strength(self.mu_a, self.sa2, self.s2)
-        a_mean = h / precision
+        hyps, fit, a_mean, precision = self._cells_fit(cells)
         k = self.known_kernels_at(n, e, height)
         fit_z, dg, leverage = fit.at(self.kernel_at(n, e, height, hyps), k)
         mean = self.z_ref + fit_z + a_mean * dg

@@ -284,8 +284,7 @@ class SearchController:
                                  belief.hot_spot(index))
 
     def _replay(self, belief: Belief) -> Belief:
-        for n, e, z, height_m in self.readings:
-            belief.update(n, e, z, height_m)
+        belief.absorb(self.readings)
         return belief
 
     def _finish(self, reason: str) -> Declaration:

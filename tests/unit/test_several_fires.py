@@ -60,6 +60,38 @@ def test_evidence_with_a_known_fire_and_the_null_is_the_full_gaussian_integral()
     assert np.ptp(log_ev - brute) < 1e-3
 
 
+def test_a_rebuild_taking_every_reading_at_once_is_the_same_full_gaussian_integral():
+    """absorb (the rebuild's joint pass) without outliers: the exact evidence, as the filter's."""
+    w = two_fire_world()
+    readings = noisy_readings(w, 40)
+    b = Belief(Geometry(cell_m=40.0), known=((FIRE_A.n_m + 3.0, FIRE_A.e_m - 2.0, 0.0, 0.0),), null_prior=0.5)
+    b.absorb([(n, e, z, 30.0) for n, e, z in readings])
+    assert b.n == 40
+    assert np.ptp(b._stats()[1] - brute_force_log_evidence(b, readings, 30.0)) < 1e-3
+
+
+def test_a_rebuild_with_wild_readings_agrees_with_the_filter_and_the_filter_goes_on_from_it():
+    w = two_fire_world()
+    readings = [(n, e, z, 30.0) for n, e, z in noisy_readings(w, 80, seed=5)]
+    readings[20] = readings[20][:2] + (readings[20][2] + 25.0, 30.0)  # two wild ones
+    readings[50] = readings[50][:2] + (readings[50][2] - 30.0, 30.0)
+    known = ((FIRE_A.n_m, FIRE_A.e_m, 0.0, 0.0),)
+
+    def fresh():
+        return Belief(Geometry(), subcells=3, outlier_rate=0.02, known=known, null_prior=0.5)
+    one_by_one, at_once = fresh(), fresh()
+    for reading in readings[:70]:
+        one_by_one.update(*reading)
+    at_once.absorb(readings[:70])
+    for reading in readings[70:]:
+        one_by_one.update(*reading)
+        at_once.update(*reading)
+    assert at_once.n == one_by_one.n == 80
+    assert at_once.most_likely()[1] == one_by_one.most_likely()[1]
+    assert 0.5 * np.abs(at_once.p - one_by_one.p).sum() < 0.05
+    assert at_once.p_fire == pytest.approx(one_by_one.p_fire, abs=0.02)
+
+
 def test_the_known_fires_block_holds_no_mass_and_the_other_fire_gets_it():
     w = two_fire_world(noise=0.5)
     g = Geometry()
