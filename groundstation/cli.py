@@ -59,6 +59,9 @@ def build_parser() -> argparse.ArgumentParser:
     explore.add_argument("--max-fires", type=count, default=1,
                          help="fires to look for (default 1); above 1 the search goes on after a find until it "
                               "has them all or is confident there is no other")
+    explore.add_argument("--told-wind", action="store_true",
+                         help="tell the search the wind the vehicle reports in WIND (zero unless its EKF fuses drag, "
+                              "as ArduCopter's EK3_DRAG_*); default: the search estimates it from how the vehicle leans")
     ev = sub.add_parser("evaluate", help="judge the fire-localization policies on seeded decision-level episodes")
     ev.add_argument("--scenario", type=Path, default=Path("scenarios/default.toml"), help="scenario TOML file")
     ev.add_argument("--episodes", type=count, default=200, help="episodes per policy (default 200)")
@@ -87,8 +90,12 @@ def build_parser() -> argparse.ArgumentParser:
     ev.add_argument("--max-fires", type=count, default=None,
                     help="fires the search looks for (default: --fires); above 1 it goes on after a find "
                          "until it has them all or is confident there is no other")
-    ev.add_argument("--ignore-wind", action="store_true",
-                    help="do not tell the search the scenario's wind (as if the vehicle reported none)")
+    winds = ev.add_mutually_exclusive_group()
+    winds.add_argument("--told-wind", action="store_true",
+                       help="tell the search the scenario's wind, as a vehicle fusing drag reports it in WIND "
+                            "(default: the search estimates it from how the vehicle leans)")
+    winds.add_argument("--ignore-wind", action="store_true",
+                       help="the search takes the air as calm: neither told nor estimating (the search before issue 30)")
     ev.add_argument("--budget", type=positive, default=6000.0, help="path budget [m] before a forced declaration")
     ev.add_argument("--speed", type=positive, default=5.0,
                     help="survey speed [m/s], flown too with --flight; one observation per second")
@@ -217,7 +224,7 @@ def run_command(args) -> int:
     if args.command == "explore":
         from .flight import explore
         return explore.run(args.url, args.scenario, args.policy or "gig", args.speedup, args.plot, not args.no_truth,
-                           args.max_fires)
+                           args.max_fires, args.told_wind)
     from .flight import mission
     return mission.run(args.file, args.url, args.speedup, args.plot, args.camera_url)
 

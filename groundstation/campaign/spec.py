@@ -41,9 +41,9 @@ from ..strategy.team import TEAM_POLICIES
 
 CAMPAIGN_KEYS = ("name", "scenario", "policies", "episodes", "flown", "speedup", "seed")
 # The search settings a campaign may sweep: EpisodeConfig's scalar fields, less the wind it is told
-# (that follows [sweep.wind]) and the ranges episodes are drawn from.
+# and the wind that blows (those follow [sweep.wind]) and the ranges episodes are drawn from.
 SEARCH_KEYS = tuple(f.name for f in dataclasses.fields(EpisodeConfig)
-                    if f.name not in ("wind_ne_m_s", "strength_k", "ambient_c"))
+                    if f.name not in ("wind_ne_m_s", "air_ne_m_s", "strength_k", "ambient_c"))
 WIND_KEYS = ("speed_m_s", "from_direction_deg")
 TEAM_KEYS = ("vehicles", "start")
 MAX_VEHICLES = 8
@@ -133,7 +133,7 @@ def condition_setup(scenario_tables: dict, condition: Condition, where: str):
     scenario = scenario_from_dict(tables, f"{where}: {condition.label}")
     if "fires" in search and "max_fires" not in search:
         search["max_fires"] = search["fires"]  # look for as many as there are, as evaluate --fires does
-    search["wind_ne_m_s"] = tuple(scenario.sim.wind.velocity_ned()[:2])
+    search["air_ne_m_s"] = tuple(scenario.sim.wind.velocity_ned()[:2])
     config = EpisodeConfig(**search)
     return tables, scenario.world, config
 

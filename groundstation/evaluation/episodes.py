@@ -9,6 +9,13 @@ target. The real sensor publishes at >= 5 Hz, i.e. a reading per metre or less a
 averages its readings to the same density. Every reading goes to the controller, which is then
 asked where to fly: the episode is the controller's driver, as the flight is.
 
+The wind: the world's plume leans with the scenario's wind (air_ne_m_s). The search is told a wind
+only when config.wind_ne_m_s says so (as a vehicle fusing drag reports it in WIND); by default it
+estimates the wind from how the vehicle leans (strategy/wind_estimate.py), and the episode gives it
+what the flight's steady samples are: one per reading, lean = c (v - w) + noise, with c the sim
+airframe's drag over its weight (the steady state of sim/rigid_body.py's forces), v the leg's velocity
+(zero while hovering at the start) and LEAN_NOISE the spread measured in flight.
+
 Episodes are generated from (scenario world, seed, episode index): one fire uniform in the area at
 least one cell from its edge, strength uniform 20-80 K, ambient uniform 15-35 C; the scenario's other
 world settings (kernel, noise, plume sigma, outliers, wind tilt) are kept. fixed_fire=True keeps the
@@ -24,6 +31,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from firefly.sim.airframe import Airframe
 from firefly.sim.fire import Fire, FireWorld, TemperatureSensor
 
 from ..strategy.belief import Geometry
@@ -33,6 +41,8 @@ from ..strategy.stopping import Declaration
 from ..truth import fires_found, judge_all
 
 STARTS = ("corner", "centre")
+HOVER_SAMPLES = 5  # steady samples hovering at the start, before the first leg (the flight hovers there too)
+LEAN_NOISE = 0.003  # spread of one steady lean sample (tan of the tilt) about c (v - w), measured in flight
 
 
 @dataclass(frozen=True)
@@ -42,7 +52,9 @@ class EpisodeConfig(SearchConfig):
     fixed_fire: bool = False
     strength_k: tuple = (20.0, 80.0)
     ambient_c: tuple = (15.0, 35.0)
-    wind_ne_m_s: tuple = (0.0, 0.0)  # the wind the search is told (the WIND message's, as (n, e) m/s)
+    wind_ne_m_s: tuple | None = None  # the wind the search is told (as (n, e) m/s); None: it estimates it
+    air_ne_m_s: tuple = (0.0, 0.0)    # the wind that blows (the scenario's): the vehicle leans in it
+    lean_noise: float = LEAN_NOISE
     fires: int = 1                   # fires drawn per episode (each uniform, strength uniform)
     fire_spacing_m: float | None = None  # set: the second fire this far from the first, as strong
 
@@ -126,6 +138,18 @@ def policy_rng(seed: int, index: int) -> np.random.Generator:
     return np.random.default_rng(_mix(seed, index, 2))
 
 
+def steady_lean(config: EpisodeConfig, rng: np.random.Generator):
+    """lean(velocity): a steady lean sample at that velocity in the episode's wind."""
+    af = Airframe()
+    c = af.linear_drag_n_per_m_s / af.weight_n
+    wn, we = float(config.air_ne_m_s[0]), float(config.air_ne_m_s[1])
+
+    def lean(velocity):
+        noise = rng.normal(0.0, config.lean_noise, 2) if config.lean_noise > 0 else (0.0, 0.0)
+        return c * (velocity[0] - wn) + noise[0], c * (velocity[1] - we) + noise[1]
+    return lean
+
+
 def run_episode(world: FireWorld, seed: int, index: int, policy: Policy,
                 config: EpisodeConfig = EpisodeConfig(), trace: list | None = None,
                 steps: list | None = None) -> EpisodeResult:
@@ -138,11 +162,17 @@ def run_episode(world: FireWorld, seed: int, index: int, policy: Policy,
     pos = start_position(geometry, config.start)
     controller = SearchController(geometry, policy, config, pos, policy_rng(seed, index), time.perf_counter,
                                   wind_ne_m_s=config.wind_ne_m_s)
+    lean = steady_lean(config, np.random.default_rng(_mix(seed, index, 3)))
+    for _ in range(HOVER_SAMPLES):
+        controller.observe_lean((0.0, 0.0), lean((0.0, 0.0)))
     step_m = config.observation_spacing_m
     t = path = 0.0
     readings = 0
     arrived = False
+    velocity = (0.0, 0.0)
     while True:
+        if readings:
+            controller.observe_lean(velocity, lean(velocity))
         z = sensor.read(pos[0], pos[1], alt, t)
         controller.observe(pos[0], pos[1], z, alt)
         readings += 1
@@ -156,6 +186,7 @@ def run_episode(world: FireWorld, seed: int, index: int, policy: Policy,
         dn, de = move.target[0] - pos[0], move.target[1] - pos[1]
         d = math.hypot(dn, de)
         arrived = d <= step_m
+        velocity = (dn * config.speed_m_s / d, de * config.speed_m_s / d) if d > 0 else (0.0, 0.0)
         if arrived:
             pos = move.target
             path += d

@@ -204,6 +204,14 @@ def plot(results: dict[str, list[dict]], path: Path, title: str) -> None:
         ax.grid(axis="y", alpha=0.3)
 
 
+def told_wind(args, scenario) -> tuple | None:
+    """The wind the search is told: the scenario's with --told-wind, calm with --ignore-wind, else
+    None (the search estimates it, as it must against an ArduCopter that reports zero wind)."""
+    if args.told_wind:
+        return tuple(scenario.sim.wind.velocity_ned()[:2])
+    return (0.0, 0.0) if args.ignore_wind else None
+
+
 def evaluate(args) -> int:
     from firefly.sim.scenario import ScenarioError, load_scenario
     if args.flight is not None and args.start != "corner":
@@ -235,7 +243,7 @@ def evaluate(args) -> int:
         config = EpisodeConfig(start="corner" if team else args.start, threshold=args.threshold, budget_m=args.budget,
                                fixed_fire=args.fixed_fire, speed_m_s=args.speed, subcells=args.subcells,
                                confirm_m=None if args.no_confirm else args.confirm, outlier_rate=args.outlier_rate,
-                               wind_ne_m_s=(0.0, 0.0) if args.ignore_wind else scenario.sim.wind.velocity_ned()[:2],
+                               wind_ne_m_s=told_wind(args, scenario), air_ne_m_s=scenario.sim.wind.velocity_ned()[:2],
                                fires=args.fires, max_fires=args.max_fires or args.fires,
                                fire_spacing_m=args.fire_spacing)
         episode_world(world, seed, 0, config)  # a world that cannot be drawn fails here, in one line

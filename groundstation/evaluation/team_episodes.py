@@ -33,6 +33,12 @@ def team_starts(geometry: Geometry, k: int, start: str) -> list[tuple[float, flo
     return [corners[i % 4] for i in range(k)]
 
 
+def team_wind(config: EpisodeConfig) -> tuple:
+    """The wind a team is told: it does not estimate one yet, so unless told otherwise it is told
+    the wind that blows (a vehicle fusing drag would report it)."""
+    return config.air_ne_m_s if config.wind_ne_m_s is None else config.wind_ne_m_s
+
+
 def run_team_episode(world: FireWorld, seed: int, index: int, policy: TeamPolicy, k: int,
                      config: EpisodeConfig = EpisodeConfig(), start: str = "corner",
                      fail: tuple | None = None) -> dict:
@@ -43,7 +49,7 @@ def run_team_episode(world: FireWorld, seed: int, index: int, policy: TeamPolicy
     heights = survey_heights(geometry, k)
     pos = team_starts(geometry, k, start)
     team = TeamController(geometry, policy, config, pos, policy_rng(seed, index), time.perf_counter,
-                          wind_ne_m_s=config.wind_ne_m_s)
+                          wind_ne_m_s=team_wind(config))
     step_m = config.observation_spacing_m
     clock = [0.0] * k
     paths = [0.0] * k

@@ -7,9 +7,11 @@ reading (NAMED_VALUE_FLOAT) with the vehicle's position at its own timestamp and
 evaluated density. When the controller declares the fire it prints the estimate, returns to launch,
 lands, and writes a PNG of the flown track over the final belief.
 
-It asks the vehicle for its WIND report (ArduCopter sends it only when asked) and tells the
-search where the air goes: the plume leans with it. Everything it knows of the vehicle arrives as
-MAVLink. On a lost link or a refused command it says
+The plume leans with the wind, so the search needs it. ArduCopter reports zero wind (WIND) unless
+its EKF fuses the rotors' drag, so by default the search estimates the wind itself from how the
+vehicle leans in steady flight (ATTITUDE and LOCAL_POSITION_NED, lean_samples.py). With told_wind it
+asks for the vehicle's WIND report instead (ArduCopter sends it only when asked) and is told that.
+Everything it knows of the vehicle arrives as MAVLink. On a lost link or a refused command it says
 so, leaves the vehicle in RTL (or hold) if it can, and exits non-zero.
 """
 from __future__ import annotations
@@ -31,6 +33,7 @@ from ..strategy.controller import SearchConfig, SearchController
 from ..strategy.stopping import Declaration
 from ..plots import draw_track, label_map, png
 from .autopilot_process import check_scenario, run_flight
+from .lean_samples import LeanSamples
 from .survey import Survey
 from .vehicle_link import LinkError, VehicleLink, first
 
@@ -124,8 +127,9 @@ async def first_wind(wind: WindReport) -> None:
 
 
 async def explore(url: str, world: FireWorld, policy_name: str, plot: Path | None, truth: bool,
-                  config: SearchConfig = SearchConfig(), say=print) -> dict:
-    """Fly one search; `say` receives the progress lines (print by default)."""
+                  config: SearchConfig = SearchConfig(), say=print, told_wind: bool = False) -> dict:
+    """Fly one search; `say` receives the progress lines (print by default); told_wind: tell the
+    search the vehicle's WIND report instead of estimating the wind."""
     geometry = Geometry.from_world(world)
     policy = make_policy(policy_name)
     survey = Survey(geometry, config)
@@ -138,9 +142,14 @@ async def explore(url: str, world: FireWorld, policy_name: str, plot: Path | Non
             f"({geometry.cells_per_side}^2 cells) at {geometry.survey_alt_m:g} m with policy {policy_name}")
         feed = Feed(MavlinkDirectAsync(link.system), moved)
         await link.telemetry.set_rate_position_velocity_ned(10.0)
+        await link.telemetry.set_rate_attitude_euler(10.0)
+        leans = LeanSamples(geometry.survey_alt_m)
 
         def on_position(f):
             survey.add_position(int(f["time_boot_ms"]), f["x"], f["y"], f["z"])
+            sample = leans.add_velocity(int(f["time_boot_ms"]), f["vx"], f["vy"], -f["z"])
+            if sample is not None and survey.active:
+                survey.controller.observe_lean(*sample)
             moved.set()
 
         def on_value(f):
@@ -150,8 +159,10 @@ async def explore(url: str, world: FireWorld, policy_name: str, plot: Path | Non
         wind = WindReport()
         feed.watch("LOCAL_POSITION_NED", on_position)
         feed.watch("NAMED_VALUE_FLOAT", on_value)
-        feed.watch("WIND", wind.take)
-        await request_message_rate(feed.direct, link.system, WIND_MSG_ID, WIND_RATE_HZ)
+        feed.watch("ATTITUDE", lambda f: leans.add_attitude(int(f["time_boot_ms"]), f["roll"], f["pitch"], f["yaw"]))
+        if told_wind:
+            feed.watch("WIND", wind.take)
+            await request_message_rate(feed.direct, link.system, WIND_MSG_ID, WIND_RATE_HZ)
         await command(link.action.arm(), "arm")
         await command(link.action.set_takeoff_altitude(geometry.survey_alt_m), "set takeoff altitude")
         await command(link.action.takeoff(), "takeoff")
@@ -160,10 +171,15 @@ async def explore(url: str, world: FireWorld, policy_name: str, plot: Path | Non
         await command(link.action.set_current_speed(config.speed_m_s), "set speed")
         wall0 = time.monotonic()
         start_t_ms = survey.vehicle_t_ms
-        await first_wind(wind)
-        say(f"wind {wind.speed_m_s:.1f} m/s from {wind.from_deg % 360:.0f} deg (WIND)")
+        if told_wind:
+            await first_wind(wind)
+            say(f"wind {wind.speed_m_s:.1f} m/s from {wind.from_deg % 360:.0f} deg (WIND)")
+        else:
+            say("wind: estimated from how the vehicle leans")
         controller = SearchController(geometry, policy, config, survey.here(), np.random.default_rng(POLICY_SEED),
-                                      wind_ne_m_s=wind.air_velocity_ne())
+                                      wind_ne_m_s=wind.air_velocity_ne() if told_wind else None)
+        for sample in leans.samples:  # the hover at the survey height, before the search
+            controller.observe_lean(*sample)
         feed.check()
         survey.start(controller)
         declared = await fly_survey(link, survey, moved, feed)
@@ -176,8 +192,16 @@ async def explore(url: str, world: FireWorld, policy_name: str, plot: Path | Non
             "survey_vehicle_s": (survey.vehicle_t_ms - start_t_ms) / 1000.0,
             "survey_wall_s": time.monotonic() - wall0,
             "path_m": survey.path_m, "readings": survey.readings, "observations": controller.observations,
+            "wind_used_ne_m_s": list(controller.wind_ne_m_s), "lean_samples": len(leans.samples),
             "fires": [],
         }
+        estimate = controller.wind_estimator.estimate() if controller.wind_estimator else None
+        if estimate is not None:
+            wn, we = estimate.air_ne_m_s
+            result.update(wind_estimate_ne_m_s=[wn, we], wind_estimate_sd_m_s=estimate.sd_m_s, lean_sd=estimate.lean_sd)
+            say(f"wind estimated from {len(leans.samples)} lean samples: {math.hypot(wn, we):.2f} m/s from "
+                f"{math.degrees(math.atan2(-we, -wn)) % 360:.0f} deg (+- {estimate.sd_m_s:.2f} m/s; "
+                f"lean spread {estimate.lean_sd:.4f})")
         if not controller.declarations:
             say(f"no fire: the search is confident there is none, after {result['path_m']:.0f} m "
                 f"and {result['survey_vehicle_s']:.0f} s of vehicle time")
@@ -300,12 +324,12 @@ def draw_fires(ax, world: FireWorld | None) -> None:
 
 
 def run(url: str | None, scenario: Path | None, policy: str, speedup: float, plot: Path | None,
-        truth: bool, max_fires: int = 1) -> int:
+        truth: bool, max_fires: int = 1, told_wind: bool = False) -> int:
     from firefly.sim.scenario import Scenario, load_scenario
     sc = load_scenario(scenario) if scenario else Scenario()
     if scenario and not url:
         check_scenario(scenario)  # the vehicle's tables too, before a vehicle starts on them
     make_policy(policy)  # a bad name fails here, before anything starts
     config = SearchConfig(max_fires=max_fires)
-    result = run_flight(lambda at: explore(at, sc.world, policy, plot, truth, config), url, speedup, scenario)
+    result = run_flight(lambda at: explore(at, sc.world, policy, plot, truth, config, told_wind=told_wind), url, speedup, scenario)
     return 0 if result.get("landed_from_home_m", math.inf) < 5.0 else 1

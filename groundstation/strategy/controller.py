@@ -3,6 +3,7 @@ the decision-level episodes (evaluation/episodes.py) and by the flight (flight/e
 
     controller = SearchController(geometry, policy, config, start, rng)  # resets the policy
     controller.observe(n, e, z, height_m)       every observation
+    controller.observe_lean(velocity, lean)     steady flight, when the search estimates the wind
     controller.step(position, path_m, arrived)  -> Goto(target, confirming) or a Declaration
 
 In: observations (a position, its height above ground and a temperature) and, at each decision
@@ -31,6 +32,15 @@ finds ("confident"), confident there is no other ("clear"), or at the budget or 
 `declarations` then lists every find (a forced one only when there is none and it did not end
 clear), `finished_by` says why it ended, and step() returns the first.
 
+Wind (wind_estimate.py): the plume leans with the wind, and the belief with it. Told the wind
+(wind_ne_m_s, e.g. from the vehicle's WIND message), the controller keeps it. Given None, it
+estimates the wind from how the vehicle leans in steady flight (observe_lean): each time the estimate
+moves by more than WIND_REBUILD_M_S the belief is rebuilt from every reading with the new wind,
+WIND_REBUILD_CHUNK readings per step so that no step thinks for long (the old belief steers
+meanwhile), and no fire is declared confidently while that rebuild runs or while the lean the
+estimate leaves open at the survey height is more than half a cell: the search flies on instead of
+naming a cell the lean may have moved.
+
 Threshold 0.99 with confirmation within 10 m: a calibrated belief declared at mass t is wrong about
 1 - t of the time, a little more in practice, as the declaration is taken at the first reading that
 crosses the threshold. Measured with gig on validation episodes (seed 1, episodes 100-299, not the
@@ -45,10 +55,11 @@ from typing import Callable
 
 import numpy as np
 
-from .belief import Belief, Geometry
+from .belief import PLUME_RISE_M_S, Belief, Geometry
 from .policies import Policy
 from .refine import FINAL_REACH_CELLS, REACH_CELLS, refine_hot_spots
 from .stopping import Declaration, StoppingRule
+from .wind_estimate import LeanWindEstimator
 
 
 # Several fires: the finds' hot spots are refitted to the readings every REFRESH_EVERY observations
@@ -56,6 +67,11 @@ from .stopping import Declaration, StoppingRule
 REFRESH_EVERY = 10
 REFRESH_M = 1.0
 PIN_M = 30.0  # after a find with more to look for: a cross this far either way over it (_pin_pattern)
+# Estimating the wind: the belief is rebuilt with the estimate when it has moved this far from the
+# wind the belief holds; the estimate is looked at every WIND_CHECK_EVERY lean samples.
+WIND_REBUILD_M_S = 0.25
+WIND_CHECK_EVERY = 5
+WIND_REBUILD_CHUNK = 20  # readings fed per step to a belief rebuilt with a new wind
 
 
 @dataclass(frozen=True)
@@ -99,16 +115,21 @@ class Goto:
 class SearchController:
     def __init__(self, geometry: Geometry, policy: Policy, config: SearchConfig, start,
                  rng: np.random.Generator, timer: Callable[[], float] | None = None,
-                 wind_ne_m_s: tuple = (0.0, 0.0)):
+                 wind_ne_m_s: tuple | None = (0.0, 0.0)):
         """`timer`, if given (a clock in seconds), times every decision of the policy;
-        `wind_ne_m_s`, the wind the vehicle reports (where the air goes, m/s): the plume leans with it."""
+        `wind_ne_m_s`, the wind the search is told (where the air goes, m/s): the plume leans with it;
+        None: the search estimates it from observe_lean's samples."""
         self.geometry = geometry
         self.policy = policy
         self.config = config
-        self.wind_ne_m_s = wind_ne_m_s
+        self.wind_estimator = LeanWindEstimator() if wind_ne_m_s is None else None
+        self.wind_ne_m_s = (0.0, 0.0) if wind_ne_m_s is None else tuple(wind_ne_m_s)
+        self.wind_sd_m_s = math.inf if wind_ne_m_s is None else 0.0  # the held wind's uncertainty
+        self.wind_rebuilds = 0
+        self._rebuilding: tuple[Belief, int] | None = None  # (belief with the new wind, readings fed to it)
         self.several = config.max_fires > 1
         self.found: list[tuple[Declaration, tuple]] = []  # several fires: (declaration, hot spot) of each find
-        self.readings: list[tuple] = []  # several fires: every observation, to rebuild the belief from
+        self.readings: list[tuple] = []  # every observation, to rebuild the belief from
         self.belief = self._belief(())
         self.rule = StoppingRule(config.threshold, 1, config.confirm_m)
         self.timer = timer
@@ -140,13 +161,56 @@ class SearchController:
         if self.declared is not None:
             return
         self.belief.update(n, e, z, height_m)
-        if self.several:
-            self.readings.append((n, e, z, height_m))
+        self.readings.append((n, e, z, height_m))
         self.policy.observe(n, e, z)
         self.observations += 1
         self._since_decision += 1
         if not self._need_decision and self.policy.wants_replan(self._since_decision):
             self._need_decision = True
+
+    def observe_lean(self, velocity_ne: tuple[float, float], lean_ne: tuple[float, float]) -> None:
+        """One sample of steady flight for the wind estimate: the velocity over ground [m/s] and
+        the lean (wind_estimate.lean_of_attitude). Ignored when the search was told the wind."""
+        est = self.wind_estimator
+        if est is None or self.declared is not None:
+            return
+        est.add(velocity_ne, lean_ne)
+        if est.n % WIND_CHECK_EVERY:
+            return
+        found = est.estimate()
+        if found is None:
+            return
+        self.wind_sd_m_s = found.sd_m_s
+        held = self.wind_ne_m_s
+        if math.hypot(found.air_ne_m_s[0] - held[0], found.air_ne_m_s[1] - held[1]) > WIND_REBUILD_M_S:
+            # a belief with the new wind, fed the readings so far a chunk per step (_catch_up)
+            self.wind_ne_m_s = found.air_ne_m_s
+            self._rebuilding = (self._belief(tuple(spot for _, spot in self.found)), 0)
+            self.wind_rebuilds += 1
+
+    def _catch_up(self) -> float:
+        """Feed the belief being rebuilt with a new wind up to WIND_REBUILD_CHUNK more readings; once
+        it has them all it replaces the belief. Returns the time it took (0 without a timer): a
+        step's thinking is bounded by the chunk, not by the readings so far."""
+        if self._rebuilding is None:
+            return 0.0
+        t0 = self.timer() if self.timer else 0.0
+        belief, fed = self._rebuilding
+        upto = min(len(self.readings), fed + WIND_REBUILD_CHUNK)
+        for n, e, z, height_m in self.readings[fed:upto]:
+            belief.update(n, e, z, height_m)
+        self._rebuilding = (belief, upto)
+        if upto == len(self.readings):
+            self.belief, self._rebuilding = belief, None
+        return self.timer() - t0 if self.timer else 0.0
+
+    def lean_known(self) -> bool:
+        """The wind is known well enough that the plume's lean at the survey height is uncertain by
+        at most half a cell (always, when told)."""
+        if self._rebuilding is not None:
+            return False  # the belief still holds the previous wind
+        slowest_rise = min(PLUME_RISE_M_S)
+        return self.wind_sd_m_s * self.geometry.survey_alt_m / slowest_rise <= 0.5 * self.geometry.cell_size_m
 
     def step(self, position, path_m: float, arrived: bool = False) -> Goto | Declaration:
         """Where to fly from `position` after `path_m` metres of search, or the declaration (then
@@ -155,6 +219,17 @@ class SearchController:
             return self.declared
         if self.observations == 0:
             raise RuntimeError("step() before any observation: the search starts with a reading")
+        decisions = len(self.decision_s)
+        caught_up_s = self._catch_up()
+        move = self._step(position, path_m, arrived)
+        if self.timer and caught_up_s:  # one step's thinking: the rebuild's chunk and any decision
+            if len(self.decision_s) > decisions:
+                self.decision_s[decisions] += caught_up_s
+            else:
+                self.decision_s.append(caught_up_s)
+        return move
+
+    def _step(self, position, path_m: float, arrived: bool) -> Goto | Declaration:
         if arrived:
             self._need_decision = True
         uses_belief = self.policy.uses_stopping_rule
@@ -170,7 +245,7 @@ class SearchController:
             self._need_decision = True
         if self.found and self.observations % REFRESH_EVERY == 0:
             self._refresh()
-        if uses_belief:
+        if uses_belief and self.lean_known():
             found = self.rule.confident(self.belief)
             if found is not None and self.found and self._refresh():  # re-judged with the finds put right
                 found = self.rule.confident(self.belief)
@@ -223,7 +298,7 @@ class SearchController:
         self._move_spots(self._fitted_spots())
         if len(self.found) == self.config.max_fires:  # the search ends here
             return
-        self.belief = self._replay(self._belief(tuple(spot for _, spot in self.found)))
+        self.belief, self._rebuilding = self._replay(self._belief(tuple(spot for _, spot in self.found))), None
         self.confirming, self._need_decision = False, True
         self._pin = self._pin_pattern(found.position, position)
         self.decisions += 1  # a decision too (what to believe), timed with the policy's
@@ -240,7 +315,7 @@ class SearchController:
         if moved <= REFRESH_M and not always:
             return False
         self._move_spots(fitted)
-        self.belief = self._replay(self._belief(tuple(fitted)))
+        self.belief, self._rebuilding = self._replay(self._belief(tuple(fitted))), None
         self.decisions += 1
         if self.timer:
             self.decision_s.append(self.timer() - t0)

@@ -147,27 +147,46 @@ async def test_guard_passes_the_flight_result_while_its_autopilot_runs(autopilot
     assert autopilot.process.poll() is None
 
 
-def test_explore_reads_the_wind_and_finds_the_fire_under_a_leaning_plume(autopilot_factory, tmp_path):
-    """The plume leans 20 m east at the survey height (4 m/s from the west, gases rising at 5 m/s):
-    the companion asks for WIND, says what it read, and declares the fire, not its hot spot. The
-    vehicle estimates the wind because the scenario turns on its drag fusion (EK3_DRAG_*), as
-    ArduCopter needs; without, WIND reads zero (test_explore_reads_zero_wind_without_drag_fusion)."""
+WINDY = "[wind]\nspeed_m_s = 4.0\nfrom_direction_deg = 270.0\n\n"
+DRAG_FUSION = "[params]\nEK3_DRAG_BCOEF_X = 9.5\nEK3_DRAG_BCOEF_Y = 9.5\nEK3_DRAG_MCOEF = 0.082\n\n"
+
+
+def fly_windy(autopilot_factory, tmp_path, tables: str, *flags: str) -> str:
+    """explore on the small world with the plume leaning 20 m east at the survey height (4 m/s from
+    the west, gases rising at 5 m/s); the companion's output, after checking it declared the fire
+    (at N 135, E 72), not its hot spot (at E 92)."""
     scenario = tmp_path / "windy.toml"
-    scenario.write_text(SMALL_WORLD.read_text().replace("[world]", "[wind]\nspeed_m_s = 4.0\n"
-                                                        "from_direction_deg = 270.0\n\n[params]\n"
-                                                        "EK3_DRAG_BCOEF_X = 9.5\nEK3_DRAG_BCOEF_Y = 9.5\n"
-                                                        "EK3_DRAG_MCOEF = 0.082\n\n[world]\nplume_rise_m_s = 5.0"))
+    scenario.write_text(SMALL_WORLD.read_text().replace("[world]", tables + "[world]\nplume_rise_m_s = 5.0"))
     ap = autopilot_factory(speedup="20", extra=("--scenario", str(scenario)))
     result = subprocess.run([sys.executable, "-m", "firefly.groundstation", "explore", "--url", ap.mavsdk_url,
-                             "--scenario", str(scenario), "--plot", str(tmp_path / "windy.png")],
+                             "--scenario", str(scenario), "--plot", str(tmp_path / "windy.png"), *flags],
                             cwd=REPO, capture_output=True, text=True, timeout=240)
     assert result.returncode == 0, result.stdout[-2000:] + result.stderr[-2000:]
-    wind = re.search(r"wind ([\d.]+) m/s from (\d+) deg \(WIND\)", result.stdout)
-    assert wind, result.stdout
-    assert abs(float(wind.group(1)) - 4.0) < 0.5 and abs(int(wind.group(2)) - 270) <= 5
     declared = re.search(r"fire declared at N ([\d.]+) m E ([\d.]+) m", result.stdout)
+    assert declared, result.stdout
     n, e = float(declared.group(1)), float(declared.group(2))
-    assert abs(n - 135.0) <= 15.0 and abs(e - 72.0) <= 15.0, (n, e)  # the hot spot is at E 92
+    assert abs(n - 135.0) <= 15.0 and abs(e - 72.0) <= 15.0, (n, e)
+    return result.stdout
+
+
+def test_explore_estimates_the_wind_from_the_lean_when_the_vehicle_reports_none(autopilot_factory, tmp_path):
+    """No drag fusion: the vehicle's WIND says zero, as ArduCopter's does. The companion estimates
+    the wind from ATTITUDE and velocity in steady flight, says what it found, and declares the fire."""
+    out = fly_windy(autopilot_factory, tmp_path, WINDY)
+    assert "wind: estimated from how the vehicle leans" in out
+    wind = re.search(r"wind estimated from (\d+) lean samples: ([\d.]+) m/s from (\d+) deg", out)
+    assert wind, out
+    assert int(wind.group(1)) >= 20
+    assert abs(float(wind.group(2)) - 4.0) < 0.5 and abs(int(wind.group(3)) - 270) <= 10
+
+
+def test_explore_told_the_wind_reads_the_vehicles_wind_report(autopilot_factory, tmp_path):
+    """--told-wind with drag fusion on (EK3_DRAG_*, as ArduCopter needs it to estimate wind): the
+    companion asks for WIND, says what it read, and the search takes that."""
+    out = fly_windy(autopilot_factory, tmp_path, WINDY + DRAG_FUSION, "--told-wind")
+    wind = re.search(r"wind ([\d.]+) m/s from (\d+) deg \(WIND\)", out)
+    assert wind, out
+    assert abs(float(wind.group(1)) - 4.0) < 0.5 and abs(int(wind.group(2)) - 270) <= 5
 
 
 def test_explore_looks_for_two_fires_and_declares_both(autopilot_factory, tmp_path):
