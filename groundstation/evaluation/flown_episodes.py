@@ -32,7 +32,9 @@ def scenario_text(base: dict, seed: int, world: FireWorld) -> str:
     [script] is left out: the companion flies the vehicle."""
     tables = {k: v for k, v in base.items() if k not in ("seed", "world", "fire", "script")}
     tables["seed"] = seed
-    tables["world"] = {name: getattr(world, name) for name in sorted(WORLD_KEYS)}
+    # a plume leaned by the wind (plume_rise_m_s) is written as that, not also as the lean it makes
+    made_by_wind = ("wind_tilt", "wind_to_deg") if world.plume_rise_m_s > 0 else ()
+    tables["world"] = {name: getattr(world, name) for name in sorted(WORLD_KEYS) if name not in made_by_wind}
     tables["fire"] = [{"n_m": f.n_m, "e_m": f.e_m, "strength_k": f.strength_k, "growth_k_per_s": f.growth_k_per_s}
                       for f in world.fires]
     return toml_text(tables)
@@ -80,7 +82,7 @@ def fly_episode(base: dict, world: FireWorld, seed: int, index: int, policy: str
                   "path_m": result["path_m"], "error_m": error, "success": within,
                   "forced": result["forced"], "landed_from_home_m": result["landed_from_home_m"],
                   "survey_vehicle_s": result["survey_vehicle_s"], "survey_wall_s": result["survey_wall_s"],
-                  "plot": result.get("plot")}
+                  "wind_estimate_ne_m_s": result.get("wind_estimate_ne_m_s"), "plot": result.get("plot")}
 
 
 def team_row(world: FireWorld, result: dict) -> dict:

@@ -375,8 +375,10 @@ def test_a_flown_episode_scenario_file_keeps_the_scenario_and_loads_back_as_the_
     base |= {"wind": {"speed_m_s": 4.0, "from_direction_deg": 250.0}, "airframe": {"mass_kg": 1.6},
              "script": {"steps": [[0.5, "arm"]]}}
     original = scenario_from_dict(base)
-    for index in range(3):
-        ep = episode_world(dataclasses.replace(original.world, kernel="G", outlier_rate=0.01), 5, index,
+    leaning = scenario_from_dict(base | {"world": base["world"] | {"plume_rise_m_s": 5.0}}).world
+    assert leaning.wind_tilt == pytest.approx(0.8)  # the wind leans it
+    for index, world in enumerate((original.world, original.world, leaning)):
+        ep = episode_world(dataclasses.replace(world, kernel="G", outlier_rate=0.01), 5, index,
                            EpisodeConfig())
         loaded = scenario_from_dict(tomllib.loads(scenario_text(base, 5 + index, ep)))
         assert loaded.world == ep and loaded.seed == 5 + index
