@@ -92,10 +92,12 @@ def build_parser() -> argparse.ArgumentParser:
                          "until it has them all or is confident there is no other")
     winds = ev.add_mutually_exclusive_group()
     winds.add_argument("--told-wind", action="store_true",
-                       help="tell the search the scenario's wind, as a vehicle fusing drag reports it in WIND "
-                            "(default: the search estimates it from how the vehicle leans)")
+                       help="tell the search the scenario's wind, as a vehicle fusing drag reports it in WIND; "
+                            "flown episodes read the vehicle's WIND (default: the search estimates it from how "
+                            "the vehicle leans)")
     winds.add_argument("--ignore-wind", action="store_true",
-                       help="the search takes the air as calm: neither told nor estimating (the search before issue 30)")
+                       help="the search takes the air as calm: neither told nor estimating (the search before issue 30; "
+                            "not with --flight)")
     ev.add_argument("--budget", type=positive, default=6000.0, help="path budget [m] before a forced declaration")
     ev.add_argument("--speed", type=positive, default=5.0,
                     help="survey speed [m/s], flown too with --flight; one observation per second")

@@ -12,7 +12,7 @@
     noise_k = [1.0, 3.0]
     [sweep.search]       # the search's settings (and how episodes are drawn)
     start = ["corner"]
-    [sweep.wind]         # the scenario's [wind]: what the vehicle flies in and the search is told
+    [sweep.wind]         # the scenario's [wind]: what the vehicle flies in (the search estimates it)
     speed_m_s = [0.0, 4.0]
     [sweep.team]         # several vehicles searching together (strategy/team.py): the policies are
     vehicles = [1, 3]    # then team policies (joint, independent, strips); start: corner or spread
@@ -264,5 +264,8 @@ def fingerprint(campaign: Campaign) -> str:
     """What identifies a campaign's results: everything that decides an episode's outcome."""
     identity = {"scenario": campaign.scenario_tables, "policies": campaign.policies, "episodes": campaign.episodes,
                 "flown": campaign.flown, "speedup": campaign.speedup, "seed": campaign.seed,
-                "sweep": [[k, list(v)] for k, v in campaign.sweep]}
+                "sweep": [[k, list(v)] for k, v in campaign.sweep],
+                # since issue 30 the search estimates the wind it was told before: results from
+                # before are not this campaign's
+                "wind": "estimated by one vehicle, told to a team"}
     return hashlib.sha256(json.dumps(identity, sort_keys=True, default=str).encode()).hexdigest()[:16]

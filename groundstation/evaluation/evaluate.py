@@ -216,6 +216,9 @@ def evaluate(args) -> int:
     from firefly.sim.scenario import ScenarioError, load_scenario
     if args.flight is not None and args.start != "corner":
         raise EvaluateError("--flight: flown episodes start at home, the area's corner; use --start corner")
+    if args.flight is not None and args.ignore_wind:
+        raise EvaluateError("--ignore-wind: a flown search estimates the wind, or reads the vehicle's WIND with "
+                            "--told-wind; it cannot be flown taking the air as calm")
     if args.flight is not None and args.flight > args.episodes:
         raise EvaluateError(f"--flight {args.flight}: at most --episodes ({args.episodes}) episodes can be flown")
     vehicles = args.vehicles
@@ -298,7 +301,7 @@ def fly(args, world, seed: int, config: EpisodeConfig, policy: str, decided: lis
     for k in range(args.flight):
         plot = args.flight_plots / f"flight_{k}.png" if args.flight_plots else None
         flown.append(flown_episodes.fly_episode(base, world, seed, k, policy, config, args.flight_speedup, plot,
-                                                args.vehicles))
+                                                args.vehicles, told_wind=args.told_wind))
         r = flown[-1]
         state = (f"path {r['path_m']:.0f} m, error {r['error_m']:.1f} m, {r['survey_wall_s']:.1f} s wall"
                  if r["flown"] else f"not flown: {r['why']}")

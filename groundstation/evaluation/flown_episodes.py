@@ -54,10 +54,12 @@ def toml_text(tables: dict) -> str:
 
 
 def fly_episode(base: dict, world: FireWorld, seed: int, index: int, policy: str, config: EpisodeConfig,
-                speedup: float, plot: Path | None, vehicles: int = 1) -> dict:
+                speedup: float, plot: Path | None, vehicles: int = 1, told_wind: bool = False) -> dict:
     """Episode `index` of `world` flown on the scenario `base` (its TOML tables), by the search
     controller with the episodes' own settings (threshold, confirmation, budget, sub-cells, speed);
-    with vehicles > 1 by that many vehicles of one autopilot process and the team controller."""
+    with vehicles > 1 by that many vehicles of one autopilot process and the team controller. The
+    search estimates the wind from the vehicle's lean, or with told_wind reads the vehicle's WIND
+    (zero unless the scenario's [params] turn on drag fusion, as ArduCopter's)."""
     world = episode_world(world, seed, index, config)
     row = {"episode": index, "policy": policy, "fire": [(f.n_m, f.e_m, f.strength_k) for f in world.fires]}
     quiet = lambda text: None  # noqa: E731
@@ -69,7 +71,8 @@ def fly_episode(base: dict, world: FireWorld, seed: int, index: int, policy: str
                 result = run_team_flight(lambda urls: explore_team(urls, world, policy, plot, True, config, say=quiet),
                                          None, speedup, path, say=quiet, count=vehicles)
             else:
-                result = run_flight(lambda url: explore(url, world, policy, plot, truth=True, config=config, say=quiet),
+                result = run_flight(lambda url: explore(url, world, policy, plot, truth=True, config=config, say=quiet,
+                                                        told_wind=told_wind),
                                     None, speedup, path, say=quiet)
         except (LinkError, AutopilotExited) as exc:
             return row | {"flown": False, "why": str(exc)}

@@ -85,7 +85,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.special import expit
+from scipy.special import expit, xlogy
 
 from firefly.sim.fire import KERNELS, kernel_value
 
@@ -153,6 +153,7 @@ def entropy_of_log_weights(logw: np.ndarray) -> np.ndarray:
 
 BURN_IN = 6  # readings whose evidence is marginalised exactly over their outliers before filtering starts
 BURN_IN_OUTLIERS = 2  # ... counting the cases of up to this many outliers among them
+R_FLOOR = 1e-6  # the least weight a rebuild gives a reading (absorb)
 ABSORB_ROUNDS = 1  # expectation-maximisation rounds of a rebuild (absorb) over which readings are outliers
 RIDGE = 1e-9  # keeps the known fires' normal equations invertible before the readings pin their strengths
 EXCLUDED_LOG_PRIOR = -1e4  # a cell next to a known fire: no prior mass (finite, so 0 x log 0 stays 0)
@@ -488,7 +489,6 @@ class Belief:
         self.z_ref = float(z[0])
         y = z - self.z_ref
         r = None  # per reading and hypothesis: the probability it is no outlier (None: 1)
-        odds = None  # ... as log odds
         if self.outlier_rate > 0:
             # log odds of inlier over outlier at a residual of 0: the density ratio of the two
             level = self._log_inlier - 0.5 * math.log(2.0 * math.pi * self.s2) - self._log_outlier
@@ -501,20 +501,20 @@ class Belief:
                 residual *= residual
                 residual *= np.float32(-0.5 / self.s2)
                 residual += np.float32(level)
-                odds = residual
-                r = expit(odds)
+                r = expit(residual)
+                # a hypothesis that calls every reading wild would be left with no weight at all
+                np.maximum(r, np.float32(R_FLOOR), out=r)
         sums = _weighted_sums(r, gs, ks, y)
         for name, value in zip(self.sums.fields, sums):
             getattr(self.sums, name)[...] = value
         self.log_ev = self._log_marginal(Fit.of(*sums))
-        if odds is not None:
-            # r log(1 - w) + (1 - r) log(w / range) + H(r), H(r) = log(1 + e^odds) - r odds
-            prior_odds = self._log_inlier - self._log_outlier
-            # log(1 + e^odds) = -log(1 - r): r is at most expit(level), so 1 - r keeps its digits
-            odds -= np.float32(prior_odds)
-            odds *= r
-            odds += np.log1p(-r)
-            self.log_ev += len(data) * self._log_outlier - odds.sum(axis=0, dtype=np.float64)
+        if r is not None:
+            # per reading r log(1 - w) + (1 - r) log(w / range) + H(r)
+            #   = log(w / range) + r (log(1 - w) - log(w / range)) - r log r - (1 - r) log(1 - r)
+            bound = r * np.float32(self._log_inlier - self._log_outlier)
+            bound -= xlogy(r, r)
+            bound -= xlogy(1 - r, 1 - r)
+            self.log_ev += len(data) * self._log_outlier + bound.sum(axis=0, dtype=np.float64)
         self.n = len(data)
         self._burn_in = []
         for a, b in zip(north, east):

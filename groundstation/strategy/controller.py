@@ -37,9 +37,11 @@ Wind (wind_estimate.py): the plume leans with the wind, and the belief with it. 
 estimates the wind from how the vehicle leans in steady flight (observe_lean): each time the estimate
 moves by more than WIND_REBUILD_M_S the belief is rebuilt from every reading with the new wind,
 WIND_REBUILD_CHUNK readings per step so that no step thinks for long (the old belief steers
-meanwhile), and no fire is declared confidently while that rebuild runs or while the lean the
-estimate leaves open at the survey height is more than half a cell: the search flies on instead of
-naming a cell the lean may have moved.
+meanwhile), and while that rebuild runs or while the lean the estimate leaves open at the survey
+height is more than half a cell, the search neither declares a fire nor ends "clear": it flies on
+instead of naming a cell the lean may have moved. Timing: a step that feeds the rebuild counts its
+chunk in the same entry of decision_s as the step's policy decision, or as an entry of its own when
+the step decides nothing (decision_s is then per step that thinks, not per policy decision).
 
 Threshold 0.99 with confirmation within 10 m: a calibrated belief declared at mass t is wrong about
 1 - t of the time, a little more in practice, as the declaration is taken at the first reading that
@@ -124,7 +126,9 @@ class SearchController:
         self.config = config
         self.wind_estimator = LeanWindEstimator() if wind_ne_m_s is None else None
         self.wind_ne_m_s = (0.0, 0.0) if wind_ne_m_s is None else tuple(wind_ne_m_s)
-        self.wind_sd_m_s = math.inf if wind_ne_m_s is None else 0.0  # the held wind's uncertainty
+        # the latest estimate's standard error (0 when told); the wind the belief holds may differ
+        # from that estimate by up to WIND_REBUILD_M_S
+        self.wind_sd_m_s = math.inf if wind_ne_m_s is None else 0.0
         self.wind_rebuilds = 0
         self._rebuilding: tuple[Belief, int] | None = None  # (belief with the new wind, readings fed to it)
         self.several = config.max_fires > 1

@@ -14,8 +14,8 @@ different velocities (hovering, then one leg, is enough; the search's legs in ma
 better) gives c and d, and w = -d / c, with its uncertainty from the residuals (delta method).
 
 Only steady samples belong here: while the vehicle accelerates its lean also pushes it along. The
-flight keeps samples whose velocity has been steady (flight/survey.py); the decision-level episodes
-model steady legs (evaluation/episodes.py).
+flight keeps samples whose velocity has been steady (flight/lean_samples.py); the decision-level
+episodes model steady legs (evaluation/episodes.py).
 """
 from __future__ import annotations
 
@@ -27,7 +27,10 @@ import numpy as np
 MIN_SAMPLES = 6       # before this many samples there is no estimate
 MIN_SPEED_SPREAD = 1.0  # m/s: the velocities must differ by this much (rms about their mean) to separate c from w
 MIN_LEAN_SD = 1e-3    # the residual's floor (a noiseless model must not claim an exact wind)
-OUTLIER_SDS = 4.0     # a sample this many robust deviations off the first fit is left out of the second
+# A sample whose worse axis is off the first fit by more than this many times 1.4826 x the median
+# of that worse-axis residual is left out of the second fit. The median of the worse of two axes
+# is about 1.05 sigma, so the cut falls near 6 sigma of one axis: only gross errors go.
+OUTLIER_SDS = 4.0
 
 
 @dataclass(frozen=True)

@@ -92,6 +92,16 @@ def test_a_rebuild_with_wild_readings_agrees_with_the_filter_and_the_filter_goes
     assert at_once.p_fire == pytest.approx(one_by_one.p_fire, abs=0.02)
 
 
+def test_a_rebuild_stays_finite_where_a_reading_is_all_but_surely_no_outlier():
+    """A rare outlier prior and a precise sensor: the inlier odds reach the single precision's 1."""
+    w = two_fire_world(noise=0.01)
+    readings = [(n, e, z, 30.0) for n, e, z in noisy_readings(w, 30)]
+    b = Belief(Geometry(cell_m=40.0), sigma_k=0.01, outlier_rate=1e-4,
+               known=((FIRE_A.n_m, FIRE_A.e_m, 0.0, 0.0),), null_prior=0.5)
+    b.absorb(readings)
+    assert np.isfinite(b.log_ev).all() and np.isfinite(b.p).all() and b.p.sum() == pytest.approx(1.0)
+
+
 def test_the_known_fires_block_holds_no_mass_and_the_other_fire_gets_it():
     w = two_fire_world(noise=0.5)
     g = Geometry()
