@@ -193,6 +193,7 @@ async def explore(url: str, world: FireWorld, policy_name: str, plot: Path | Non
             "survey_wall_s": time.monotonic() - wall0,
             "path_m": survey.path_m, "readings": survey.readings, "observations": controller.observations,
             "wind_used_ne_m_s": list(controller.wind_ne_m_s), "lean_samples": len(leans.samples),
+            "wind_source": "WIND" if told_wind else "estimated from the lean",
             "fires": [],
         }
         estimate = controller.wind_estimator.estimate() if controller.wind_estimator else None
@@ -306,8 +307,24 @@ def write_plot(survey: Survey, world: FireWorld | None, result: dict, path: Path
         for k, fire in enumerate(result["fires"]):
             ax.plot(fire["e_m"], fire["n_m"], "wx", ms=12, mew=2.5, label="declared" if k == 0 else None)
         draw_fires(ax, world)
+        draw_wind(ax, result, survey.geometry)
         label_map(ax, f"Fire search: {result['path_m']:.0f} m flown, {result['readings']} readings")
         ax.legend(loc="upper left", fontsize=8)
+
+
+def draw_wind(ax, result: dict, g: Geometry) -> None:
+    """The wind the search ended with (its last estimate, or what it was told), as an arrow where
+    the air goes (the plume leans that way), near the picture's lower right corner; nothing in calm air."""
+    wn, we = result.get("wind_estimate_ne_m_s", result.get("wind_used_ne_m_s", (0.0, 0.0)))
+    speed = math.hypot(wn, we)
+    if speed < 0.05:
+        return
+    length = 0.12 * g.area_m
+    tail_e, tail_n = 0.78 * g.area_m, 0.12 * g.area_m
+    ax.annotate("", xy=(tail_e + length * we / speed, tail_n + length * wn / speed), xytext=(tail_e, tail_n),
+                arrowprops=dict(arrowstyle="->", color="white", lw=2))
+    ax.text(tail_e, tail_n - 0.06 * g.area_m, f"wind {speed:.1f} m/s\n({result.get('wind_source', '')})",
+            color="white", fontsize=7, ha="center", va="top")
 
 
 def draw_belief(fig, ax, p: np.ndarray, g: Geometry) -> None:
