@@ -14,13 +14,13 @@ import math
 from collections import deque
 
 from ..strategy.wind_estimate import lean_of_attitude
+from .survey import MIN_HEIGHT_SHARE  # the same rule as the readings': nothing from taking off
 
 STEADY_S = 1.0
 LOOKAHEAD_S = 0.5
 STEADY_M_S = 0.2
 SAMPLE_S = 0.5
 PAIR_MS = 60  # an attitude this close in time to the velocity is the same instant
-MIN_HEIGHT_SHARE = 0.8
 KEPT_MS = 3000  # the history a judgement needs, and some
 
 
