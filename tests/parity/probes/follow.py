@@ -226,7 +226,9 @@ def follow(c: Client, trace: Trace, params: dict, lead_from_vehicle: tuple[float
         t, m = min(targets, key=lambda tm: abs(tm[0] - t20))
         ln, le = lead.at(t)
         tn, te = ne_of(m.lat_int / 1e7, m.lon_int / 1e7)
-        trace.fact("position_target_from_lead_point_m", math.hypot(ln + offset[0] - tn, le + offset[1] - te), TRACKING)
+        # A lead still turning or stopping at 20 s moves the target a few tenths per sample
+        trace.fact("position_target_from_lead_point_m", math.hypot(ln + offset[0] - tn, le + offset[1] - te),
+                   CATCHING if settled_from_s > 20 else TRACKING)
     else:
         trace.fact("position_target_from_lead_point_m", None)
     later = [error(t, m)[0] for t, m in positions if acked + 10_000 <= t <= silent_ms]
