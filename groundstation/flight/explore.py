@@ -352,7 +352,7 @@ def draw_fires(ax, world: FireWorld | None) -> None:
 
 
 def run(url: str | None, scenario: Path | None, policy: str, speedup: float, plot: Path | None,
-        truth: bool, max_fires: int = 1, told_wind: bool = False) -> int:
+        truth: bool, max_fires: int | None = None, told_wind: bool = False) -> int:
     from firefly.sim.scenario import Scenario, load_scenario
     sc = load_scenario(scenario) if scenario else Scenario()
     if scenario and not url:
