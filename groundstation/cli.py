@@ -56,9 +56,10 @@ def build_parser() -> argparse.ArgumentParser:
     explore.add_argument("--speedup", type=positive, default=20.0, help="speedup of the autopilot it starts")
     explore.add_argument("--plot", type=Path, default=Path("out/explore.png"), help="PNG of track over final belief")
     explore.add_argument("--no-truth", action="store_true", help="do not mark the scenario's fire (unknown world)")
-    explore.add_argument("--max-fires", type=count, default=1,
-                         help="fires to look for (default 1); above 1 the search goes on after a find until it "
-                              "has them all or is confident there is no other")
+    explore.add_argument("--max-fires", type=count, default=None,
+                         help="fires to look for at most (default: not told, as many as there are; a team: 1); "
+                              "the search goes on after a find until it has them all or is confident there is "
+                              "no other")
     explore.add_argument("--told-wind", action="store_true",
                          help="tell the search the wind the vehicle reports in WIND (zero unless its EKF fuses drag, "
                               "as ArduCopter's EK3_DRAG_*); default: the search estimates it from how the vehicle leans")
@@ -88,8 +89,8 @@ def build_parser() -> argparse.ArgumentParser:
     ev.add_argument("--fire-spacing", type=positive, default=None, metavar="M",
                     help="with --fires 2: the second fire M metres from the first, as strong (a random bearing)")
     ev.add_argument("--max-fires", type=count, default=None,
-                    help="fires the search looks for (default: --fires); above 1 it goes on after a find "
-                         "until it has them all or is confident there is no other")
+                    help="fires the search looks for at most (default: not told, as many as there are; a team: "
+                         "1); it goes on after a find until it has them all or is confident there is no other")
     winds = ev.add_mutually_exclusive_group()
     winds.add_argument("--told-wind", action="store_true",
                        help="tell the search the scenario's wind, as a vehicle fusing drag reports it in WIND; "
@@ -222,7 +223,7 @@ def run_command(args) -> int:
     if args.command == "explore" and args.vehicles > 1:
         from .flight import team_explore
         return team_explore.run(args.url, args.scenario, args.policy or "joint", args.speedup, args.plot,
-                                not args.no_truth, args.vehicles, args.max_fires)
+                                not args.no_truth, args.vehicles, args.max_fires or 1)
     if args.command == "explore":
         from .flight import explore
         return explore.run(args.url, args.scenario, args.policy or "gig", args.speedup, args.plot, not args.no_truth,

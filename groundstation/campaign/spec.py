@@ -132,7 +132,7 @@ def condition_setup(scenario_tables: dict, condition: Condition, where: str):
             search[key] = value  # team.* keys choose how the episode is run (tasks.py), not the world
     scenario = scenario_from_dict(tables, f"{where}: {condition.label}")
     if "fires" in search and "max_fires" not in search:
-        search["max_fires"] = search["fires"]  # look for as many as there are, as evaluate --fires does
+        search["max_fires"] = None  # a sweep over fire counts: not told how many, as evaluate is
     search["air_ne_m_s"] = tuple(scenario.sim.wind.velocity_ned()[:2])
     config = EpisodeConfig(**search)
     return tables, scenario.world, config

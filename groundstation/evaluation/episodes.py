@@ -42,6 +42,10 @@ from ..truth import fires_found, judge_all
 
 STARTS = ("corner", "centre")
 HOVER_SAMPLES = 5  # steady samples hovering at the start, before the first leg (the flight hovers there too)
+# Vertical speeds of a climb or descent to a target at another height (ArduCopter's WPNAV_SPEED_UP
+# and WPNAV_SPEED_DN defaults, m/s)
+CLIMB_M_S = 2.5
+DESCENT_M_S = 1.5
 LEAN_NOISE = 0.003  # spread of one steady lean sample (tan of the tilt) about c (v - w), measured in flight
 
 
@@ -93,6 +97,7 @@ class EpisodeResult:
     ms_mean: float
     ms_max: float
     declarations: list = dataclasses.field(default_factory=list)  # every declared (n, e): several fires
+    first_find_m: float | None = None  # path flown when the first fire was found (None: none was)
 
     def to_dict(self) -> dict:
         return dataclasses.asdict(self)
@@ -183,10 +188,23 @@ def run_episode(world: FireWorld, seed: int, index: int, policy: Policy,
             steps.append(move)
         if isinstance(move, Declaration):
             break
+        to_alt = geometry.survey_alt_m if move.height_m is None else move.height_m
         dn, de = move.target[0] - pos[0], move.target[1] - pos[1]
         d = math.hypot(dn, de)
-        arrived = d <= step_m
         velocity = (dn * config.speed_m_s / d, de * config.speed_m_s / d) if d > 0 else (0.0, 0.0)
+        if to_alt != alt:  # a climb or a descent: the slower axis sets the time, along a straight line
+            dz = to_alt - alt
+            need_s = max(d / config.speed_m_s, abs(dz) / (CLIMB_M_S if dz > 0 else DESCENT_M_S))
+            share = min(1.0, config.sample_s / need_s)
+            arrived = share == 1.0
+            pos, alt = (pos[0] + dn * share, pos[1] + de * share), alt + dz * share
+            if arrived:
+                pos, alt = move.target, to_alt
+            path += share * math.hypot(d, dz)
+            t += share * need_s
+            velocity = (dn / need_s, de / need_s)
+            continue
+        arrived = d <= step_m
         if arrived:
             pos = move.target
             path += d
@@ -208,4 +226,4 @@ def run_episode(world: FireWorld, seed: int, index: int, policy: Policy,
         forced=move.forced, false_declaration=bool(wrong),
         mass=move.mass, readings=readings, decisions=controller.decisions,
         ms_mean=float(np.mean(ms)) if ms else 0.0, ms_max=float(np.max(ms)) if ms else 0.0,
-        declarations=[tuple(p) for p in declared])
+        declarations=[tuple(p) for p in declared], first_find_m=controller.first_find_path_m)

@@ -123,6 +123,7 @@ def run(world, policies: list[str], episodes: int, seed: int, config: EpisodeCon
 
 def summarize(rows: list[dict]) -> dict:
     paths = np.array([r["path_m"] for r in rows])
+    firsts = [r["first_find_m"] for r in rows if r.get("first_find_m") is not None]
     ok = [r for r in rows if r["success"]]
     decisions = sum(r["decisions"] for r in rows)
     ms_total = sum(r["ms_mean"] * r["decisions"] for r in rows)
@@ -134,6 +135,7 @@ def summarize(rows: list[dict]) -> dict:
         "path_mean_m": float(paths.mean()) if rows else math.nan,
         "path_median_m": float(np.median(paths)) if rows else math.nan,
         "path_p90_m": float(np.percentile(paths, 90)) if rows else math.nan,
+        "first_find_mean_m": float(np.mean(firsts)) if firsts else math.nan,
         "error_mean_m": float(np.nanmean([r["error_m"] for r in rows])) if rows else math.nan,
         "false_declarations": sum(r["false_declaration"] for r in rows),
         "forced_declarations": sum(r["forced"] for r in rows),
@@ -179,11 +181,12 @@ def differences_table(diffs: dict[str, dict], base: str) -> str:
 
 
 def table(summary: dict[str, dict]) -> str:
-    head = (f"{'policy':<10} {'success':>7} {'found':>6} {'mean m':>8} {'median m':>8} {'p90 m':>8} {'err m':>6} "
+    head = (f"{'policy':<10} {'success':>7} {'found':>6} {'mean m':>8} {'1st m':>6} {'median m':>8} {'p90 m':>8} {'err m':>6} "
             f"{'false':>5} {'forced':>6} {'ms/dec':>7} {'max ms':>7}")
     lines = [head, "-" * len(head)]
     for name, s in summary.items():
         lines.append(f"{name:<10} {s['success_rate']:>7.3f} {s['fires_found_rate']:>6.3f} {s['path_mean_m']:>8.0f} "
+                     f"{s.get('first_find_mean_m', math.nan):>6.0f} "
                      f"{s['path_median_m']:>8.0f} "
                      f"{s['path_p90_m']:>8.0f} {s['error_mean_m']:>6.1f} {s['false_declarations']:>5d} "
                      f"{s['forced_declarations']:>6d} {s['ms_per_decision_mean']:>7.2f} "
@@ -247,7 +250,7 @@ def evaluate(args) -> int:
                                fixed_fire=args.fixed_fire, speed_m_s=args.speed, subcells=args.subcells,
                                confirm_m=None if args.no_confirm else args.confirm, outlier_rate=args.outlier_rate,
                                wind_ne_m_s=told_wind(args, scenario), air_ne_m_s=scenario.sim.wind.velocity_ned()[:2],
-                               fires=args.fires, max_fires=args.max_fires or args.fires,
+                               fires=args.fires, max_fires=(args.max_fires or 1) if team else args.max_fires,
                                fire_spacing_m=args.fire_spacing)
         episode_world(world, seed, 0, config)  # a world that cannot be drawn fails here, in one line
     except ValueError as exc:
@@ -262,7 +265,8 @@ def evaluate(args) -> int:
              + (f"{vehicles} vehicles, " if team else "") + f"{args.start} start, "
              f"{args.episodes} episodes, seed {seed}" + (f", {args.fires} fires each" if args.fires > 1 else "")
              + (f" {args.fire_spacing:g} m apart" if args.fire_spacing else "")
-             + (f", looking for up to {config.max_fires}" if config.max_fires > 1 else ""))
+             + (", not told how many fires" if config.max_fires is None
+                else f", looking for up to {config.max_fires}" if config.max_fires > 1 else ""))
     print(title)
     print(table(summary))
     diffs = paired_path_differences(results, policies[0]) if len(policies) > 1 else {}

@@ -14,11 +14,13 @@ from pathlib import Path
 def summary_table(doc: dict) -> list[str]:
     several = any(r.get("fires") and len(r["fires"]) > 1 for rows in doc.get("results", {}).values() for r in rows)
     lines = ["| policy | success |" + (" fires found |" if several else "") +
-             " mean path m | median m | p90 m | mean error m | false | forced | ms/decision (mean) |",
-             "|---|---|" + ("---|" if several else "") + "---|---|---|---|---|---|---|"]
+             " mean path m | path to 1st find m | median m | p90 m | mean error m | false | forced | ms/decision (mean) |",
+             "|---|---|" + ("---|" if several else "") + "---|---|---|---|---|---|---|---|"]
     for name, s in doc["summary"].items():
         found = f" {s['fires_found_rate']:.3f} |" if several else ""
-        lines.append(f"| {name} | {s['success_rate']:.3f} |{found} {s['path_mean_m']:.0f} | {s['path_median_m']:.0f} | "
+        first = s.get("first_find_mean_m", float("nan"))
+        lines.append(f"| {name} | {s['success_rate']:.3f} |{found} {s['path_mean_m']:.0f} | {first:.0f} | "
+                     f"{s['path_median_m']:.0f} | "
                      f"{s['path_p90_m']:.0f} | {s['error_mean_m']:.1f} | {s['false_declarations']} | "
                      f"{s['forced_declarations']} | {s['ms_per_decision_mean']:.1f} |")
     return lines
@@ -41,10 +43,12 @@ def section(path: Path) -> str:
     doc = json.loads(path.read_text())
     config = doc.get("config", {})
     fires, spacing, wanted = config.get("fires", 1), config.get("fire_spacing_m"), config.get("max_fires", 1)
+    told = ("" if wanted == 1 and fires == 1 else ", the search not told how many" if wanted is None
+            else f", the search looking for up to {wanted}")
     head = (f"`{doc['scenario']}`, kernel {doc['kernel']}, noise {doc['noise_k']:g} K, {doc['start']} start, "
             f"{doc['episodes']} episodes, seed {doc['seed']}"
             + (f", {fires} fires per episode" if fires > 1 else "") + (f" {spacing:g} m apart" if spacing else "")
-            + (f", the search looking for up to {wanted}" if fires > 1 or wanted > 1 else ""))
+            + told)
     parts = [head, ""] + summary_table(doc)
     diffs = differences_table(doc)
     if diffs:

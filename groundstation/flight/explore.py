@@ -191,7 +191,8 @@ async def explore(url: str, world: FireWorld, policy_name: str, plot: Path | Non
             "spread_m": spread_m(controller.belief.probabilities(), geometry.cell_size_m),
             "survey_vehicle_s": (survey.vehicle_t_ms - start_t_ms) / 1000.0,
             "survey_wall_s": time.monotonic() - wall0,
-            "path_m": survey.path_m, "readings": survey.readings, "observations": controller.observations,
+            "path_m": survey.path_m, "first_find_path_m": controller.first_find_path_m,
+            "readings": survey.readings, "observations": controller.observations,
             "wind_used_ne_m_s": list(controller.wind_ne_m_s), "lean_samples": len(leans.samples),
             "wind_source": "WIND" if told_wind else "estimated from the lean",
             "fires": [],
@@ -206,14 +207,21 @@ async def explore(url: str, world: FireWorld, policy_name: str, plot: Path | Non
         if not controller.declarations:
             say(f"no fire: the search is confident there is none, after {result['path_m']:.0f} m "
                 f"and {result['survey_vehicle_s']:.0f} s of vehicle time")
+        elif controller.several and controller.first_find_path_m is not None:
+            ended = {"clear": "confident there is no other fire", "confident": "every fire it looked for found",
+                     "budget": "its path budget spent", "end": "nothing more to do"}.get(controller.finished_by, "")
+            say(f"{len(controller.declarations)} fire(s): the first found after {controller.first_find_path_m:.0f} m; "
+                f"the search ended {ended} after {result['path_m']:.0f} m (climbs included) and "
+                f"{result['survey_vehicle_s']:.0f} s of vehicle time")
         for k, found in enumerate(controller.declarations):
             n_m, e_m = found.position
             lat, lon = link.lat_lon_of(n_m, e_m)
             fire = {"n_m": n_m, "e_m": e_m, "lat": lat, "lon": lon, "mass_3x3": found.mass}
             result["fires"].append(fire)
             say(f"fire declared at N {n_m:.1f} m E {e_m:.1f} m (lat {lat:.7f}, lon {lon:.7f}), "
-                f"3x3 mass {found.mass:.3f}" + ("" if k else f", spread {result['spread_m']:.1f} m, after "
-                f"{result['path_m']:.0f} m and {result['survey_vehicle_s']:.0f} s of vehicle time"))
+                f"3x3 mass {found.mass:.3f}" + ("" if k or controller.several else f", spread "
+                f"{result['spread_m']:.1f} m, after {result['path_m']:.0f} m and {result['survey_vehicle_s']:.0f} s "
+                "of vehicle time"))
             if truth and world.fires:
                 error, within = judge(world, n_m, e_m)
                 best = min(world.fires, key=lambda f: math.hypot(n_m - f.n_m, e_m - f.e_m))
@@ -281,7 +289,6 @@ async def make_safe(link: VehicleLink, say=print) -> None:
 async def fly_survey(link: VehicleLink, survey: Survey, moved: asyncio.Event, feed: Feed) -> Declaration:
     """Fly the controller's targets until it declares; its decisions come at new observations and
     arrivals (survey.next_move), and every position report is a chance to look."""
-    alt = link.home.absolute_altitude_m + survey.geometry.survey_alt_m
     sent = None
     while True:
         feed.check()
@@ -289,10 +296,12 @@ async def fly_survey(link: VehicleLink, survey: Survey, moved: asyncio.Event, fe
         move = survey.next_move()
         if isinstance(move, Declaration):
             return move
-        if move is not None and (sent is None or math.dist(move.target, sent) > 0.5):
-            sent = move.target
-            lat, lon = link.lat_lon_of(*sent)
-            await command(link.action.goto_location(lat, lon, alt, float("nan")), "goto")
+        height = survey.geometry.survey_alt_m if move is None or move.height_m is None else move.height_m
+        if move is not None and (sent is None or math.dist((*move.target, height), sent) > 0.5):
+            sent = (*move.target, height)
+            lat, lon = link.lat_lon_of(*move.target)
+            await command(link.action.goto_location(lat, lon, link.home.absolute_altitude_m + height, float("nan")),
+                          "goto")
         try:
             await asyncio.wait_for(moved.wait(), LINK_SILENCE_S)
         except asyncio.TimeoutError:
@@ -308,7 +317,9 @@ def write_plot(survey: Survey, world: FireWorld | None, result: dict, path: Path
             ax.plot(fire["e_m"], fire["n_m"], "wx", ms=12, mew=2.5, label="declared" if k == 0 else None)
         draw_fires(ax, world)
         draw_wind(ax, result, survey.geometry)
-        label_map(ax, f"Fire search: {result['path_m']:.0f} m flown, {result['readings']} readings")
+        further = survey.controller.several and survey.controller.found
+        label_map(ax, f"Fire search: {result['path_m']:.0f} m flown, {result['readings']} readings"
+                  + ("\n(the map: where a further fire could be)" if further else ""))
         ax.legend(loc="upper left", fontsize=8)
 
 
@@ -341,7 +352,7 @@ def draw_fires(ax, world: FireWorld | None) -> None:
 
 
 def run(url: str | None, scenario: Path | None, policy: str, speedup: float, plot: Path | None,
-        truth: bool, max_fires: int = 1, told_wind: bool = False) -> int:
+        truth: bool, max_fires: int | None = None, told_wind: bool = False) -> int:
     from firefly.sim.scenario import Scenario, load_scenario
     sc = load_scenario(scenario) if scenario else Scenario()
     if scenario and not url:

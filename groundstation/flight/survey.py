@@ -15,7 +15,8 @@ evaluated: the mean of the readings taken over it, at their mean position, with 
 sigma (conservative: the mean is less noisy than that).
 
 The controller is asked for its next move when it has something new to decide on: a new
-observation, or the vehicle within arrival_m of its target.
+observation, or the vehicle within arrival_m of its target (horizontally, and of the target's
+height: a climb to look for further fires has one). The path counts climbs and descents too.
 """
 from __future__ import annotations
 
@@ -42,7 +43,9 @@ class Survey:
         self.pending: list = []  # (t_ms, z) readings waiting for a later position
         self.bin: list = []  # (t_ms, n, e, height, z) not yet given to the controller
         self.track: list = []  # (n, e) of the readings used
-        self.path_m = 0.0  # along the track
+        self.path_m = 0.0  # along the track, climbs and descents included
+        self._last_point: tuple | None = None  # (n, e, height) of the last reading used
+        self._goal_height_m = geometry.survey_alt_m  # of the last target
         self.readings = 0
         self.vehicle_t_ms = 0
         self._stepped_at = 0  # the controller's observation count at the last step
@@ -100,8 +103,9 @@ class Survey:
         if height < self.geometry.survey_alt_m * MIN_HEIGHT_SHARE:
             self.bin.clear()  # an observation averages only readings taken in one stretch
             return
-        if self.track:
-            self.path_m += math.dist(self.track[-1], (n, e))
+        if self._last_point is not None:
+            self.path_m += math.dist(self._last_point, (n, e, height))
+        self._last_point = (n, e, height)
         self.track.append((n, e))
         self.readings += 1
         self.bin.append((t_ms, n, e, height, z))
@@ -117,8 +121,13 @@ class Survey:
         if controller.declared is not None:
             return controller.declared
         here = self.here()
-        arrived = controller.target is not None and math.dist(here, controller.target) <= self.arrival_m
+        height = -self.positions[-1][3]
+        arrived = (controller.target is not None and math.dist(here, controller.target) <= self.arrival_m
+                   and abs(height - self._goal_height_m) <= self.arrival_m)
         if controller.observations == self._stepped_at and not arrived:
             return None
         self._stepped_at = controller.observations
-        return controller.step(here, self.path_m, arrived)
+        move = controller.step(here, self.path_m, arrived)
+        if isinstance(move, Goto):
+            self._goal_height_m = self.geometry.survey_alt_m if move.height_m is None else move.height_m
+        return move

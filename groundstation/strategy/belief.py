@@ -106,6 +106,12 @@ class Geometry:
                    kernel=world.kernel, noise_k=world.noise_k, plume_sigma_m=world.plume_sigma_m)
 
     @property
+    def reach_grows_with_height(self) -> bool:
+        """Higher up the sensor sees farther (R: g = h^2 / (h^2 + r^2) flattens as h grows); the
+        G plume's width does not change with height."""
+        return self.kernel == "R"
+
+    @property
     def cells_per_side(self) -> int:
         return max(1, int(round(self.area_m / self.cell_m)))
 

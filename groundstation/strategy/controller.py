@@ -27,8 +27,11 @@ Declaring, in this order at every step:
 Several fires (config.max_fires > 1; docs/strategy.md, "Several fires"): a confident block is a
 find, not the end. The finds are kept (relocated with each other explained away, their hot spots
 fitted to the readings), the vehicle flies a cross over the new one, and the search goes on over a
-belief rebuilt with the finds known and a "no further fire" hypothesis. It ends with max_fires
-finds ("confident"), confident there is no other ("clear"), or at the budget or the policy's end;
+belief rebuilt with the finds known and a "no further fire" hypothesis; where the sensor sees
+farther from higher up, it first climbs over the find to look for any other fire from above
+(_climbing). max_fires None: the search is not told how many fires there are. It ends with
+max_fires finds ("confident"), confident there is no other ("clear"), or at the budget or the
+policy's end;
 `declarations` then lists every find (a forced one only when there is none and it did not end
 clear), `finished_by` says why it ended, and step() returns the first.
 
@@ -69,6 +72,13 @@ from .wind_estimate import LeanWindEstimator
 REFRESH_EVERY = 10
 REFRESH_M = 1.0
 PIN_M = 30.0  # after a find with more to look for: a cross this far either way over it (_pin_pattern)
+# ... and first, where the sensor sees farther from higher up, a climb over the find to this height
+# (400 ft, the usual ceiling) with RULE_OUT_HOVER observations at the top: from there every corner
+# of the area is in view, and a profile of readings at many heights tells a further fire, whose
+# share grows with height, from the ambient, which does not change.
+RULE_OUT_HEIGHT_M = 120.0
+RULE_OUT_HOVER = 20
+DROP_CLIMB_READINGS = True
 # Estimating the wind: the belief is rebuilt with the estimate when it has moved this far from the
 # wind the belief holds; the estimate is looked at every WIND_CHECK_EVERY lean samples.
 WIND_REBUILD_M_S = 0.25
@@ -89,16 +99,20 @@ class SearchConfig:
     confirm_m: float | None = 10.0  # declare after a reading this close to the cell's centre; None: at once
     outlier_rate: float = 0.02      # the belief's prior share of wild readings (belief.py, "Outliers")
     outlier_range_k: float = 100.0  # the span a wild reading may take anywhere in [K]
-    max_fires: int = 1              # fires to look for; above 1 the search goes on after a find (below)
+    max_fires: int | None = 1       # fires to look for; above 1 the search goes on after a find (below);
+                                    # None: as many as there are (the search is not told)
     null_prior: float = 0.5         # with max_fires > 1: prior probability that there is no (further) fire
+    clear_threshold: float = 0.98   # ... and the probability of none that ends the search ("clear")
 
     def __post_init__(self):
         if not (self.speed_m_s > 0 and self.sample_s > 0):
             raise ValueError("speed and sample interval must be positive")
         if not self.budget_m > 0:
             raise ValueError("budget_m must be positive")
-        if int(self.max_fires) != self.max_fires or self.max_fires < 1:
+        if self.max_fires is not None and (int(self.max_fires) != self.max_fires or self.max_fires < 1):
             raise ValueError(f"max_fires must be a positive whole number, got {self.max_fires!r}")
+        if not 0.0 < self.clear_threshold <= 1.0:
+            raise ValueError(f"clear_threshold must be within 0..1 (0 excluded), got {self.clear_threshold!r}")
         if not 0.0 < self.null_prior < 1.0:
             raise ValueError(f"null_prior must be within 0..1 (both excluded), got {self.null_prior!r}")
 
@@ -112,6 +126,7 @@ class SearchConfig:
 class Goto:
     target: tuple[float, float]  # (n, e) local metres
     confirming: bool             # flying over the cell the belief is confident about
+    height_m: float | None = None  # above ground; None: the survey height
 
 
 class SearchController:
@@ -131,11 +146,11 @@ class SearchController:
         self.wind_sd_m_s = math.inf if wind_ne_m_s is None else 0.0
         self.wind_rebuilds = 0
         self._rebuilding: tuple[Belief, int] | None = None  # (belief with the new wind, readings fed to it)
-        self.several = config.max_fires > 1
+        self.several = config.max_fires != 1
         self.found: list[tuple[Declaration, tuple]] = []  # several fires: (declaration, hot spot) of each find
         self.readings: list[tuple] = []  # every observation, to rebuild the belief from
         self.belief = self._belief(())
-        self.rule = StoppingRule(config.threshold, 1, config.confirm_m)
+        self.rule = StoppingRule(config.threshold, 1, config.confirm_m, config.clear_threshold)
         self.timer = timer
         self.max_observations = int(4 * config.budget_m / config.observation_spacing_m) + 100
         self.observations = 0
@@ -149,6 +164,10 @@ class SearchController:
         self._need_decision = True
         self._since_decision = 0
         self._pin: list[tuple[float, float]] = []  # several fires: the cross still to fly over the last find
+        self._climb: list[tuple] | None = None  # several fires: the climb's legs still to fly, (n, e, height)
+        self._top_from: int | None = None  # observations when the climb reached the top
+        self._climbed = 0  # readings taken during the climb
+        self.first_find_path_m: float | None = None  # path flown when the first fire was found
         policy.reset(geometry, (float(start[0]), float(start[1])), rng)
 
     def _belief(self, known: tuple, null: bool | None = None) -> Belief:
@@ -166,6 +185,8 @@ class SearchController:
             return
         self.belief.update(n, e, z, height_m)
         self.readings.append((n, e, z, height_m))
+        if self._climb is not None and height_m > self.geometry.survey_alt_m + 1.0:
+            self._climbed += 1  # the climb's readings above the survey height come last
         self.policy.observe(n, e, z)
         self.observations += 1
         self._since_decision += 1
@@ -237,6 +258,10 @@ class SearchController:
         if arrived:
             self._need_decision = True
         uses_belief = self.policy.uses_stopping_rule
+        if self._climb is not None:
+            move = self._climbing(path_m, arrived)
+            if move is not None:
+                return move
         if self._pin:  # several fires: pinning the last find down before looking on
             if path_m >= self.config.budget_m or self.observations >= self.max_observations:
                 return self._finish("budget")
@@ -254,11 +279,14 @@ class SearchController:
             if found is not None and self.found and self._refresh():  # re-judged with the finds put right
                 found = self.rule.confident(self.belief)
             if found is not None:
+                if self.first_find_path_m is None:
+                    self.first_find_path_m = path_m
                 if not self.several:
                     return self._declare(found, "confident")
                 self._found(found, position)
                 if len(self.found) == self.config.max_fires:
                     return self._finish("confident")
+                return self._step(position, path_m, False)  # the climb or the cross, at once
             elif self.several and self.rule.clear(self.belief):
                 return self._finish("clear")
         if path_m >= self.config.budget_m or self.observations >= self.max_observations:
@@ -292,6 +320,34 @@ class SearchController:
         return n, e
 
     # ----- several fires ---------------------------------------------------------------------------
+    def _climbing(self, path_m: float, arrived: bool) -> Goto | Declaration | None:
+        """The climb after a find: over its hot spot and up the plume's axis to RULE_OUT_HEIGHT_M,
+        RULE_OUT_HOVER observations at the top, ending "clear" as soon as the belief is confident
+        there is no other fire. None when it is over and not clear (the cross over the find comes
+        next, at the survey height)."""
+        if path_m >= self.config.budget_m or self.observations >= self.max_observations:
+            return self._finish("budget")
+        # no refit of the finds up here: seen from above every fire adds to every reading, and
+        # refitted every REFRESH_EVERY readings a find walked, a cell at a time, to another fire
+        if self.lean_known() and self.rule.clear(self.belief):
+            return self._finish("clear")
+        if arrived:
+            if self._top_from is None and self._climb[0][2] == RULE_OUT_HEIGHT_M:
+                self._top_from = self.observations
+            if self._top_from is None or self.observations - self._top_from >= RULE_OUT_HOVER:
+                self._climb.pop(0)
+                self._top_from = None
+        if not self._climb:
+            # not clear: the climb's readings go before the cross's end rebuilds the belief. They
+            # decide whether to stop; the search below is the one measured at the survey height
+            if DROP_CLIMB_READINGS:
+                del self.readings[len(self.readings) - self._climbed:]
+            self._climb, self._climbed = None, 0
+            return None
+        n, e, height = self._climb[0]
+        self.target = (n, e)
+        return Goto((n, e), False, height)
+
     def _found(self, found: Declaration, position) -> None:
         """A confident find with more fires to look for: keep it as a hot spot to explain away, put
         every earlier find right now that this one explains part of the readings (relocate), and
@@ -305,6 +361,13 @@ class SearchController:
         self.belief, self._rebuilding = self._replay(self._belief(tuple(spot for _, spot in self.found))), None
         self.confirming, self._need_decision = False, True
         self._pin = self._pin_pattern(found.position, position)
+        if self.geometry.reach_grows_with_height:
+            # up the plume's axis over the fitted hot spot: right over a fire its kernel is the same
+            # at every height, and a profile there that grows with height is another fire's
+            n, e, tn, te = self.found[-1][1]
+            axis = lambda h: (min(a, max(0.0, n + h * tn)), min(a, max(0.0, e + h * te)))  # noqa: E731
+            a, h0 = self.geometry.area_m, self.geometry.survey_alt_m
+            self._climb = [(*axis(h0), None), (*axis(RULE_OUT_HEIGHT_M), RULE_OUT_HEIGHT_M)]
         self.decisions += 1  # a decision too (what to believe), timed with the policy's
         if self.timer:
             self.decision_s.append(self.timer() - t0)

@@ -37,6 +37,7 @@ class StoppingRule:
     threshold: float = 0.95
     radius_cells: int = 1
     confirm_m: float | None = None
+    clear_threshold: float | None = None  # probability of no (further) fire that ends the search; None: threshold
 
     def __post_init__(self):
         if not 0 < self.threshold <= 1:
@@ -45,6 +46,8 @@ class StoppingRule:
             raise ValueError("radius_cells must be zero or positive")
         if self.confirm_m is not None and not self.confirm_m >= 0:
             raise ValueError("confirm_m must be zero or positive")
+        if self.clear_threshold is not None and not 0 < self.clear_threshold <= 1:
+            raise ValueError(f"clear_threshold must be within (0, 1], got {self.clear_threshold}")
 
     def candidate(self, belief: Belief):
         """The block to declare, if the belief is confident: the mass counted is the probability that
@@ -59,7 +62,8 @@ class StoppingRule:
 
     def clear(self, belief: Belief) -> bool:
         """The belief is confident that there is no (further) fire."""
-        return belief.n > 0 and 1.0 - belief.p_fire >= self.threshold
+        limit = self.threshold if self.clear_threshold is None else self.clear_threshold
+        return belief.n > 0 and 1.0 - belief.p_fire >= limit
 
     def confident(self, belief: Belief) -> Declaration | None:
         """The declaration if the block mass around the most likely cell reaches the threshold

@@ -44,6 +44,8 @@ def test_explore_finds_the_fire_and_lands(autopilot_factory, tmp_path):
     # Judge against the scenario file's fire directly, not against the companion's own verdict.
     assert abs(n - 135.0) <= 15.0 and abs(e - 72.0) <= 15.0, (n, e)
     assert "within one 10 m cell" in result.stdout
+    # not told how many fires: after the find it looked on (a climb over it, here) until sure of no other
+    assert "1 fire(s): the first found after" in result.stdout and "confident there is no other fire" in result.stdout
     assert plot.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     # An independent look at the vehicle: on the ground at home, disarmed.
     gcs = Gcs(f"udpin:127.0.0.1:{ap.port}")

@@ -1,0 +1,66 @@
+"""A search not told how many fires there are (issue 30, item 3): it goes on after each find until
+the belief is confident there is no other, and where the sensor sees farther from higher up it
+climbs over the find to look (strategy/controller.py, "Several fires")."""
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from firefly.groundstation import cli
+from firefly.groundstation.evaluation.episodes import EpisodeConfig, run_episode
+from firefly.groundstation.strategy import make_policy
+from firefly.groundstation.strategy.controller import RULE_OUT_HEIGHT_M, Goto, SearchConfig
+from firefly.sim.fire import Fire, FireWorld
+
+DEFAULT_SCENARIO = "scenarios/default.toml"
+
+
+def one_fire(kernel: str) -> FireWorld:
+    return FireWorld(fires=(Fire(250.0, 130.0, 45.0),), kernel=kernel, ambient_c=21.0)
+
+
+def test_not_told_how_many_it_climbs_over_the_find_and_ends_clear():
+    steps: list = []
+    result = run_episode(one_fire("R"), 4, 0, make_policy("gig"), EpisodeConfig(fixed_fire=True, max_fires=None),
+                         steps=steps)
+    assert result.success and result.fires_found == 1 and len(result.declarations) == 1
+    assert result.declared_by == "clear"
+    climb = [m for m in steps if isinstance(m, Goto) and m.height_m == RULE_OUT_HEIGHT_M]
+    assert climb, "no climb to look for another fire"
+    # the path counts the climb (here it was clear before the top: 70 m up and over the fire)
+    assert result.path_m - result.first_find_m > 30.0
+
+
+def test_a_plume_that_does_not_widen_with_height_is_searched_at_the_survey_height():
+    steps: list = []
+    result = run_episode(one_fire("G"), 4, 0, make_policy("gig"), EpisodeConfig(fixed_fire=True, max_fires=None),
+                         steps=steps)
+    assert result.success and result.first_find_m is not None
+    assert all(m.height_m is None for m in steps if isinstance(m, Goto))
+
+
+def test_told_one_fire_it_declares_at_the_find_and_never_climbs():
+    steps: list = []
+    result = run_episode(one_fire("R"), 4, 0, make_policy("gig"), EpisodeConfig(fixed_fire=True), steps=steps)
+    assert result.declared_by == "confident" and result.first_find_m == result.path_m
+    assert all(m.height_m is None for m in steps if isinstance(m, Goto))
+
+
+def test_the_clear_threshold_is_checked():
+    with pytest.raises(ValueError, match="clear_threshold"):
+        EpisodeConfig(clear_threshold=0.0)
+    SearchConfig(max_fires=None)  # not told: allowed
+    with pytest.raises(ValueError, match="max_fires"):
+        SearchConfig(max_fires=0)
+
+
+def test_evaluate_does_not_tell_the_search_how_many_fires_the_episodes_hold(tmp_path, capsys):
+    out = tmp_path / "two.json"
+    assert cli.main(["evaluate", "--scenario", DEFAULT_SCENARIO, "--episodes", "1", "--policies", "greedy",
+                     "--fires", "2", "--json", str(out)]) == 0
+    assert "not told how many fires" in capsys.readouterr().out
+    doc = json.loads(out.read_text())
+    assert doc["config"]["max_fires"] is None
+    row = doc["results"]["greedy"][0]
+    assert row["first_find_m"] is None or row["first_find_m"] <= row["path_m"]
