@@ -364,6 +364,7 @@ class Belief:
         self.cell_m = geometry.cell_size_m
         self.subcells = int(subcells)
         self.tilts = plume_tilts(wind_ne_m_s, plume_rise_m_s)  # (n, e) metres per metre of height
+        self.upright = self.tilts == [(0.0, 0.0)]  # calm: the plume rises straight up
         self.per_cell = self.subcells ** 2 * len(self.tilts)
         centres = (np.arange(self.size) + 0.5) * self.cell_m
         cn, ce = np.meshgrid(centres, centres, indexing="ij")

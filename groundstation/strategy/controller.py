@@ -361,9 +361,12 @@ class SearchController:
         self.belief, self._rebuilding = self._replay(self._belief(tuple(spot for _, spot in self.found))), None
         self.confirming, self._need_decision = False, True
         self._pin = self._pin_pattern(found.position, position)
-        if self.geometry.reach_grows_with_height:
+        if self.geometry.reach_grows_with_height and self.belief.upright:
             # up the plume's axis over the fitted hot spot: right over a fire its kernel is the same
-            # at every height, and a profile there that grows with height is another fire's
+            # at every height, and a profile there that grows with height is another fire's. Not
+            # in wind: the rise speed is unknown, so the axis at the top is uncertain by tens of
+            # metres (4 m/s: 64-120 m of lean at 120 m), and a profile off the axis falls with
+            # height as another fire's grows: on a windy world the climb ended in ghost finds
             n, e, tn, te = self.found[-1][1]
             axis = lambda h: (min(a, max(0.0, n + h * tn)), min(a, max(0.0, e + h * te)))  # noqa: E731
             a, h0 = self.geometry.area_m, self.geometry.survey_alt_m
