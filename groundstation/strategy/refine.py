@@ -18,6 +18,8 @@ their fires.
 """
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from scipy.optimize import least_squares
 
@@ -33,8 +35,15 @@ def refine_hot_spots(geometry: Geometry, readings: list[tuple], spots: list[tupl
                      noise_k: float, reach_cells: float = REACH_CELLS) -> list[tuple]:
     """The hot spots (n, e, tilt_n, tilt_e) moved to fit the readings (n, e, z, height) jointly,
     each by at most reach_cells."""
+    return fit_hot_spots(geometry, readings, spots, noise_k, reach_cells)[0]
+
+
+def fit_hot_spots(geometry: Geometry, readings: list[tuple], spots: list[tuple], noise_k: float,
+                  reach_cells: float = REACH_CELLS) -> tuple[list[tuple], list[float]]:
+    """refine_hot_spots, and each fire's fitted strength [K] (infinite while there are too few
+    readings to fit)."""
     if not spots or len(readings) < 3 * len(spots) + 3:
-        return list(spots)
+        return list(spots), [math.inf] * len(spots)
     data = np.asarray(readings, dtype=float)
     n, e, z, height = data.T
     tilts = np.array([s[2:] for s in spots])
@@ -58,4 +67,5 @@ def refine_hot_spots(geometry: Geometry, readings: list[tuple], spots: list[tupl
     hi = np.concatenate([start + reach, np.full(linear0.size, np.inf)])
     fit = least_squares(residual, np.concatenate([start, linear0]), bounds=(lo, hi), loss="soft_l1", f_scale=3.0)
     positions = fit.x[:start.size].reshape(-1, 2)
-    return [(float(p[0]), float(p[1]), float(t[0]), float(t[1])) for p, t in zip(positions, tilts)]
+    strengths = [float(k) for k in fit.x[start.size + 1:]]
+    return [(float(p[0]), float(p[1]), float(t[0]), float(t[1])) for p, t in zip(positions, tilts)], strengths
