@@ -192,13 +192,14 @@ def test_explore_told_the_wind_reads_the_vehicles_wind_report(autopilot_factory,
 
 
 def test_explore_looks_for_two_fires_and_declares_both(autopilot_factory, tmp_path):
-    """--max-fires 2 on a world with two fires: after the first find the search explains it away
-    and goes on; both are declared, each within a cell of its own fire, and the vehicle lands."""
+    """Not told how many fires, on a world with two: after the first find the search explains it
+    away and goes on; both are declared, each within a cell of its own fire, the search ends
+    confident there is no third, and the vehicle lands."""
     scenario = tmp_path / "two_fires.toml"
     scenario.write_text(SMALL_WORLD.read_text() + "\n[[fire]]\nn_m = 45.0\ne_m = 150.0\nstrength_k = 40.0\n")
     ap = autopilot_factory(speedup="20", extra=("--scenario", str(scenario)))
     result = subprocess.run([sys.executable, "-m", "firefly.groundstation", "explore", "--url", ap.mavsdk_url,
-                             "--scenario", str(scenario), "--max-fires", "2", "--plot", str(tmp_path / "two.png")],
+                             "--scenario", str(scenario), "--plot", str(tmp_path / "two.png")],
                             cwd=REPO, capture_output=True, text=True, timeout=240)
     assert result.returncode == 0, result.stdout[-2000:] + result.stderr[-2000:]
     declared = [(float(n), float(e)) for n, e in re.findall(r"fire declared at N ([\d.]+) m E ([\d.]+) m", result.stdout)]
@@ -207,4 +208,5 @@ def test_explore_looks_for_two_fires_and_declares_both(autopilot_factory, tmp_pa
     for fire in fires:  # each fire has its own declaration within a cell and a half
         assert any(abs(n - fire[0]) <= 15.0 and abs(e - fire[1]) <= 15.0 for n, e in declared), (fire, declared)
     assert "2 of 2 fires found" in result.stdout
+    assert "confident there is no other fire" in result.stdout
     assert (tmp_path / "two.png").stat().st_size > 0
