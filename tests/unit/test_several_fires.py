@@ -92,6 +92,25 @@ def test_a_rebuild_with_wild_readings_agrees_with_the_filter_and_the_filter_goes
     assert at_once.p_fire == pytest.approx(one_by_one.p_fire, abs=0.02)
 
 
+def test_a_rebuild_spread_over_steps_reaches_the_same_belief():
+    """absorbing() yields between chunks of each pass, so a caller can spread a rebuild over
+    steps; drained, it is absorb's belief up to rounding, and it yields once per chunk and pass."""
+    w = two_fire_world()
+    readings = [(n, e, z, 30.0) for n, e, z in noisy_readings(w, 90, seed=6)]
+    readings[30] = readings[30][:2] + (readings[30][2] + 25.0, 30.0)
+
+    def fresh():
+        return Belief(Geometry(), subcells=3, outlier_rate=0.02, known=((FIRE_A.n_m, FIRE_A.e_m, 0.0, 0.0),),
+                      null_prior=0.5)
+    whole, spread = fresh(), fresh()
+    whole.absorb(readings)
+    steps = list(spread.absorbing(readings, chunk=20))
+    assert len(steps) == 3 * 5  # the kernels, the plain sums, the weighted sums: 5 chunks each
+    assert spread.n == whole.n == 90
+    assert np.allclose(spread.log_ev, whole.log_ev, rtol=0, atol=1e-9)
+    assert np.abs(spread.p - whole.p).max() < 1e-12 and spread.p_fire == pytest.approx(whole.p_fire, abs=1e-12)
+
+
 def test_a_rebuild_stays_finite_where_a_reading_is_all_but_surely_no_outlier():
     """A rare outlier prior and a precise sensor: the inlier odds reach the single precision's 1."""
     w = two_fire_world(noise=0.01)
