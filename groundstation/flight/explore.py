@@ -219,11 +219,15 @@ async def explore(url: str, world: FireWorld, policy_name: str, plot: Path | Non
             fire = {"n_m": n_m, "e_m": e_m, "lat": lat, "lon": lon, "mass_3x3": found.mass}
             result["fires"].append(fire)
             first_m = result["path_m"] if controller.first_find_path_m is None else controller.first_find_path_m
+            if k:  # the first declaration alone says when it came
+                when = ""
+            elif controller.several:
+                when = f", found after {first_m:.0f} m"
+            else:
+                when = (f", spread {result['spread_m']:.1f} m, after {result['path_m']:.0f} m and "
+                        f"{result['survey_vehicle_s']:.0f} s of vehicle time")
             say(f"fire declared at N {n_m:.1f} m E {e_m:.1f} m (lat {lat:.7f}, lon {lon:.7f}), "
-                f"3x3 mass {found.mass:.3f}" + ("" if k else f", found after {first_m:.0f} m" if controller.several
-                                                else f", spread {result['spread_m']:.1f} m, after "
-                                                f"{result['path_m']:.0f} m and {result['survey_vehicle_s']:.0f} s "
-                                                "of vehicle time"))
+                f"3x3 mass {found.mass:.3f}{when}")
             if truth and world.fires:
                 error, within = judge(world, n_m, e_m)
                 best = min(world.fires, key=lambda f: math.hypot(n_m - f.n_m, e_m - f.e_m))

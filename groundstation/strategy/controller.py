@@ -365,7 +365,9 @@ class SearchController:
         self.belief, self._rebuilding = self._replay(self._belief(tuple(spot for _, spot in self.found))), None
         self.confirming, self._need_decision = False, True
         self._pin = self._pin_pattern(found.position, position)
-        if self.geometry.reach_grows_with_height and self.belief.upright:
+        # (not when the fit has just dropped this find as a ghost: there is nothing to climb over)
+        kept = bool(self.found) and self.found[-1][0] is found
+        if self.geometry.reach_grows_with_height and self.belief.upright and kept:
             # up the plume's axis over the fitted hot spot: right over a fire its kernel is the same
             # at every height, and a profile there that grows with height is another fire's. Not
             # in wind: the rise speed is unknown, so the axis at the top is uncertain by tens of

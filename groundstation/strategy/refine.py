@@ -31,17 +31,11 @@ REACH_CELLS = 1.0  # how far the fit may move a hot spot from the grid's choice 
 FINAL_REACH_CELLS = 3.0  # ... and at its end
 
 
-def refine_hot_spots(geometry: Geometry, readings: list[tuple], spots: list[tuple],
-                     noise_k: float, reach_cells: float = REACH_CELLS) -> list[tuple]:
-    """The hot spots (n, e, tilt_n, tilt_e) moved to fit the readings (n, e, z, height) jointly,
-    each by at most reach_cells."""
-    return fit_hot_spots(geometry, readings, spots, noise_k, reach_cells)[0]
-
-
 def fit_hot_spots(geometry: Geometry, readings: list[tuple], spots: list[tuple], noise_k: float,
                   reach_cells: float = REACH_CELLS) -> tuple[list[tuple], list[float]]:
-    """refine_hot_spots, and each fire's fitted strength [K] (infinite while there are too few
-    readings to fit)."""
+    """The hot spots (n, e, tilt_n, tilt_e) moved to fit the readings (n, e, z, height) jointly,
+    each by at most reach_cells, and each fire's fitted strength [K] (infinite while there are
+    too few readings to fit)."""
     if not spots or len(readings) < 3 * len(spots) + 3:
         return list(spots), [math.inf] * len(spots)
     data = np.asarray(readings, dtype=float)

@@ -12,7 +12,7 @@ from firefly.groundstation.evaluation.episodes import EpisodeConfig, run_episode
 from firefly.groundstation.truth import judge_all
 from firefly.groundstation.strategy import Belief, Geometry, make_policy
 from firefly.groundstation.strategy.belief import symmetric_inverse
-from firefly.groundstation.strategy.refine import refine_hot_spots
+from firefly.groundstation.strategy.refine import fit_hot_spots
 from firefly.sim.fire import Fire, FireWorld, true_temperature
 
 FIRE_A = Fire(120.0, 110.0, 50.0)
@@ -149,7 +149,7 @@ def test_the_hot_spot_fit_puts_a_misplaced_find_right():
     w = two_fire_world(noise=0.3)
     readings = [(n, e, z, 30.0) for n, e, z in noisy_readings(w, 200, seed=3)]
     start = [(FIRE_A.n_m + 6.0, FIRE_A.e_m - 5.0, 0.0, 0.0), (FIRE_B.n_m - 4.0, FIRE_B.e_m + 4.0, 0.0, 0.0)]
-    fitted = refine_hot_spots(Geometry(), readings, start, 0.3)
+    fitted = fit_hot_spots(Geometry(), readings, start, 0.3)[0]
     for spot, fire in zip(fitted, (FIRE_A, FIRE_B)):
         assert math.hypot(spot[0] - fire.n_m, spot[1] - fire.e_m) < 1.5, spot
 
@@ -230,7 +230,7 @@ def test_the_final_fit_reaches_a_find_declared_two_cells_off():
     w = two_fire_world(fires=(Fire(200.0, 180.0, 50.0), Fire(200.0, 220.0, 50.0)), noise=0.5)
     readings = [(n, e, z, 30.0) for n, e, z in noisy_readings(w, 300, seed=8)]
     start = [(200.0, 185.0, 0.0, 0.0), (205.0, 240.0, 0.0, 0.0)]  # the second pushed 20 m out
-    near = refine_hot_spots(Geometry(), readings, start, 0.5)  # the search's reach: one cell
-    far = refine_hot_spots(Geometry(), readings, start, 0.5, reach_cells=3.0)
+    near = fit_hot_spots(Geometry(), readings, start, 0.5)[0]  # the search's reach: one cell
+    far = fit_hot_spots(Geometry(), readings, start, 0.5, reach_cells=3.0)[0]
     assert math.hypot(near[1][0] - 200.0, near[1][1] - 220.0) > 5.0
     assert all(math.hypot(s[0] - f.n_m, s[1] - f.e_m) < 2.0 for s, f in zip(far, w.fires)), far
