@@ -154,10 +154,11 @@ def test_the_hot_spot_fit_puts_a_misplaced_find_right():
         assert math.hypot(spot[0] - fire.n_m, spot[1] - fire.e_m) < 1.5, spot
 
 
-def test_symmetric_inverse_matches_lapack():
+@pytest.mark.parametrize("m", [3, 6, 9])  # one, two and three known fires
+def test_symmetric_inverse_matches_lapack(m):
     rng = np.random.default_rng(4)
-    m = rng.normal(size=(50, 3, 3))
-    a = m @ m.transpose(0, 2, 1) + 0.1 * np.eye(3)
+    x = rng.normal(size=(50, m, m))
+    a = x @ x.transpose(0, 2, 1) + 0.1 * np.eye(m)
     inv, det = symmetric_inverse(a)
     assert np.allclose(inv, np.linalg.inv(a))
     assert np.allclose(det, np.linalg.det(a))
