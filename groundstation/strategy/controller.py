@@ -38,13 +38,24 @@ clear), `finished_by` says why it ended, and step() returns the first.
 Wind (wind_estimate.py): the plume leans with the wind, and the belief with it. Told the wind
 (wind_ne_m_s, e.g. from the vehicle's WIND message), the controller keeps it. Given None, it
 estimates the wind from how the vehicle leans in steady flight (observe_lean): each time the estimate
-moves by more than WIND_REBUILD_M_S the belief is rebuilt from every reading with the new wind,
-WIND_REBUILD_CHUNK readings per step so that no step thinks for long (the old belief steers
-meanwhile), and while that rebuild runs or while the lean the estimate leaves open at the survey
+moves by more than WIND_REBUILD_M_S the belief is rebuilt from every reading with the new wind (a
+job, below), and while that rebuild runs or while the lean the estimate leaves open at the survey
 height is more than half a cell, the search neither declares a fire nor ends "clear": it flies on
-instead of naming a cell the lean may have moved. Timing: a step that feeds the rebuild counts its
-chunk in the same entry of decision_s as the step's policy decision, or as an entry of its own when
-the step decides nothing (decision_s is then per step that thinks, not per policy decision).
+instead of naming a cell the lean may have moved.
+
+Thinking spread over steps (issue 30, item 4: at most 150 ms a step): what costs more than a step
+may think is a job (_jobs), a generator that a step works through JOB_CHUNKS_PER_STEP chunks of
+(one in a step that has fitted or decided already), each about 20 ms here: the belief rebuilt from
+every reading with a new wind or with the finds as they are ("rebuild"), the finds refitted every
+REFRESH_EVERY observations and the belief rebuilt if one moved ("refit"), and what a find changes
+("find": the earlier finds relocated, the finds fitted together, then the rebuild). The belief in
+use steers until its successor has every reading, those taken meanwhile too. Until a find's job
+and the rebuild after a "rebuild" are done the search neither declares nor ends; a refit's finds
+have only moved a little, and the search judges on. The vehicle holds over a find while its job
+runs, at the end of the cross over it until the belief knows where it is, and over a confident
+cell while the rebuild with the finds put right runs: flown on by the belief before, it went
+after the fire it had just pinned down. decision_s times every step that thinks, whole (its fit,
+its policy decision and its chunks); observe() costs one reading's update on top, measured apart.
 
 Threshold 0.99 with confirmation within 10 m: a calibrated belief declared at mass t is wrong about
 1 - t of the time, a little more in practice, as the declaration is taken at the first reading that
@@ -56,11 +67,11 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Callable
+from typing import Callable, Iterator
 
 import numpy as np
 
-from .belief import PLUME_RISE_M_S, Belief, Geometry
+from .belief import BURN_IN, PLUME_RISE_M_S, Belief, Geometry
 from .policies import Policy
 from .refine import FINAL_REACH_CELLS, REACH_CELLS, fit_hot_spots
 from .stopping import Declaration, StoppingRule
@@ -87,7 +98,13 @@ DROP_CLIMB_READINGS = True
 # wind the belief holds; the estimate is looked at every WIND_CHECK_EVERY lean samples.
 WIND_REBUILD_M_S = 0.25
 WIND_CHECK_EVERY = 5
-WIND_REBUILD_CHUNK = 20  # readings fed per step to a belief rebuilt with a new wind
+# Bounded thinking: the belief's rebuilds and a find's relocations are jobs (_jobs) that a step
+# works through a few chunks of, each about 20 ms here: JOB_ROWS readings of a rebuild's weighted
+# pass (Belief.absorbing) or of the readings that came in meanwhile (Belief.update_together); with
+# no known fire, PLAIN_UPDATES readings one by one (about 1 ms each)
+JOB_CHUNKS_PER_STEP = 2  # ... or one, in a step that has fitted or decided already
+JOB_ROWS = 25
+PLAIN_UPDATES = 10
 
 
 @dataclass(frozen=True)
@@ -149,7 +166,17 @@ class SearchController:
         # from that estimate by up to WIND_REBUILD_M_S
         self.wind_sd_m_s = math.inf if wind_ne_m_s is None else 0.0
         self.wind_rebuilds = 0
-        self._rebuilding: tuple[Belief, int] | None = None  # (belief with the new wind, readings fed to it)
+        # the thinking spread over steps (_work): (kind, generator), kind "rebuild" (a belief with
+        # the wind and finds as they are, which then steers), "refit" (the same after the periodic
+        # fit of the finds, not waited for) or "find" (what a find changes)
+        self._jobs: list[tuple[str, Iterator[None]]] = []
+        self._thinking = False  # this step has thought: it is timed (decision_s)
+        # (point, job kinds): the vehicle holds there while jobs of those kinds run (a find's, or
+        # after the cross over it the rebuild with the finds put right: steered by the belief
+        # before it, the policy flew off after the fire just pinned down)
+        self._holding: tuple[tuple[float, float], tuple[str, ...]] | None = None
+        self._ending: str | None = None  # the search ends at the next step, for this reason
+        self._rejudging = False  # a confident belief's finds were put right: judge its rebuild as it is
         self.several = config.max_fires != 1
         self.found: list[tuple[Declaration, tuple]] = []  # several fires: (declaration, hot spot) of each find
         self.readings: list[tuple] = []  # every observation, to rebuild the belief from
@@ -159,7 +186,7 @@ class SearchController:
         self.max_observations = int(4 * config.budget_m / config.observation_spacing_m) + 100
         self.observations = 0
         self.decisions = 0
-        self.decision_s: list[float] = []  # with a timer: the duration of every decision
+        self.decision_s: list[float] = []  # with a timer: the duration of every step that thinks
         self.target: tuple[float, float] | None = None
         self.confirming = False
         self.declared: Declaration | None = None
@@ -212,32 +239,60 @@ class SearchController:
         self.wind_sd_m_s = found.sd_m_s
         held = self.wind_ne_m_s
         if math.hypot(found.air_ne_m_s[0] - held[0], found.air_ne_m_s[1] - held[1]) > WIND_REBUILD_M_S:
-            # a belief with the new wind, fed the readings so far a chunk per step (_catch_up)
             self.wind_ne_m_s = found.air_ne_m_s
-            self._rebuilding = (self._belief(tuple(spot for _, spot in self.found)), 0)
+            self._rebuild()
             self.wind_rebuilds += 1
 
-    def _catch_up(self) -> float:
-        """Feed the belief being rebuilt with a new wind up to WIND_REBUILD_CHUNK more readings; once
-        it has them all it replaces the belief. Returns the time it took (0 without a timer): a
-        step's thinking is bounded by the chunk, not by the readings so far."""
-        if self._rebuilding is None:
-            return 0.0
-        t0 = self.timer() if self.timer else 0.0
-        belief, fed = self._rebuilding
-        upto = min(len(self.readings), fed + WIND_REBUILD_CHUNK)
-        for n, e, z, height_m in self.readings[fed:upto]:
-            belief.update(n, e, z, height_m)
-        self._rebuilding = (belief, upto)
-        if upto == len(self.readings):
-            self.belief, self._rebuilding = belief, None
-        return self.timer() - t0 if self.timer else 0.0
+    # ----- thinking spread over steps ------------------------------------------------------------
+    def _rebuild(self, judged: bool = True) -> None:
+        """Rebuild the belief from every reading with the wind and finds as they are now, a few
+        chunks per step (_work); it replaces any rebuild queued or under way, whose inputs are stale.
+        Until it is done the belief in use steers, and unless `judged` is False (the finds have only
+        moved a little: a "refit") the search neither declares nor ends until it has judged this one."""
+        pending = [job for job in self._jobs if job[0] in ("rebuild", "refit")]
+        kind = "rebuild" if judged or any(job[0] == "rebuild" for job in pending) else "refit"
+        self._jobs = [job for job in self._jobs if job not in pending] + [(kind, self._rebuilt())]
+
+    def _rebuilt(self) -> Iterator[None]:
+        belief = self._belief(tuple(spot for _, spot in self.found))
+        yield from self._fed(belief)
+        self.belief = belief
+
+    def _fed(self, belief: Belief) -> Iterator[None]:
+        """Give a new `belief` every reading, yielding between chunks: those there are now at once
+        (Belief.absorbing), then one by one those that came in meanwhile."""
+        readings = list(self.readings)
+        known = len(belief.known) > 0
+        yield from belief.absorbing(readings, JOB_ROWS if known else PLAIN_UPDATES)
+        fed = len(readings)
+        while fed < len(self.readings):
+            upto = min(len(self.readings), fed + (JOB_ROWS if known else PLAIN_UPDATES))
+            if known:
+                belief.update_together(self.readings[fed:upto])
+            else:  # one by one, as the filter would: cheap without known fires
+                for n, e, z, height_m in self.readings[fed:upto]:
+                    belief.update(n, e, z, height_m)
+            fed = upto
+            if fed < len(self.readings):
+                yield
+
+    def _work(self, chunks: int) -> None:
+        """Work through `chunks` chunks of the jobs, oldest first: a step's thinking is bounded by
+        the chunks, not by the readings so far."""
+        while self._jobs and chunks:
+            self._thinking = True
+            job = self._jobs[0]
+            chunks -= 1  # the call that ends a job works too (a rebuild's evidence, a find's fit)
+            try:
+                next(job[1])
+            except StopIteration:
+                self._jobs.remove(job)  # by identity: a job may have queued others
 
     def lean_known(self) -> bool:
         """The wind is known well enough that the plume's lean at the survey height is uncertain by
         at most half a cell (always, when told)."""
-        if self._rebuilding is not None:
-            return False  # the belief still holds the previous wind
+        if any(kind == "rebuild" for kind, _ in self._jobs):
+            return False  # the belief in use may still hold the previous wind
         slowest_rise = min(PLUME_RISE_M_S)
         return self.wind_sd_m_s * self.geometry.survey_alt_m / slowest_rise <= 0.5 * self.geometry.cell_size_m
 
@@ -248,20 +303,29 @@ class SearchController:
             return self.declared
         if self.observations == 0:
             raise RuntimeError("step() before any observation: the search starts with a reading")
-        decisions = len(self.decision_s)
-        caught_up_s = self._catch_up()
+        t0 = self.timer() if self.timer else 0.0
+        self._thinking = False
         move = self._step(position, path_m, arrived)
-        if self.timer and caught_up_s:  # one step's thinking: the rebuild's chunk and any decision
-            if len(self.decision_s) > decisions:
-                self.decision_s[decisions] += caught_up_s
-            else:
-                self.decision_s.append(caught_up_s)
+        if self._jobs and self.declared is None:  # after the step: it judges what they have built so far
+            self._work(1 if self._thinking else JOB_CHUNKS_PER_STEP)
+        if self.timer and self._thinking:  # the whole step: its fits, decision and jobs' chunks
+            self.decision_s.append(self.timer() - t0)
         return move
 
     def _step(self, position, path_m: float, arrived: bool) -> Goto | Declaration:
+        if self._ending is not None:
+            return self._finish(self._ending)
         if arrived:
             self._need_decision = True
         uses_belief = self.policy.uses_stopping_rule
+        if self._holding is not None:
+            if path_m >= self.config.budget_m or self.observations >= self.max_observations:
+                return self._finish("budget")
+            point, kinds = self._holding
+            if any(kind in kinds for kind, _ in self._jobs):
+                self.target = point
+                return Goto(point, True)
+            self._holding = None
         if self._climb is not None:
             move = self._climbing(path_m, arrived)
             if move is not None:
@@ -276,21 +340,26 @@ class SearchController:
                 return Goto(self.target, True)
             self._refresh(always=True)
             self._need_decision = True
-        if self.found and self.observations % REFRESH_EVERY == 0:
-            self._refresh()
-        if uses_belief and self.lean_known():
+            self._holding = (self.target, ("rebuild",))
+            return Goto(self.target, True)
+        if self.found and self.observations % REFRESH_EVERY == 0 and not self._jobs:
+            self._jobs.append(("refit", self._refitting()))
+        if uses_belief and not any(kind in ("find", "rebuild") for kind, _ in self._jobs) and self.lean_known():
             found = self.rule.confident(self.belief)
-            if found is not None and self.found and self._refresh():  # re-judged with the finds put right
-                found = self.rule.confident(self.belief)
-            if found is not None:
+            rejudging, self._rejudging = self._rejudging, False
+            if found is not None and self.found and not rejudging and self._refresh():
+                # re-judged once the belief is rebuilt with the finds put right: over the cell, as
+                # the step before would have declared it (flown on, the vehicle often came back)
+                self._rejudging = True
+                self._holding = ((float(position[0]), float(position[1])), ("rebuild",))
+                return Goto(self._holding[0], True)
+            elif found is not None:
                 if self.first_find_path_m is None:
                     self.first_find_path_m = path_m
                 if not self.several:
                     return self._declare(found, "confident")
                 self._found(found, position)
-                if len(self.found) == self.config.max_fires:
-                    return self._finish("confident")
-                return self._step(position, path_m, False)  # the climb or the cross, at once
+                return self._step(position, path_m, False)  # over the find while its job runs
             elif self.several and self.rule.clear(self.belief):
                 return self._finish("clear")
         if path_m >= self.config.budget_m or self.observations >= self.max_observations:
@@ -309,10 +378,8 @@ class SearchController:
         return Goto(self.target, self.confirming)
 
     def _decide(self, position) -> tuple[float, float] | None:
-        t0 = self.timer() if self.timer else 0.0
         waypoint = self.policy.next_waypoint(self.belief, position)
-        if self.timer:
-            self.decision_s.append(self.timer() - t0)
+        self._thinking = True
         self.decisions += 1
         self._since_decision, self._need_decision = 0, False
         if waypoint is None:
@@ -346,6 +413,8 @@ class SearchController:
             # decide whether to stop; the search below is the one measured at the survey height
             if DROP_CLIMB_READINGS:
                 del self.readings[len(self.readings) - self._climbed:]
+                if self._jobs:  # a rebuild under way may hold readings gone now: from the start
+                    self._rebuild(judged=False)
             self._climb, self._climbed = None, 0
             return None
         n, e, height = self._climb[0]
@@ -353,17 +422,27 @@ class SearchController:
         return Goto((n, e), False, height)
 
     def _found(self, found: Declaration, position) -> None:
-        """A confident find with more fires to look for: keep it as a hot spot to explain away, put
-        every earlier find right now that this one explains part of the readings (relocate), and
-        go on over a belief rebuilt from all readings with the finds known, after the cross."""
-        t0 = self.timer() if self.timer else 0.0
+        """A confident find with more fires to look for: keep it as a hot spot to explain away, and
+        start its job (_after_find); the vehicle holds over it meanwhile."""
         self.found.append((found, self.belief.hot_spot(found.index)))
-        self._relocate()
-        self._move_spots(self._fit())
-        if len(self.found) == self.config.max_fires:  # the search ends here
-            return
-        self.belief, self._rebuilding = self._replay(self._belief(tuple(spot for _, spot in self.found))), None
         self.confirming, self._need_decision = False, True
+        self._holding = (found.position, ("find",))
+        self._jobs = [job for job in self._jobs if job[0] != "refit"]  # the find's rebuild supersedes it
+        self._jobs.append(("find", self._after_find(found, position)))
+        self._thinking = True
+        self.decisions += 1  # a decision too (what to believe)
+
+    def _after_find(self, found: Declaration, position) -> Iterator[None]:
+        """Put every earlier find right now that this one explains part of the readings (relocate)
+        and fit the finds together; then, with more to look for, go on over a belief rebuilt from
+        all readings with the finds known, after the climb and the cross."""
+        yield from self._relocating()
+        yield
+        self._move_spots(self._fit())
+        if len(self.found) == self.config.max_fires:
+            self._ending = "confident"
+            return
+        self._rebuild()
         self._pin = self._pin_pattern(found.position, position)
         # (not when the fit has just dropped this find as a ghost: there is nothing to climb over)
         kept = bool(self.found) and self.found[-1][0] is found
@@ -377,24 +456,34 @@ class SearchController:
             axis = lambda h: (min(a, max(0.0, n + h * tn)), min(a, max(0.0, e + h * te)))  # noqa: E731
             a, h0 = self.geometry.area_m, self.geometry.survey_alt_m
             self._climb = [(*axis(h0), None), (*axis(RULE_OUT_HEIGHT_M), RULE_OUT_HEIGHT_M)]
-        self.decisions += 1  # a decision too (what to believe), timed with the policy's
-        if self.timer:
-            self.decision_s.append(self.timer() - t0)
 
     def _refresh(self, always: bool = False) -> bool:
         """Fit the finds' hot spots to every reading so far; when one has moved more than
-        REFRESH_M (or always), rebuild the belief with them where they now are. True if rebuilt."""
-        t0 = self.timer() if self.timer else 0.0
+        REFRESH_M (or always), rebuild the belief with them where they now are, and judge that one
+        (_rebuild). True if it will."""
+        self._thinking = True
+        if not self._refitted(always):
+            return False
+        self._rebuild()
+        return True
+
+    def _refitting(self) -> Iterator[None]:
+        """_refresh every REFRESH_EVERY observations, as a job (the fit, then the rebuild) whose
+        belief the search need not judge before it goes on: the finds have only moved a little."""
+        if self._refitted(False):
+            yield
+            yield from self._rebuilt()
+
+    def _refitted(self, always: bool) -> bool:
+        """The finds where the fit puts them if one has moved more than REFRESH_M, or a ghost goes
+        (or always); True if they have moved."""
         spots = [spot for _, spot in self.found]
         fitted, strengths = self._fit()
         moved = max((math.hypot(a[0] - b[0], a[1] - b[1]) for a, b in zip(spots, fitted)), default=0.0)
         if moved <= REFRESH_M and not always and min(strengths, default=math.inf) >= GHOST_BELOW_K:
             return False
         self._move_spots((fitted, strengths))
-        self.belief, self._rebuilding = self._replay(self._belief(tuple(spot for _, spot in self.found))), None
         self.decisions += 1
-        if self.timer:
-            self.decision_s.append(self.timer() - t0)
         return True
 
     def _fit(self, reach_cells: float = REACH_CELLS) -> tuple[list[tuple], list[float]]:
@@ -422,28 +511,24 @@ class SearchController:
         second = sorted(second, key=lambda p: math.hypot(p[0] - first[1][0], p[1] - first[1][1]))
         return first + second
 
-    def _relocate(self) -> None:
+    def _relocating(self) -> Iterator[None]:
         """Each earlier find again, with the others explained away: a find that a later one explains
         (one declared between two fires, or pulled towards a second one by its readings) moves
         to where the belief, given the others, is now confident of it. One pass over the finds."""
-        if len(self.found) < 2:
-            return
         for i in range(len(self.found) - 1):  # the newest was found with the others known already
             others = tuple(spot for k, (_, spot) in enumerate(self.found) if k != i)
-            belief = self._replay(self._belief(others, null=False))
+            belief = self._belief(others, null=False)
+            yield from self._fed(belief)
             moved = self.rule.candidate(belief)
             if moved is not None and moved[1] != self.found[i][0].index:
                 position, index, mass = moved
                 self.found[i] = (Declaration(position, index, mass, False, "confident"),
                                  belief.hot_spot(index))
 
-    def _replay(self, belief: Belief) -> Belief:
-        belief.absorb(self.readings)
-        return belief
-
     def _finish(self, reason: str) -> Declaration:
         """End the search. One fire: the declaration (forced unless confident). Several: every
         find; a forced declaration only when there is none and the search did not end clear."""
+        self._jobs, self._holding, self._ending = [], None, None
         if self.several and self.found:
             self._move_spots(self._fit(FINAL_REACH_CELLS))
         if not self.several or not self.found:

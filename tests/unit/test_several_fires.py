@@ -104,8 +104,8 @@ def test_a_rebuild_spread_over_steps_reaches_the_same_belief():
                       null_prior=0.5)
     whole, spread = fresh(), fresh()
     whole.absorb(readings)
-    steps = list(spread.absorbing(readings, chunk=20))
-    assert len(steps) == 3 * 5  # the kernels, the plain sums, the weighted sums: 5 chunks each
+    steps = list(spread.absorbing(readings, chunk=10))
+    assert len(steps) == 5 + 2 + 9  # the kernels, the plain sums, the weighted sums: 20, 80, 10 readings a chunk
     assert spread.n == whole.n == 90
     assert np.allclose(spread.log_ev, whole.log_ev, rtol=0, atol=1e-9)
     assert np.abs(spread.p - whole.p).max() < 1e-12 and spread.p_fire == pytest.approx(whole.p_fire, abs=1e-12)

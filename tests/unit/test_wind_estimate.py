@@ -88,12 +88,14 @@ def test_the_controller_rebuilds_its_belief_with_the_estimate_and_holds_back_unt
     assert controller.wind_rebuilds == 1 and controller.wind_ne_m_s == pytest.approx((0.0, 4.0), abs=1e-6)
     assert not controller.lean_known()  # the rebuild with it runs at the next step
     assert controller.belief.tilts == [(0.0, 0.0)]
-    for k in range(30):  # more readings than a step's chunk: the rebuild spans two steps
+    for k in range(30):  # more readings than a step's chunks: the rebuild spans steps
         controller.observe(5.0 * k, 0.0, 20.0, 30.0)
-    controller.step((0.0, 0.0), 0.0)
-    assert not controller.lean_known() and controller.belief.tilts == [(0.0, 0.0)]
-    controller.step((0.0, 0.0), 0.0)
-    assert controller.lean_known() and controller.belief.n == 30
+    steps = 0
+    while not controller.lean_known():
+        assert controller.belief.tilts == [(0.0, 0.0)]  # the old belief steers meanwhile
+        controller.step((0.0, 0.0), 0.0)
+        steps += 1
+    assert 1 < steps <= 3 and controller.belief.n == 30
     assert controller.belief.tilts[0] == pytest.approx((0.0, 1.0))  # 4 m/s over the 4 m/s rise
     told = SearchController(g, make_policy("gig"), SearchConfig(), (0.0, 0.0), np.random.default_rng(0),
                             wind_ne_m_s=(1.0, 0.0))
