@@ -102,7 +102,7 @@ WIND_CHECK_EVERY = 5
 # works through a few chunks of, each about 20 ms here: JOB_ROWS readings of a rebuild's weighted
 # pass (Belief.absorbing) or of the readings that came in meanwhile (Belief.update_together); with
 # no known fire, PLAIN_UPDATES readings one by one (about 1 ms each)
-JOB_CHUNKS_PER_STEP = 2  # ... or one, in a step that has fitted or decided already
+JOB_CHUNKS_PER_STEP = 2  # ... or one in a step that has fitted, none in one the policy has decided in
 JOB_ROWS = 25
 PLAIN_UPDATES = 10
 
@@ -171,6 +171,7 @@ class SearchController:
         # fit of the finds, not waited for) or "find" (what a find changes)
         self._jobs: list[tuple[str, Iterator[None]]] = []
         self._thinking = False  # this step has thought: it is timed (decision_s)
+        self._decided = False  # ... and the policy has chosen a waypoint in it
         # (point, job kinds): the vehicle holds there while jobs of those kinds run (a find's, or
         # after the cross over it the rebuild with the finds put right: steered by the belief
         # before it, the policy flew off after the fire just pinned down)
@@ -266,6 +267,7 @@ class SearchController:
         yield from belief.absorbing(readings, JOB_ROWS if known else PLAIN_UPDATES)
         fed = len(readings)
         while fed < len(self.readings):
+            yield  # the absorb's end, or the chunk before, was a chunk of its own
             upto = min(len(self.readings), fed + (JOB_ROWS if known else PLAIN_UPDATES))
             if known:
                 belief.update_together(self.readings[fed:upto])
@@ -273,8 +275,6 @@ class SearchController:
                 for n, e, z, height_m in self.readings[fed:upto]:
                     belief.update(n, e, z, height_m)
             fed = upto
-            if fed < len(self.readings):
-                yield
 
     def _work(self, chunks: int) -> None:
         """Work through `chunks` chunks of the jobs, oldest first: a step's thinking is bounded by
@@ -304,10 +304,10 @@ class SearchController:
         if self.observations == 0:
             raise RuntimeError("step() before any observation: the search starts with a reading")
         t0 = self.timer() if self.timer else 0.0
-        self._thinking = False
+        self._thinking = self._decided = False
         move = self._step(position, path_m, arrived)
         if self._jobs and self.declared is None:  # after the step: it judges what they have built so far
-            self._work(1 if self._thinking else JOB_CHUNKS_PER_STEP)
+            self._work(0 if self._decided else 1 if self._thinking else JOB_CHUNKS_PER_STEP)
         if self.timer and self._thinking:  # the whole step: its fits, decision and jobs' chunks
             self.decision_s.append(self.timer() - t0)
         return move
@@ -379,7 +379,7 @@ class SearchController:
 
     def _decide(self, position) -> tuple[float, float] | None:
         waypoint = self.policy.next_waypoint(self.belief, position)
-        self._thinking = True
+        self._thinking = self._decided = True
         self.decisions += 1
         self._since_decision, self._need_decision = 0, False
         if waypoint is None:
@@ -519,6 +519,7 @@ class SearchController:
             others = tuple(spot for k, (_, spot) in enumerate(self.found) if k != i)
             belief = self._belief(others, null=False)
             yield from self._fed(belief)
+            yield
             moved = self.rule.candidate(belief)
             if moved is not None and moved[1] != self.found[i][0].index:
                 position, index, mass = moved
