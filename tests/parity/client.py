@@ -56,7 +56,10 @@ class Client:
             self.wait(lambda: "ATTITUDE" in self.last, 60, what="requested streams")
 
     # ----- receiving -----------------------------------------------------------------------------
-    def pump(self, block_s: float = 0.02) -> None:
+    def pump(self, block_s: float = 0.02, until=None) -> None:
+        """Read what the vehicle sent; with `until`, stop at the message that makes it hold, so
+        that a wait ends at that message's vehicle time however far behind a loaded machine
+        reads (a batch read past it would start the next step seconds of vehicle time late)."""
         wall = time.monotonic()
         if wall - self._last_hb_sent > GCS_HEARTBEAT_S:
             self.conn.mav.heartbeat_send(mav.MAV_TYPE_GCS, mav.MAV_AUTOPILOT_INVALID, 0, 0, 0)
@@ -65,6 +68,8 @@ class Client:
         taken = 0
         while msg is not None:
             self._take(msg)
+            if until is not None and until():
+                break
             taken += 1
             if taken == PUMP_BATCH:  # a vehicle streaming faster than a loaded machine reads would
                 break                # keep this loop going: no wait would look at its condition
@@ -113,7 +118,7 @@ class Client:
                 raise ProbeTimeout(f"no {what} within {sim_s:g} s of vehicle time")
             if self.stall_s is not None and time.monotonic() - self._clock_moved_wall > self.stall_s:
                 raise VehicleSilent(f"no {what}: vehicle time stood still for {self.stall_s:g} s of wall time")
-            self.pump()
+            self.pump(until=condition)
         return (self.now_ms - start_ms) / 1000.0
 
     def try_wait(self, condition, sim_s: float) -> bool:

@@ -114,9 +114,15 @@ class Steps:
         self.step(name)
 
     def seen(self, kind: str, condition):
-        """A condition on messages of `kind` received from now on."""
-        start = len(self.c.log)
-        return lambda: any(m.get_type() == kind and condition(m) for _, m in self.c.log[start:])
+        """A condition on messages of `kind` received from now on. It looks at each message once:
+        a wait asks it after every message."""
+        log, looked, held = self.c.log, [len(self.c.log)], [False]
+
+        def holds() -> bool:
+            start, looked[0] = looked[0], len(log)
+            held[0] = held[0] or any(m.get_type() == kind and condition(m) for _, m in log[start:])
+            return held[0]
+        return holds
 
     def wait_reached(self, seq: int, sim_s: float = 120) -> None:
         self.wait(f"reached {seq}", self.seen("MISSION_ITEM_REACHED", lambda m: m.seq == seq), sim_s)
