@@ -542,27 +542,23 @@ class Belief:
         if not np.isfinite(data).all():
             raise ValueError("readings must be finite")
         north, east, z, height = data.T
-        g = np.zeros((len(data), self.sums.w.size))  # the null's kernel stays zero
-        g[:, :self.hyp_n.size] = [self.kernel_at(a, b, h) for a, b, h in zip(north, east, height)]
-        k = np.array([self.known_kernels_at(a, b, h) for a, b, h in zip(north, east, height)]).reshape(len(data), -1)
+        g, k = self._kernel_rows(north, east, height)
         y = z - self.z_ref
-        fit = Fit.of(*self.sums.as_tuple(), evidence=False)
-        precision, h = fit.strength(self.mu_a, self.sa2, self.s2)
-        fit_z, dg, leverage = fit.at(g, k)
-        mean = fit_z + (h / precision) * dg
-        var = self.s2 * (1.0 + leverage) + dg * dg / precision
-        log_in = self._log_inlier - 0.5 * np.log(2.0 * math.pi * var) - 0.5 * (y[:, None] - mean) ** 2 / var
-        if self.outlier_rate > 0.0:
-            both = np.logaddexp(log_in, self._log_outlier)
-            weight = np.exp(log_in - both)
-        else:
-            both, weight = log_in, np.ones_like(log_in)
+        both, weight = self._judged(g, k, y[:, None])
         self.log_ev += both.sum(axis=0)
         for name, value in zip(self.sums.fields, _weighted_sums(weight, g, k, y)):
             getattr(self.sums, name)[...] += value
         self.n += len(data)
         self._note_positions(north, east)
         self._cache = None
+
+    def _kernel_rows(self, north: np.ndarray, east: np.ndarray, height: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Per reading the kernels of every hypothesis, the null's a zero (R, H), and the known
+        fires' regressors (R, m)."""
+        g = np.zeros((len(north), self.sums.w.size))
+        g[:, :self.hyp_n.size] = [self.kernel_at(a, b, h) for a, b, h in zip(north, east, height)]
+        k = np.array([self.known_kernels_at(a, b, h) for a, b, h in zip(north, east, height)]).reshape(len(north), -1)
+        return g, k
 
     def _note_positions(self, north: np.ndarray, east: np.ndarray, rows: int = 200) -> None:
         """closest_r2 with readings at these positions, `rows` at a time (one array per block, not
@@ -603,9 +599,7 @@ class Belief:
         gs = np.zeros((len(data), hyps))  # (N, hypotheses): the null's kernel stays zero
         ks = np.empty((len(data), 3 * len(self.known)))
         for part in kernel_chunks:
-            gs[part, :self.hyp_n.size] = [self.kernel_at(a, b, h) for a, b, h in
-                                          zip(north[part], east[part], height[part])]
-            ks[part] = [self.known_kernels_at(a, b, h) for a, b, h in zip(north[part], east[part], height[part])]
+            gs[part], ks[part] = self._kernel_rows(north[part], east[part], height[part])
             yield
         self.z_ref = float(z[0])
         y = z - self.z_ref
@@ -697,21 +691,24 @@ class Belief:
     def _filter(self, parts: tuple, k: np.ndarray) -> None:
         """A reading after the burn-in: its predictive density (the mixture) joins the evidence,
         and it joins the sums weighted by its probability of being no outlier."""
+        both, weight = self._judged(parts[3], k, parts[1])
+        self.log_ev += both
+        self.sums.add(parts, 1.0 if self.outlier_rate <= 0.0 else weight)
+
+    def _judged(self, g: np.ndarray, k: np.ndarray, y) -> tuple[np.ndarray, np.ndarray]:
+        """Readings y (a number, or (R, 1)) with kernels g (..., H) and known fires' k (..., m)
+        against the belief as it is: per hypothesis the log of each one's predictive density (the
+        mixture with the outliers), and its probability of being no outlier."""
         fit = Fit.of(*self.sums.as_tuple(), evidence=False)
-        g, y = parts[3], parts[1]
         precision, h = fit.strength(self.mu_a, self.sa2, self.s2)
-        a_mean = h / precision
         fit_z, dg, leverage = fit.at(g, k)
-        mean = fit_z + a_mean * dg
+        mean = fit_z + (h / precision) * dg
         var = self.s2 * (1.0 + leverage) + dg * dg / precision
         log_in = self._log_inlier - 0.5 * np.log(2.0 * math.pi * var) - 0.5 * (y - mean) ** 2 / var
         if self.outlier_rate > 0.0:
             both = np.logaddexp(log_in, self._log_outlier)
-            weight = np.exp(log_in - both)
-        else:
-            both, weight = log_in, 1.0
-        self.log_ev += both
-        self.sums.add(parts, weight)
+            return both, np.exp(log_in - both)
+        return log_in, np.ones_like(log_in)
 
     # ----- the posterior over cells ----------------------------------------------------------------
     def _stats(self):

@@ -71,7 +71,7 @@ from typing import Callable, Iterator
 
 import numpy as np
 
-from .belief import BURN_IN, PLUME_RISE_M_S, Belief, Geometry
+from .belief import PLUME_RISE_M_S, Belief, Geometry
 from .policies import Policy
 from .refine import FINAL_REACH_CELLS, REACH_CELLS, fit_hot_spots
 from .stopping import Declaration, StoppingRule
@@ -261,7 +261,7 @@ class SearchController:
 
     def _fed(self, belief: Belief) -> Iterator[None]:
         """Give a new `belief` every reading, yielding between chunks: those there are now at once
-        (Belief.absorbing), then one by one those that came in meanwhile."""
+        (Belief.absorbing), then those that came in meanwhile, a chunk at a time."""
         readings = list(self.readings)
         known = len(belief.known) > 0
         yield from belief.absorbing(readings, JOB_ROWS if known else PLAIN_UPDATES)
@@ -319,7 +319,7 @@ class SearchController:
             self._need_decision = True
         uses_belief = self.policy.uses_stopping_rule
         if self._holding is not None:
-            if path_m >= self.config.budget_m or self.observations >= self.max_observations:
+            if self._spent(path_m):
                 return self._finish("budget")
             point, kinds = self._holding
             if any(kind in kinds for kind, _ in self._jobs):
@@ -331,7 +331,7 @@ class SearchController:
             if move is not None:
                 return move
         if self._pin:  # several fires: pinning the last find down before looking on
-            if path_m >= self.config.budget_m or self.observations >= self.max_observations:
+            if self._spent(path_m):
                 return self._finish("budget")
             if arrived:
                 self._pin.pop(0)
@@ -362,7 +362,7 @@ class SearchController:
                 return self._step(position, path_m, False)  # over the find while its job runs
             elif self.several and self.rule.clear(self.belief):
                 return self._finish("clear")
-        if path_m >= self.config.budget_m or self.observations >= self.max_observations:
+        if self._spent(path_m):
             return self._finish("budget")
         if uses_belief and self.config.confirm_m is not None:
             check = self.rule.to_confirm(self.belief)
@@ -376,6 +376,10 @@ class SearchController:
                 return self._finish("end")
             self.target = waypoint
         return Goto(self.target, self.confirming)
+
+    def _spent(self, path_m: float) -> bool:
+        """The path budget is flown, or the observations exceed what it allows four times over."""
+        return path_m >= self.config.budget_m or self.observations >= self.max_observations
 
     def _decide(self, position) -> tuple[float, float] | None:
         waypoint = self.policy.next_waypoint(self.belief, position)
@@ -396,7 +400,7 @@ class SearchController:
         RULE_OUT_HOVER observations at the top, ending "clear" as soon as the belief is confident
         there is no other fire. None when it is over and not clear (the cross over the find comes
         next, at the survey height)."""
-        if path_m >= self.config.budget_m or self.observations >= self.max_observations:
+        if self._spent(path_m):
             return self._finish("budget")
         # no refit of the finds up here: seen from above every fire adds to every reading, and
         # refitted every REFRESH_EVERY readings a find walked, a cell at a time, to another fire
