@@ -36,7 +36,7 @@ class StateEstimate:
         self.battery_reset_mah: float | None = None  # the monitor's count less the pack's, after a reset
         self.gps_every = max(1, physics_hz // GPS_RATE_HZ)  # physics steps between GPS samples
         self.temperature_every = max(1, physics_hz // TEMPERATURE_RATE_HZ)
-        self.gps = sim.gps.read(sim.state.body)
+        self.gps = self._gps_reading()  # a realistic start-up's first tick has no fix either
         self.baro_alt_m = 0.0  # the barometer's last sample (altitude above the origin)
         self.temperature = (0.0, math.nan)  # (sim time of the sample, degrees C)
         self.alt_error_m = 0.0  # how far the barometer, and so the height estimate, reads high
@@ -45,12 +45,16 @@ class StateEstimate:
     # ----- sampling, called by the vehicle loop ------------------------------------------------
     def sample_gps(self) -> None:
         sim = self.sim
-        self.gps = sim.gps.read(sim.state.body)
-        if not self.startup.gps_powered_up(sim.time_s):  # still acquiring: no fix, no satellites
-            self.gps = self.gps._replace(satellites=0, fix_type=0)
+        self.gps = self._gps_reading()
         self.baro_alt_m = sim.baro.altitude_m(sim.state.body, sim.time_s)
         if self.gps.fix_type >= 3 and self.startup.gps_in_use(sim.time_s):
             self.last_fix_s = sim.time_s
+
+    def _gps_reading(self):
+        gps = self.sim.gps.read(self.sim.state.body)
+        if not self.startup.gps_powered_up(self.sim.time_s):  # still acquiring: no fix, no satellites
+            gps = gps._replace(satellites=0, fix_type=0)
+        return gps
 
     def sample_temperature(self, home_d_m: float) -> None:
         self.temperature = (self.sim.time_s, self.sim.read_temperature(home_d_m))

@@ -27,6 +27,8 @@ def refusals(v, mode: int) -> list[str]:
 def test_a_realistic_start_goes_through_arducopters_stages_in_order():
     tl = StartupTimeline()
     v = Vehicle(VehicleConfig(startup=tl))
+    # from power-on, before the first GPS sample: the telemetry of the first tick says no fix
+    assert v.gps.fix_type == 0 and telemetry.gps_raw_int(v, CODEC).fix_type == 0
     v.run_until(1.0)
     assert refusals(v, ModeNumber.STABILIZE) == ["Arm: System not initialised"]
     assert telemetry.ekf_status_report(v, CODEC).flags == mav.EKF_UNINITIALIZED
