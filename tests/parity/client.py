@@ -57,9 +57,8 @@ class Client:
 
     # ----- receiving -----------------------------------------------------------------------------
     def pump(self, block_s: float = 0.02, until=None) -> None:
-        """Read what the vehicle sent; with `until`, stop at the message that makes it hold, so
-        that a wait ends at that message's vehicle time however far behind a loaded machine
-        reads (a batch read past it would start the next step seconds of vehicle time late)."""
+        """Read what the vehicle sent, a batch at a time; with `until`, stop at the message that
+        makes it hold (see wait's `exact`)."""
         wall = time.monotonic()
         if wall - self._last_hb_sent > GCS_HEARTBEAT_S:
             self.conn.mav.heartbeat_send(mav.MAV_TYPE_GCS, mav.MAV_AUTOPILOT_INVALID, 0, 0, 0)
@@ -109,16 +108,20 @@ class Client:
         finally:
             self.listeners.remove(listener)
 
-    def wait(self, condition, sim_s: float, what: str = "condition") -> float:
+    def wait(self, condition, sim_s: float, what: str = "condition", exact: bool = False) -> float:
         """Pump until condition() holds; returns the vehicle seconds it took. ProbeTimeout after
-        `sim_s` vehicle seconds (or a wall-clock safety limit)."""
+        `sim_s` vehicle seconds (or a wall-clock safety limit). `exact` stops reading at the
+        message that makes it hold, for a probe whose windows are cut at its waits: a batch read
+        past it on a loaded machine ends the window seconds of vehicle time late at speedup 20.
+        Otherwise the wait reads what has come (the clock is then as fresh as it can be when the
+        probe sends its next command and times what follows from now_ms)."""
         start_ms, wall0 = self.now_ms, time.monotonic()
         while not condition():
             if self.now_ms - start_ms > sim_s * 1000 or time.monotonic() - wall0 > WALL_LIMIT_S:
                 raise ProbeTimeout(f"no {what} within {sim_s:g} s of vehicle time")
             if self.stall_s is not None and time.monotonic() - self._clock_moved_wall > self.stall_s:
                 raise VehicleSilent(f"no {what}: vehicle time stood still for {self.stall_s:g} s of wall time")
-            self.pump(until=condition)
+            self.pump(until=condition if exact else None)
         return (self.now_ms - start_ms) / 1000.0
 
     def try_wait(self, condition, sim_s: float) -> bool:
@@ -128,10 +131,10 @@ class Client:
         except ProbeTimeout:
             return False
 
-    def idle(self, sim_s: float) -> None:
+    def idle(self, sim_s: float, exact: bool = False) -> None:
         """Let `sim_s` of vehicle time pass."""
         end = self.now_ms + sim_s * 1000
-        self.wait(lambda: self.now_ms >= end, sim_s + 5, what="vehicle time")
+        self.wait(lambda: self.now_ms >= end, sim_s + 5, what="vehicle time", exact=exact)
 
     # ----- sending -----------------------------------------------------------------------------
     def command(self, command: int, *params: float, sim_s: float = 5.0) -> int | None:
@@ -172,16 +175,16 @@ class Client:
         self.conn.mav.request_data_stream_send(1, 1, mav.MAV_DATA_STREAM_ALL, hz, 1)
 
     # ----- state -------------------------------------------------------------------------------
-    def fresh_heartbeat(self, sim_s: float = 3.0) -> None:
+    def fresh_heartbeat(self, sim_s: float = 3.0, exact: bool = False) -> None:
         """Wait for a HEARTBEAT sent from now on: at 1 Hz the last one can predate a change made
         a second ago (the beat may fall in the same tick as the end of the wait), so mode and
         arming read after this are the vehicle's present state on both vehicles."""
-        self.fresh("HEARTBEAT", sim_s)
+        self.fresh("HEARTBEAT", sim_s, exact)
 
-    def fresh(self, kind: str, sim_s: float = 3.0) -> None:
+    def fresh(self, kind: str, sim_s: float = 3.0, exact: bool = False) -> None:
         """Wait for a message of `kind` sent from now on (see fresh_heartbeat)."""
         seen = self.received.get(kind, 0)
-        self.wait(lambda: self.received.get(kind, 0) > seen, sim_s, what=f"a new {kind}")
+        self.wait(lambda: self.received.get(kind, 0) > seen, sim_s, what=f"a new {kind}", exact=exact)
 
     def texts_since(self, t_ms: int, within_s: float | None = None) -> list[str]:
         """Texts stamped at or after vehicle time t_ms (and, with within_s, no later than that

@@ -52,8 +52,8 @@ class Steps:
             return
         # The state at the window's end from messages sent after it (MISSION_CURRENT streams at
         # 10 Hz, HEARTBEAT at 1 Hz): what the vehicle is, not what it was a moment ago.
-        self.c.fresh("MISSION_CURRENT")
-        self.c.fresh_heartbeat()
+        self.c.fresh("MISSION_CURRENT", exact=True)
+        self.c.fresh_heartbeat(exact=True)
         log = list(self.c.log)
         self.c.log.clear()
         texts = [m.text for _, m in log if m.get_type() == "STATUSTEXT" and m.text.startswith(MISSION_TEXTS)]
@@ -106,11 +106,11 @@ class Steps:
         self.c.conn.mav.mission_set_current_send(1, 1, seq)
 
     def drain(self, sim_s: float) -> None:
-        self.c.idle(sim_s)
+        self.c.idle(sim_s, exact=True)
 
     def wait(self, name: str, condition, sim_s: float = 120) -> None:
         """A step that is a wait: its window starts when the condition holds."""
-        self.c.wait(condition, sim_s, what=name)
+        self.c.wait(condition, sim_s, what=name, exact=True)
         self.step(name)
 
     def seen(self, kind: str, condition):
