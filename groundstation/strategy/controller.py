@@ -45,7 +45,8 @@ instead of naming a cell the lean may have moved.
 
 Thinking spread over steps (issue 30, item 4: at most 150 ms a step): what costs more than a step
 may think is a job (_jobs), a generator that a step works through JOB_CHUNKS_PER_STEP chunks of
-(one in a step that has fitted or decided already), each about 20 ms here: the belief rebuilt from
+(one in a step that has fitted or decided already, or with HEAVY_KNOWN fires known), each about
+20 ms here: the belief rebuilt from
 every reading with a new wind or with the finds as they are ("rebuild"), the finds refitted every
 REFRESH_EVERY observations and the belief rebuilt if one moved ("refit"), and what a find changes
 ("find": the earlier finds relocated, the finds fitted together, then the rebuild). The belief in
@@ -103,6 +104,9 @@ WIND_CHECK_EVERY = 5
 # pass (Belief.absorbing) or of the readings that came in meanwhile (Belief.update_together); with
 # no known fire, PLAIN_UPDATES readings one by one (about 1 ms each)
 JOB_CHUNKS_PER_STEP = 2  # ... or one in a step that has fitted, none in one the policy has decided in
+# With this many known fires a chunk costs about twice as much (its fits have nine nuisance columns
+# per hypothesis, 37 ms each): one chunk a step. Two such chunks took up to 161 ms (three fires).
+HEAVY_KNOWN = 3
 JOB_ROWS = 25
 PLAIN_UPDATES = 10
 
@@ -307,10 +311,16 @@ class SearchController:
         self._thinking = self._decided = False
         move = self._step(position, path_m, arrived)
         if self._jobs and self.declared is None:  # after the step: it judges what they have built so far
-            self._work(0 if self._decided else 1 if self._thinking else JOB_CHUNKS_PER_STEP)
+            self._work(self._chunks_allowed())
         if self.timer and self._thinking:  # the whole step: its fits, decision and jobs' chunks
             self.decision_s.append(self.timer() - t0)
         return move
+
+    def _chunks_allowed(self) -> int:
+        """The jobs' chunks this step may work, after what it has thought already."""
+        if self._decided:
+            return 0
+        return 1 if self._thinking or len(self.found) >= HEAVY_KNOWN else JOB_CHUNKS_PER_STEP
 
     def _step(self, position, path_m: float, arrived: bool) -> Goto | Declaration:
         if self._ending is not None:

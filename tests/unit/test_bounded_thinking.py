@@ -91,3 +91,23 @@ def test_readings_taken_together_reach_the_belief_taken_one_by_one():
     assert together.most_likely()[1] == one_by_one.most_likely()[1]
     assert 0.5 * np.abs(together.p - one_by_one.p).sum() < 0.01
     assert together.p_fire == pytest.approx(one_by_one.p_fire, abs=0.01)
+
+
+def test_with_heavy_finds_known_a_step_works_one_chunk(monkeypatch):
+    """HEAVY_KNOWN finds make each chunk's fits dearer: a step then works at most one chunk.
+    Lowered to two here, so that a two-fire world reaches it."""
+    monkeypatch.setattr(controller, "HEAVY_KNOWN", 2)
+    given = []  # per call of _work: (finds known, chunks allowed)
+    work = SearchController._work
+
+    def recorded_work(self, chunks):
+        given.append((len(self.found), chunks))
+        work(self, chunks)
+
+    monkeypatch.setattr(SearchController, "_work", recorded_work)
+    result = run_episode(two_fire_world(), 11, 34, make_policy("gig"),
+                         EpisodeConfig(fixed_fire=True, fires=2, max_fires=None))
+    assert result.fires_found == 2
+    assert any(known >= 2 for known, _ in given), "the search never worked a job with two finds known"
+    assert all(chunks <= 1 for known, chunks in given if known >= 2)
+    assert any(chunks == controller.JOB_CHUNKS_PER_STEP for known, chunks in given if known < 2)
