@@ -109,6 +109,11 @@ JOB_CHUNKS_PER_STEP = 2  # ... or one in a step that has fitted, none in one the
 HEAVY_KNOWN = 3
 JOB_ROWS = 25
 PLAIN_UPDATES = 10
+# ... for this many hypotheses (a 40 x 40 grid of 3 x 3 sub-positions). A belief with known fires
+# over several plume leans (a wind estimated) holds a multiple of them: its chunks have that many
+# times fewer readings (with three leans a chunk of 25 took up to 490 ms), and as its fits cost as
+# much more, a step works one of them.
+REFERENCE_HYPOTHESES = 14_400
 
 
 @dataclass(frozen=True)
@@ -268,11 +273,12 @@ class SearchController:
         (Belief.absorbing), then those that came in meanwhile, a chunk at a time."""
         readings = list(self.readings)
         known = len(belief.known) > 0
-        yield from belief.absorbing(readings, JOB_ROWS if known else PLAIN_UPDATES)
+        rows = max(1, min(JOB_ROWS, JOB_ROWS * REFERENCE_HYPOTHESES // belief.hyp_n.size)) if known else PLAIN_UPDATES
+        yield from belief.absorbing(readings, rows)
         fed = len(readings)
         while fed < len(self.readings):
             yield  # the absorb's end, or the chunk before, was a chunk of its own
-            upto = min(len(self.readings), fed + (JOB_ROWS if known else PLAIN_UPDATES))
+            upto = min(len(self.readings), fed + rows)
             if known:
                 belief.update_together(self.readings[fed:upto])
             else:  # one by one, as the filter would: cheap without known fires
@@ -320,7 +326,8 @@ class SearchController:
         """The jobs' chunks this step may work, after what it has thought already."""
         if self._decided:
             return 0
-        return 1 if self._thinking or len(self.found) >= HEAVY_KNOWN else JOB_CHUNKS_PER_STEP
+        heavy = len(self.found) >= HEAVY_KNOWN or (self.found and self.belief.hyp_n.size > REFERENCE_HYPOTHESES)
+        return 1 if self._thinking or heavy else JOB_CHUNKS_PER_STEP
 
     def _step(self, position, path_m: float, arrived: bool) -> Goto | Declaration:
         if self._ending is not None:

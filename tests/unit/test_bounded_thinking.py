@@ -111,3 +111,31 @@ def test_with_heavy_finds_known_a_step_works_one_chunk(monkeypatch):
     assert any(known >= 2 for known, _ in given), "the search never worked a job with two finds known"
     assert all(chunks <= 1 for known, chunks in given if known >= 2)
     assert any(chunks == controller.JOB_CHUNKS_PER_STEP for known, chunks in given if known < 2)
+
+
+def test_a_belief_over_more_hypotheses_gets_smaller_chunks_and_one_a_step(monkeypatch):
+    """With known fires, a belief over more than REFERENCE_HYPOTHESES hypotheses (several plume
+    leans) feeds proportionally fewer readings a chunk, and a step works one chunk. The reference
+    is lowered here to half this world's hypotheses."""
+    hypotheses = 3_600  # the 200 m world: 20 x 20 cells of 3 x 3 sub-positions
+    monkeypatch.setattr(controller, "REFERENCE_HYPOTHESES", hypotheses // 2)
+    sizes, given = [], []
+    absorbing, work = Belief.absorbing, SearchController._work
+
+    def recorded_absorbing(self, readings, chunk=100):
+        assert self.hyp_n.size == hypotheses
+        sizes.append((len(self.known), chunk))
+        return absorbing(self, readings, chunk)
+
+    def recorded_work(self, chunks):
+        given.append((len(self.found), chunks))
+        work(self, chunks)
+
+    monkeypatch.setattr(Belief, "absorbing", recorded_absorbing)
+    monkeypatch.setattr(SearchController, "_work", recorded_work)
+    result = run_episode(two_fire_world(), 11, 34, make_policy("gig"),
+                         EpisodeConfig(fixed_fire=True, fires=2, max_fires=None))
+    assert result.fires_found == 2
+    assert any(known for known, _ in sizes)
+    assert all(chunk == controller.JOB_ROWS // 2 for known, chunk in sizes if known)
+    assert all(chunks <= 1 for found, chunks in given if found)
