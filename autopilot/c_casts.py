@@ -3,6 +3,7 @@ mission items carry floats, and the vehicle acts on what the conversion leaves."
 from __future__ import annotations
 
 import math
+import struct
 
 
 def as_uint16(value: float) -> int:
@@ -16,3 +17,12 @@ def as_int16(value: float) -> int:
     """As as_uint16, read as a signed 16-bit number."""
     unsigned = as_uint16(value)
     return unsigned - 0x10000 if unsigned >= 0x8000 else unsigned
+
+
+def float32(value: float) -> float:
+    """The nearest float32, as ArduPilot holds its floats (built with single-precision constants,
+    its arithmetic is float32 too: a product of two float32s is this of the exact product)."""
+    try:
+        return struct.unpack("<f", struct.pack("<f", value))[0]
+    except OverflowError:
+        return math.copysign(math.inf, value)

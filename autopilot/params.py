@@ -28,7 +28,7 @@ from .params_differences import FIREFLY_ONLY, OLD_NAMES
 from .reference_params import reference_params
 
 # MAV_PARAM_TYPE numbers ArduPilot uses (INT8, INT16, INT32, REAL32), and what each integer type holds.
-MAV_PARAM_TYPE_INT32, MAV_PARAM_TYPE_REAL32 = 6, 9
+MAV_PARAM_TYPE_INT8, MAV_PARAM_TYPE_INT16, MAV_PARAM_TYPE_INT32, MAV_PARAM_TYPE_REAL32 = 2, 4, 6, 9
 INT_TYPE_BOUNDS = {2: (-2.0**7, 2.0**7 - 1), 4: (-2.0**15, 2.0**15 - 1), 6: (-2.0**31, 2.0**31 - 1)}
 FLOAT32_MAX = 3.4028234663852886e38  # a PARAM_VALUE carries a float32
 
@@ -65,6 +65,12 @@ def _f(name, default, low, high, doc=""):
 
 def _i(name, default, low, high, doc=""):
     return ParamSpec(name, float(default), float(low), float(high), True, doc)
+
+
+def _i8(name, default, low=-128, high=127, doc=""):
+    """An integer ArduPilot keeps in an int8 (served as MAV_PARAM_TYPE_INT8 where the reference's
+    set does not list it)."""
+    return ParamSpec(name, float(default), float(low), float(high), True, doc, MAV_PARAM_TYPE_INT8)
 
 
 PARAM_TABLE: tuple[ParamSpec, ...] = (
@@ -200,6 +206,25 @@ PARAM_TABLE: tuple[ParamSpec, ...] = (
     _f("CAM1_VFOV", 0, 0, 180, "served; field of view [deg], 0 unknown"),
     _i("CAM_AUTO_ONLY", 0, 0, 1, "1: distance triggering in AUTO only"),
     _i("CAM_MAX_ROLL", 0, 0, 180, "no distance-triggered picture while rolled beyond this [deg], 0 = any roll"),
+    # The rangefinder (AP_RangeFinder, rangefinder.py): ArduCopter shows RNGFND1_* but the type once
+    # RNGFND1_TYPE is set and the vehicle rebooted, with these types and defaults (measured). No
+    # documented range: an int8's, or a float's.
+    _i8("RNGFND1_TYPE", 0, doc="0 none, 10 a companion's DISTANCE_SENSOR, 100 SITL's beam; read at boot"),
+    _i8("RNGFND1_PIN", -1, doc="served; an analog sensor's pin (SITL's beam has none)"),
+    _f("RNGFND1_SCALING", 3.0, -FLOAT32_MAX, FLOAT32_MAX, "served; an analog sensor's metres per volt"),
+    _f("RNGFND1_OFFSET", 0.0, -FLOAT32_MAX, FLOAT32_MAX, "served; an analog sensor's volts at zero"),
+    _i8("RNGFND1_FUNCTION", 0, doc="served; an analog sensor's curve"),
+    _f("RNGFND1_MIN", 0.20, -FLOAT32_MAX, FLOAT32_MAX, "shorter ranges are out of range low [m]"),
+    _f("RNGFND1_MAX", 7.00, -FLOAT32_MAX, FLOAT32_MAX, "longer ranges are out of range high [m]"),
+    _i8("RNGFND1_STOP_PIN", -1, doc="served; a pin that stops the sensor"),
+    _i8("RNGFND1_RMETRIC", 1, doc="served; an analog sensor's ratiometric reading"),
+    replace(_i("RNGFND1_PWRRNG", 0, 0, 32767, "served; the height above terrain above which it sleeps [m]"),
+            mav_type=MAV_PARAM_TYPE_INT16),
+    _f("RNGFND1_GNDCLR", 0.10, 0.05, 1.5, "served; the range it reads on the ground [m]"),
+    _i8("RNGFND1_ADDR", 0, 0, 127, "served; a bus address"),
+    *(_f(f"RNGFND1_POS_{axis}", 0.0, -5, 5, "served; where it sits on the body [m] (SITL's beam starts at the centre)")
+      for axis in "XYZ"),
+    _i8("RNGFND1_ORIENT", 25, doc="the way it faces: 25 down (RANGEFINDER, the laser-position bit)"),
     # Mission (AP_Mission)
     _i("MIS_RESTART", 0, 0, 1, "AUTO after leaving it: 0 resumes the mission, 1 restarts it"),
     # The pilot's radio (autopilot/rc/): channel roles, the mode switch, overrides, the ground station
@@ -246,7 +271,7 @@ def _served_table() -> tuple[ParamSpec, ...]:
             served.append(replace(modelled, name=ref.name, mav_type=ref.mav_type,
                                   is_int=modelled.is_int or ref.mav_type in INT_TYPE_BOUNDS))
     names = {spec.name for spec in served}
-    served.extend(replace(spec, mav_type=MAV_PARAM_TYPE_INT32 if spec.is_int else MAV_PARAM_TYPE_REAL32)
+    served.extend(replace(spec, mav_type=spec.mav_type or (MAV_PARAM_TYPE_INT32 if spec.is_int else MAV_PARAM_TYPE_REAL32))
                   for spec in PARAM_TABLE if spec.name not in names and spec.name in FIREFLY_ONLY)
     return tuple(served)
 

@@ -72,6 +72,12 @@ FIREFLY_ONLY: dict[str, str] = {
        for name in ("CAM1_DURATION", "CAM1_SERVO_ON", "CAM1_SERVO_OFF", "CAM1_TRIGG_DIST", "CAM1_RELAY_ON",
                     "CAM1_INTRVAL_MIN", "CAM1_FEEDBAK_PIN", "CAM1_FEEDBAK_POL", "CAM1_OPTIONS", "CAM1_MNT_INST",
                     "CAM1_HFOV", "CAM1_VFOV")},
+    **{name: "the rangefinder's (AP_RangeFinder): ArduCopter serves it once RNGFND1_TYPE is set and the vehicle "
+             "rebooted (the reference's set was recorded with RNGFND1_TYPE 0); Firefly serves it always, so that "
+             "it can be set before the rangefinder is"
+       for name in ("RNGFND1_PIN", "RNGFND1_SCALING", "RNGFND1_OFFSET", "RNGFND1_FUNCTION", "RNGFND1_MIN",
+                    "RNGFND1_MAX", "RNGFND1_STOP_PIN", "RNGFND1_RMETRIC", "RNGFND1_PWRRNG", "RNGFND1_GNDCLR",
+                    "RNGFND1_ADDR", "RNGFND1_POS_X", "RNGFND1_POS_Y", "RNGFND1_POS_Z", "RNGFND1_ORIENT")},
 }
 
 _OLD_NAME = "ArduPilot 4.5's name of {}, which scenarios and scripts written for 4.5 set"

@@ -49,6 +49,8 @@ from .safety.internal_error import CONSTRAINING_NAN, FLOW_OF_CONTROL, InternalEr
 from .safety.land_detector import AutoDisarm, LandDetector
 from .safety.thrust_loss import ThrustLossCheck
 from .payload.camera import Camera
+from .rangefinder import UPDATE_S as RANGEFINDER_UPDATE_S
+from .rangefinder import Rangefinder
 from .servo_relay import ServoRelayEvents
 from .views import ReadThrough, Vector3
 
@@ -137,6 +139,10 @@ class Vehicle:
         # CAM1 (AP_Camera): pictures on command, by interval and by distance; drives those outputs
         self.camera = Camera(self, self.params, self.servo_relay.pwm, self.servo_relay.relays)
         self.camera_status = self.camera.status
+        # RNGFND1 (AP_RangeFinder): SITL's beam or a companion's DISTANCE_SENSOR, read at 20 Hz
+        self.rangefinder = Rangefinder(self.params)
+        self.rangefinder_reading = self.rangefinder.reading
+        self.rangefinder_prearm_failure = self.rangefinder.prearm_failure
         self.ctx = ModeContext(self)
         # The parts' own methods that readers call through their views (views.py), bound once:
         # no call in between (telemetry and the failsafes call them for every vehicle, often).
@@ -173,6 +179,9 @@ class Vehicle:
         self.nav_speed_m_s = self.params["WPNAV_SPEED"] / 100.0
         self._loiter_speed_max = self.params["LOIT_SPEED"] / 100.0 * 2.0
         self._mode_every = config.rates.ratio(config.rates.mode_hz)
+        # physics steps between the rangefinder's reads; 0 without one (the type is read at boot)
+        self._rangefinder_every = self._mode_every * max(1, round(RANGEFINDER_UPDATE_S * config.rates.mode_hz)) \
+            if self.rangefinder.kind else 0
         self._dt_mode = 1.0 / config.rates.mode_hz
         # The cascade runs in chunks that end wherever Python has work: a mode tick, a sensor
         # sample or a battery update (the sim integrates the battery every BATTERY_EVERY steps).
@@ -231,6 +240,8 @@ class Vehicle:
     gps_glitching: ReadThrough[bool] = property(attrgetter("failsafes.ekf.gps_glitching"))
     internal_error_bits: ReadThrough[int] = property(attrgetter("internal_errors.bits"))
     mission_version: ReadThrough[int] = property(attrgetter("mission.version"), doc="Bumped on every change.")
+    rangefinder_down: ReadThrough[bool] = property(attrgetter("rangefinder.down"),
+                                                   doc="A rangefinder faces down (RANGEFINDER, SYS_STATUS).")
 
     def has_position(self) -> bool:
         return self.estimate.has_position()
@@ -311,6 +322,11 @@ class Vehicle:
         """DO_REPEAT_RELAY (servo_relay.py), from now: FAILED as set_relay."""
         done = self.servo_relay.repeat_relay(relay, count, cycle_s, self.time_s)
         return Result.ACCEPTED if done else Result.FAILED
+
+    def distance_sensor(self, orientation: int, distance_cm: int, min_cm: int, max_cm: int, sensor_type: int,
+                        signal_quality: int) -> None:
+        """A companion's DISTANCE_SENSOR: RNGFND1_TYPE 10's reading (rangefinder.py)."""
+        self.rangefinder.heard(self.time_s, orientation, distance_cm, min_cm, max_cm, sensor_type, signal_quality)
 
     def aux_function(self, number: int, position: int) -> Result:
         """MAV_CMD_DO_AUX_FUNCTION: DENIED for a position past HIGH, FAILED for a function
@@ -674,6 +690,8 @@ class Vehicle:
             dt, now = self._dt_mode, self.sim.time_s
             estimate = self.estimate
             estimate.track_barometer()
+            if self._rangefinder_every and self.sim.steps % self._rangefinder_every == 0:
+                self.rangefinder.update(now, self.sim.read_sonar())
             rc = self.rc
             rc.read(now)  # ArduCopter's rc_loop: the channels, then (when they moved) the switches
             if rc.switches_dirty:

@@ -12,6 +12,7 @@ from .battery import (STEP_AT, BatteryState, open_circuit_volts_per_cell, remain
                       soc_at_open_circuit_volts)
 from .physics import PhysicsState, initial_state, make_fast_step
 from .rotors import HEALTHY, shaft_power_per_thrust_1p5
+from .rangefinder import SonarBeam
 from .sensors import Barometer, Gps, Gyro, NoiseConfig, RcReceiver
 from .wind import SteadyWind, Wind
 
@@ -45,6 +46,7 @@ class SimVehicle:
         self.baro = Barometer(config.seed, config.noise)
         self.rc = RcReceiver()
         self.gyro = Gyro(config.seed, config.noise)
+        self.sonar = SonarBeam(config.seed)
         self.thermometer = TemperatureSensor(config.world, config.seed)
         self.time_s = 0.0
         self.steps = 0
@@ -126,6 +128,10 @@ class SimVehicle:
         """The downward radiometric sensor: reads the ground below at the vehicle's height."""
         b = self.state.body
         return self.thermometer.read(b.n_m, b.e_m, home_d_m - b.d_m, self.time_s)
+
+    def read_sonar(self) -> float:
+        """The downward rangefinder's beam over the flat ground [m] (inf: it misses the ground)."""
+        return self.sonar.range_m(self.state.body)
 
     @property
     def battery_remaining(self) -> float:

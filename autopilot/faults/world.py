@@ -3,7 +3,7 @@
 The parameters are the interface (PARAM_SET at run time, a scenario's [faults] table at start,
 its [script] "param" steps at a sim time); sim/ only sees numbers: motor thrust shares, the GPS's
 switch, satellites and offset in metres, the barometer's drift rate, the wind, the battery's
-resting voltage, the RC receiver's failure, a push (SIM_SHOVE_*). SIM_LINK_* act on the MAVLink link, not on the sim (faults/link.py).
+resting voltage, the RC receiver's failure, a push (SIM_SHOVE_*), the rangefinder's noise. SIM_LINK_* act on the MAVLink link, not on the sim (faults/link.py).
 """
 from __future__ import annotations
 
@@ -69,6 +69,9 @@ class Faults:
     def _rc(self) -> None:
         self.sim.rc.fail = int(self.params["SIM_RC_FAIL"])
 
+    def _sonar(self) -> None:
+        self.sim.sonar.noise_m = max(0.0, self.params["SIM_SONAR_RND"])
+
     def _shove(self) -> None:
         """SIM_SHOVE_TIME [ms] set: push with SIM_SHOVE_X/Y/Z [m/s^2, body frame] that long. As
         ArduPilot SITL's, the time goes back to 0 (here at once; the push goes on)."""
@@ -89,4 +92,5 @@ APPLY = {
     "SIM_BATT_VOLTAGE": Faults._battery,
     "SIM_RC_FAIL": Faults._rc,
     "SIM_SHOVE_TIME": Faults._shove,
+    "SIM_SONAR_RND": Faults._sonar,
 }

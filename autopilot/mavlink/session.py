@@ -104,6 +104,8 @@ class Session:
             "SET_POSITION_TARGET_GLOBAL_INT": self._on_setpoint_global,
             "SET_ATTITUDE_TARGET": lambda m, now: handle_attitude_target(self.vehicle, m),
             "TIMESYNC": self._on_timesync,
+            "DISTANCE_SENSOR": lambda m, now: self.vehicle.distance_sensor(
+                m.orientation, m.current_distance, m.min_distance, m.max_distance, m.type, m.signal_quality),
             "SETUP_SIGNING": lambda m, now: self.signing.setup(m, self.vehicle.armed),
             # The request older ground stations send before REQUEST_MESSAGE existed.
             "AUTOPILOT_VERSION_REQUEST": lambda m, now: self.queue(self.build(mav.MAVLINK_MSG_ID_AUTOPILOT_VERSION)),

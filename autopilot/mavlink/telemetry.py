@@ -13,6 +13,7 @@ from .dialect import mavlink as mav
 from .encoding import deg_e7 as _deg_e7
 from .encoding import time_boot_ms as _ms
 from .camera_messages import BUILDERS as CAMERA_BUILDERS
+from .rangefinder_messages import BUILDERS as RANGEFINDER_BUILDERS
 from .sensor_messages import BUILDERS as SENSOR_BUILDERS
 from .terrain import BUILDERS as TERRAIN_BUILDERS
 from .terrain import REQUEST_MIN_INTERVAL_S
@@ -34,6 +35,7 @@ PREARM = mav.MAV_SYS_STATUS_PREARM_CHECK
 ALWAYS_ON = (mav.MAV_SYS_STATUS_SENSOR_RC_RECEIVER | mav.MAV_SYS_STATUS_TERRAIN
              | mav.MAV_SYS_STATUS_LOGGING | mav.MAV_SYS_STATUS_SENSOR_PROPULSION)
 CONTROL = mav.MAV_SYS_STATUS_SENSOR_Z_ALTITUDE_CONTROL | mav.MAV_SYS_STATUS_SENSOR_XY_POSITION_CONTROL
+RANGEFINDER = mav.MAV_SYS_STATUS_SENSOR_LASER_POSITION
 
 def heartbeat(v: TelemetryView, codec):
     base = mav.MAV_MODE_FLAG_CUSTOM_MODE_ENABLED | mav.MAV_MODE_FLAG_STABILIZE_ENABLED \
@@ -87,6 +89,11 @@ def sys_status(v: TelemetryView, codec):
     # reads a missing health bit as a breach even when no fence exists).
     if not v.fence_breached:
         healthy |= mav.MAV_SYS_STATUS_GEOFENCE
+    if v.rangefinder_down:  # as ArduCopter: a downward rangefinder is healthy while it has data
+        present |= RANGEFINDER
+        enabled |= RANGEFINDER
+        if v.rangefinder_reading().has_data:
+            healthy |= RANGEFINDER
     batt = v.battery
     errors1, errors2, errors4 = v.internal_error_fields()
     return codec.sys_status_encode(present, enabled, healthy, 100,
@@ -250,6 +257,7 @@ BUILDERS: dict[int, Builder] = {
     **SENSOR_BUILDERS,
     **TERRAIN_BUILDERS,
     **CAMERA_BUILDERS,
+    **RANGEFINDER_BUILDERS,
 }
 
 # ArduPilot's stream groups (REQUEST_DATA_STREAM ids), the MAV1_ parameter that sets each rate,
@@ -269,7 +277,8 @@ _STREAM_GROUP_NAMES = {
                                                "ESC_TELEMETRY_1_TO_4")),
     mav.MAV_DATA_STREAM_EXTRA2: ("MAV1_EXTRA2", ("VFR_HUD",)),
     # EXTENDED_SYS_STATE is Firefly's addition to EXTRA3 (ArduCopter sends it only when asked).
-    mav.MAV_DATA_STREAM_EXTRA3: ("MAV1_EXTRA3", ("AHRS", "WIND", "SYSTEM_TIME", "TERRAIN_REPORT",
+    mav.MAV_DATA_STREAM_EXTRA3: ("MAV1_EXTRA3", ("AHRS", "WIND", "RANGEFINDER", "DISTANCE_SENSOR",
+                                               "SYSTEM_TIME", "TERRAIN_REPORT",
                                                "TERRAIN_REQUEST", "BATTERY_STATUS", "EKF_STATUS_REPORT",
                                                "VIBRATION", "EXTENDED_SYS_STATE")),
 }

@@ -68,6 +68,12 @@ def _battery_low(v: PrearmView) -> str | None:
     return "Battery below minimum arming voltage" if low > 0 and v.battery.voltage_v < low else None
 
 
+def _rangefinder(v: PrearmView) -> str | None:
+    """AP_Arming::rangefinder_checks: a rangefinder set up must be there and have data (out of
+    range is data: it may arm on the ground, below RNGFND1_MIN)."""
+    return v.rangefinder_prearm_failure()
+
+
 def _terrain_data(v: PrearmView) -> str | None:
     """A mission at heights above terrain needs the terrain database (AP_Arming::terrain_checks);
     Firefly has none, as ArduCopter SITL has none until a ground station serves its tiles
@@ -80,7 +86,7 @@ def _terrain_data(v: PrearmView) -> str | None:
 # In ArduCopter's order; a check gives its words, a list of them, or None when it passes.
 PREARM_CHECKS: tuple[Callable[[PrearmView], str | list[str] | None], ...] = (
     _starting_up, _throttle_below_failsafe, _internal_errors, _need_position, _gps_glitching, _leaning, _battery_low,
-    _terrain_data, _emergency_stopped)
+    _rangefinder, _terrain_data, _emergency_stopped)
 
 
 def prearm_failures(v: PrearmView) -> list[str]:

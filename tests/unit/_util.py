@@ -6,15 +6,20 @@ import math
 from firefly.autopilot.mavlink.dialect import mavlink as mav
 from firefly.autopilot.mavlink.dialect import new_codec
 from firefly.autopilot.modes import Guided
+from firefly.autopilot.params import ParamStore
 from firefly.autopilot.results import Result
 from firefly.autopilot.vehicle import Vehicle, VehicleConfig
 
 GCS_SYSTEM, GCS_COMPONENT = 255, 190
 
 
-def ready_vehicle(**config) -> Vehicle:
-    """A default vehicle that has had time to get a GPS fix and set home."""
-    v = Vehicle(VehicleConfig(**config))
+def ready_vehicle(boot_params: dict | None = None, **config) -> Vehicle:
+    """A default vehicle that has had time to get a GPS fix and set home; with boot_params, those
+    parameters set before it boots (what it makes at boot: a camera, a rangefinder)."""
+    params = ParamStore()
+    for name, value in (boot_params or {}).items():
+        params.set(name, value)
+    v = Vehicle(VehicleConfig(**config), params)
     v.run_until(0.5)
     return v
 

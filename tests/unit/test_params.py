@@ -60,7 +60,9 @@ def test_every_reference_parameter_is_served_first_in_its_order_with_its_type():
         assert name not in store and name not in names
         store.set(name, store[name])  # known to set() and reads
     for name in FIREFLY_ONLY:
-        expected = mav.MAV_PARAM_TYPE_INT32 if SPEC_BY_NAME[name].is_int else mav.MAV_PARAM_TYPE_REAL32
+        # ArduCopter's own type where it was measured (the rangefinder's), else int32 or float
+        expected = SPEC_BY_NAME[name].mav_type or (mav.MAV_PARAM_TYPE_INT32 if SPEC_BY_NAME[name].is_int
+                                                   else mav.MAV_PARAM_TYPE_REAL32)
         assert store.mav_type(name) == expected
 
 

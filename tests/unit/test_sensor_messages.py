@@ -96,7 +96,7 @@ def test_terrain_request_goes_out_no_more_often_than_every_two_seconds():
 
 
 def test_every_streamed_message_has_a_builder_and_builds():
-    v = hovering_vehicle(5.0)
+    v = hovering_vehicle(5.0, boot_params={"RNGFND1_TYPE": 100})  # the rangefinder's are sent with one
     # Hovering after a takeoff GUIDED has no waypoint: ArduCopter sends no position target then.
     assert BUILDERS[mav.MAVLINK_MSG_ID_POSITION_TARGET_GLOBAL_INT](v, CODEC) is None
     v.guided_goto(10.0, 0.0, -5.0)

@@ -1,0 +1,51 @@
+"""The rangefinder's messages, as ArduCopter sends RNGFND1's (GCS_MAVLINK's send_distance_sensor and
+send_rangefinder), both in the EXTRA3 stream:
+- DISTANCE_SENSOR while the rangefinder has data, out of range included: its raw range and the
+  limits it is judged by in centimetres (truncated), id 0 (the instance), its orientation and type,
+  covariance 0, no field of view or quaternion, and the signal quality as MAVLink has it (0 unknown);
+- RANGEFINDER whenever a rangefinder faces down, data or not: its last range in metres, even a
+  stale one, and a voltage of 0 (only an analog sensor has one).
+SYS_STATUS's laser-position bit (telemetry.py) says the same: present and enabled with a downward
+rangefinder, healthy while it has data.
+"""
+from __future__ import annotations
+
+from ..c_casts import float32
+from ..views import TelemetryView
+from .encoding import time_boot_ms
+from .dialect import mavlink as mav
+
+CM_MAX = 65535
+
+
+def _cm(metres: float) -> int:
+    """Centimetres as ArduPilot truncates a float32 range times 100 (in float32) into a uint16."""
+    return min(int(float32(metres * 100.0)), CM_MAX)
+
+
+def _mavlink_quality(quality: int) -> int:
+    """ArduPilot's -1 (unknown) is MAVLink's 0; 0 and 1, the worst, are 1; 2-100 as they are."""
+    if quality == -1:
+        return 0
+    return quality if 1 < quality <= 100 else 1
+
+
+def distance_sensor(v: TelemetryView, codec):
+    r = v.rangefinder_reading()
+    if not r.has_data:
+        return None
+    return codec.distance_sensor_encode(time_boot_ms(v), _cm(r.min_m), _cm(r.max_m), _cm(r.distance_m),
+                                        r.sensor_type, 0, r.orientation, 0, 0.0, 0.0, (0.0, 0.0, 0.0, 0.0),
+                                        _mavlink_quality(r.signal_quality))
+
+
+def rangefinder(v: TelemetryView, codec):
+    if not v.rangefinder_down:
+        return None
+    return codec.rangefinder_encode(v.rangefinder_reading().distance_m, 0.0)
+
+
+BUILDERS = {
+    mav.MAVLINK_MSG_ID_DISTANCE_SENSOR: distance_sensor,
+    mav.MAVLINK_MSG_ID_RANGEFINDER: rangefinder,
+}
