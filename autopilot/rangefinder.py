@@ -71,6 +71,13 @@ class Rangefinder:
         self._heard_m = 0.0
         self._heard_limits = (0.0, 0.0)
         self._heard_quality = -1
+        # ArduCopter's rangefinder_state.enabled: set at boot with a downward rangefinder, then by
+        # the RANGEFINDER aux switch (switched()); SYS_STATUS's laser bit is enabled and healthy by it
+        self.enabled = self.down
+
+    def switched(self, high: bool) -> None:
+        """The RANGEFINDER aux function: on in its high position if a rangefinder faces down, else off."""
+        self.enabled = high and self.down
 
     @property
     def exists(self) -> bool:

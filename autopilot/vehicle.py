@@ -242,6 +242,8 @@ class Vehicle:
     mission_version: ReadThrough[int] = property(attrgetter("mission.version"), doc="Bumped on every change.")
     rangefinder_down: ReadThrough[bool] = property(attrgetter("rangefinder.down"),
                                                    doc="A rangefinder faces down (RANGEFINDER, SYS_STATUS).")
+    rangefinder_enabled: ReadThrough[bool] = property(attrgetter("rangefinder.enabled"),
+                                                      doc="ArduCopter's rangefinder_state.enabled.")
 
     def has_position(self) -> bool:
         return self.estimate.has_position()
@@ -334,6 +336,10 @@ class Vehicle:
         if position not in (0, 1, 2):
             return Result.DENIED
         return Result.ACCEPTED if run_aux_function(self, number, position) else Result.FAILED
+
+    def rangefinder_switch(self, position: int) -> None:
+        """The RANGEFINDER aux function (rangefinder.py)."""
+        self.rangefinder.switched(position == 2)
 
     def zigzag_switch(self, which: str, position: int) -> None:
         """ZIGZAG's aux switches (SaveWP, Auto), in ZIGZAG only."""

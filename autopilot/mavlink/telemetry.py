@@ -89,8 +89,9 @@ def sys_status(v: TelemetryView, codec):
     # reads a missing health bit as a breach even when no fence exists).
     if not v.fence_breached:
         healthy |= mav.MAV_SYS_STATUS_GEOFENCE
-    if v.rangefinder_down:  # as ArduCopter: a downward rangefinder is healthy while it has data
-        present |= RANGEFINDER
+    if v.rangefinder_down:  # as ArduCopter: present with a downward rangefinder, enabled at boot and by
+        present |= RANGEFINDER  # the RANGEFINDER aux switch, healthy while enabled with data
+    if v.rangefinder_enabled:
         enabled |= RANGEFINDER
         if v.rangefinder_reading().has_data:
             healthy |= RANGEFINDER

@@ -182,3 +182,16 @@ def test_hostile_distance_sensor_messages_change_only_the_reading(fields):
         msg = build(link.vehicle, CODEC)
         if msg is not None:
             msg.pack(CODEC)
+
+
+def test_the_rangefinder_aux_function_enables_it_high_and_disables_it_otherwise():
+    """As measured: low clears the laser bit's enabled and healthy (present stays, the messages go
+    on), high sets them again; without a downward rangefinder high enables nothing."""
+    v = vehicle_with(RNGFND1_TYPE=100)
+    bits = lambda: [bool(getattr(telemetry.sys_status(v, CODEC), f"onboard_control_sensors_{k}") & LASER)
+                    for k in ("present", "enabled", "health")]
+    assert v.aux_function(10, 0) == Result.ACCEPTED and bits() == [True, False, False]
+    assert rangefinder_messages.distance_sensor(v, CODEC) is not None
+    assert v.aux_function(10, 2) == Result.ACCEPTED and bits() == [True, True, True]
+    v = vehicle_with(RNGFND1_TYPE=100, RNGFND1_ORIENT=0)
+    assert v.aux_function(10, 2) == Result.ACCEPTED and bits() == [False, False, False]

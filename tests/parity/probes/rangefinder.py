@@ -1,7 +1,8 @@
 """The rangefinder RNGFND1 (AP_RangeFinder) facing down, as ArduCopter runs it (issue 31).
 
 sitl        RNGFND1_TYPE 100 at power-on (SITL's simulated beam): the parameters it brings, then on
-            the ground, hovering at 4 m (in range) and at 9 m (above RNGFND1_MAX, 7 m): what
+            the ground (also with the RANGEFINDER aux function low, then high), hovering at 4 m
+            (in range) and at 9 m (above RNGFND1_MAX, 7 m): what
             DISTANCE_SENSOR and RANGEFINDER carry and SYS_STATUS's laser-position bit; then
             SIM_SONAR_RND 0.5 m: the spread and mean of 40 ranges.
 companion   RNGFND1_TYPE 10 at power-on (a companion's DISTANCE_SENSOR): before any message (the bit,
@@ -23,6 +24,7 @@ LASER = mav.MAV_SYS_STATUS_SENSOR_LASER_POSITION
 PROBES_PARAMS = {"sitl": {"RNGFND1_TYPE": 100}, "companion": {"RNGFND1_TYPE": 10}, "not_booted": None}
 PARAMS_READ = ("RNGFND1_ORIENT", "RNGFND1_MIN", "RNGFND1_MAX", "RNGFND1_GNDCLR")
 LOW_M, HIGH_M = 4.0, 9.0
+AUX_RANGEFINDER = 10  # RC_Channel's AUX_FUNC::RANGEFINDER
 RANGE_CM = Tol(abs=15.0, why="a hover's height within the two position controllers' hold, and the "
                              "airframes' ground clearance; 15 cm of 4-9 m")
 RANGE_M = Tol(abs=0.15, why="as RANGE_CM, in metres")
@@ -87,6 +89,11 @@ def sitl(c: Client, trace: Trace) -> None:
     _distance_sensor(c, trace, "ground", Tol(abs=15.0, why="the airframes' origin above the ground at rest"))
     _rangefinder(c, trace, "ground", Tol(abs=0.15, why="as ground.current_cm"))
     _bits(c, trace, "ground")
+    for position, name in ((0, "aux_low"), (2, "aux_high")):  # the RANGEFINDER aux function (10)
+        trace.fact(f"{name}.result", c.command(mav.MAV_CMD_DO_AUX_FUNCTION, AUX_RANGEFINDER, position))
+        c.idle(0.3)
+        _bits(c, trace, name)
+        trace.fact(f"{name}.distance_sensor_sent", _sent(c, "DISTANCE_SENSOR"))
     reach_armed_on_ground(c, GUIDED)
     trace.fact("low.takeoff", c.command(mav.MAV_CMD_NAV_TAKEOFF, 0, 0, 0, 0, 0, 0, LOW_M))
     c.wait(lambda: c.rel_alt_m() > LOW_M - 0.3, 60, what="the low hover")
