@@ -225,6 +225,45 @@ PARAM_TABLE: tuple[ParamSpec, ...] = (
     *(_f(f"RNGFND1_POS_{axis}", 0.0, -5, 5, "served; where it sits on the body [m] (SITL's beam starts at the centre)")
       for axis in "XYZ"),
     _i8("RNGFND1_ORIENT", 25, doc="the way it faces: 25 down (RANGEFINDER, the laser-position bit)"),
+    # ADS-B (adsb/): the receiver's list (AP_ADSB) and avoidance (AP_Avoidance). ArduCopter shows
+    # the rest of each group once ADSB_TYPE / AVD_ENABLE is set, with these types and defaults
+    # (measured); both act without a reboot.
+    _i8("ADSB_TYPE", 0, doc="0 off; any other type takes traffic as ADSB_VEHICLE (SITL's and a ground station's)"),
+    replace(_i("ADSB_LIST_MAX", 25, 1, 100, "aircraft the list holds; read when the receiver starts"),
+            mav_type=MAV_PARAM_TYPE_INT16),
+    replace(_i("ADSB_LIST_RADIUS", 2000, 0, 100000, "traffic farther than this is not listed [m], 0 = any"),
+            mav_type=MAV_PARAM_TYPE_INT32),
+    replace(_i("ADSB_ICAO_ID", 0, -1, 16777215, "served; this vehicle's own ICAO address (no transponder here)"),
+            mav_type=MAV_PARAM_TYPE_INT32),
+    _i8("ADSB_EMIT_TYPE", 14, 0, 19, "served; this vehicle's emitter type"),
+    _i8("ADSB_LEN_WIDTH", 1, 0, 15, "served; this vehicle's size class"),
+    _i8("ADSB_OFFSET_LAT", 4, 0, 7, "served; the GPS antenna's lateral offset class"),
+    _i8("ADSB_OFFSET_LON", 1, 0, 1, "served; the GPS antenna's longitudinal offset class"),
+    _i8("ADSB_RF_SELECT", 1, 0, 3, "served; the transponder's receive and transmit bits"),
+    replace(_i("ADSB_SQUAWK", 1200, 0, 7777, "served; the squawk code, octal digits"), mav_type=MAV_PARAM_TYPE_INT16),
+    _i8("ADSB_RF_CAPABLE", 0, 0, 15, "served; the transponder's bands"),
+    replace(_i("ADSB_LIST_ALT", 0, 0, 32767, "traffic more than this above or below is not listed [m], 0 = any"),
+            mav_type=MAV_PARAM_TYPE_INT16),
+    replace(_i("ADSB_ICAO_SPECL", 0, 0, 16777215, "this ICAO address is listed wherever it is"),
+            mav_type=MAV_PARAM_TYPE_INT32),
+    _i8("ADSB_LOG", 1, 0, 2, "served; what the dataflash log records of traffic"),
+    replace(_i("ADSB_OPTIONS", 0, 0, 15, "served; transponder options"), mav_type=MAV_PARAM_TYPE_INT32),
+    _i8("AVD_ENABLE", 0, 0, 1, "1: traffic is judged as threats (COLLISION) and acted on"),
+    _i8("AVD_F_ACTION", 1, 0, 6, "a HIGH threat's action: 0 none, 1 report, 2 climb or descend, 3 move "
+        "horizontally, 4 move away, 5 RTL, 6 hover"),
+    _i8("AVD_W_ACTION", 1, 0, 1, "served; ArduCopter reads it nowhere"),
+    _i8("AVD_F_RCVRY", 2, 0, 3, "after a threat: 0 stay, 1 the mode before, 2 RTL, 3 AUTO if it was in AUTO"),
+    _i8("AVD_OBS_MAX", 20, 1, 127, "obstacles kept; read when avoidance starts"),
+    _i8("AVD_W_TIME", 30, 0, 120, "seconds ahead a LOW threat is looked for [s]"),
+    _i8("AVD_F_TIME", 30, 0, 120, "seconds ahead a HIGH threat is looked for [s]"),
+    _f("AVD_W_DIST_XY", 300, 0, 2000, "closer than this within AVD_W_TIME is LOW [m]"),
+    replace(_i("AVD_F_DIST_XY", 100, 0, 2000, "closer than this within AVD_F_TIME is HIGH [m]"),
+            mav_type=MAV_PARAM_TYPE_INT16),
+    _f("AVD_W_DIST_Z", 300, 0, 1000, "farther apart than this vertically is no threat [m]"),
+    replace(_i("AVD_F_DIST_Z", 100, 0, 1000, "farther apart than this vertically is LOW, not HIGH [m]"),
+            mav_type=MAV_PARAM_TYPE_INT16),
+    replace(_i("AVD_F_ALT_MIN", 0, 0, 1000, "below this altitude (above sea level) a HIGH threat is only "
+               "reported [m], 0 = off"), mav_type=MAV_PARAM_TYPE_INT16),
     # Mission (AP_Mission)
     _i("MIS_RESTART", 0, 0, 1, "AUTO after leaving it: 0 resumes the mission, 1 restarts it"),
     # The pilot's radio (autopilot/rc/): channel roles, the mode switch, overrides, the ground station

@@ -78,6 +78,14 @@ FIREFLY_ONLY: dict[str, str] = {
        for name in ("RNGFND1_PIN", "RNGFND1_SCALING", "RNGFND1_OFFSET", "RNGFND1_FUNCTION", "RNGFND1_MIN",
                     "RNGFND1_MAX", "RNGFND1_STOP_PIN", "RNGFND1_RMETRIC", "RNGFND1_PWRRNG", "RNGFND1_GNDCLR",
                     "RNGFND1_ADDR", "RNGFND1_POS_X", "RNGFND1_POS_Y", "RNGFND1_POS_Z", "RNGFND1_ORIENT")},
+    **{name: "ADS-B's (AP_ADSB, AP_Avoidance): ArduCopter serves it once ADSB_TYPE / AVD_ENABLE is set (the "
+             "reference's set was recorded with both 0); Firefly serves it always, so that it can be set before "
+             "enabling"
+       for name in ("ADSB_LIST_MAX", "ADSB_LIST_RADIUS", "ADSB_ICAO_ID", "ADSB_EMIT_TYPE", "ADSB_LEN_WIDTH",
+                    "ADSB_OFFSET_LAT", "ADSB_OFFSET_LON", "ADSB_RF_SELECT", "ADSB_SQUAWK", "ADSB_RF_CAPABLE",
+                    "ADSB_LIST_ALT", "ADSB_ICAO_SPECL", "ADSB_LOG", "ADSB_OPTIONS", "AVD_F_ACTION", "AVD_W_ACTION",
+                    "AVD_F_RCVRY", "AVD_OBS_MAX", "AVD_W_TIME", "AVD_F_TIME", "AVD_W_DIST_XY", "AVD_F_DIST_XY",
+                    "AVD_W_DIST_Z", "AVD_F_DIST_Z", "AVD_F_ALT_MIN")},
 }
 
 _OLD_NAME = "ArduPilot 4.5's name of {}, which scenarios and scripts written for 4.5 set"

@@ -20,6 +20,11 @@ from typing import TYPE_CHECKING
 from firefly.sim.geo import GeoPoint, global_from_ned, ned_from_global
 from firefly.sim.vehicle import BATTERY_EVERY, SimConfig, SimVehicle
 
+from .adsb.escape import CopterEscape
+from .adsb.location import ZERO as NOWHERE
+from .adsb.location import Loc
+from .adsb.threats import Avoidance, Collision
+from .adsb.traffic_list import AdsbReport, TrafficList
 from .control.attitude import wrap_pi
 from .startup import Startup, StartupTimeline
 from .tuning.gains import GainOverlay, Params
@@ -143,6 +148,13 @@ class Vehicle:
         self.rangefinder = Rangefinder(self.params)
         self.rangefinder_reading = self.rangefinder.reading
         self.rangefinder_prearm_failure = self.rangefinder.prearm_failure
+        # ADS-B (adsb/): the receiver's traffic list (ADSB_TYPE), avoidance (AVD_ENABLE) and what the
+        # copter does about a threat; both run at 10 Hz with the failsafe checks once either is on
+        self.mode_changes = 0  # modes entered so far: whether the mode avoidance chose still stands
+        self.traffic = TrafficList(self.params)
+        self.avoidance = Avoidance(self.params, CopterEscape(self, self.failsafes))
+        self.collisions_due: list[Collision] = []  # COLLISION reports for every link
+        self.adsb_next_to_send = self.traffic.next_to_send  # (now_ms): the ADSB stream's next message
         self.ctx = ModeContext(self)
         # The parts' own methods that readers call through their views (views.py), bound once:
         # no call in between (telemetry and the failsafes call them for every vehicle, often).
@@ -200,6 +212,8 @@ class Vehicle:
     attitude: ReadThrough[Vector3] = property(attrgetter("estimate.attitude"), doc="(roll, pitch, yaw) [rad].")
     gps: ReadThrough[GpsReading] = property(attrgetter("estimate.gps"), doc="The last GPS sample.")
     armed: ReadThrough[bool] = property(attrgetter("arming.armed"))
+    auto_armed: ReadThrough[bool] = property(attrgetter("arming.auto_armed"), doc="AUTO may start from the ground.")
+    adsb_threat: ReadThrough[bool] = property(attrgetter("failsafes.adsb"), doc="ADS-B avoidance is acting.")
     interlock_at_s: ReadThrough[float] = property(attrgetter("arming.interlock_at_s"),
                                                   doc="Sim time the arming delay ends [s].")
     arm_changes: ReadThrough[int] = property(attrgetter("arming.changes"), doc="Arms and disarms so far.")
@@ -324,6 +338,32 @@ class Vehicle:
         """DO_REPEAT_RELAY (servo_relay.py), from now: FAILED as set_relay."""
         done = self.servo_relay.repeat_relay(relay, count, cycle_s, self.time_s)
         return Result.ACCEPTED if done else Result.FAILED
+
+    def adsb_vehicle(self, report: AdsbReport) -> None:
+        """An ADSB_VEHICLE from any link: traffic for the receiver's list (adsb/traffic_list.py)."""
+        self.traffic.receive(report, int(self.time_s * 1000))
+
+    def adsb_location(self) -> Loc | None:
+        """Where the vehicle is, as ADS-B compares it with traffic; None without a position."""
+        if not self.has_position():
+            return None
+        g = self.position_global()
+        return Loc(round(g.lat_deg * 1e7), round(g.lon_deg * 1e7), int(g.alt_m * 100.0))
+
+    def height_above_home_m(self) -> float:
+        return self.height_ref_d - self.body.d_m
+
+    def _adsb_update(self, now: float) -> None:
+        """ArduCopter's avoidance_adsb_update, at 10 Hz: the list, then the threats."""
+        now_ms = int(now * 1000)
+        own = self.adsb_location()
+        traffic = self.traffic
+        traffic.update(now_ms, own or NOWHERE)
+        b = self.body
+        collision = self.avoidance.update(now_ms, traffic.take_samples if traffic.started else list, own,
+                                          (b.vn_m_s, b.ve_m_s, b.vd_m_s) if own is not None else None)
+        if collision is not None:
+            self.collisions_due.append(collision)
 
     def distance_sensor(self, orientation: int, distance_cm: int, min_cm: int, max_cm: int, sensor_type: int,
                         signal_quality: int) -> None:
@@ -495,6 +535,7 @@ class Vehicle:
         if self._mode_entered:
             self.mode.exit(self.ctx)
         self.mode = new
+        self.mode_changes += 1
         self._mode_entered = ready
         self.cascade.reset_position()
         return Result.ACCEPTED
@@ -740,6 +781,9 @@ class Vehicle:
                         self.disarm("auto")
             if self.sim.steps % (self._mode_every * FAILSAFE_EVERY) == 0:
                 self.failsafes.check(self)
+                p = self.params
+                if p["ADSB_TYPE"] or p["AVD_ENABLE"] or self.avoidance.on:
+                    self._adsb_update(now)
                 self._read_aux_switches(now)
                 self.thrust_loss.check(self, FAILSAFE_EVERY * dt)
                 if self.servo_relay.repeating:

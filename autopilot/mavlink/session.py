@@ -12,6 +12,7 @@ from __future__ import annotations
 
 from .. import version
 from ..results import Result
+from .adsb_messages import collision, report_of
 from .adsb_out import AdsbOut
 from .commands import Command, CommandService
 from .dialect import mavlink as mav
@@ -92,6 +93,7 @@ class Session:
             "MISSION_SET_CURRENT": lambda m, now: self._out.extend(self.missions.on_set_current(m)),
             "DEVICE_OP_READ": lambda m, now: self.queue(device_ops.read_reply(self.codec, m)),
             "DEVICE_OP_WRITE": lambda m, now: self.queue(device_ops.write_reply(self.codec, m)),
+            "ADSB_VEHICLE": lambda m, now: self.vehicle.adsb_vehicle(report_of(m)),
             "UAVIONIX_ADSB_OUT_CFG": self._on_adsb_config,
             "UAVIONIX_ADSB_TRANSCEIVER_HEALTH_REPORT": self._on_adsb_health,
             "FENCE_POINT": self._on_legacy_point,
@@ -379,6 +381,9 @@ class Session:
             feedback = self.build(mav.MAVLINK_MSG_ID_CAMERA_FEEDBACK)
             if feedback is not None:
                 out.append(feedback)
+        if vehicle.collisions_due:  # ADS-B avoidance's reports: to every link
+            due, vehicle.collisions_due = vehicle.collisions_due, []
+            out.extend(collision(self.telemetry_codec, c) for c in due)
         for msg_id in self.streams.due(now_s):  # heartbeat first, then the rest; most ticks none
             msg = self.build(msg_id)
             if msg is not None:

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 
+from ..params import DEFAULTS
 from .telemetry import BUILDERS, FIXED_RATES_HZ, MIN_INTERVAL_S, STREAM_GROUPS, UNASKED
 
 
@@ -26,6 +27,11 @@ class StreamScheduler:
                 self._default_s[msg_id] = _limited(msg_id, 1.0 / rate if rate > 0 else math.inf)
         self._interval_s.update({msg_id: interval for msg_id, interval in self._default_s.items()
                                  if msg_id in UNASKED or msg_id in FIXED_RATES_HZ})
+        # A group whose rate was set before boot (a saved value, a scenario's) streams whole, as
+        # ArduPilot streams what its MAVn_ parameters say from boot.
+        for name, ids in STREAM_GROUPS.values():
+            if params[name] > 0 and params[name] != DEFAULTS.get(name):
+                self._interval_s.update({msg_id: self._default_s[msg_id] for msg_id in ids})
 
     def param_changed(self, name: str, value: float) -> None:
         """A MAV1_ stream-rate parameter set over PARAM_SET applies at once, as on ArduPilot."""

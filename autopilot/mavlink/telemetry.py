@@ -12,6 +12,7 @@ from ..views import StreamedView, TelemetryView
 from .dialect import mavlink as mav
 from .encoding import deg_e7 as _deg_e7
 from .encoding import time_boot_ms as _ms
+from .adsb_messages import BUILDERS as ADSB_BUILDERS
 from .camera_messages import BUILDERS as CAMERA_BUILDERS
 from .rangefinder_messages import BUILDERS as RANGEFINDER_BUILDERS
 from .sensor_messages import BUILDERS as SENSOR_BUILDERS
@@ -259,11 +260,13 @@ BUILDERS: dict[int, Builder] = {
     **TERRAIN_BUILDERS,
     **CAMERA_BUILDERS,
     **RANGEFINDER_BUILDERS,
+    **ADSB_BUILDERS,
 }
 
 # ArduPilot's stream groups (REQUEST_DATA_STREAM ids), the MAV1_ parameter that sets each rate,
 # and their messages, as ArduCopter fills them (GCS_MAVLink_Parameters.cpp) for what Firefly has.
 _ID = mav.__dict__
+ADSB_STREAM = -1
 _STREAM_GROUP_NAMES = {
     mav.MAV_DATA_STREAM_RAW_SENSORS: ("MAV1_RAW_SENS", ("RAW_IMU", "SCALED_IMU2", "SCALED_IMU3",
                                                       "SCALED_PRESSURE", "SCALED_PRESSURE2")),
@@ -282,6 +285,9 @@ _STREAM_GROUP_NAMES = {
                                                "SYSTEM_TIME", "TERRAIN_REPORT",
                                                "TERRAIN_REQUEST", "BATTERY_STATUS", "EKF_STATUS_REPORT",
                                                "VIBRATION", "EXTENDED_SYS_STATE")),
+    # ArduPilot's ADSB stream has no REQUEST_DATA_STREAM id of its own: only MAV_DATA_STREAM_ALL
+    # (0) and MAV1_ADSB reach it, so its key here is one no request names.
+    ADSB_STREAM: ("MAV1_ADSB", ("ADSB_VEHICLE",)),
 }
 STREAM_GROUPS: dict[int, tuple[str, tuple[int, ...]]] = {
     group: (param, tuple(_ID[f"MAVLINK_MSG_ID_{name}"] for name in names))

@@ -1,7 +1,7 @@
 """AVOID_ADSB: the mode ArduCopter's ADS-B avoidance flies in, GUIDED underneath (ModeAvoidADSB
 is a ModeGuided): entered by hand it holds where it can stop, as GUIDED does, takes GUIDED's
-targets and takeoff (ArduCopter's in_guided_mode), and may not be armed in. Firefly has no ADS-B
-traffic to avoid, so its avoidance sets it no target of its own."""
+targets and takeoff (ArduCopter's in_guided_mode), and may not be armed in. ADS-B avoidance
+(adsb/escape.py) enters it and gives it the velocity that flies away from a threat."""
 from __future__ import annotations
 
 from .guided import Guided

@@ -74,6 +74,12 @@ def _rangefinder(v: PrearmView) -> str | None:
     return v.rangefinder_prearm_failure()
 
 
+def _adsb_threat(v: PrearmView) -> str | None:
+    """ArduCopter's parameter checks: not while ADS-B avoidance is acting on a threat (on the
+    ground with AVD_F_ACTION above a report, a HIGH threat keeps it acting: measured)."""
+    return "ADSB threat detected" if v.adsb_threat else None
+
+
 def _terrain_data(v: PrearmView) -> str | None:
     """A mission at heights above terrain needs the terrain database (AP_Arming::terrain_checks);
     Firefly has none, as ArduCopter SITL has none until a ground station serves its tiles
@@ -85,7 +91,7 @@ def _terrain_data(v: PrearmView) -> str | None:
 
 # In ArduCopter's order; a check gives its words, a list of them, or None when it passes.
 PREARM_CHECKS: tuple[Callable[[PrearmView], str | list[str] | None], ...] = (
-    _starting_up, _throttle_below_failsafe, _internal_errors, _need_position, _gps_glitching, _leaning, _battery_low,
+    _starting_up, _adsb_threat, _throttle_below_failsafe, _internal_errors, _need_position, _gps_glitching, _leaning, _battery_low,
     _rangefinder, _terrain_data, _emergency_stopped)
 
 

@@ -65,6 +65,7 @@ class Failsafes:
         self._rc_low_throttle = 0  # ArduCopter's failsafe.radio_counter
         self.gcs = False
         self.fence_breached = False
+        self.adsb = False  # ArduCopter's failsafe.adsb: avoidance is acting on a threat (adsb/escape.py)
         self.ekf = EkfCheck()
         self._fence_version: int | None = None
         # ("poly", inclusion, [(n, e), ...]) or ("circle", inclusion, (n, e, radius))
@@ -78,7 +79,8 @@ class Failsafes:
 
     @property
     def active(self) -> bool:
-        return bool(self.battery_level or self.gcs or self.radio or self.fence_breached or self.ekf.failsafe)
+        return bool(self.battery_level or self.gcs or self.radio or self.fence_breached or self.adsb
+                    or self.ekf.failsafe)
 
     def _act(self, v: FailsafeView, mode: Action | None, reason: str) -> None:
         if mode is None or not v.armed or v.landed or v.mode_number == LAND:

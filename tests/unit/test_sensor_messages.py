@@ -8,6 +8,7 @@ import pytest
 
 from firefly.autopilot.mavlink import sensor_messages, terrain
 from firefly.autopilot.mavlink.streams import StreamScheduler
+from firefly.autopilot.adsb.traffic_list import AdsbReport
 from firefly.autopilot.mavlink.telemetry import BUILDERS, STREAM_GROUPS
 from firefly.sim.vehicle import SimConfig
 from firefly.sim.wind import SteadyWind
@@ -96,7 +97,9 @@ def test_terrain_request_goes_out_no_more_often_than_every_two_seconds():
 
 
 def test_every_streamed_message_has_a_builder_and_builds():
-    v = hovering_vehicle(5.0, boot_params={"RNGFND1_TYPE": 100})  # the rangefinder's are sent with one
+    v = hovering_vehicle(5.0, boot_params={"RNGFND1_TYPE": 100, "ADSB_TYPE": 1})  # the rangefinder's are sent with one
+    near = v.adsb_location()  # ADSB_VEHICLE is sent with traffic listed
+    v.adsb_vehicle(AdsbReport(1, near.lat_e7, near.lon_e7, 0, 1000, 0, 0, 0, b"T", 1, 1, 0x1FF, 1200))
     # Hovering after a takeoff GUIDED has no waypoint: ArduCopter sends no position target then.
     assert BUILDERS[mav.MAVLINK_MSG_ID_POSITION_TARGET_GLOBAL_INT](v, CODEC) is None
     v.guided_goto(10.0, 0.0, -5.0)

@@ -1,0 +1,36 @@
+"""Positions as ArduPilot's Location keeps them for ADS-B: latitude and longitude in 1e-7 degrees,
+altitude in centimetres above mean sea level, and its flat-earth distances between two of them."""
+from __future__ import annotations
+
+import math
+from typing import NamedTuple
+
+M_PER_E7 = 0.011131884502145034  # ArduPilot's LOCATION_SCALING_FACTOR: metres per 1e-7 degree
+
+
+class Loc(NamedTuple):
+    lat_e7: int
+    lon_e7: int
+    alt_cm: int  # above mean sea level
+
+    def is_zero(self) -> bool:
+        return self.lat_e7 == 0 and self.lon_e7 == 0 and self.alt_cm == 0
+
+    def ne_to(self, other: Loc) -> tuple[float, float]:
+        """Metres north and east from this location to `other` (Location::get_distance_NE)."""
+        mid_lat_deg = (self.lat_e7 + other.lat_e7) * 0.5e-7
+        scale = min(1.0, max(0.01, math.cos(math.radians(mid_lat_deg))))
+        d_lon = other.lon_e7 - self.lon_e7
+        if d_lon > 1800000000:  # across the antimeridian, the short way
+            d_lon -= 3600000000
+        elif d_lon < -1800000000:
+            d_lon += 3600000000
+        return (other.lat_e7 - self.lat_e7) * M_PER_E7, d_lon * M_PER_E7 * scale
+
+    def distance_to(self, other: Loc) -> float:
+        """Horizontal metres to `other` (Location::get_distance)."""
+        n, e = self.ne_to(other)
+        return math.hypot(n, e)
+
+
+ZERO = Loc(0, 0, 0)
