@@ -176,6 +176,13 @@ PARAM_TABLE: tuple[ParamSpec, ...] = (
     _f("SIM_BATT_VOLTAGE", 12.6, 0, 100, "battery resting voltage [V]; setting it re-initialises the charge"),
     _f("SIM_LINK_DOWN", 0, 0, 3600, "ground-station link cut for this many wall seconds, then 0"),
     _f("SIM_LINK_LOSS", 0, 0, 100, "share of MAVLink frames lost each way [%]"),
+    # Other air traffic (sim/traffic.py, adsb/sitl_transceiver.py), as ArduPilot SITL's SIM_ADSB_*
+    _i("SIM_ADSB_COUNT", -1, -1, 32767, "simulated aircraft; -1: no SITL transceiver (0 or more at boot attaches "
+       "it, as ArduPilot's on SERIAL1); 200 or more: none"),
+    _f("SIM_ADSB_RADIUS", 10000, 0, 1e6, "aircraft spawn this spread around the vehicle, and respawn farther [m]"),
+    _f("SIM_ADSB_ALT", 1000, -1e5, 1e5, "aircraft spawn this high (its size) [m]"),
+    _i("SIM_ADSB_TX", 0, 0, 1, "served, unread (SITL's transceiver health report)"),
+    _i("SIM_ADSB_TYPES", 1, 0, 255, "bit 0: the transceiver reports as MAVLink ADSB_VEHICLE"),
     # FOLLOW's lead (AP_Follow, follow_target.py): ArduCopter shows them once FOLL_ENABLE is 1
     _i("FOLL_SYSID", 0, 0, 255, "the lead's system id; 0 = the first other system heard"),
     _f("FOLL_DIST_MAX", 100, 0, 1000, "a lead farther than this is not followed [m]; 0 = no limit"),

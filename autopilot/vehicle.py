@@ -23,6 +23,8 @@ from firefly.sim.vehicle import BATTERY_EVERY, SimConfig, SimVehicle
 from .adsb.escape import CopterEscape
 from .adsb.location import ZERO as NOWHERE
 from .adsb.location import Loc
+from .adsb.sitl_transceiver import SitlTransceiver
+from .adsb.sitl_transceiver import report_of as sitl_report
 from .adsb.threats import Avoidance, Collision
 from .adsb.traffic_list import AdsbReport, TrafficList
 from .control.attitude import wrap_pi
@@ -154,6 +156,10 @@ class Vehicle:
         self.traffic = TrafficList(self.params)
         self.avoidance = Avoidance(self.params, CopterEscape(self, self.failsafes))
         self.collisions_due: list[Collision] = []  # COLLISION reports for every link
+        # SITL's transceiver for the simulated traffic (SIM_ADSB_*), there if SIM_ADSB_COUNT >= 0 at boot;
+        # what it reports goes to the list, or (ADSB_TYPE 0) out to every link as it is
+        self.sitl_transceiver = SitlTransceiver(self.params["SIM_ADSB_COUNT"] >= 0)
+        self.adsb_forwards_due: list[AdsbReport] = []
         self.adsb_next_to_send = self.traffic.next_to_send  # (now_ms): the ADSB stream's next message
         self.ctx = ModeContext(self)
         # The parts' own methods that readers call through their views (views.py), bound once:
@@ -356,8 +362,20 @@ class Vehicle:
     def _adsb_update(self, now: float) -> None:
         """ArduCopter's avoidance_adsb_update, at 10 Hz: the list, then the threats."""
         now_ms = int(now * 1000)
-        own = self.adsb_location()
         traffic = self.traffic
+        p = self.params
+        if self.sitl_transceiver.attached:
+            flying = self.sim.fly_traffic(self._dt_mode * FAILSAFE_EVERY, int(p["SIM_ADSB_COUNT"]),
+                                          p["SIM_ADSB_RADIUS"], p["SIM_ADSB_ALT"])
+            if int(p["SIM_ADSB_TYPES"]) & 1 and self.sitl_transceiver.due(now):
+                o = self.origin
+                origin = Loc(round(o.lat_deg * 1e7), round(o.lon_deg * 1e7), int(o.alt_m * 100))
+                for a in flying:
+                    if traffic.enabled:
+                        traffic.receive(sitl_report(a, origin), now_ms)
+                    else:
+                        self.adsb_forwards_due.append(sitl_report(a, origin))
+        own = self.adsb_location()
         traffic.update(now_ms, own or NOWHERE)
         b = self.body
         collision = self.avoidance.update(now_ms, traffic.take_samples if traffic.started else list, own,
@@ -782,7 +800,7 @@ class Vehicle:
             if self.sim.steps % (self._mode_every * FAILSAFE_EVERY) == 0:
                 self.failsafes.check(self)
                 p = self.params
-                if p["ADSB_TYPE"] or p["AVD_ENABLE"] or self.avoidance.on:
+                if p["ADSB_TYPE"] or p["AVD_ENABLE"] or self.avoidance.on or self.sitl_transceiver.attached:
                     self._adsb_update(now)
                 self._read_aux_switches(now)
                 self.thrust_loss.check(self, FAILSAFE_EVERY * dt)

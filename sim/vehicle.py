@@ -13,6 +13,7 @@ from .battery import (STEP_AT, BatteryState, open_circuit_volts_per_cell, remain
 from .physics import PhysicsState, initial_state, make_fast_step
 from .rotors import HEALTHY, shaft_power_per_thrust_1p5
 from .rangefinder import SonarBeam
+from .traffic import Aircraft, TrafficSim
 from .sensors import Barometer, Gps, Gyro, NoiseConfig, RcReceiver
 from .wind import SteadyWind, Wind
 
@@ -47,6 +48,7 @@ class SimVehicle:
         self.rc = RcReceiver()
         self.gyro = Gyro(config.seed, config.noise)
         self.sonar = SonarBeam(config.seed)
+        self.traffic = TrafficSim(config.seed)  # other aircraft (SIM_ADSB_*), flown when asked
         self.thermometer = TemperatureSensor(config.world, config.seed)
         self.time_s = 0.0
         self.steps = 0
@@ -128,6 +130,12 @@ class SimVehicle:
         """The downward radiometric sensor: reads the ground below at the vehicle's height."""
         b = self.state.body
         return self.thermometer.read(b.n_m, b.e_m, home_d_m - b.d_m, self.time_s)
+
+    def fly_traffic(self, dt_s: float, count: int, radius_m: float, alt_m: float) -> list[Aircraft]:
+        """Move the other aircraft dt_s on around this vehicle; those flying."""
+        b = self.state.body
+        self.traffic.step(dt_s, self.time_s, count, (b.n_m, b.e_m), radius_m, alt_m)
+        return self.traffic.flying()
 
     def read_sonar(self) -> float:
         """The downward rangefinder's beam over the flat ground [m] (inf: it misses the ground)."""

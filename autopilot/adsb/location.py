@@ -27,6 +27,15 @@ class Loc(NamedTuple):
             d_lon += 3600000000
         return (other.lat_e7 - self.lat_e7) * M_PER_E7, d_lon * M_PER_E7 * scale
 
+    def offset(self, north_m: float, east_m: float) -> Loc:
+        """This location moved north and east (Location::offset)."""
+        d_lat = int(north_m / M_PER_E7)
+        lat = self.lat_e7 + d_lat
+        scale = max(0.01, math.cos(math.radians((self.lat_e7 + d_lat / 2) * 1e-7)))
+        lon = self.lon_e7 + int(east_m / M_PER_E7 / scale)
+        lon = (lon + 1800000000) % 3600000000 - 1800000000
+        return Loc(max(-900000000, min(900000000, lat)), lon, self.alt_cm)
+
     def distance_to(self, other: Loc) -> float:
         """Horizontal metres to `other` (Location::get_distance)."""
         n, e = self.ne_to(other)

@@ -3,7 +3,9 @@
 The parameters are the interface (PARAM_SET at run time, a scenario's [faults] table at start,
 its [script] "param" steps at a sim time); sim/ only sees numbers: motor thrust shares, the GPS's
 switch, satellites and offset in metres, the barometer's drift rate, the wind, the battery's
-resting voltage, the RC receiver's failure, a push (SIM_SHOVE_*), the rangefinder's noise. SIM_LINK_* act on the MAVLink link, not on the sim (faults/link.py).
+resting voltage, the RC receiver's failure, a push (SIM_SHOVE_*), the rangefinder's noise.
+SIM_LINK_* act on the MAVLink link, not on the sim (faults/link.py); SIM_ADSB_*'s aircraft are
+flown by the vehicle's ADS-B update (vehicle.py, adsb/sitl_transceiver.py).
 """
 from __future__ import annotations
 

@@ -19,8 +19,34 @@ def report_of(msg) -> AdsbReport:
 
 def adsb_vehicle(v: TelemetryView, codec):
     r = v.adsb_next_to_send(time_boot_ms(v))
-    if r is None:
-        return None
+    return None if r is None else _encode(codec, r)
+
+
+class FromTransceiver:
+    """An ADSB_VEHICLE of SITL's transceiver forwarded as it came: from the vehicle's system, the
+    ADS-B component (156), in a numbering of its own."""
+    COMPONENT = 156  # MAV_COMP_ID_ADSB
+
+    def __init__(self, message, seq: int):
+        self._message, self._seq = message, seq
+
+    def pack(self, codec, force_mavlink1: bool = False) -> bytes:
+        component, seq = codec.srcComponent, codec.seq
+        codec.srcComponent, codec.seq = self.COMPONENT, self._seq
+        try:
+            return self._message.pack(codec, force_mavlink1)
+        finally:  # the link counts every frame it packs: one back, so the vehicle's own numbering has no gap
+            codec.srcComponent, codec.seq = component, (seq - 1) & 0xFF
+
+    def __getattr__(self, name):  # get_type() and the fields, as the message's
+        return getattr(self._message, name)
+
+
+def forwarded(codec, reports: list[AdsbReport], first_seq: int) -> list[FromTransceiver]:
+    return [FromTransceiver(_encode(codec, r), (first_seq + i) & 0xFF) for i, r in enumerate(reports)]
+
+
+def _encode(codec, r: AdsbReport):
     return codec.adsb_vehicle_encode(r.icao, r.lat_e7, r.lon_e7, r.altitude_type, r.altitude_mm, r.heading_cdeg,
                                      r.hor_velocity_cms, r.ver_velocity_cms, r.callsign, r.emitter_type, r.tslc,
                                      r.flags, r.squawk)

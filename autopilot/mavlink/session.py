@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from .. import version
 from ..results import Result
-from .adsb_messages import collision, report_of
+from .adsb_messages import collision, forwarded, report_of
 from .adsb_out import AdsbOut
 from .commands import Command, CommandService
 from .dialect import mavlink as mav
@@ -49,6 +49,7 @@ class Session:
         self.commands = CommandService()
         self.missions = MissionService(vehicle.mission, vehicle, codec)
         self.adsb_out = AdsbOut()  # a uAvionix transponder's configuration and channel
+        self._transceiver_seq = 0  # the next frame number of SITL's ADS-B transceiver (component 156)
         self._channels: dict = {}  # link -> its channel number, in the order transceivers reported on them
         self.legacy_points = LegacyPoints(vehicle.mission, vehicle.params, codec)  # older GCSs' fence and rally
         self.ftp = FtpServer(vehicle.params, vehicle.notify)
@@ -381,6 +382,10 @@ class Session:
             feedback = self.build(mav.MAVLINK_MSG_ID_CAMERA_FEEDBACK)
             if feedback is not None:
                 out.append(feedback)
+        if vehicle.adsb_forwards_due:  # SITL's traffic with no ADS-B receiver set: forwarded as it came
+            due, vehicle.adsb_forwards_due = vehicle.adsb_forwards_due, []
+            out.extend(forwarded(self.telemetry_codec, due, self._transceiver_seq))
+            self._transceiver_seq = (self._transceiver_seq + len(due)) & 0xFF
         if vehicle.collisions_due:  # ADS-B avoidance's reports: to every link
             due, vehicle.collisions_due = vehicle.collisions_due, []
             out.extend(collision(self.telemetry_codec, c) for c in due)

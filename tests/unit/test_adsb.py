@@ -9,6 +9,7 @@ import math
 import pytest
 
 from firefly.autopilot.adsb.location import Loc
+from firefly.autopilot.adsb.sitl_transceiver import report_of as sitl_report_of
 from firefly.autopilot.adsb.threats import HIGH, LOW, NONE, Avoidance, Obstacle, closest_xy, closest_z
 from firefly.autopilot.adsb.traffic_list import AdsbReport, TrafficList
 from firefly.autopilot.mavlink.dialect import new_codec
@@ -16,6 +17,8 @@ from firefly.autopilot.modes import ModeNumber
 from firefly.autopilot.params import ParamStore
 from firefly.autopilot.results import Result
 from firefly.autopilot.safety.arming import prearm_failure
+from firefly.autopilot.vehicle import Vehicle, VehicleConfig
+from firefly.sim.traffic import POINT_OBSTACLE, Aircraft, TrafficSim
 
 from ._session_link import Link
 from ._util import GCS_COMPONENT, GCS_SYSTEM, altitude, fly_until, hovering_vehicle, mav, of_type, ready_vehicle
@@ -282,3 +285,63 @@ def test_a_slow_intruder_alongside_sends_it_away_horizontally_and_recovery_resum
     assert v.mode_number == ModeNumber.AVOID_ADSB
     assert v.body.ve_m_s < -6.0 and abs(v.body.vn_m_s) < 1.0
     assert fly_until(v, lambda x: x.mode_number == ModeNumber.GUIDED, 10.0)  # AVD_F_RCVRY 1: the mode before
+
+
+# ----- SITL's traffic -----------------------------------------------------------------------------
+def fly(sim: TrafficSim, seconds: float, count: int = 5, radius_m: float = 10000.0, vehicle_ne=(0.0, 0.0),
+        start_s: float = 0.0) -> list[Aircraft]:
+    for k in range(round(seconds * 10)):
+        sim.step(0.1, start_s + k * 0.1, count, vehicle_ne, radius_m, 1000.0)
+    return sim.flying()
+
+
+def test_traffic_is_the_same_for_the_same_seed_and_not_for_another():
+    runs = [[(a.icao, round(a.n_m, 6), a.emitter_type) for a in fly(TrafficSim(seed), 30.0)] for seed in (3, 3, 4)]
+    assert runs[0] == runs[1] and runs[0] != runs[2]
+
+
+def test_aircraft_fly_straight_climb_and_are_replaced_beyond_the_radius():
+    sim = TrafficSim(1)
+    first = fly(sim, 0.1, count=20)
+    # spread as far as the radius, so many spawn beyond it: those are replaced at the next step
+    assert len(sim.aircraft) == 20 and 0 < len(first) < 20
+    assert all(math.hypot(a.n_m, a.e_m) > 10000.0 for a in sim.aircraft if a is not None and not a.alive)
+    assert all(a.callsign == f"SIM{a.icao}" and a.icao < 10000 for a in first)
+    assert all(a.vn_m_s == a.ve_m_s == 0.0 for a in first if a.emitter_type == POINT_OBSTACLE)
+    movers = [a for a in first if a.emitter_type < 17]
+    assert movers and sum(a.vd_m_s for a in movers) / len(movers) < 0  # climbing, on the whole
+    ids = {a.icao for a in first}
+    later = fly(sim, 120.0, count=20, radius_m=2000.0, start_s=0.1)
+    assert all(math.hypot(a.n_m, a.e_m) <= 2000.0 + 10.0 for a in later)
+    assert ids - {a.icao for a in later}  # some were replaced
+    assert fly(sim, 0.1, count=3, start_s=200.0) and len(sim.flying()) <= 3  # a new count: all spawned again
+    assert fly(sim, 0.1, count=200, start_s=201.0) == []  # SITL's limit: taken as none
+
+
+def test_the_transceiver_reports_an_aircraft_as_sitl_does():
+    origin = Loc(-353632610, 1491652300, 58408)
+    a = Aircraft(42, "SIM42", 1, 1000.0, -500.0, 1000.0, -10.0, 10.0, -2.5, 0.0)
+    r = sitl_report_of(a, origin)
+    assert r.location.lat_e7 == origin.lat_e7 + int(1000.0 / M_PER_E7)
+    assert origin.ne_to(r.location)[1] == pytest.approx(-500.0, abs=0.05)
+    assert (r.altitude_mm, r.heading_cdeg, r.hor_velocity_cms, r.ver_velocity_cms) == (1_000_000, 13500, 1414, 250)
+    assert (r.callsign, r.tslc, r.flags, r.squawk, r.altitude_type) == (b"SIM42", 1, 0x1FF, 1200, 0)
+
+
+@pytest.mark.parametrize("adsb_type", [0, 1])
+def test_sitl_traffic_is_listed_with_a_receiver_and_forwarded_without(adsb_type):
+    v = Vehicle(VehicleConfig(faults={"SIM_ADSB_COUNT": 3, "SIM_ADSB_RADIUS": 3000}), store(ADSB_TYPE=adsb_type))
+    link = Link(v)
+    link.send(SENDER.request_data_stream_encode(1, 1, 0, 10, 1))
+    out = fly_reporting(link, 9.9)
+    assert of_type(out, "ADSB_VEHICLE") == []  # nothing in the first 10 s
+    sent = of_type(fly_reporting(link, 5.0), "ADSB_VEHICLE")
+    assert sent and {m.get_srcComponent() for m in sent} == ({156} if adsb_type == 0 else {1})
+    assert all(m.callsign == f"SIM{m.ICAO_address}" for m in sent)
+
+
+def test_without_sim_adsb_count_at_boot_there_is_no_traffic():
+    v = Vehicle(VehicleConfig(), store(ADSB_TYPE=1))
+    v.params.set("SIM_ADSB_COUNT", 5)  # too late: SITL's transceiver is attached at boot
+    v.run_until(15.0)
+    assert v.sim.traffic.aircraft == [] and v.traffic.aircraft == []

@@ -13,6 +13,9 @@ climb       AVD_F_ACTION 2 in flight: an intruder above makes it descend in AVOI
             RTL_ALT; when it goes, AVD_F_RCVRY 2 brings RTL.
 sideways    AVD_F_ACTION 3 in flight: a slow intruder at its height, 30 m east, sends it west at
             WPNAV_SPEED.
+sim_traffic SITL's simulated traffic (SIM_ADSB_COUNT 5 at boot) listed with ADSB_TYPE 1 and no
+            radius: what its reports carry (drawn at random on both sides: their kinds, not values).
+sim_forward the same traffic with ADSB_TYPE 0: forwarded as SITL's transceiver sent it.
 """
 from __future__ import annotations
 
@@ -34,7 +37,10 @@ PROBES_PARAMS = {
     "report": {"ADSB_TYPE": 1, "AVD_ENABLE": 1, "AVD_F_ACTION": 1},
     "climb": {"ADSB_TYPE": 1, "AVD_ENABLE": 1, "AVD_F_ACTION": 2},
     "sideways": {"ADSB_TYPE": 1, "AVD_ENABLE": 1, "AVD_F_ACTION": 3},
+    "sim_traffic": {"SIM_ADSB_COUNT": 5, "ADSB_TYPE": 1, "ADSB_LIST_RADIUS": 0},
+    "sim_forward": {"SIM_ADSB_COUNT": 5},
 }
+SIM_COUNT = 5
 TICK = Tol(abs=0.25, why="ADS-B and avoidance run on 100 ms ticks, the client's reports land between them")
 
 
@@ -217,8 +223,54 @@ def sideways(c: Client, trace: Trace) -> None:
     trace.fact("east.ve_m_s", round(g.vy / 100, 1), Tol(abs=1.5, why="WPNAV_SPEED, reached through its ramp"))
 
 
+def sim_traffic(c: Client, trace: Trace) -> None:
+    _home(c)
+    got, listener = _collect(c, ("ADSB_VEHICLE",))
+    with c.listening(listener):
+        c.wait(lambda: c.now_ms > 12_000 and got, 60, what="simulated traffic")
+        trace.fact("first_after_s", got[0][0] >= 10_000)
+        c.idle(20.0)
+    reports = [m for _, m in got]
+    trace.fact("icaos_below_10000", all(m.ICAO_address < 10000 for m in reports))
+    trace.fact("callsigns_sim_icao", all(m.callsign == f"SIM{m.ICAO_address}" for m in reports))
+    for field in ("flags", "tslc", "squawk", "altitude_type"):
+        trace.fact(f"{field}_values", sorted({getattr(m, field) for m in reports}))
+    trace.fact("emitter_types_in_range", all(0 <= m.emitter_type < 20 for m in reports))
+    trace.fact("median_altitude_m", round(statistics.median(m.altitude for m in reports) / 1000),
+               Tol(abs=200, why="SIM_ADSB_ALT 1000 m at spawn, then each climbs at a random N(3, 3) m/s"))
+    last_pass = {m.ICAO_address for t, m in got if t >= got[-1][0] - 1500}
+    trace.fact("listed_at_once", len(last_pass), Tol(abs=1, why="one respawned within 5 s is still listed"))
+    by_icao: dict = {}
+    for t, m in got:
+        by_icao.setdefault(m.ICAO_address, []).append(t)
+    gaps = [(b - a) / 1000 for times in by_icao.values() for a, b in zip(times, times[1:])]
+    trace.fact("update_interval_s", round(statistics.median(gaps), 1), Tol(abs=0.15))
+
+
+def sim_forward(c: Client, trace: Trace) -> None:
+    _home(c)
+    sources: dict = {}
+    take = c._take
+
+    def counting(msg):  # the client keeps only the autopilot's own messages: count before it does
+        if msg.get_type() == "ADSB_VEHICLE":
+            key = f"{msg.get_srcSystem()}/{msg.get_srcComponent()}"
+            sources[key] = sources.get(key, 0) + 1
+        take(msg)
+    c._take = counting
+    try:
+        c.wait(lambda: c.now_ms > 12_000, 60, what="time for the traffic")
+        start_ms, before = c.now_ms, dict(sources)
+        c.idle(10.0)
+    finally:
+        c._take = take
+    trace.fact("sources", sorted(sources))
+    rate = (sources.get("1/156", 0) - before.get("1/156", 0)) / ((c.now_ms - start_ms) / 1000)
+    trace.fact("forwarded_per_second", round(rate, 1), Tol(abs=1.0, why=f"{SIM_COUNT} a second, less respawns"))
+
+
 PROBES = {"receive": receive, "disabled": disabled, "threat": threat, "report": report, "climb": climb,
-          "sideways": sideways}
+          "sideways": sideways, "sim_traffic": sim_traffic, "sim_forward": sim_forward}
 
 
 def run(target) -> dict[str, Trace]:
