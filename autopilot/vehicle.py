@@ -260,6 +260,8 @@ class Vehicle:
     gps_glitching: ReadThrough[bool] = property(attrgetter("failsafes.ekf.gps_glitching"))
     internal_error_bits: ReadThrough[int] = property(attrgetter("internal_errors.bits"))
     mission_version: ReadThrough[int] = property(attrgetter("mission.version"), doc="Bumped on every change.")
+    rangefinder_kind: ReadThrough[int] = property(attrgetter("rangefinder.kind"),
+                                                  doc="RNGFND1_TYPE's driver made at boot, 0 none.")
     rangefinder_down: ReadThrough[bool] = property(attrgetter("rangefinder.down"),
                                                    doc="A rangefinder faces down (RANGEFINDER, SYS_STATUS).")
     rangefinder_enabled: ReadThrough[bool] = property(attrgetter("rangefinder.enabled"),

@@ -90,12 +90,13 @@ def sys_status(v: TelemetryView, codec):
     # reads a missing health bit as a breach even when no fence exists).
     if not v.fence_breached:
         healthy |= mav.MAV_SYS_STATUS_GEOFENCE
-    if v.rangefinder_down:  # as ArduCopter: present with a downward rangefinder, enabled at boot and by
-        present |= RANGEFINDER  # the RANGEFINDER aux switch, healthy while enabled with data
-    if v.rangefinder_enabled:
-        enabled |= RANGEFINDER
-        if v.rangefinder_reading().has_data:
-            healthy |= RANGEFINDER
+    if v.rangefinder_kind:  # (one plain read when there is none, as on most vehicles)
+        if v.rangefinder_down:  # as ArduCopter: present with a downward rangefinder, enabled at boot and by
+            present |= RANGEFINDER  # the RANGEFINDER aux switch, healthy while enabled with data
+        if v.rangefinder_enabled:
+            enabled |= RANGEFINDER
+            if v.rangefinder_reading().has_data:
+                healthy |= RANGEFINDER
     batt = v.battery
     errors1, errors2, errors4 = v.internal_error_fields()
     return codec.sys_status_encode(present, enabled, healthy, 100,
