@@ -351,6 +351,14 @@ class Vehicle:
         """An ADSB_VEHICLE from any link: traffic for the receiver's list (adsb/traffic_list.py)."""
         self.traffic.receive(report, int(self.time_s * 1000))
 
+    def position_heard(self, system_id: int, lat_e7: int, lon_e7: int, alt_mm: int, vx_cms: int, vy_cms: int,
+                       vz_cms: int) -> None:
+        """Another system's GLOBAL_POSITION_INT: with DEV_OPTIONS bit 0 (ADSBMavlinkProcessing) an
+        obstacle for avoidance, as ArduCopter takes it."""
+        if system_id != self.system_id and int(self.params["DEV_OPTIONS"]) & 1:
+            self.avoidance.position_heard(int(self.time_s * 1000), system_id, Loc(lat_e7, lon_e7, int(alt_mm * 0.1)),
+                                          (vx_cms * 0.01, vy_cms * 0.01, vz_cms * 0.01))
+
     def adsb_location(self) -> Loc | None:
         """Where the vehicle is, as ADS-B compares it with traffic; None without a position."""
         if not self.has_position():

@@ -32,7 +32,7 @@ from .traffic_list import Tracked
 
 NONE, LOW, HIGH = 0, 1, 2  # MAV_COLLISION_THREAT_LEVEL
 ACTION_NONE, ACTION_REPORT = 0, 1  # MAV_COLLISION_ACTION; more than REPORT acts (escape.py)
-SRC_ADSB = 0  # MAV_COLLISION_SRC
+SRC_ADSB, SRC_GLOBAL_POSITION = 0, 1  # MAV_COLLISION_SRC: a COLLISION always says ADSB, as ArduPilot's
 MAX_AGE_MS = 5000  # MAX_OBSTACLE_AGE_MS
 RECOVERY_MS = 2000  # AP_AVOIDANCE_STATE_RECOVERY_TIME_MS
 NOTIFY_MS = 1000  # _gcs_notify_interval
@@ -43,6 +43,7 @@ UINT32 = 0xFFFFFFFF
 
 @dataclass
 class Obstacle:
+    src: int
     src_id: int
     loc: Loc
     vel_ned: tuple[float, float, float]
@@ -126,24 +127,32 @@ class Avoidance:
             self._cleared_first_ms, self._most_serious = UINT32, None
         return True
 
-    def _add(self, tracked: Tracked) -> None:
+    def _add_report(self, tracked: Tracked) -> None:
         r = tracked.report
         hdg = math.radians(r.heading_cdeg * 0.01)
         speed = r.hor_velocity_cms * 0.01
         vel = (speed * math.cos(hdg), speed * math.sin(hdg), -r.ver_velocity_cms * 0.01)
+        self._add(SRC_ADSB, r.icao, r.location, vel, tracked.heard_ms)
+
+    def position_heard(self, now_ms: int, system_id: int, where: Loc, vel_ned: tuple[float, float, float]) -> None:
+        """Another system's GLOBAL_POSITION_INT (with DEV_OPTIONS bit 0): an obstacle too."""
+        if self.on:
+            self._add(SRC_GLOBAL_POSITION, system_id, where, vel_ned, now_ms)
+
+    def _add(self, src: int, src_id: int, loc: Loc, vel: tuple[float, float, float], timestamp_ms: int) -> None:
         obstacles = self.obstacles
         oldest = None
         for o in obstacles:
-            if o.src_id == r.icao:
-                o.loc, o.vel_ned, o.timestamp_ms = r.location, vel, tracked.heard_ms
+            if o.src == src and o.src_id == src_id:
+                o.loc, o.vel_ned, o.timestamp_ms = loc, vel, timestamp_ms
                 return
             if oldest is None or o.timestamp_ms < oldest.timestamp_ms:
                 oldest = o
         if len(obstacles) < self._capacity:
-            obstacles.append(Obstacle(r.icao, r.location, vel, tracked.heard_ms))
-        elif oldest is not None and oldest.timestamp_ms < tracked.heard_ms:
-            oldest.src_id, oldest.loc, oldest.vel_ned, oldest.timestamp_ms = \
-                r.icao, r.location, vel, tracked.heard_ms
+            obstacles.append(Obstacle(src, src_id, loc, vel, timestamp_ms))
+        elif oldest is not None and oldest.timestamp_ms < timestamp_ms:
+            oldest.src, oldest.src_id, oldest.loc, oldest.vel_ned, oldest.timestamp_ms = \
+                src, src_id, loc, vel, timestamp_ms
 
     def update(self, now_ms: int, take_samples: Callable[[], list[Tracked]], my_loc: Loc | None,
                my_vel: tuple[float, float, float] | None) -> Collision | None:
@@ -152,7 +161,7 @@ class Avoidance:
         if not self._start():
             return None
         for tracked in take_samples():
-            self._add(tracked)
+            self._add_report(tracked)
         if my_loc is not None and my_vel is not None:
             self._rate(now_ms, my_loc, my_vel)
         threat = self._most_serious

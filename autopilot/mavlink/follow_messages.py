@@ -22,6 +22,7 @@ def on_global_position_int(vehicle: Any, msg: Any, now_s: float, sender: int | N
     process, io/shared_air.py)."""
     target = vehicle.follow_target
     sender = msg.get_srcSystem() if sender is None else sender
+    vehicle.position_heard(sender, msg.lat, msg.lon, msg.alt, msg.vx, msg.vy, msg.vz)  # ADS-B avoidance's too
     if not target.listens_to(sender, vehicle.system_id, now_s):
         return
     if msg.lat == 0 and msg.lon == 0:  # no fix

@@ -21,7 +21,8 @@ from firefly.autopilot.vehicle import Vehicle, VehicleConfig
 from firefly.sim.traffic import POINT_OBSTACLE, Aircraft, TrafficSim
 
 from ._session_link import Link
-from ._util import GCS_COMPONENT, GCS_SYSTEM, altitude, fly_until, hovering_vehicle, mav, of_type, ready_vehicle
+from ._util import (GCS_COMPONENT, GCS_SYSTEM, altitude, fly_until, hovering_vehicle, mav, of_type, ready_vehicle,
+                    wire)
 
 HOME = Loc(-353632610, 1491652300, 58408)
 M_PER_E7 = 0.011131884502145034
@@ -125,7 +126,7 @@ def test_reports_queue_for_avoidance_at_most_thirty_deep():
 # ----- threats ------------------------------------------------------------------------------------
 def obstacle(north_m: float, up_m: float = 0.0, vel=(0.0, 0.0, 0.0)) -> Obstacle:
     r = report(1, north_m, up_m)
-    return Obstacle(1, r.location, vel, 0)
+    return Obstacle(0, 1, r.location, vel, 0)
 
 
 def test_closest_approach_of_a_head_on_intruder():
@@ -254,6 +255,23 @@ def test_an_intruder_overhead_on_the_ground_refuses_arming_and_makes_the_heartbe
     assert of_type(out, "HEARTBEAT")[-1].system_status == mav.MAV_STATE_CRITICAL
     assert prearm_failure(v) == "ADSB threat detected" and v.arm() != Result.ACCEPTED
     assert fly_until(v, lambda x: not x.adsb_threat, 6.0) and v.arm() == Result.ACCEPTED
+
+
+@pytest.mark.parametrize("dev_options", [0, 1])
+def test_another_systems_position_is_an_obstacle_with_dev_options_bit_0(dev_options):
+    link = Link(ready_vehicle(boot_params={"AVD_ENABLE": 1, "DEV_OPTIONS": dev_options}))
+    v = link.vehicle
+    other = new_codec(7, 1)
+    home = v.home
+
+    def position(x):
+        return wire(other.global_position_int_encode(0, round(home.lat_deg * 1e7), round(home.lon_deg * 1e7),
+                                                     round((home.alt_m + 10) * 1000), 10_000, 0, 0, 0, 0), other)
+    collisions = of_type(fly_reporting(link, 4.0, position), "COLLISION")
+    if dev_options:
+        assert collisions and (collisions[-1].src, collisions[-1].id, collisions[-1].threat_level) == (0, 7, HIGH)
+    else:
+        assert collisions == []
 
 
 @pytest.mark.parametrize("action, mode", [(5, ModeNumber.RTL), (6, ModeNumber.LOITER)])

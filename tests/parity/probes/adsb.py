@@ -16,6 +16,8 @@ sideways    AVD_F_ACTION 3 in flight: a slow intruder at its height, 30 m east, 
 sim_traffic SITL's simulated traffic (SIM_ADSB_COUNT 5 at boot) listed with ADSB_TYPE 1 and no
             radius: what its reports carry (drawn at random on both sides: their kinds, not values).
 sim_forward the same traffic with ADSB_TYPE 0: forwarded as SITL's transceiver sent it.
+dev_options AVD_ENABLE 1 and DEV_OPTIONS 1: another system's GLOBAL_POSITION_INT 10 m overhead is a
+            threat too (no ADS-B receiver set).
 """
 from __future__ import annotations
 
@@ -39,6 +41,7 @@ PROBES_PARAMS = {
     "sideways": {"ADSB_TYPE": 1, "AVD_ENABLE": 1, "AVD_F_ACTION": 3},
     "sim_traffic": {"SIM_ADSB_COUNT": 5, "ADSB_TYPE": 1, "ADSB_LIST_RADIUS": 0},
     "sim_forward": {"SIM_ADSB_COUNT": 5},
+    "dev_options": {"AVD_ENABLE": 1, "DEV_OPTIONS": 1},
 }
 SIM_COUNT = 5
 TICK = Tol(abs=0.25, why="ADS-B and avoidance run on 100 ms ticks, the client's reports land between them")
@@ -269,8 +272,27 @@ def sim_forward(c: Client, trace: Trace) -> None:
     trace.fact("forwarded_per_second", round(rate, 1), Tol(abs=1.0, why=f"{SIM_COUNT} a second, less respawns"))
 
 
+def dev_options(c: Client, trace: Trace) -> None:
+    _ready(c)
+    h = c.last["HOME_POSITION"]
+    got, listener = _collect(c, ("COLLISION",))
+
+    def position():
+        c.conn.mav.srcSystem = 7  # another vehicle's report
+        try:
+            c.conn.mav.global_position_int_send(0, h.latitude, h.longitude, h.altitude + 10_000, 10_000, 0, 0, 0, 0)
+        finally:
+            c.conn.mav.srcSystem = 255
+    with c.listening(listener):
+        _reporting(c, 5, position)
+        c.fresh_heartbeat()
+        trace.fact("overhead.system_status", c.system_status)
+    _collision_facts(trace, "overhead", got)
+
+
 PROBES = {"receive": receive, "disabled": disabled, "threat": threat, "report": report, "climb": climb,
-          "sideways": sideways, "sim_traffic": sim_traffic, "sim_forward": sim_forward}
+          "sideways": sideways, "sim_traffic": sim_traffic, "sim_forward": sim_forward,
+          "dev_options": dev_options}
 
 
 def run(target) -> dict[str, Trace]:
