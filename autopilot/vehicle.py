@@ -409,6 +409,19 @@ class Vehicle:
         """The RANGEFINDER aux function (rangefinder.py)."""
         self.rangefinder.switched(position == 2)
 
+    def avoid_adsb_switch(self, position: int) -> None:
+        """The AVOID_ADSB aux function (38): avoidance on (HIGH, with the ADS-B list running) or off,
+        until AVD_ENABLE is next set (ArduPilot sets the value in RAM and does not save it)."""
+        if position == 2:
+            if not self.traffic.available():
+                self.notify("ADSB not available", Severity.CRITICAL)
+                return
+            self.avoidance.switched = True
+            self.notify("ADSB Avoidance Enabled", Severity.CRITICAL)
+        else:
+            self.avoidance.switched = False
+            self.notify("ADSB Avoidance Disabled", Severity.CRITICAL)
+
     def zigzag_switch(self, which: str, position: int) -> None:
         """ZIGZAG's aux switches (SaveWP, Auto), in ZIGZAG only."""
         mode = self.mode
@@ -501,6 +514,8 @@ class Vehicle:
             self.nav_speed_m_s = value / 100.0
         elif name == "FENCE_ENABLE":
             self.fence.follow_param(self.params)
+        elif name == "AVD_ENABLE":
+            self.avoidance.switched = None
 
     # ----- commands: arming ------------------------------------------------------------------
     def arm(self, force: bool = False) -> Result:
@@ -810,7 +825,8 @@ class Vehicle:
             if self.sim.steps % (self._mode_every * FAILSAFE_EVERY) == 0:
                 self.failsafes.check(self)
                 p = self.params
-                if p["ADSB_TYPE"] or p["AVD_ENABLE"] or self.avoidance.on or self.sitl_transceiver.attached:
+                if p["ADSB_TYPE"] or p["AVD_ENABLE"] or self.avoidance.on or self.avoidance.switched or \
+                        self.sitl_transceiver.attached:
                     self._adsb_update(now)
                 self._read_aux_switches(now)
                 self.thrust_loss.check(self, FAILSAFE_EVERY * dt)

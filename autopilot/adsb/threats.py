@@ -106,6 +106,8 @@ class Avoidance:
         self._params = params
         self._escape = escape
         self.on = False  # AVD_ENABLE has made it (ArduPilot allocates its obstacles then)
+        # The AVOID_ADSB aux switch's word (True on, False off) until AVD_ENABLE is next set; None: none
+        self.switched: bool | None = None
         self.obstacles: list[Obstacle] = []
         self._capacity = 0
         self.threat_level = NONE
@@ -116,7 +118,8 @@ class Avoidance:
 
     def _start(self) -> bool:
         """AP_Avoidance's check_startup: made when AVD_ENABLE is set, dropped (recovering) when not."""
-        if not self._params["AVD_ENABLE"]:
+        wanted = self._params["AVD_ENABLE"] if self.switched is None else self.switched
+        if not wanted:
             if self.on:
                 self.on, self.obstacles = False, []
                 self._escape.recover(RECOVER_RTL)

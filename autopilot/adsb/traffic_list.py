@@ -74,6 +74,10 @@ class TrafficList:
     def enabled(self) -> bool:
         return self._params["ADSB_TYPE"] != 0
 
+    def available(self) -> bool:
+        """AP_ADSB's healthy(): a type is set and the list has started (it starts now if it can)."""
+        return self._start()
+
     def _start(self) -> bool:
         """AP_ADSB's check_startup: off until a type is set; the list is made the first time."""
         if not self.started:

@@ -245,8 +245,16 @@ def run_prearm_checks(s, c: Command) -> Result:
 
 def no_such_device(s, c: Command) -> Result:
     """FAILED, as ArduCopter SITL answers for a device it has none of: a mount or gimbal, a
-    camera, a gripper, a winch, an ADS-B transponder, an SD card to format."""
+    camera, a gripper, a winch, an SD card to format."""
     return Result.FAILED
+
+
+def adsb_out_ident(s, c: Command) -> Result:
+    """As AP_ADSB::ident_start: with the ADS-B list running (ADSB_TYPE), "ADSB: IDENT!"."""
+    if not s.vehicle.traffic.available():
+        return Result.FAILED
+    s.vehicle.notify("ADSB: IDENT!", Severity.INFO)
+    return Result.ACCEPTED
 
 
 def request_autopilot_capabilities(s, c: Command) -> Result:
@@ -360,7 +368,8 @@ HANDLERS = {
         mav.MAV_CMD_DO_MOUNT_CONFIGURE, mav.MAV_CMD_DO_MOUNT_CONTROL, mav.MAV_CMD_DO_GIMBAL_MANAGER_PITCHYAW,
         mav.MAV_CMD_DO_GIMBAL_MANAGER_CONFIGURE, mav.MAV_CMD_SET_CAMERA_FOCUS,
         mav.MAV_CMD_VIDEO_START_CAPTURE, mav.MAV_CMD_VIDEO_STOP_CAPTURE, mav.MAV_CMD_DO_GRIPPER,
-        mav.MAV_CMD_DO_WINCH, mav.MAV_CMD_DO_ADSB_OUT_IDENT, mav.MAV_CMD_STORAGE_FORMAT)},
+        mav.MAV_CMD_DO_WINCH, mav.MAV_CMD_STORAGE_FORMAT)},
+    mav.MAV_CMD_DO_ADSB_OUT_IDENT: adsb_out_ident,
 }
 
 

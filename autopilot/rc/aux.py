@@ -35,6 +35,7 @@ class AuxHost(Protocol):
     def reset_mode_switch(self) -> None: ...
     def zigzag_switch(self, which: str, position: int) -> None: ...
     def rangefinder_switch(self, position: int) -> None: ...
+    def avoid_adsb_switch(self, position: int) -> None: ...
 
 
 @dataclass(frozen=True)
@@ -109,6 +110,7 @@ AUX_FUNCTIONS: dict[int, AuxFunction] = {f.number: f for f in (
     # SaveWaypoint: ArduCopter appends the vehicle's place to the mission; Firefly does not (yet)
     AuxFunction(7, "SAVE_WP", _nothing, announce="SaveWaypoint"),
     AuxFunction(10, "RANGEFINDER", lambda v, position: v.rangefinder_switch(position), announce="Rangefinder"),
+    AuxFunction(38, "AVOID_ADSB", lambda v, position: v.avoid_adsb_switch(position)),
     AuxFunction(16, "AUTO", _mode(M.AUTO)),
     AuxFunction(17, "AUTOTUNE", _mode(M.AUTOTUNE)),
     AuxFunction(18, "LAND", _mode(M.LAND)),
@@ -139,7 +141,7 @@ AUX_FUNCTIONS: dict[int, AuxFunction] = {f.number: f for f in (
 # Functions ArduCopter runs for hardware and features Firefly's vehicle does not have (camera,
 # relays, gripper, winch, mount, simple modes, ...): known, accepted, nothing moves. Those whose
 # missing device ArduCopter reports as a failure are FAILED_WITHOUT_DEVICE.
-NOTHING_HERE = (3, 5, 9, 11, 13, 14, 15, 19, 21, 22, 23, 24, 25, 26, 27, 28, 29, 30, 32, 34, 35, 36, 38, 39,
+NOTHING_HERE = (3, 5, 9, 11, 13, 14, 15, 19, 21, 22, 23, 24, 25, 26, 27, 28, 29, 30, 32, 34, 35, 36, 39,
                 40, 44, 45, 46, 47, 48, 49, 58, 62, 65, 66, 67, 75, 76, 78, 79, 80, 84, 85, 90, 100, 101,
                 102, 103, 104, 105, 106, 109, 110, 111, 112, 113, 152, 154, 158, 159, 160, 162, 163,
                 164, 171, 172, 177, 180, 182, *range(212, 220), *range(300, 316))

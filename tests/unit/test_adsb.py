@@ -363,3 +363,30 @@ def test_without_sim_adsb_count_at_boot_there_is_no_traffic():
     v.params.set("SIM_ADSB_COUNT", 5)  # too late: SITL's transceiver is attached at boot
     v.run_until(15.0)
     assert v.sim.traffic.aircraft == [] and v.traffic.aircraft == []
+
+
+def test_the_avoid_adsb_switch_turns_avoidance_on_and_off_until_avd_enable_is_set():
+    v = ready_vehicle()
+    assert v.aux_function(38, 2) == Result.ACCEPTED and v.drain_events()[-1][1] == "ADSB not available"
+    v.params.set("ADSB_TYPE", 1)
+    v.aux_function(38, 2)
+    assert v.drain_events()[-1][1] == "ADSB Avoidance Enabled"
+    v.run_until(v.time_s + 0.2)
+    assert v.avoidance.on and v.params["AVD_ENABLE"] == 0  # not written to the parameter, as ArduPilot's RAM value
+    v.aux_function(38, 0)
+    v.run_until(v.time_s + 0.2)
+    assert not v.avoidance.on and v.drain_events()[-1][1] == "ADSB Avoidance Disabled"
+    v.params.set("AVD_ENABLE", 1)  # a value set again is what counts
+    v.run_until(v.time_s + 0.2)
+    assert v.avoidance.on
+
+
+def test_ident_needs_the_adsb_list():
+    link = Link(ready_vehicle())
+    ack, _ = link.command(mav.MAV_CMD_DO_ADSB_OUT_IDENT)
+    assert ack.result == mav.MAV_RESULT_FAILED
+    link.vehicle.params.set("ADSB_TYPE", 1)
+    link.vehicle.run_until(link.vehicle.time_s + 2.0)  # (a repeat sooner would be taken as a retry)
+    ack, out = link.command(mav.MAV_CMD_DO_ADSB_OUT_IDENT, now=link.vehicle.time_s)
+    assert ack.result == mav.MAV_RESULT_ACCEPTED
+    assert "ADSB: IDENT!" in [m.text for m in of_type(out + link.poll(), "STATUSTEXT")]
