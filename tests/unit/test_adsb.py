@@ -390,3 +390,35 @@ def test_ident_needs_the_adsb_list():
     ack, out = link.command(mav.MAV_CMD_DO_ADSB_OUT_IDENT, now=link.vehicle.time_s)
     assert ack.result == mav.MAV_RESULT_ACCEPTED
     assert "ADSB: IDENT!" in [m.text for m in of_type(out + link.poll(), "STATUSTEXT")]
+
+
+@pytest.mark.parametrize("action", [2, 4, 5])
+def test_hostile_traffic_reports_never_stop_the_vehicle(action):
+    """Any field at any value, near and far, from ground stations and other systems: no handler
+    error, no internal error, whatever avoidance does about it."""
+    import random
+    rng = random.Random(action)
+    v = hovering_vehicle(20.0)
+    for name, value in (("ADSB_TYPE", 1), ("AVD_ENABLE", 1), ("AVD_F_ACTION", action), ("ADSB_LIST_RADIUS", 0),
+                        ("DEV_OPTIONS", 1)):
+        v.params.set(name, value)
+    link, home = Link(v), v.home
+    lat0, lon0, alt0 = round(home.lat_deg * 1e7), round(home.lon_deg * 1e7), round(home.alt_m * 1000)
+    for _ in range(150):
+        sender = new_codec(rng.randrange(1, 255), 1)
+        lat = rng.choice([rng.randrange(-2**31, 2**31), lat0 + rng.randrange(-2000, 2000), 0, 2**31 - 1])
+        lon = rng.choice([rng.randrange(-2**31, 2**31), lon0 + rng.randrange(-2000, 2000), 0, -2**31])
+        alt = rng.choice([rng.randrange(-2**31, 2**31), alt0 + rng.randrange(-50_000, 50_000), 0])
+        if rng.random() < 0.7:
+            m = sender.adsb_vehicle_encode(rng.randrange(2**32), lat, lon, rng.randrange(256), alt, rng.randrange(65536),
+                                           rng.randrange(65536), rng.randrange(-32768, 32768),
+                                           bytes(rng.randrange(256) for _ in range(9)), rng.randrange(256),
+                                           rng.randrange(256), rng.randrange(65536), rng.randrange(65536))
+        else:
+            m = sender.global_position_int_encode(0, lat, lon, alt, 0, *(rng.randrange(-32768, 32768) for _ in range(3)),
+                                                  0)
+        link.send(wire(m, sender))
+        v.run_until(v.time_s + 0.05)
+        link.poll()
+    assert link.session.counters["handler_errors"] == 0, link.session.last_handler_error
+    assert v.internal_error_fields() == (0, 0, 0)
