@@ -359,6 +359,10 @@ class Vehicle:
             self.avoidance.position_heard(int(self.time_s * 1000), system_id, Loc(lat_e7, lon_e7, int(alt_mm * 0.1)),
                                           (vx_cms * 0.01, vy_cms * 0.01, vz_cms * 0.01))
 
+    def lists_traffic(self) -> bool:
+        """Whether the ADS-B list runs (AP_ADSB's enabled()): ADSB_VEHICLE is then not forwarded."""
+        return self.traffic.started and self.traffic.enabled
+
     def adsb_location(self) -> Loc | None:
         """Where the vehicle is, as ADS-B compares it with traffic; None without a position."""
         if not self.has_position():

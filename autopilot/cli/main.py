@@ -213,7 +213,8 @@ def build_vehicle(args, scenario, k: int, outs, listen, epoch_us: int):
     link = Link(session.codec, session.signing, LinkFaults(vehicle.params, vehicle.config.sim.seed))
     bind_link(link, vehicle, session)
     reboot_startup = scenario.startup or StartupTimeline()
-    node = Node(vehicle, session, endpoint, link, Router(n + 1), tlog, state_log, recorder, log_files,
+    router = Router(n + 1, vehicle.lists_traffic)
+    node = Node(vehicle, session, endpoint, link, router, tlog, state_log, recorder, log_files,
                 power_on=functools.partial(power_on, wipe=False, startup=reboot_startup))
     return node, vehicle_outs
 

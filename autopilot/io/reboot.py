@@ -67,4 +67,5 @@ def reboot(node: Node) -> None:
     session.silent_until_s = FIRST_HEARTBEAT_S
     bind_link(node.link, vehicle, session)
     node.vehicle, node.session = vehicle, session
+    node.router.lists_traffic = vehicle.lists_traffic  # the new vehicle's ADS-B list decides forwarding
     node.reboots += 1

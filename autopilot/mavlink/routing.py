@@ -18,6 +18,7 @@ COMMAND_ACK or PARAM_VALUE answering the other link's requests.
 from __future__ import annotations
 
 from collections import OrderedDict
+from collections.abc import Callable
 
 from .dialect import AUTOPILOT_COMPONENT_ID as AUTOPILOT_COMPONENT
 
@@ -34,9 +35,16 @@ def targets(msg) -> tuple[int, int]:
     return int(system or 0), int(getattr(msg, "target_component", 0) or 0)
 
 
+def never() -> bool:
+    return False
+
+
 class Router:
-    def __init__(self, system_id: int):
+    def __init__(self, system_id: int, lists_traffic: Callable[[], bool] = never):
         self.system_id = system_id
+        # Whether the vehicle's ADS-B list runs: ADSB_VEHICLE is then its own (the ADSB stream
+        # sends it on), not forwarded, as ArduPilot's routing keeps it
+        self.lists_traffic = lists_traffic
         self._routes: OrderedDict = OrderedDict()  # (system, component) -> link key, least recent first
         self.counters = {"forwarded": 0, "routes_evicted": 0}
 
@@ -58,6 +66,8 @@ class Router:
     def route(self, msg, link) -> tuple[bool, list]:
         """(whether this vehicle handles `msg`, the other links it is forwarded to). Learns first."""
         self.learn(msg, link)
+        if msg.get_type() == "ADSB_VEHICLE" and self.lists_traffic():
+            return True, []
         system, component = targets(msg)
         own = self.system_id
         if not self._routes or (system == own and component == AUTOPILOT_COMPONENT):

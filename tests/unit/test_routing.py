@@ -62,3 +62,13 @@ def test_the_vehicle_itself_is_never_a_route():
     router = Router(1)
     router.learn(message(heartbeat, 1, 1), GCS)
     assert router.routes == {}
+
+
+def test_traffic_reports_are_not_forwarded_while_the_vehicle_lists_traffic():
+    lists = [False]
+    router = Router(1, lambda: lists[0])
+    router.route(message(heartbeat), GCS)
+    report = message(lambda codec: codec.adsb_vehicle_encode(1, 0, 0, 0, 0, 0, 0, 0, b"T", 1, 1, 3, 1200), 1, 191)
+    assert router.route(report, COMPANION) == (True, [GCS])  # ADSB_TYPE 0: a broadcast like any other
+    lists[0] = True
+    assert router.route(report, COMPANION) == (True, [])
