@@ -156,9 +156,10 @@ class Vehicle:
         self.traffic = TrafficList(self.params)
         self.avoidance = Avoidance(self.params, CopterEscape(self, self.failsafes))
         self.collisions_due: list[Collision] = []  # COLLISION reports for every link
-        # SITL's transceiver for the simulated traffic (SIM_ADSB_*), there if SIM_ADSB_COUNT >= 0 at boot;
+        # SITL's transceiver for the simulated traffic (SIM_ADSB_*, [[traffic]]), there if SIM_ADSB_COUNT >= 0
+        # at boot or the scenario flies aircraft;
         # what it reports goes to the list, or (ADSB_TYPE 0) out to every link as it is
-        self.sitl_transceiver = SitlTransceiver(self.params["SIM_ADSB_COUNT"] >= 0)
+        self.sitl_transceiver = SitlTransceiver(self.params["SIM_ADSB_COUNT"] >= 0 or bool(config.sim.traffic))
         self.adsb_forwards_due: list[AdsbReport] = []
         self.adsb_next_to_send = self.traffic.next_to_send  # (now_ms): the ADSB stream's next message
         self.ctx = ModeContext(self)

@@ -16,6 +16,7 @@ from .airframe import Airframe
 from .fire import FireWorld, world_from_tables
 from .geo import GeoPoint
 from .sensors import NoiseConfig
+from .traffic import tracks_from_tables
 from .vehicle import SimConfig
 from .wind import SteadyWind
 
@@ -100,7 +101,7 @@ def load_scenario(path: Path) -> Scenario:
     return scenario_from_dict(read_toml(path), str(path))
 
 
-WORLD_TABLES = ("seed", "home", "airframe", "wind", "noise", "sim", "world", "fire")
+WORLD_TABLES = ("seed", "home", "airframe", "wind", "noise", "sim", "world", "fire", "traffic")
 VEHICLE_TABLES = ("script", "signing", "faults", "startup", "params")  # what the vehicle acts on: checked by the autopilot
 KNOWN_TABLES = WORLD_TABLES + VEHICLE_TABLES
 
@@ -151,7 +152,11 @@ def scenario_from_dict(data: dict, name: str = "scenario") -> Scenario:
                                 "give it or wind_tilt/wind_to_deg, not both")
         sc.world = dataclasses.replace(sc.world, wind_tilt=wind.speed_m_s / sc.world.plume_rise_m_s,
                                        wind_to_deg=(wind.from_direction_deg + 180.0) % 360.0)
+    try:
+        traffic = tracks_from_tables(data.get("traffic", []), name)
+    except ValueError as exc:
+        raise ScenarioError(str(exc)) from None
     sc.sim = SimConfig(airframe=airframe, wind=wind, noise=noise, physics_rate_hz=rate, seed=sc.seed,
-                       world=sc.world)
+                       world=sc.world, traffic=traffic)
     sc.vehicle_tables = {key: data[key] for key in VEHICLE_TABLES if key in data}
     return sc

@@ -13,7 +13,7 @@ from .battery import (STEP_AT, BatteryState, open_circuit_volts_per_cell, remain
 from .physics import PhysicsState, initial_state, make_fast_step
 from .rotors import HEALTHY, shaft_power_per_thrust_1p5
 from .rangefinder import SonarBeam
-from .traffic import Aircraft, TrafficSim
+from .traffic import Aircraft, Track, TrafficSim
 from .sensors import Barometer, Gps, Gyro, NoiseConfig, RcReceiver
 from .wind import SteadyWind, Wind
 
@@ -29,6 +29,7 @@ class SimConfig:
     physics_rate_hz: int = 400
     seed: int = 0
     world: FireWorld = field(default_factory=FireWorld)
+    traffic: tuple[Track, ...] = ()  # the scenario's own aircraft ([[traffic]])
 
 
 class SimVehicle:
@@ -48,7 +49,7 @@ class SimVehicle:
         self.rc = RcReceiver()
         self.gyro = Gyro(config.seed, config.noise)
         self.sonar = SonarBeam(config.seed)
-        self.traffic = TrafficSim(config.seed)  # other aircraft (SIM_ADSB_*), flown when asked
+        self.traffic = TrafficSim(config.seed, config.traffic)  # other aircraft (SIM_ADSB_*, [[traffic]])
         self.thermometer = TemperatureSensor(config.world, config.seed)
         self.time_s = 0.0
         self.steps = 0

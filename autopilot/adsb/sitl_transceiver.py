@@ -2,7 +2,8 @@
 simulated traffic (sim/traffic.py), as the autopilot hears it.
 
 It is there when SIM_ADSB_COUNT is 0 or more at boot (ArduPilot attaches it when it opens
-SERIAL1, so a count set later needs a reboot) and SIM_ADSB_TYPES has bit 0. From 10 s after
+SERIAL1, so a count set later needs a reboot), or the scenario flies aircraft of its own
+([[traffic]]), and reports while SIM_ADSB_TYPES has bit 0. From 10 s after
 boot, once a second, it sends one ADSB_VEHICLE per aircraft flying: its position off the sim's
 origin, its altitude above the origin as an altitude above sea level (SITL's own reading), heading
 and speeds from its velocity, tslc 1, every flag of a good report, squawk 1200, from component
@@ -33,7 +34,8 @@ def _c_int(value: float, low: int, high: int) -> int:
 def report_of(a: Aircraft, origin: Loc) -> AdsbReport:
     where = origin.offset(a.n_m, a.e_m)
     heading = math.degrees(math.atan2(a.ve_m_s, a.vn_m_s)) * 100.0 % 36000.0
-    return AdsbReport(a.icao, where.lat_e7, where.lon_e7, ALTITUDE_TYPE_QNH, _c_int(a.up_m * 1000, -2**31, 2**31 - 1),
+    altitude_m = a.up_m + (origin.alt_cm * 0.01 if a.scripted else 0.0)  # SITL's own report their height
+    return AdsbReport(a.icao, where.lat_e7, where.lon_e7, ALTITUDE_TYPE_QNH, _c_int(altitude_m * 1000, -2**31, 2**31 - 1),
                       _c_int(heading, 0, 65535), _c_int(math.hypot(a.vn_m_s, a.ve_m_s) * 100, 0, 65535),
                       _c_int(-a.vd_m_s * 100, -32768, 32767), a.callsign.encode(), a.emitter_type, 1, FLAGS, SQUAWK)
 

@@ -130,7 +130,7 @@ class ArduCopterTarget:
         extra = []
         if params:
             run_dir.mkdir(parents=True)
-            (run_dir / "boot.parm").write_text("".join(f"{name} {value:g}\n" for name, value in params.items()))
+            (run_dir / "boot.parm").write_text("".join(f"{name} {value:.12g}\n" for name, value in params.items()))
             copter = (self.out_dir / "ardupilot/Tools/autotest/default_params/copter.parm").resolve()
             extra = ["--defaults", f"{copter},nofpe.parm,boot.parm"]  # relative: the runner works in run_dir
         self.process = subprocess.Popen(

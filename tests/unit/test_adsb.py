@@ -18,6 +18,7 @@ from firefly.autopilot.params import ParamStore
 from firefly.autopilot.results import Result
 from firefly.autopilot.safety.arming import prearm_failure
 from firefly.autopilot.vehicle import Vehicle, VehicleConfig
+from firefly.sim.scenario import ScenarioError, scenario_from_dict
 from firefly.sim.traffic import POINT_OBSTACLE, Aircraft, TrafficSim
 
 from ._session_link import Link
@@ -422,3 +423,43 @@ def test_hostile_traffic_reports_never_stop_the_vehicle(action):
         link.poll()
     assert link.session.counters["handler_errors"] == 0, link.session.last_handler_error
     assert v.internal_error_fields() == (0, 0, 0)
+
+
+# ----- a scenario's own traffic -------------------------------------------------------------------
+@pytest.mark.parametrize("tables, said", [
+    ([{"icao": 1, "speed": 3}], "[[traffic]] 1 unknown key 'speed'"),
+    ([{"north_m": 5}], "[[traffic]] 1 missing 'icao'"),
+    ([{"icao": 0x1000000}], "[[traffic]] 1.icao: 16777216 is not a 24-bit address"),
+    ([{"icao": 5, "callsign": "TOO-LONG-9"}], "[[traffic]] 1.callsign: 'TOO-LONG-9' is not up to 8"),
+    ([{"icao": 5, "up_m": "high"}], "[[traffic]] 1.up_m: expected a finite number, got 'high'"),
+    ([{"icao": 5}, {"icao": 5, "north_m": 10}], "[[traffic]] 2.icao: 5 is [[traffic]] 1's too"),
+    ({"icao": 5}, "traffic is given as [[traffic]] tables"),
+])
+def test_a_bad_traffic_table_gets_one_line_naming_it(tables, said):
+    with pytest.raises(ScenarioError) as error:
+        scenario_from_dict({"traffic": tables}, "s.toml")
+    assert said in str(error.value) and "\n" not in str(error.value)
+
+
+def test_a_scenarios_intruder_flies_its_track_and_makes_the_vehicle_give_way():
+    scenario = scenario_from_dict({"traffic": [{"icao": 4242, "callsign": "INTRUDER", "north_m": 1200, "up_m": 20,
+                                                "course_deg": 180, "speed_m_s": 30}]})
+    v = hovering_vehicle(20.0, sim=scenario.sim)
+    for name, value in (("ADSB_TYPE", 1), ("AVD_ENABLE", 1), ("AVD_F_ACTION", 2)):
+        v.params.set(name, value)
+    link = Link(v)
+    modes, collisions = [], []
+    while v.time_s < 70.0:
+        v.run_until(v.time_s + 0.5)
+        collisions += of_type(link.poll(), "COLLISION")
+        modes.append(v.mode_number)
+        if v.time_s < 25.0:
+            intruder = v.sim.traffic.tracked[0]
+            assert intruder.n_m == pytest.approx(1200 - 30 * v.time_s, abs=3.1)  # flown from the start (10 Hz steps)
+            listed = [a.report for a in v.traffic.aircraft if a.report.icao == 4242]
+            assert not listed or (listed[0].callsign == b"INTRUDER" and  # its altitude a true one
+                                  listed[0].altitude_mm == pytest.approx((v.origin.alt_m + 20) * 1000, abs=1000))
+    # it gives way once the intruder is HIGH (within 100 m in 30 s), and RTLs (AVD_F_RCVRY 2) once it has gone
+    assert ModeNumber.AVOID_ADSB in modes and modes[-1] == ModeNumber.RTL
+    assert modes.index(ModeNumber.AVOID_ADSB) < modes.index(ModeNumber.RTL)
+    assert any(c.id == 4242 and c.threat_level == HIGH for c in collisions)
