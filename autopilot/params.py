@@ -183,6 +183,15 @@ PARAM_TABLE: tuple[ParamSpec, ...] = (
     _f("SIM_ADSB_ALT", 1000, -1e5, 1e5, "aircraft spawn this high (its size) [m]"),
     _i("SIM_ADSB_TX", 0, 0, 1, "served, unread (SITL's transceiver health report)"),
     _i("SIM_ADSB_TYPES", 1, 0, 255, "bit 0: the transceiver reports as MAVLink ADSB_VEHICLE"),
+    # SITL's precision-landing beacon (sim/precland.py), as SIM_PLD_*
+    _i("SIM_PLD_ENABLE", 0, 0, 1, "1: the beacon reports the vehicle; 0: it stops (its last word stands)"),
+    _f("SIM_PLD_LAT", 0, -90, 90, "the beacon's latitude [deg], taken as a float32 as SITL takes it"),
+    _f("SIM_PLD_LON", 0, -180, 180, "the beacon's longitude [deg], likewise"),
+    _f("SIM_PLD_HEIGHT", 0, 0, 10000, "the beacon's height above the origin [m]"),
+    _f("SIM_PLD_ALT_LMT", 15, 0, 100, "the beacon sees no higher than this above it [m]"),
+    _f("SIM_PLD_DIST_LMT", 10, 5, 100, "nor farther than this sideways (type 0), in its cone (1), away (2) [m]"),
+    _i("SIM_PLD_TYPE", 0, 0, 2, "0 cylinder, 1 cone, 2 sphere"),
+    _i("SIM_PLD_OPTIONS", 0, 0, 1, "bit 0: the beacon gives its distance (no rangefinder needed)"),
     # FOLLOW's lead (AP_Follow, follow_target.py): ArduCopter shows them once FOLL_ENABLE is 1
     _i("FOLL_SYSID", 0, 0, 255, "the lead's system id; 0 = the first other system heard"),
     _f("FOLL_DIST_MAX", 100, 0, 1000, "a lead farther than this is not followed [m]; 0 = no limit"),
@@ -271,6 +280,26 @@ PARAM_TABLE: tuple[ParamSpec, ...] = (
             mav_type=MAV_PARAM_TYPE_INT16),
     replace(_i("AVD_F_ALT_MIN", 0, 0, 1000, "below this altitude (above sea level) a HIGH threat is only "
                "reported [m], 0 = off"), mav_type=MAV_PARAM_TYPE_INT16),
+    # Precision landing (AC_PrecLand, precland.py): ArduCopter shows PLND_* but PLND_ENABLED once it is
+    # set, with these types and defaults (measured); PLND_TYPE is read at boot
+    _i8("PLND_ENABLED", 0, 0, 1, "1: precision landing; read at boot with PLND_TYPE, then it switches it"),
+    _i8("PLND_TYPE", 0, 0, 4, "the sensor, made at boot: 1 a companion's LANDING_TARGET, 4 SITL's beacon"),
+    _f("PLND_YAW_ALIGN", 0, 0, 36000, "served, unread (the sensor's yaw on the body) [cdeg]"),
+    _f("PLND_LAND_OFS_X", 0, -20, 20, "land this far north of the target [cm] (ArduCopter: forward)"),
+    _f("PLND_LAND_OFS_Y", 0, -20, 20, "land this far east of the target [cm] (ArduCopter: right)"),
+    _i8("PLND_EST_TYPE", 1, 0, 1, "0 the raw sensor (acquired at once), 1 the Kalman filter (after 2 s)"),
+    _f("PLND_ACC_P_NSE", 2.5, 0.5, 5, "served, unread (the filter's acceleration noise)"),
+    *(_f(f"PLND_CAM_POS_{axis}", 0, -5, 5, "served, unread (where the sensor sits) [m]") for axis in "XYZ"),
+    _i8("PLND_BUS", -1, -1, 3, "served, unread (an IRLock's bus)"),
+    _f("PLND_LAG", 0.02, 0.02, 0.25, "served, unread (the sensor's lag) [s]"),
+    _f("PLND_XY_DIST_MAX", 2.5, 0, 10, "LAND holds its height while farther than this from the target [m], 0 off"),
+    _i8("PLND_STRICT", 1, 0, 2, "a target never seen in range: 0 land at once, 1 hold 7 s first, 2 hold"),
+    _i8("PLND_RET_MAX", 4, 0, 10, "served, unread (retries are not modelled)"),
+    _f("PLND_TIMEOUT", 4, 0, 20, "served, unread (retries are not modelled) [s]"),
+    _i8("PLND_RET_BEHAVE", 0, 0, 1, "served, unread (retries are not modelled)"),
+    _f("PLND_ALT_MIN", 0.75, 0, 5, "the target is in the sensor's range above this rangefinder height [m]"),
+    _f("PLND_ALT_MAX", 8, 0, 50, "and below this [m]; both 0: always"),
+    replace(_i("PLND_OPTIONS", 0, 0, 7, "bit 2: no slow final descent"), mav_type=MAV_PARAM_TYPE_INT16),
     # Mission (AP_Mission)
     _i("MIS_RESTART", 0, 0, 1, "AUTO after leaving it: 0 resumes the mission, 1 restarts it"),
     # The pilot's radio (autopilot/rc/): channel roles, the mode switch, overrides, the ground station

@@ -86,6 +86,12 @@ FIREFLY_ONLY: dict[str, str] = {
                     "ADSB_LIST_ALT", "ADSB_ICAO_SPECL", "ADSB_LOG", "ADSB_OPTIONS", "AVD_F_ACTION", "AVD_W_ACTION",
                     "AVD_F_RCVRY", "AVD_OBS_MAX", "AVD_W_TIME", "AVD_F_TIME", "AVD_W_DIST_XY", "AVD_F_DIST_XY",
                     "AVD_W_DIST_Z", "AVD_F_DIST_Z", "AVD_F_ALT_MIN")},
+    **{name: "precision landing's (AC_PrecLand): ArduCopter serves it once PLND_ENABLED is set (the reference's "
+             "set was recorded with it 0); Firefly serves it always, so that it can be set before enabling"
+       for name in ("PLND_TYPE", "PLND_YAW_ALIGN", "PLND_LAND_OFS_X", "PLND_LAND_OFS_Y", "PLND_EST_TYPE",
+                    "PLND_ACC_P_NSE", "PLND_CAM_POS_X", "PLND_CAM_POS_Y", "PLND_CAM_POS_Z", "PLND_BUS", "PLND_LAG",
+                    "PLND_XY_DIST_MAX", "PLND_STRICT", "PLND_RET_MAX", "PLND_TIMEOUT", "PLND_RET_BEHAVE",
+                    "PLND_ALT_MIN", "PLND_ALT_MAX", "PLND_OPTIONS")},
 }
 
 _OLD_NAME = "ArduPilot 4.5's name of {}, which scenarios and scripts written for 4.5 set"

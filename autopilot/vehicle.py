@@ -56,7 +56,11 @@ from .safety.internal_error import CONSTRAINING_NAN, FLOW_OF_CONTROL, InternalEr
 from .safety.land_detector import AutoDisarm, LandDetector
 from .safety.thrust_loss import ThrustLossCheck
 from .payload.camera import Camera
+from .precland import BODY_FRD, LOCAL_FRD, PrecLand, line_of_sight
+from .precland import MAVLINK as PRECLAND_MAVLINK
+from .precland import SITL as PRECLAND_SITL
 from .rangefinder import UPDATE_S as RANGEFINDER_UPDATE_S
+from .rangefinder import RangeStatus
 from .rangefinder import Rangefinder
 from .servo_relay import ServoRelayEvents
 from .views import ReadThrough, Vector3
@@ -150,6 +154,8 @@ class Vehicle:
         self.rangefinder = Rangefinder(self.params)
         self.rangefinder_reading = self.rangefinder.reading
         self.rangefinder_prearm_failure = self.rangefinder.prearm_failure
+        # Precision landing (AC_PrecLand): PLND_TYPE's sensor made at boot, steering LAND to a target
+        self.precland = PrecLand(self.params)
         # ADS-B (adsb/): the receiver's traffic list (ADSB_TYPE), avoidance (AVD_ENABLE) and what the
         # copter does about a threat; both run at 10 Hz with the failsafe checks once either is on
         self.mode_changes = 0  # modes entered so far: whether the mode avoidance chose still stands
@@ -261,6 +267,8 @@ class Vehicle:
     gps_glitching: ReadThrough[bool] = property(attrgetter("failsafes.ekf.gps_glitching"))
     internal_error_bits: ReadThrough[int] = property(attrgetter("internal_errors.bits"))
     mission_version: ReadThrough[int] = property(attrgetter("mission.version"), doc="Bumped on every change.")
+    precland_kind: ReadThrough[int] = property(attrgetter("precland.kind"), doc="PLND_TYPE's sensor, 0 none.")
+    precland_healthy: ReadThrough[bool] = property(attrgetter("precland.healthy"))
     rangefinder_kind: ReadThrough[int] = property(attrgetter("rangefinder.kind"),
                                                   doc="RNGFND1_TYPE's driver made at boot, 0 none.")
     rangefinder_down: ReadThrough[bool] = property(attrgetter("rangefinder.down"),
@@ -347,6 +355,53 @@ class Vehicle:
         """DO_REPEAT_RELAY (servo_relay.py), from now: FAILED as set_relay."""
         done = self.servo_relay.repeat_relay(relay, count, cycle_s, self.time_s)
         return Result.ACCEPTED if done else Result.FAILED
+
+    def _rangefinder_height(self) -> float | None:
+        """ArduCopter's rangefinder_alt_ok height [m]: a downward rangefinder's good reading, else None."""
+        if not self.rangefinder_kind or not self.rangefinder.down or not self.rangefinder.enabled:
+            return None
+        r = self.rangefinder.reading()
+        return r.distance_m if r.status == RangeStatus.GOOD else None
+
+    def _precland_tick(self, now: float) -> None:
+        """SITL's beacon read (when it is the sensor), then AC_PrecLand's update."""
+        pl = self.precland
+        if not self.params["PLND_ENABLED"]:
+            return
+        if pl.kind == PRECLAND_SITL and self.sim.beacon is not None:
+            seen = self.sim.read_beacon()
+            pl.healthy = seen is not None
+            if seen is not None:
+                length = math.sqrt(seen[0] ** 2 + seen[1] ** 2 + seen[2] ** 2)
+                distance = length if int(self.params["SIM_PLD_OPTIONS"]) & 1 else 0.0
+                pl.heard((-seen[0] / length, -seen[1] / length, -seen[2] / length), distance, now)
+        b = self.body
+        pl.update(now, self.notify, (b.n_m, b.e_m, b.d_m), self._rangefinder_height())
+
+    def precland_landing(self, position_ne: tuple[float, float],
+                         land_speed_m_s: float) -> tuple[tuple[float, float] | None, float | None]:
+        """What precision landing makes of LAND now (precland.py): where to fly (None: its own
+        point) and the descent rate (None: its own)."""
+        pl = self.precland
+        if not pl.kind or not self.params["PLND_ENABLED"]:
+            return None, None
+        return pl.landing(self.time_s, self.notify, self._rangefinder_height(), position_ne, land_speed_m_s)
+
+    def landing_target(self, frame: int, angle_x: float, angle_y: float, distance: float,
+                       xyz: tuple[float, float, float], position_valid: bool) -> None:
+        """A companion's LANDING_TARGET (PLND_TYPE 1), as AC_PrecLand_MAVLink takes it: only in the
+        body or the heading-turned local frame ("Plnd: Frame not supported", once, otherwise)."""
+        pl = self.precland
+        if pl.kind != PRECLAND_MAVLINK or not self.params["PLND_ENABLED"]:
+            return
+        if frame not in (BODY_FRD, LOCAL_FRD):
+            if not pl.said_frame:
+                pl.said_frame = True
+                self.notify("Plnd: Frame not supported", Severity.INFO)
+            return
+        seen = line_of_sight(frame, angle_x, angle_y, distance, xyz, position_valid, self.attitude)
+        if seen is not None:
+            pl.heard(seen[0], seen[1], self.time_s)
 
     def adsb_vehicle(self, report: AdsbReport) -> None:
         """An ADSB_VEHICLE from any link: traffic for the receiver's list (adsb/traffic_list.py)."""
@@ -787,6 +842,8 @@ class Vehicle:
             estimate.track_barometer()
             if self._rangefinder_every and self.sim.steps % self._rangefinder_every == 0:
                 self.rangefinder.update(now, self.sim.read_sonar())
+            if self.precland.kind:
+                self._precland_tick(now)
             rc = self.rc
             rc.read(now)  # ArduCopter's rc_loop: the channels, then (when they moved) the switches
             if rc.switches_dirty:

@@ -12,6 +12,7 @@ from .battery import (STEP_AT, BatteryState, open_circuit_volts_per_cell, remain
                       soc_at_open_circuit_volts)
 from .physics import PhysicsState, initial_state, make_fast_step
 from .rotors import HEALTHY, shaft_power_per_thrust_1p5
+from .precland import Beacon
 from .rangefinder import SonarBeam
 from .traffic import Aircraft, Track, TrafficSim
 from .sensors import Barometer, Gps, Gyro, NoiseConfig, RcReceiver
@@ -49,6 +50,7 @@ class SimVehicle:
         self.rc = RcReceiver()
         self.gyro = Gyro(config.seed, config.noise)
         self.sonar = SonarBeam(config.seed)
+        self.beacon: Beacon | None = None  # SITL's precision-landing beacon (SIM_PLD_*), when on
         self.traffic = TrafficSim(config.seed, config.traffic)  # other aircraft (SIM_ADSB_*, [[traffic]])
         self.thermometer = TemperatureSensor(config.world, config.seed)
         self.time_s = 0.0
@@ -137,6 +139,11 @@ class SimVehicle:
         b = self.state.body
         self.traffic.step(dt_s, self.time_s, count, (b.n_m, b.e_m), radius_m, alt_m)
         return self.traffic.flying()
+
+    def read_beacon(self) -> tuple[float, float, float] | None:
+        """Where the beacon sees this vehicle (north, east, down of it), or None."""
+        b = self.state.body
+        return None if self.beacon is None else self.beacon.sees(b.n_m, b.e_m, b.d_m)
 
     def read_sonar(self) -> float:
         """The downward rangefinder's beam over the flat ground [m] (inf: it misses the ground)."""

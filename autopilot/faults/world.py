@@ -12,6 +12,7 @@ from __future__ import annotations
 from firefly.sim.wind import SteadyWind
 
 from firefly.sim.geo import ned_from_global
+from firefly.sim.precland import Beacon, quantised_e7
 
 
 def world_values(sim_config) -> dict:
@@ -74,6 +75,20 @@ class Faults:
     def _sonar(self) -> None:
         self.sim.sonar.noise_m = max(0.0, self.params["SIM_SONAR_RND"])
 
+    def _precland_beacon(self) -> None:
+        """SIM_PLD_*: SITL's beacon, placed as SITL places it (float32 degrees); off, the sim keeps
+        the one it had (SITL stops updating it: its last word stands)."""
+        p = self.params
+        if not p["SIM_PLD_ENABLE"]:
+            return
+        lat_e7, lon_e7 = quantised_e7(p["SIM_PLD_LAT"]), quantised_e7(p["SIM_PLD_LON"])
+        height = p["SIM_PLD_HEIGHT"]
+        if lat_e7 == 0 and lon_e7 == 0 and height == 0:
+            self.sim.beacon = None
+            return
+        n, e, _ = ned_from_global(self.origin, lat_e7 * 1e-7, lon_e7 * 1e-7, self.origin.alt_m)
+        self.sim.beacon = Beacon(n, e, -height, p["SIM_PLD_ALT_LMT"], p["SIM_PLD_DIST_LMT"], int(p["SIM_PLD_TYPE"]))
+
     def _shove(self) -> None:
         """SIM_SHOVE_TIME [ms] set: push with SIM_SHOVE_X/Y/Z [m/s^2, body frame] that long. As
         ArduPilot SITL's, the time goes back to 0 (here at once; the push goes on)."""
@@ -95,4 +110,6 @@ APPLY = {
     "SIM_RC_FAIL": Faults._rc,
     "SIM_SHOVE_TIME": Faults._shove,
     "SIM_SONAR_RND": Faults._sonar,
+    **{f"SIM_PLD_{name}": Faults._precland_beacon
+       for name in ("ENABLE", "LAT", "LON", "HEIGHT", "ALT_LMT", "DIST_LMT", "TYPE")},
 }

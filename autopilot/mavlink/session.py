@@ -95,6 +95,8 @@ class Session:
             "DEVICE_OP_READ": lambda m, now: self.queue(device_ops.read_reply(self.codec, m)),
             "DEVICE_OP_WRITE": lambda m, now: self.queue(device_ops.write_reply(self.codec, m)),
             "ADSB_VEHICLE": lambda m, now: self.vehicle.adsb_vehicle(report_of(m)),
+            "LANDING_TARGET": lambda m, now: self.vehicle.landing_target(
+                m.frame, m.angle_x, m.angle_y, m.distance, (m.x, m.y, m.z), m.position_valid == 1),
             "UAVIONIX_ADSB_OUT_CFG": self._on_adsb_config,
             "UAVIONIX_ADSB_TRANSCEIVER_HEALTH_REPORT": self._on_adsb_health,
             "FENCE_POINT": self._on_legacy_point,

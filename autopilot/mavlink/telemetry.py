@@ -37,6 +37,7 @@ ALWAYS_ON = (mav.MAV_SYS_STATUS_SENSOR_RC_RECEIVER | mav.MAV_SYS_STATUS_TERRAIN
              | mav.MAV_SYS_STATUS_LOGGING | mav.MAV_SYS_STATUS_SENSOR_PROPULSION)
 CONTROL = mav.MAV_SYS_STATUS_SENSOR_Z_ALTITUDE_CONTROL | mav.MAV_SYS_STATUS_SENSOR_XY_POSITION_CONTROL
 RANGEFINDER = mav.MAV_SYS_STATUS_SENSOR_LASER_POSITION
+VISION = mav.MAV_SYS_STATUS_SENSOR_VISION_POSITION
 
 def heartbeat(v: TelemetryView, codec):
     base = mav.MAV_MODE_FLAG_CUSTOM_MODE_ENABLED | mav.MAV_MODE_FLAG_STABILIZE_ENABLED \
@@ -97,6 +98,11 @@ def sys_status(v: TelemetryView, codec):
             enabled |= RANGEFINDER
             if v.rangefinder_reading().has_data:
                 healthy |= RANGEFINDER
+    if v.precland_kind and v.params["PLND_ENABLED"]:  # as ArduCopter: precision landing's sensor
+        present |= VISION
+        enabled |= VISION
+        if v.precland_healthy:
+            healthy |= VISION
     batt = v.battery
     errors1, errors2, errors4 = v.internal_error_fields()
     return codec.sys_status_encode(present, enabled, healthy, 100,

@@ -65,11 +65,13 @@ class ModeContext:
                                  that flew attitudes hands back to it, as on a mode change)
         use_gains(gains or None) the controllers fly these ATC_* gains in place of the parameters'
                                  (AUTOTUNE's trial sets); None: the parameters' own again
+        precland_landing(position_ne, land_speed_m_s) what precision landing makes of a landing
+                                 (precland.py): (the point to fly to or None, the descent rate or None)
     """
     __slots__ = ("_v", "_estimate", "_arming", "_land", "_sim", "params", "mission_progress", "return_path",
                  "follow_target", "camera", "notify", "disarm", "set_speed", "set_home", "fence_enable_item",
                  "set_servo", "repeat_servo", "set_relay", "repeat_relay", "ned_of", "position_global", "set_mode",
-                 "hover_thrust_share", "restart_position_control", "use_gains")
+                 "hover_thrust_share", "restart_position_control", "use_gains", "precland_landing")
     params: ParamStore
     mission_progress: MissionProgress
     return_path: ReturnPath
@@ -89,6 +91,7 @@ class ModeContext:
     set_mode: Callable[[int], Result]
     restart_position_control: Callable[[], None]
     use_gains: Callable[[Mapping[str, float] | None], None]
+    precland_landing: Callable[[tuple[float, float], float], tuple[tuple[float, float] | None, float | None]]
 
     def __init__(self, vehicle: ModeHost):
         self._v = vehicle
@@ -115,6 +118,7 @@ class ModeContext:
         self.set_mode = vehicle.set_mode
         self.restart_position_control = vehicle.restart_position_control
         self.use_gains = vehicle.use_gains
+        self.precland_landing = vehicle.precland_landing
         airframe = vehicle.sim.airframe
         self.hover_thrust_share = airframe.weight_n / (4.0 * airframe.max_rotor_thrust_n)
 

@@ -62,14 +62,19 @@ class Land(Mode):
         sp.clear()
         if not ctx.has_position():
             self._hold_ne = None
+        rate = None
         if self._hold_ne is None:
             sp.lean = (0.0, 0.0)
         else:
-            sp.pos_ne = self._hold_ne
+            b = ctx.body
+            target, rate = ctx.precland_landing((b.n_m, b.e_m), ctx.params["LAND_SPEED"] / 100.0)
+            sp.pos_ne = self._hold_ne if target is None else target
         if ctx.time_s < self._disarm_from_s:
             sp.vel_d = sp.speed_dn = descent_rate_m_s(ctx)
             return
         descend_and_disarm(ctx, sp)
+        if rate is not None:  # precision landing's: a hold while far from its target, slow near it
+            sp.vel_d = sp.speed_dn = rate
 
     def landed_state_hint(self, ctx: ModeContext) -> str | None:
         return None if ctx.landed else "LANDING"

@@ -27,6 +27,7 @@ import statistics
 
 from ..client import Client, mav
 from ..facts import Tol, Trace
+from .booting import each_on_a_fresh_vehicle
 from .states import GUIDED, LOITER, reach_armed_on_ground
 
 AREA = "adsb"
@@ -321,12 +322,4 @@ PROBES = {"receive": receive, "disabled": disabled, "threat": threat, "report": 
 
 
 def run(target) -> dict[str, Trace]:
-    traces = {}
-    try:
-        for name, probe in PROBES.items():
-            client = target.boot(params=PROBES_PARAMS[name])
-            trace = traces[name] = Trace()
-            probe(client, trace)
-    finally:
-        target.close()
-    return traces
+    return each_on_a_fresh_vehicle(target, PROBES, PROBES_PARAMS)

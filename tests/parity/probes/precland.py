@@ -1,0 +1,158 @@
+"""Precision landing (AC_PrecLand) with SITL's beacon, as ArduCopter lands on it (issue 31).
+
+on_target   PLND_TYPE 4 with a downward rangefinder; the beacon asked for 4 m north and 4 m west
+            of home (SITL reads it through float32s: about a metre from there). Takeoff to 10 m in
+            GUIDED, LAND: the texts, SYS_STATUS's vision-position bit on the ground, in the air and
+            landed, and the landing: where it touches down, how fast it flies over, when it starts
+            to descend, its slow final descent, how long it takes.
+out_of_view the same with the beacon 30 m away, out of its 10 m view: the failsafe, its hold and a
+            landing where the vehicle is.
+companion   PLND_TYPE 1: a companion sends LANDING_TARGET (the local frame turned by the heading,
+            a position and its distance) for a target 4 m north and 4 m west, with each position
+            report from LAND on: the texts, the bit, where it touches down.
+bad_frame   the same in MAV_FRAME_LOCAL_NED, a frame ArduCopter does not take: its text, and a
+            landing at home.
+"""
+from __future__ import annotations
+
+import math
+import statistics
+
+from ..client import Client, mav
+from ..facts import Tol, Trace
+from .booting import each_on_a_fresh_vehicle
+from .states import GUIDED, reach_armed_on_ground
+
+AREA = "precland"
+M_PER_DEG = 111319.5
+LAND = 9
+VISION = mav.MAV_SYS_STATUS_SENSOR_VISION_POSITION
+BOOT = {"PLND_ENABLED": 1, "PLND_TYPE": 4, "SIM_PLD_ENABLE": 1, "SIM_PLD_HEIGHT": 0, "SIM_PLD_ALT_LMT": 15,
+        "SIM_PLD_DIST_LMT": 10, "RNGFND1_TYPE": 100, "RNGFND1_MAX": 30}
+COMPANION = {"PLND_ENABLED": 1, "PLND_TYPE": 1, "RNGFND1_TYPE": 100, "RNGFND1_MAX": 30}
+PROBES_PARAMS = {"on_target": BOOT, "out_of_view": BOOT, "companion": COMPANION, "bad_frame": COMPANION}
+TARGET_NE = (4.0, -4.0)
+TAKEOFF_M = 10.0
+TRACK = Tol(abs=0.6, why="both position controllers' shaping, a 10 Hz track")
+
+
+def _vision(c: Client) -> str:
+    c.fresh("SYS_STATUS")
+    s = c.last["SYS_STATUS"]
+    return "".join(str(int(bool(mask & VISION))) for mask in (s.onboard_control_sensors_present,
+                                                               s.onboard_control_sensors_enabled,
+                                                               s.onboard_control_sensors_health))
+
+
+def _place_beacon(c: Client, north_m: float, east_m: float) -> None:
+    """SIM_PLD_LAT/LON by PARAM_SET (a boot file's %g would round them by metres on the reference)."""
+    h = c.last["HOME_POSITION"]
+    lat = h.latitude * 1e-7 + north_m / M_PER_DEG
+    lon = h.longitude * 1e-7 + east_m / (M_PER_DEG * math.cos(math.radians(h.latitude * 1e-7)))
+    c.set_param("SIM_PLD_LAT", lat)
+    c.set_param("SIM_PLD_LON", lon)
+
+
+def _ne(c: Client) -> tuple[float, float]:
+    h, g = c.last["HOME_POSITION"], c.last["GLOBAL_POSITION_INT"]
+    return ((g.lat - h.latitude) * 1e-7 * M_PER_DEG,
+            (g.lon - h.longitude) * 1e-7 * M_PER_DEG * math.cos(math.radians(h.latitude * 1e-7)))
+
+
+def _land(c: Client, trace: Trace, beacon_ne: tuple[float, float] | None, companion=None) -> tuple[int, list]:
+    """Ready, take off, hover, LAND until disarmed (with `companion` hearing every message from
+    LAND on); (LAND's vehicle time, the track)."""
+    c.wait(lambda: "HOME_POSITION" in c.last and c.last["GPS_RAW_INT"].fix_type >= 3, 120, what="a fix")
+    c.idle(20.0)  # past the EKF's settling
+    if beacon_ne is not None:
+        _place_beacon(c, *beacon_ne)
+    c.idle(1.0)
+    trace.fact("ground.vision", _vision(c))
+    since = c.now_ms
+    reach_armed_on_ground(c, GUIDED)
+    c.command(mav.MAV_CMD_NAV_TAKEOFF, 0, 0, 0, 0, 0, 0, TAKEOFF_M)
+    c.wait(lambda: c.rel_alt_m() > TAKEOFF_M - 0.3, 60, what="the takeoff")
+    c.idle(3.0)
+    trace.fact("hover.vision", _vision(c))
+    trace.fact("hover.texts", [t for t in c.texts_since(since) if "PrecLand" in t or "Plnd" in t])
+    track: list = []
+    c.set_mode(LAND)
+    land_ms = c.now_ms
+    def listen(m):
+        if m.get_type() == "GLOBAL_POSITION_INT":
+            track.append((c.now_ms - land_ms, *_ne(c), m.relative_alt / 1000, m.vx / 100, m.vy / 100, m.vz / 100))
+        if companion is not None:
+            companion(m)
+    with c.listening(listen):
+        c.wait(lambda: not c.armed, 120, what="the landing")
+    trace.fact("landed.vision", _vision(c))
+    texts = [t for t in c.texts_since(land_ms) if "PrecLand" in t or "Plnd" in t]
+    if companion is None:
+        trace.fact("land.texts", texts)
+    else:  # a client's reports bunch in wall time: an "Init Failed" or a "Target Lost" comes and goes
+        trace.fact("land.acquired", "PrecLand: Init Complete" in texts)
+        trace.fact("land.said", sorted({t for t in texts if "Init" not in t and "Lost" not in t}))
+    return land_ms, track
+
+
+def on_target(c: Client, trace: Trace) -> None:
+    _, track = _land(c, trace, (4.0, -4.0))
+    n, e = track[-1][1], track[-1][2]
+    trace.fact("touchdown.north_m", round(n, 2), Tol(abs=0.1, why="both land on the beacon to centimetres"))
+    trace.fact("touchdown.east_m", round(e, 2), Tol(abs=0.1, why="as touchdown.north_m"))
+    touchdown = next(t for t, *_, alt, vx, vy, vz in track if alt < 0.05)
+    trace.fact("touchdown.after_s", round(touchdown / 1000, 1), Tol(abs=2.0, why="a 26 s landing's descents"))
+    trace.fact("over.fastest_m_s", round(max(math.hypot(vx, vy) for *_, vx, vy, vz in track), 1), TRACK)
+    descending = next(t for t, *_, vz in track if vz > 0.3 and t > 500)
+    trace.fact("over.descends_after_s", round(descending / 1000, 1),
+               Tol(abs=0.8, why="ArduCopter's jerk-limited shaping starts the move over 0.5 s later than "
+                                "Firefly's position loop, which reaches the 2.5 m ring that much sooner"))
+    slow = [vz for t, n_, e_, alt, vx, vy, vz in track if 0.5 < alt < 1.5]
+    trace.fact("final.descent_m_s", round(statistics.median(slow), 2) if slow else None,
+               Tol(abs=0.06, why="the slowdown's 0.10-0.25 m/s law on each position error"))
+
+
+def out_of_view(c: Client, trace: Trace) -> None:
+    _, track = _land(c, trace, (30.0, 0.0))
+    n, e = track[-1][1], track[-1][2]
+    trace.fact("touchdown.from_home_m", round(math.hypot(n, e), 1), Tol(abs=0.3, why="it lands where it is"))
+    holding = [t for t, n_, e_, alt, vx, vy, vz in track if abs(vz) < 0.05 and 1.0 < alt < TAKEOFF_M - 0.5]
+    trace.fact("hold.seconds", round((max(holding) - min(holding)) / 1000, 1) if holding else 0.0,
+               Tol(abs=1.0, why="7 s, from when the descent stops"))
+    trace.fact("hold.height_m", round(statistics.median(alt for t, n_, e_, alt, *_ in track
+                                                        if holding and min(holding) <= t <= max(holding)), 1)
+               if holding else None, Tol(abs=0.5, why="where the rangefinder passes PLND_ALT_MAX"))
+
+
+def _landing_target(c: Client, frame: int):
+    """A companion that sees the target at TARGET_NE: LANDING_TARGET with each position report."""
+    def send(m):
+        if m.get_type() != "GLOBAL_POSITION_INT" or "ATTITUDE" not in c.last:
+            return
+        n, e = _ne(c)
+        rel = (TARGET_NE[0] - n, TARGET_NE[1] - e, m.relative_alt / 1000)
+        yaw = c.last["ATTITUDE"].yaw
+        x, y = math.cos(yaw) * rel[0] + math.sin(yaw) * rel[1], -math.sin(yaw) * rel[0] + math.cos(yaw) * rel[1]
+        distance = math.sqrt(rel[0] ** 2 + rel[1] ** 2 + rel[2] ** 2)
+        c.conn.mav.landing_target_send(0, 0, frame, 0, 0, distance, 0, 0, x, y, rel[2], (1, 0, 0, 0),
+                                       mav.LANDING_TARGET_TYPE_VISION_FIDUCIAL, 1)
+    return send
+
+
+def companion(c: Client, trace: Trace) -> None:
+    _, track = _land(c, trace, None, _landing_target(c, mav.MAV_FRAME_LOCAL_FRD))
+    trace.fact("touchdown.north_m", round(track[-1][1], 1), Tol(abs=0.15, why="the companion's 10 Hz reports"))
+    trace.fact("touchdown.east_m", round(track[-1][2], 1), Tol(abs=0.15, why="as touchdown.north_m"))
+
+
+def bad_frame(c: Client, trace: Trace) -> None:
+    _, track = _land(c, trace, None, _landing_target(c, mav.MAV_FRAME_LOCAL_NED))
+    trace.fact("touchdown.from_home_m", round(math.hypot(track[-1][1], track[-1][2]), 1),
+               Tol(abs=0.3, why="it lands where it is"))
+
+
+PROBES = {"on_target": on_target, "out_of_view": out_of_view, "companion": companion, "bad_frame": bad_frame}
+
+
+def run(target) -> dict[str, Trace]:
+    return each_on_a_fresh_vehicle(target, PROBES, PROBES_PARAMS)
