@@ -43,6 +43,18 @@ def descend_and_disarm(ctx: ModeContext, sp: Setpoint) -> bool:
     return False
 
 
+def steer_to_target(ctx: ModeContext, sp: Setpoint) -> float | None:
+    """Precision landing's part of a landing that holds a point (LAND's, RTL's): fly to the target
+    in its place, when one is acquired; the descent rate it asks for (None: the landing's own)."""
+    if sp.pos_ne is None:
+        return None
+    b = ctx.body
+    target, rate = ctx.precland_landing((b.n_m, b.e_m), ctx.params["LAND_SPEED"] / 100.0)
+    if target is not None:
+        sp.pos_ne = target
+    return rate
+
+
 class Land(Mode):
     """Descend and disarm, holding the point where LAND began; without a position (no GPS fix)
     it comes down level instead, for the rest of the landing, as ArduCopter's LAND without GPS."""
@@ -62,13 +74,11 @@ class Land(Mode):
         sp.clear()
         if not ctx.has_position():
             self._hold_ne = None
-        rate = None
         if self._hold_ne is None:
             sp.lean = (0.0, 0.0)
         else:
-            b = ctx.body
-            target, rate = ctx.precland_landing((b.n_m, b.e_m), ctx.params["LAND_SPEED"] / 100.0)
-            sp.pos_ne = self._hold_ne if target is None else target
+            sp.pos_ne = self._hold_ne
+        rate = steer_to_target(ctx, sp)
         if ctx.time_s < self._disarm_from_s:
             sp.vel_d = sp.speed_dn = descent_rate_m_s(ctx)
             return
@@ -156,10 +166,13 @@ class Rtl(Mode):
             sp.vel_d = sp.speed_dn = descent_rate_m_s(ctx)
         if self._stage == "LAND":
             sp.pos_ne = home_ne if not ctx.landed else None
+            rate = steer_to_target(ctx, sp)
             if self.disarm_on_land:
                 descend_and_disarm(ctx, sp)
             else:
                 sp.vel_d = sp.speed_dn = descent_rate_m_s(ctx)
+            if rate is not None:  # precision landing's: a hold while far from its target, slow near it
+                sp.vel_d = sp.speed_dn = rate
 
     def destination(self) -> tuple[float, float, float | None] | None:
         return self._legs.destination if self._legs is not None else None

@@ -12,6 +12,8 @@ companion   PLND_TYPE 1: a companion sends LANDING_TARGET (the local frame turne
             report from LAND on: the texts, the bit, where it touches down.
 bad_frame   the same in MAV_FRAME_LOCAL_NED, a frame ArduCopter does not take: its text, and a
             landing at home.
+rtl         SITL's beacon as on_target, the vehicle flown 10 m north first, then RTL (RTL_ALT 12 m,
+            within the beacon's view): it lands on the beacon, not at home.
 """
 from __future__ import annotations
 
@@ -21,6 +23,7 @@ import statistics
 from ..client import Client, mav
 from ..facts import Tol, Trace
 from .booting import each_on_a_fresh_vehicle
+from .nav_flight import goto
 from .states import GUIDED, reach_armed_on_ground
 
 AREA = "precland"
@@ -30,7 +33,9 @@ VISION = mav.MAV_SYS_STATUS_SENSOR_VISION_POSITION
 BOOT = {"PLND_ENABLED": 1, "PLND_TYPE": 4, "SIM_PLD_ENABLE": 1, "SIM_PLD_HEIGHT": 0, "SIM_PLD_ALT_LMT": 15,
         "SIM_PLD_DIST_LMT": 10, "RNGFND1_TYPE": 100, "RNGFND1_MAX": 30}
 COMPANION = {"PLND_ENABLED": 1, "PLND_TYPE": 1, "RNGFND1_TYPE": 100, "RNGFND1_MAX": 30}
-PROBES_PARAMS = {"on_target": BOOT, "out_of_view": BOOT, "companion": COMPANION, "bad_frame": COMPANION}
+PROBES_PARAMS = {"on_target": BOOT, "out_of_view": BOOT, "companion": COMPANION, "bad_frame": COMPANION,
+                 "rtl": {**BOOT, "RTL_ALT": 1200}}
+RTL = 6
 TARGET_NE = (4.0, -4.0)
 TAKEOFF_M = 10.0
 TRACK = Tol(abs=0.6, why="both position controllers' shaping, a 10 Hz track")
@@ -59,7 +64,8 @@ def _ne(c: Client) -> tuple[float, float]:
             (g.lon - h.longitude) * 1e-7 * M_PER_DEG * math.cos(math.radians(h.latitude * 1e-7)))
 
 
-def _land(c: Client, trace: Trace, beacon_ne: tuple[float, float] | None, companion=None) -> tuple[int, list]:
+def _land(c: Client, trace: Trace, beacon_ne: tuple[float, float] | None, companion=None, first_north_m: float = 0.0,
+          mode: int = LAND) -> tuple[int, list]:
     """Ready, take off, hover, LAND until disarmed (with `companion` hearing every message from
     LAND on); (LAND's vehicle time, the track)."""
     c.wait(lambda: "HOME_POSITION" in c.last and c.last["GPS_RAW_INT"].fix_type >= 3, 120, what="a fix")
@@ -73,10 +79,12 @@ def _land(c: Client, trace: Trace, beacon_ne: tuple[float, float] | None, compan
     c.command(mav.MAV_CMD_NAV_TAKEOFF, 0, 0, 0, 0, 0, 0, TAKEOFF_M)
     c.wait(lambda: c.rel_alt_m() > TAKEOFF_M - 0.3, 60, what="the takeoff")
     c.idle(3.0)
+    if first_north_m:
+        goto(c, first_north_m, 0.0, TAKEOFF_M)
     trace.fact("hover.vision", _vision(c))
     trace.fact("hover.texts", [t for t in c.texts_since(since) if "PrecLand" in t or "Plnd" in t])
     track: list = []
-    c.set_mode(LAND)
+    c.set_mode(mode)
     land_ms = c.now_ms
     def listen(m):
         if m.get_type() == "GLOBAL_POSITION_INT":
@@ -151,7 +159,14 @@ def bad_frame(c: Client, trace: Trace) -> None:
                Tol(abs=0.3, why="it lands where it is"))
 
 
-PROBES = {"on_target": on_target, "out_of_view": out_of_view, "companion": companion, "bad_frame": bad_frame}
+def rtl(c: Client, trace: Trace) -> None:
+    _, track = _land(c, trace, (4.0, -4.0), first_north_m=10.0, mode=RTL)
+    trace.fact("touchdown.north_m", round(track[-1][1], 2), Tol(abs=0.1, why="both land on the beacon"))
+    trace.fact("touchdown.east_m", round(track[-1][2], 2), Tol(abs=0.1, why="as touchdown.north_m"))
+
+
+PROBES = {"on_target": on_target, "out_of_view": out_of_view, "companion": companion, "bad_frame": bad_frame,
+          "rtl": rtl}
 
 
 def run(target) -> dict[str, Trace]:
