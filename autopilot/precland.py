@@ -9,7 +9,7 @@ rangefinder's height along the line. The estimator (PLND_EST_TYPE 1) takes its f
 acquired ("PrecLand: Init Complete"; a gap first: "PrecLand: Init Failed"); with 0 the target is
 acquired at once. No reading for 2 s loses it ("PrecLand: Target Lost").
 
-LAND (and RTL's final descent) then flies to the target while it descends, but holds its height while more than
+LAND (RTL's final descent and AUTO's land item too) then flies to the target while it descends, but holds its height while more than
 PLND_XY_DIST_MAX from it, and between 2 m and 0.35 m above it slows to between 0.1 m/s and half
 LAND_SPEED as its error grows to 15 cm. A target never seen while the rangefinder reads between
 PLND_ALT_MIN and PLND_ALT_MAX is the failsafe ("PrecLand: Failsafe Measures"): PLND_STRICT 1

@@ -30,7 +30,7 @@ from .context import ModeContext
 from .guided import Guided
 from .guided_stop import JERK_DEFAULT_M_S3, JerkLimitedStop
 from .guided_yaw import DEFAULT, GuidedYaw
-from .land import Rtl, descend_and_disarm
+from .land import Rtl, descend_and_disarm, steer_to_target
 from .numbers import ModeNumber
 from .takeoff_climb import TakeoffClimb
 from .waypoint_legs import NAV_BY_LEGS, WaypointLegs, flies_through, next_nav_index
@@ -76,6 +76,7 @@ class Auto(Mode):
     _target: Vector3
     _arrived_at: float | None
     _land_d: float
+    _land_descending: bool  # a land item past its fly-over: descending where it is (or on a target)
     _seen: tuple[int, int | None, tuple[tuple[int, MissionItem], ...]]
     _paused_d: float | None = None  # DO_PAUSE_CONTINUE stopped a waypoint leg at this height
     _stopping: JerkLimitedStop | None = None  # ... slowing down as it does
@@ -294,6 +295,7 @@ class Auto(Mode):
         if item.command == CMD_RTL:
             self._rtl.enter(ctx)
         self._land_d = ctx.body.d_m
+        self._land_descending = False
         self._begin_leg(ctx, index, item, start)
 
     def _begin_leg(self, ctx: ModeContext, index: int, item: MissionItem,
@@ -408,13 +410,18 @@ class Auto(Mode):
     def _land(self, ctx: ModeContext, sp: Setpoint, item: MissionItem) -> None:
         n, e, _ = self._target
         b = ctx.body
-        if math.hypot(b.n_m - n, b.e_m - e) > 1.0 and not ctx.landed:
-            sp.pos_ne, sp.pos_d = (n, e), self._land_d  # fly over the landing point first
-            return
+        if not self._land_descending:
+            if math.hypot(b.n_m - n, b.e_m - e) > 1.0 and not ctx.landed:
+                sp.pos_ne, sp.pos_d = (n, e), self._land_d  # fly over the landing point first
+                return
+            self._land_descending = True  # as ArduCopter's land states: no going back to the fly-over
         sp.pos_ne = (n, e) if not ctx.landed else None
+        rate = steer_to_target(ctx, sp)
         # Landed: ArduCopter disarms here and leaves the land item current; the disarm resets
         # the mission (so the land item is never reported reached).
         descend_and_disarm(ctx, sp)
+        if rate is not None:  # precision landing's: a hold while far from its target, slow near it
+            sp.vel_d = sp.speed_dn = rate
 
     def _hold(self, ctx: ModeContext, sp: Setpoint) -> None:
         self._legs.end()  # a leg after the hold starts from where the vehicle then is

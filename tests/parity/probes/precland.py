@@ -14,6 +14,8 @@ bad_frame   the same in MAV_FRAME_LOCAL_NED, a frame ArduCopter does not take: i
             landing at home.
 rtl         SITL's beacon as on_target, the vehicle flown 10 m north first, then RTL (RTL_ALT 12 m,
             within the beacon's view): it lands on the beacon, not at home.
+auto        the same beacon, a mission: takeoff to 10 m, land 10 m north of home: the land item
+            comes down on the beacon.
 """
 from __future__ import annotations
 
@@ -23,6 +25,8 @@ import statistics
 from ..client import Client, mav
 from ..facts import Tol, Trace
 from .booting import each_on_a_fresh_vehicle
+from . import missions
+from .missions import upload
 from .nav_flight import goto
 from .states import GUIDED, reach_armed_on_ground
 
@@ -34,7 +38,7 @@ BOOT = {"PLND_ENABLED": 1, "PLND_TYPE": 4, "SIM_PLD_ENABLE": 1, "SIM_PLD_HEIGHT"
         "SIM_PLD_DIST_LMT": 10, "RNGFND1_TYPE": 100, "RNGFND1_MAX": 30}
 COMPANION = {"PLND_ENABLED": 1, "PLND_TYPE": 1, "RNGFND1_TYPE": 100, "RNGFND1_MAX": 30}
 PROBES_PARAMS = {"on_target": BOOT, "out_of_view": BOOT, "companion": COMPANION, "bad_frame": COMPANION,
-                 "rtl": {**BOOT, "RTL_ALT": 1200}}
+                 "rtl": {**BOOT, "RTL_ALT": 1200}, "auto": BOOT}
 RTL = 6
 TARGET_NE = (4.0, -4.0)
 TAKEOFF_M = 10.0
@@ -165,8 +169,26 @@ def rtl(c: Client, trace: Trace) -> None:
     trace.fact("touchdown.east_m", round(track[-1][2], 2), Tol(abs=0.1, why="as touchdown.north_m"))
 
 
+def auto(c: Client, trace: Trace) -> None:
+    c.wait(lambda: "HOME_POSITION" in c.last and c.last["GPS_RAW_INT"].fix_type >= 3, 120, what="a fix")
+    c.idle(20.0)
+    _place_beacon(c, *TARGET_NE)
+    h = c.last["HOME_POSITION"]
+    land = (mav.MAV_CMD_NAV_LAND, mav.MAV_FRAME_GLOBAL_RELATIVE_ALT_INT, 0, 0, 0, 0,
+            h.latitude + round(10.0 / M_PER_DEG * 1e7), h.longitude, 0)
+    trace.fact("upload", upload(c, [missions.takeoff(TAKEOFF_M), land]))
+    reach_armed_on_ground(c, GUIDED)
+    since = c.now_ms
+    trace.fact("start", c.command(mav.MAV_CMD_MISSION_START))
+    c.wait(lambda: not c.armed, 150, what="the mission's landing")
+    trace.fact("texts", [t for t in c.texts_since(since) if "PrecLand" in t])
+    n, e = _ne(c)
+    trace.fact("touchdown.north_m", round(n, 2), Tol(abs=0.1, why="both land on the beacon"))
+    trace.fact("touchdown.east_m", round(e, 2), Tol(abs=0.1, why="as touchdown.north_m"))
+
+
 PROBES = {"on_target": on_target, "out_of_view": out_of_view, "companion": companion, "bad_frame": bad_frame,
-          "rtl": rtl}
+          "rtl": rtl, "auto": auto}
 
 
 def run(target) -> dict[str, Trace]:
