@@ -167,6 +167,8 @@ class Vehicle:
         # what it reports goes to the list, or (ADSB_TYPE 0) out to every link as it is
         self.sitl_transceiver = SitlTransceiver(self.params["SIM_ADSB_COUNT"] >= 0 or bool(config.sim.traffic))
         self.adsb_forwards_due: list[AdsbReport] = []
+        self._adsb_wanted = False  # ADSB_TYPE, AVD_ENABLE or SITL's traffic: the 10 Hz ADS-B update runs
+        self._want_adsb()
         self.adsb_next_to_send = self.traffic.next_to_send  # (now_ms): the ADSB stream's next message
         self.ctx = ModeContext(self)
         # The parts' own methods that readers call through their views (views.py), bound once:
@@ -415,6 +417,10 @@ class Vehicle:
             self.avoidance.position_heard(int(self.time_s * 1000), system_id, Loc(lat_e7, lon_e7, int(alt_mm * 0.1)),
                                           (vx_cms * 0.01, vy_cms * 0.01, vz_cms * 0.01))
 
+    def _want_adsb(self) -> None:
+        p = self.params
+        self._adsb_wanted = bool(p["ADSB_TYPE"] or p["AVD_ENABLE"]) or self.sitl_transceiver.attached
+
     def lists_traffic(self) -> bool:
         """Whether the ADS-B list runs (AP_ADSB's enabled()): ADSB_VEHICLE is then not forwarded."""
         return self.traffic.started and self.traffic.enabled
@@ -576,6 +582,8 @@ class Vehicle:
             self.fence.follow_param(self.params)
         elif name == "AVD_ENABLE":
             self.avoidance.switched = None
+        if name in ("ADSB_TYPE", "AVD_ENABLE"):
+            self._want_adsb()
 
     # ----- commands: arming ------------------------------------------------------------------
     def arm(self, force: bool = False) -> Result:
@@ -886,9 +894,8 @@ class Vehicle:
                         self.disarm("auto")
             if self.sim.steps % (self._mode_every * FAILSAFE_EVERY) == 0:
                 self.failsafes.check(self)
-                p = self.params
-                if p["ADSB_TYPE"] or p["AVD_ENABLE"] or self.avoidance.on or self.avoidance.switched or \
-                        self.sitl_transceiver.attached:
+                avoidance = self.avoidance
+                if self._adsb_wanted or avoidance.on or avoidance.switched:
                     self._adsb_update(now)
                 self._read_aux_switches(now)
                 self.thrust_loss.check(self, FAILSAFE_EVERY * dt)

@@ -139,6 +139,7 @@ class ModeContext:
     origin_alt_m: ReadThrough[float] = property(attrgetter("_v.origin.alt_m"))
     accel_body: ReadThrough[Vector3] = property(attrgetter("_estimate.accel_body"))
     mode_number: ReadThrough[int] = property(attrgetter("_v.mode_number"))
+    precland_kind: ReadThrough[int] = property(attrgetter("_v.precland.kind"))  # PLND_TYPE's sensor, 0 none
 
     def unix_time_us(self) -> int:
         return self._v.unix_time_us()

@@ -46,7 +46,7 @@ def descend_and_disarm(ctx: ModeContext, sp: Setpoint) -> bool:
 def steer_to_target(ctx: ModeContext, sp: Setpoint) -> float | None:
     """Precision landing's part of a landing that holds a point (LAND's, RTL's): fly to the target
     in its place, when one is acquired; the descent rate it asks for (None: the landing's own)."""
-    if sp.pos_ne is None:
+    if sp.pos_ne is None or not ctx.precland_kind:  # (most vehicles have no precision landing)
         return None
     b = ctx.body
     target, rate = ctx.precland_landing((b.n_m, b.e_m), ctx.params["LAND_SPEED"] / 100.0)

@@ -30,7 +30,7 @@ def ctx(d_m=0.0, landed=False, armed=True, pilot=None, params=None, **body):
     c.has_position = lambda: True
     c.require_home = lambda: c.home_ned
     c.height_ref_d = 0.0
-    c.precland_landing = lambda position_ne, land_speed_m_s: (None, None)  # no precision landing
+    c.precland_kind = 0  # no precision landing
     return c
 
 
