@@ -21,8 +21,8 @@ from firefly.sim.geo import GeoPoint, global_from_ned, ned_from_global
 from firefly.sim.vehicle import BATTERY_EVERY, SimConfig, SimVehicle
 
 from .adsb.escape import CopterEscape
-from .adsb.location import ZERO as NOWHERE
-from .adsb.location import Loc
+from .location import ZERO as NOWHERE
+from .location import Loc, loc_of
 from .adsb.sitl_transceiver import SitlTransceiver
 from .adsb.sitl_transceiver import report_of as sitl_report
 from .adsb.threats import Avoidance, Collision
@@ -429,8 +429,7 @@ class Vehicle:
         """Where the vehicle is, as ADS-B compares it with traffic; None without a position."""
         if not self.has_position():
             return None
-        g = self.position_global()
-        return Loc(round(g.lat_deg * 1e7), round(g.lon_deg * 1e7), int(g.alt_m * 100.0))
+        return loc_of(self.position_global())
 
     def height_above_home_m(self) -> float:
         return self.height_ref_d - self.body.d_m
@@ -444,8 +443,7 @@ class Vehicle:
             flying = self.sim.fly_traffic(self._dt_mode * FAILSAFE_EVERY, int(p["SIM_ADSB_COUNT"]),
                                           p["SIM_ADSB_RADIUS"], p["SIM_ADSB_ALT"])
             if int(p["SIM_ADSB_TYPES"]) & 1 and self.sitl_transceiver.due(now):
-                o = self.origin
-                origin = Loc(round(o.lat_deg * 1e7), round(o.lon_deg * 1e7), int(o.alt_m * 100))
+                origin = loc_of(self.origin)
                 for a in flying:
                     if traffic.enabled:
                         traffic.receive(sitl_report(a, origin), now_ms)

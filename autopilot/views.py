@@ -40,7 +40,7 @@ if TYPE_CHECKING:
     from .params import ParamStore
     from .payload.camera import Camera, CameraStatus
     from .pilot import PilotInput
-    from .adsb.location import Loc
+    from .location import Loc
     from .adsb.traffic_list import AdsbReport
     from .rangefinder import RangeReading
     from .results import Result

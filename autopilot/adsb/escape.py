@@ -25,7 +25,7 @@ import math
 from ..modes.numbers import ModeNumber
 from ..results import Result
 from ..views import EscapeView
-from .location import Loc
+from ..location import Loc
 from .threats import ACTION_NONE, ACTION_REPORT, Obstacle
 
 RTL, HOVER, VERTICAL, HORIZONTAL, PERPENDICULAR = 5, 6, 2, 3, 4  # MAV_COLLISION_ACTION

@@ -16,7 +16,7 @@ import math
 
 from firefly.sim.traffic import Aircraft
 
-from .location import Loc
+from ..location import Loc
 from .traffic_list import AdsbReport
 
 START_S = 10.0  # nothing before the autopilot has run this long

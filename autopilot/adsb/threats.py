@@ -27,7 +27,7 @@ from dataclasses import dataclass
 from collections.abc import Callable
 from typing import NamedTuple, Protocol
 
-from .location import Loc
+from ..location import Loc
 from .traffic_list import Tracked
 
 NONE, LOW, HIGH = 0, 1, 2  # MAV_COLLISION_THREAT_LEVEL

@@ -21,7 +21,7 @@ from __future__ import annotations
 
 from typing import NamedTuple
 
-from .location import ZERO, Loc
+from ..location import ZERO, Loc
 
 TIMEOUT_MS = 5000  # AP_ADSB's VEHICLE_TIMEOUT_MS
 PASS_MS = 1000  # a new pass of the ADSB stream no sooner than this after the last began

@@ -11,19 +11,15 @@ from __future__ import annotations
 
 import math
 
+from ..location import M_PER_E7, longitude_scale
 from ..views import TelemetryView
 from .dialect import mavlink as mav
 from .encoding import deg_e7
 
-M_PER_E7 = 0.011131884502145034  # ArduPilot's LOCATION_SCALING_FACTOR: metres per 1e-7 degree
 BLOCK_STEP_N, BLOCK_STEP_E = 24, 28  # grid spacings between block corners (AP_Terrain)
 ALL_BLOCKS_MASK = (1 << 56) - 1  # 7 x 8 sub-blocks of 4 x 4 points, none loaded
 PENDING_UNLOADED = 504  # ArduCopter SITL's TERRAIN_REPORT with nothing loaded: 9 blocks x 56
 REQUEST_MIN_INTERVAL_S = 2.0  # AP_Terrain asks again no sooner than this
-
-
-def _longitude_scale(lat_e7: float) -> float:
-    return max(math.cos(math.radians(lat_e7 * 1e-7)), 0.01)
 
 
 def _whole_degrees_e7(x_e7: int) -> int:
@@ -35,11 +31,11 @@ def grid_block_corner(lat_e7: int, lon_e7: int, spacing_m: float) -> tuple[int, 
     """South-west corner (1e-7 degrees) of the terrain grid block holding the point."""
     ref_lat, ref_lon = _whole_degrees_e7(lat_e7), _whole_degrees_e7(lon_e7)
     north = (lat_e7 - ref_lat) * M_PER_E7
-    east = (lon_e7 - ref_lon) * M_PER_E7 * _longitude_scale((lat_e7 + ref_lat) / 2)
+    east = (lon_e7 - ref_lon) * M_PER_E7 * longitude_scale((lat_e7 + ref_lat) / 2)
     block_n = int(north / spacing_m) // BLOCK_STEP_N
     block_e = int(east / spacing_m) // BLOCK_STEP_E
     d_lat = int(block_n * BLOCK_STEP_N * spacing_m / M_PER_E7)
-    d_lon = int(block_e * BLOCK_STEP_E * spacing_m / M_PER_E7 / _longitude_scale(ref_lat + d_lat / 2))
+    d_lon = int(block_e * BLOCK_STEP_E * spacing_m / M_PER_E7 / longitude_scale(ref_lat + d_lat / 2))
     return ref_lat + d_lat, ref_lon + d_lon
 
 

@@ -19,21 +19,17 @@ from __future__ import annotations
 import math
 from dataclasses import replace
 
+from ..location import M_PER_E7, longitude_scale
 from .store import MissionItem
 
 HISTORY = 7  # AP_MISSION_MAX_WP_HISTORY
 LAST_PASSED = HISTORY - 2  # the waypoint before the one being flown
-M_PER_E7 = 0.011131884502145034  # metres per 1e-7 degree of latitude (AP's LOCATION_SCALING_FACTOR)
 RETURNED = "Mission: Returned to interrupted WP"
-
-
-def _lon_scale(lat_e7: float) -> float:
-    return max(math.cos(math.radians(lat_e7 * 1e-7)), 0.01)
 
 
 def _offset_m(a: tuple[float, float], b: tuple[float, float]) -> tuple[float, float]:
     """(north, east) metres from a to b, each (lat, lon) in 1e-7 degrees."""
-    return (b[0] - a[0]) * M_PER_E7, (b[1] - a[1]) * M_PER_E7 * _lon_scale(b[0])
+    return (b[0] - a[0]) * M_PER_E7, (b[1] - a[1]) * M_PER_E7 * longitude_scale(b[0])
 
 
 def _distance_m(a: tuple[float, float], b: tuple[float, float]) -> float:
@@ -100,6 +96,6 @@ def _rewind_point(items: list, history: list, exit_e7: tuple[float, float], repe
     length = math.hypot(dn, de)
     share = abs(left) / length if length > 0 else 0.0
     lat = passed.x + dn * share / M_PER_E7
-    lon = passed.y + de * share / M_PER_E7 / _lon_scale(lat)
+    lon = passed.y + de * share / M_PER_E7 / longitude_scale(lat)
     z = passed.z + (ahead.z - passed.z) * share
     return history[index], replace(passed, x=int(round(lat)), y=int(round(lon)), z=z)

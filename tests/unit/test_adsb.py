@@ -8,7 +8,7 @@ import math
 
 import pytest
 
-from firefly.autopilot.adsb.location import Loc
+from firefly.autopilot.location import Loc
 from firefly.autopilot.adsb.sitl_transceiver import report_of as sitl_report_of
 from firefly.autopilot.adsb.threats import HIGH, LOW, NONE, Avoidance, Obstacle, closest_xy, closest_z
 from firefly.autopilot.adsb.traffic_list import AdsbReport, TrafficList
