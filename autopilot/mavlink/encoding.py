@@ -11,3 +11,9 @@ def time_boot_ms(v: SimClock) -> int:
 
 def deg_e7(x: float) -> int:
     return int(round(x * 1e7))
+
+
+def u16(x: float) -> int:
+    """A reading in an unsigned 16-bit field: cut to 0..65535 (a hostile parameter or a fault can
+    push a simulated reading out of the field's range; the message still goes out)."""
+    return max(0, min(int(x), 65535))

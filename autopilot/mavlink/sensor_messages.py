@@ -14,7 +14,7 @@ from firefly.sim.rigid_body import euler_from_quaternion
 from ..control.attitude import wrap_pi
 from ..views import SensorView
 from .dialect import mavlink as mav
-from .encoding import deg_e7, time_boot_ms
+from .encoding import deg_e7, time_boot_ms, u16
 
 MILLI_G = 1000.0 / GRAVITY_M_S2  # accelerations go out in milli-g, as ArduPilot scales them
 # ArduCopter SITL's MEMINFO and POWER_STATUS: memory it never runs out of, a 5 V board rail.
@@ -170,11 +170,11 @@ def servo_output_raw(v: SensorView, codec):
 def esc_telemetry_1_to_4(v: SensorView, codec):
     """Each ESC's voltage, a quarter of the pack current and charge, and its rotor's speed."""
     batt = v.battery
-    rpm = [int(round(w * 60.0 / (2.0 * math.pi))) for w in v.motor_speeds_rad_s]
+    rpm = [u16(round(w * 60.0 / (2.0 * math.pi))) for w in v.motor_speeds_rad_s]
     count = int(v.time_s * 10) & 0xFFFF  # reports received: one per 100 ms of vehicle time
     return codec.esc_telemetry_1_to_4_encode(
-        [ESC_TEMPERATURE_C] * 4, [min(int(batt.voltage_v * 100), 65535)] * 4,
-        [min(int(batt.current_a * 25), 65535)] * 4, [int(batt.consumed_mah / 4)] * 4, rpm, [count] * 4)
+        [ESC_TEMPERATURE_C] * 4, [u16(batt.voltage_v * 100)] * 4,
+        [u16(batt.current_a * 25)] * 4, [u16(batt.consumed_mah / 4)] * 4, rpm, [count] * 4)
 
 
 def nav_controller_output(v: SensorView, codec):
