@@ -94,15 +94,16 @@ class MavProxy:
             return len(self.lines)
 
     def stop(self) -> None:
-        """End of input makes MAVProxy quit (it does within a second); if it does not, its process
-        group (its own session, so only MAVProxy and its children) is killed while it is alive."""
+        """End of input makes MAVProxy quit (it does within a second, when its input is read);
+        if it does not within two, its process group (its own session, so only MAVProxy and its
+        children) is killed while it is alive. Teardowns measured 10 s each waiting longer."""
         proc = self.process
         try:
             proc.stdin.close()
         except OSError:
             pass
         try:
-            proc.wait(timeout=10)
+            proc.wait(timeout=2)
         except subprocess.TimeoutExpired:
             os.killpg(proc.pid, signal.SIGKILL)  # not reaped yet, so the group id is still its own
             proc.wait(timeout=10)
