@@ -50,6 +50,7 @@ class Session:
         self.missions = MissionService(vehicle.mission, vehicle, codec)
         self.adsb_out = AdsbOut()  # a uAvionix transponder's configuration and channel
         self._transceiver_seq = 0  # the next frame number of SITL's ADS-B transceiver (component 156)
+        self._mode_changes_told = vehicle.mode_changes  # mode changes a HEARTBEAT has told
         self._channels: dict = {}  # link -> its channel number, in the order transceivers reported on them
         self.legacy_points = LegacyPoints(vehicle.mission, vehicle.params, codec)  # older GCSs' fence and rally
         self.ftp = FtpServer(vehicle.params, vehicle.notify)
@@ -391,7 +392,13 @@ class Session:
         if vehicle.collisions_due:  # ADS-B avoidance's reports: to every link
             due, vehicle.collisions_due = vehicle.collisions_due, []
             out.extend(collision(self.telemetry_codec, c) for c in due)
-        for msg_id in self.streams.due(now_s):  # heartbeat first, then the rest; most ticks none
+        due = self.streams.due(now_s)
+        if vehicle.mode_changes != self._mode_changes_told:
+            # As ArduCopter: a mode change sends a HEARTBEAT at once (one, if one is due anyway)
+            self._mode_changes_told = vehicle.mode_changes
+            if mav.MAVLINK_MSG_ID_HEARTBEAT not in due:
+                due = [mav.MAVLINK_MSG_ID_HEARTBEAT, *due]
+        for msg_id in due:  # heartbeat first, then the rest; most ticks none
             msg = self.build(msg_id)
             if msg is not None:
                 out.append(msg)
