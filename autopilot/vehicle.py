@@ -51,6 +51,8 @@ from .rates import LoopRates
 from .results import Result, Severity
 from .safety.arming import Arming, arm_refusals, prearm_failure
 from .safety.failsafe import Failsafes
+from .safety.fence_shapes import FenceShapes, Shape
+from .safety.simple_avoid import FenceGeometry, SimpleAvoid
 from .safety.fence_switch import FenceSwitch
 from .safety.internal_error import CONSTRAINING_NAN, FLOW_OF_CONTROL, InternalErrors
 from .safety.land_detector import AutoDisarm, LandDetector
@@ -138,6 +140,8 @@ class Vehicle:
         self.auto_disarm = AutoDisarm()
         self.failsafes = Failsafes()
         self.fence = FenceSwitch(self.params)
+        self._fence_shapes = FenceShapes()
+        self.simple_avoid = SimpleAvoid(self.params)
         self.thrust_loss = ThrustLossCheck()
         self.cascade = make_cascade(self.sim, self.params, config.rates, config.compiled)
         self._gains: Params = self.params  # what the controllers are configured from
@@ -265,7 +269,9 @@ class Vehicle:
     failsafe_active: ReadThrough[bool] = property(attrgetter("failsafes.active"), doc="Any failsafe on.")
     battery_failsafe_level: ReadThrough[int] = property(attrgetter("failsafes.battery_level"),
                                                         doc="0 ok, 1 low, 2 critical.")
-    fence_breached: ReadThrough[bool] = property(attrgetter("failsafes.fence_breached"))
+    fence_breaches: ReadThrough[int] = property(attrgetter("failsafes.fence.breaches"))  # AC_FENCE_TYPE_* bits
+    fence_breach_count: ReadThrough[int] = property(attrgetter("failsafes.fence.count"))
+    fence_breach_time_ms: ReadThrough[int] = property(attrgetter("failsafes.fence.time_ms"))
     gps_glitching: ReadThrough[bool] = property(attrgetter("failsafes.ekf.gps_glitching"))
     internal_error_bits: ReadThrough[int] = property(attrgetter("internal_errors.bits"))
     mission_version: ReadThrough[int] = property(attrgetter("mission.version"), doc="Bumped on every change.")
@@ -388,6 +394,37 @@ class Vehicle:
         if not pl.kind or not self.params["PLND_ENABLED"]:
             return None, None
         return pl.landing(self.time_s, self.notify, self._rangefinder_height(), position_ne, land_speed_m_s)
+
+    def fence_shapes(self) -> tuple[Shape, ...]:
+        """The stored fence's polygons and circles in the local frame."""
+        return self._fence_shapes.shapes(self.mission.version, self.fence_items, self.ned_of)
+
+    def _fence_geometry(self) -> FenceGeometry:
+        b, home = self.estimate.body, self.home_ned or (0.0, 0.0, 0.0)
+        return FenceGeometry((b.n_m, b.e_m), (home[0], home[1]), home[2] - b.d_m, self.fence.enabled_fences,
+                             self.fence_shapes(), self.params)
+
+    def avoid_velocity(self, vel_neu: Vector3, accel_m_s2: float, dt: float) -> Vector3:
+        """A velocity (north, east, up) as simple avoidance lets it be flown (safety/simple_avoid.py),
+        with the position controller's gains and the mode's horizontal acceleration."""
+        avoid = self.simple_avoid
+        if not avoid.wanted(self.fence.enabled_fences) or not self.has_position():
+            return vel_neu
+        p = self.params
+        return avoid.adjust_velocity(self._fence_geometry(), vel_neu, p["PSC_POSXY_P"], accel_m_s2, p["PSC_POSZ_P"],
+                                     p["PILOT_ACCEL_Z"] / 100.0, self.time_s, dt)
+
+    def avoid_limits_active(self) -> bool:
+        """Whether simple avoidance changed a wanted velocity within the last half second."""
+        return self.simple_avoid.limits_active(self.time_s)
+
+    def avoid_climb(self, climb_m_s: float, dt: float) -> float:
+        """The pilot's climb rate as the altitude fences let it be flown (safety/simple_avoid.py)."""
+        avoid = self.simple_avoid
+        if not climb_m_s or not avoid.wanted(self.fence.enabled_fences):
+            return climb_m_s
+        p = self.params
+        return avoid.adjust_climb_rate(self._fence_geometry(), climb_m_s, p["PSC_POSZ_P"], p["PILOT_ACCEL_Z"] / 100.0, dt)
 
     def landing_target(self, frame: int, angle_x: float, angle_y: float, distance: float,
                        xyz: tuple[float, float, float], position_valid: bool) -> None:
@@ -647,6 +684,7 @@ class Vehicle:
         self.mode_changes += 1
         self._mode_entered = ready
         self.cascade.reset_position()
+        self.failsafes.fence.mode_changed(self, self.time_s)
         return Result.ACCEPTED
 
     def use_gains(self, gains: Mapping[str, float] | None) -> None:

@@ -8,6 +8,7 @@ from typing import Any
 from ..mission.progress import MissionState
 from .. import version
 from ..modes import MODE_BY_NUMBER
+from ..safety.fence_switch import ALT_MAX, ALT_MIN, CIRCLE, POLYGON
 from ..views import StreamedView, TelemetryView
 from .dialect import mavlink as mav
 from .encoding import deg_e7 as _deg_e7
@@ -61,13 +62,22 @@ def heartbeat(v: TelemetryView, codec):
 
 
 def fence_status(v: TelemetryView, codec):
-    """Streamed only while a fence is on, as ArduCopter's. Firefly keeps no breach count or
-    time: a breach reads as one, now, of the boundary."""
+    """Streamed only while a fence is on, as ArduCopter's: the breaches kept now, the count since
+    boot, the kind (a boundary over the ceiling over the floor) and whether avoidance is holding
+    the vehicle back."""
     if not v.fence.enabled:
         return None
-    breached = bool(v.fence_breached)
-    return codec.fence_status_encode(int(breached), int(breached), mav.FENCE_BREACH_BOUNDARY if breached
-                                     else mav.FENCE_BREACH_NONE, 0, mav.FENCE_MITIGATE_NONE)
+    breaches = v.fence_breaches
+    kind = mav.FENCE_BREACH_NONE
+    if breaches & ALT_MIN:
+        kind = mav.FENCE_BREACH_MINALT
+    if breaches & ALT_MAX:
+        kind = mav.FENCE_BREACH_MAXALT
+    if breaches & (CIRCLE | POLYGON):
+        kind = mav.FENCE_BREACH_BOUNDARY
+    mitigation = mav.FENCE_MITIGATE_VEL_LIMIT if v.avoid_limits_active() else mav.FENCE_MITIGATE_NONE
+    return codec.fence_status_encode(int(breaches != 0), v.fence_breach_count, kind, v.fence_breach_time_ms,
+                                     mitigation)
 
 
 def sys_status(v: TelemetryView, codec):
@@ -78,7 +88,7 @@ def sys_status(v: TelemetryView, codec):
         enabled |= mav.MAV_SYS_STATUS_SENSOR_Z_ALTITUDE_CONTROL
     if v.controls_position():
         enabled |= mav.MAV_SYS_STATUS_SENSOR_XY_POSITION_CONTROL
-    if v.fence.enabled:
+    if v.fence.enabled and v.params["FENCE_ACTION"] != 0:  # as AC_Fence: a fence that only reports is not enabled
         enabled |= mav.MAV_SYS_STATUS_GEOFENCE
     healthy = (enabled & ~PREARM & ~mav.MAV_SYS_STATUS_GEOFENCE) | mav.MAV_SYS_STATUS_SENSOR_PROXIMITY
     if v.is_armable():
@@ -89,7 +99,7 @@ def sys_status(v: TelemetryView, codec):
         healthy &= ~mav.MAV_SYS_STATUS_SENSOR_GPS
     # As ArduPilot: the fence bit is healthy unless a fence is enabled and breached (MAVProxy
     # reads a missing health bit as a breach even when no fence exists).
-    if not v.fence_breached:
+    if not v.fence_breaches:
         healthy |= mav.MAV_SYS_STATUS_GEOFENCE
     if v.rangefinder_kind:  # (one plain read when there is none, as on most vehicles)
         if v.rangefinder_down:  # as ArduCopter: present with a downward rangefinder, enabled at boot and by

@@ -84,7 +84,7 @@ class Circle(Mode):
         sp.pos_ne = self._target = nav.point()
         sp.yaw = nav.heading(b.n_m, b.e_m, bool(int(params["CIRCLE_OPTIONS"]) & FACE_TRAVEL),
                              params["ATC_ANG_YAW_P"])
-        self._hold_d = pilot_vertical(ctx, sp, self._hold_d)
+        self._hold_d = pilot_vertical(ctx, sp, self._hold_d, dt)
 
     def _pilot_changes(self, ctx: ModeContext, dt: float) -> None:
         """Pitch forward shrinks the radius at WPNAV_SPEED; roll changes the rate by up to

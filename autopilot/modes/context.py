@@ -31,6 +31,7 @@ class ModeContext:
         params        the parameter store (ArduCopter names and units)
         pilot         the pilot's sticks (PilotInput), centred when none arrive
         armed, landed, time_s (sim seconds), home_ned (None until home is set)
+        enabled_fences the fences on (FENCE_TYPE bits: 1 ceiling, 2 circle, 4 polygon, 8 floor)
         height_ref_d  the down coordinate heights are measured from (home, or the boot ground)
         nav_speed_m_s the horizontal speed AUTO and GUIDED fly (WPNAV_SPEED, DO_CHANGE_SPEED)
         has_position() whether the horizontal position is known (3D GPS fix)
@@ -67,11 +68,15 @@ class ModeContext:
                                  (AUTOTUNE's trial sets); None: the parameters' own again
         precland_landing(position_ne, land_speed_m_s) what precision landing makes of a landing
                                  (precland.py): (the point to fly to or None, the descent rate or None)
+        avoid_velocity(vel_neu, accel, dt) a wanted velocity (north, east, up) as simple avoidance
+                                 lets it be flown, accel the mode's horizontal limit (m/s/s)
+        avoid_climb(climb, dt)   a pilot's climb rate as the altitude fences let it be flown
     """
     __slots__ = ("_v", "_estimate", "_arming", "_land", "_sim", "params", "mission_progress", "return_path",
                  "follow_target", "camera", "notify", "disarm", "set_speed", "set_home", "fence_enable_item",
                  "set_servo", "repeat_servo", "set_relay", "repeat_relay", "ned_of", "position_global", "set_mode",
-                 "hover_thrust_share", "restart_position_control", "use_gains", "precland_landing")
+                 "hover_thrust_share", "restart_position_control", "use_gains", "precland_landing",
+                 "avoid_velocity", "avoid_climb")
     params: ParamStore
     mission_progress: MissionProgress
     return_path: ReturnPath
@@ -92,6 +97,8 @@ class ModeContext:
     restart_position_control: Callable[[], None]
     use_gains: Callable[[Mapping[str, float] | None], None]
     precland_landing: Callable[[tuple[float, float], float], tuple[tuple[float, float] | None, float | None]]
+    avoid_velocity: Callable[[Vector3, float, float], Vector3]
+    avoid_climb: Callable[[float, float], float]
 
     def __init__(self, vehicle: ModeHost):
         self._v = vehicle
@@ -119,6 +126,8 @@ class ModeContext:
         self.restart_position_control = vehicle.restart_position_control
         self.use_gains = vehicle.use_gains
         self.precland_landing = vehicle.precland_landing
+        self.avoid_velocity = vehicle.avoid_velocity
+        self.avoid_climb = vehicle.avoid_climb
         airframe = vehicle.sim.airframe
         self.hover_thrust_share = airframe.weight_n / (4.0 * airframe.max_rotor_thrust_n)
 
@@ -140,6 +149,7 @@ class ModeContext:
     accel_body: ReadThrough[Vector3] = property(attrgetter("_estimate.accel_body"))
     mode_number: ReadThrough[int] = property(attrgetter("_v.mode_number"))
     precland_kind: ReadThrough[int] = property(attrgetter("_v.precland.kind"))  # PLND_TYPE's sensor, 0 none
+    enabled_fences: ReadThrough[int] = property(attrgetter("_v.fence.enabled_fences"))  # AC_FENCE_TYPE_* bits on
 
     def unix_time_us(self) -> int:
         return self._v.unix_time_us()

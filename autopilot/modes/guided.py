@@ -314,6 +314,12 @@ class Guided(Mode):
                 an, ae = an * limit / size, ae * limit / size
             vn, ve, vd = vn + an * dt, ve + ae * dt, vd + ad * dt
             self.target_vel = (vn, ve, vd)
+        # As ArduCopter's: avoidance cuts the target itself, which keeps the cut (and a push back)
+        # until the next target arrives.
+        avoided = ctx.avoid_velocity((vn, ve, -vd), ctx.params["WPNAV_ACCEL"] / 100.0, dt)
+        if avoided[0] != vn or avoided[1] != ve or avoided[2] != -vd:
+            vn, ve, vd = avoided[0], avoided[1], -avoided[2]
+            self.target_vel = (vn, ve, vd)
         sp.vel_ne, sp.vel_d = (vn, ve), vd
         sp.speed_xy = math.inf
 

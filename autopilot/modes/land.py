@@ -5,8 +5,9 @@ import math
 
 from ..control.attitude import wrap_pi
 from ..params import ParamStore
+from ..safety.fence_switch import ALT_MAX as FENCE_ALT_MAX
 from .auto_yaw import holds_in_rtl
-from .base import Mode, Setpoint, hold_here
+from .base import Mode, Setpoint, hold_here, stopping_point
 from .context import ModeContext
 from .numbers import ModeNumber
 from .waypoint_legs import WaypointLegs
@@ -100,7 +101,8 @@ RTL_MIN_CONE_SLOPE = 0.5  # a shallower RTL_CONE_SLOPE turns the cone off
 def return_altitude(ctx: ModeContext) -> float:
     """The height above home RTL returns at, as ArduCopter's compute_return_target: RTL_ALT (at
     least RTL_CLIMB_MIN above the present height), but within RTL_CONE_SLOPE times the distance
-    home, so a vehicle near home climbs little or not at all; never below where it is."""
+    home, so a vehicle near home climbs little or not at all; not above an altitude fence's
+    margin; never below where it is."""
     params, b = ctx.params, ctx.body
     home = ctx.require_home()
     current_alt = home[2] - b.d_m
@@ -109,6 +111,8 @@ def return_altitude(ctx: ModeContext) -> float:
     slope = params["RTL_CONE_SLOPE"]
     if slope >= RTL_MIN_CONE_SLOPE:
         target = min(target, max(math.hypot(b.n_m - home[0], b.e_m - home[1]) * slope, least))
+    if ctx.enabled_fences & FENCE_ALT_MAX:  # not above the ceiling's margin
+        target = min(target, params["FENCE_ALT_MAX"] - params["FENCE_MARGIN"])
     return max(target, current_alt)
 
 
@@ -140,7 +144,9 @@ class Rtl(Mode):
         params = ctx.params
         home_d = ctx.require_home()[2]
         self._return_d = home_d - return_altitude(ctx)
-        self._hold_ne, _ = hold_here(ctx)
+        # The climb is over where the vehicle can stop (ArduCopter's origin point): a vehicle
+        # entering RTL at speed flies on to it rather than back to where the mode changed.
+        self._hold_ne, _ = stopping_point(ctx)
         # Entered on the ground it stays there armed, as ArduCopter's RTL does, until the
         # auto-disarm (DISARM_DELAY from arming) disarms it.
         self._stage = "GROUND" if ctx.landed else "CLIMB"

@@ -28,6 +28,11 @@ class Loiter(Mode):
     def enter(self, ctx: ModeContext) -> str | None:
         self._hold_ne, self._hold_d = hold_here(ctx)
         self._nav: LoiterNav | None = None
+        b = ctx.body
+        if not ctx.landed and math.hypot(b.vn_m_s, b.ve_m_s) > STOPPED_M_S:
+            # As AC_Loiter: entered at speed, the point moves on with the vehicle's velocity and
+            # slows as the sticks say, rather than pulling the vehicle back to where it was.
+            self._nav = LoiterNav(self._hold_ne, (b.vn_m_s, b.ve_m_s))
         return None
 
     def update(self, ctx: ModeContext, sp: Setpoint, dt: float) -> None:
@@ -35,8 +40,11 @@ class Loiter(Mode):
         pilot = ctx.pilot
         fwd, right = pilot.pitch, pilot.roll  # past the channels' dead zones already
         nav = self._nav
-        if (fwd or right) and nav is None:  # the sticks take over from the held point
-            nav = self._nav = LoiterNav(self._hold_ne)
+        if nav is None:
+            if fwd or right:  # the sticks take over from the held point
+                nav = self._nav = LoiterNav(self._hold_ne)
+            elif self._pushed_back(ctx, dt):  # a fence's margin does, from the drift
+                nav = self._nav = LoiterNav(self._hold_ne, (ctx.body.vn_m_s, ctx.body.ve_m_s))
         if nav is not None:
             nav.update(ctx, fwd, right, dt)
             sp.pos_ne, sp.vel_ne, sp.accel_ne = nav.target, nav.vel, nav.accel
@@ -45,11 +53,22 @@ class Loiter(Mode):
                 self._nav = None  # stopped: the point is held again
         else:
             sp.pos_ne = self._hold_ne
-        self._hold_d = pilot_vertical(ctx, sp, self._hold_d, self.takeoff)
+        self._hold_d = pilot_vertical(ctx, sp, self._hold_d, dt, self.takeoff)
         sp.yaw_rate = stick_deadzone(pilot.yaw) * math.radians(ctx.params["PILOT_Y_RATE"])
         if ctx.landed:
             self._hold_ne = (ctx.body.n_m, ctx.body.e_m)
             self._nav = None
+
+    @staticmethod
+    def _pushed_back(ctx: ModeContext, dt: float) -> bool:
+        """Whether a vehicle holding inside a fence's margin is to back away from it. ArduCopter's
+        loiter velocity is never quite zero while it holds (it starts from the vehicle's), so the
+        fences see the vehicle's own drift and push it back out."""
+        if ctx.landed:
+            return False
+        b = ctx.body
+        drift = (b.vn_m_s, b.ve_m_s, 0.0)
+        return ctx.avoid_velocity(drift, ctx.params["LOIT_ACC_MAX"] / 100.0, dt) != drift
 
 
 class Brake(Mode):

@@ -4,7 +4,8 @@ a short lag; a drag in proportion to the speed (the full-stick acceleration at L
 the speed under LOIT_SPEED, so a half stick settles at about half of it; with the sticks centred
 a braking acceleration (up to LOIT_BRK_ACCEL, after LOIT_BRK_DELAY) joins the drag. The target
 point moves with the velocity so made; the position controller follows point, velocity and
-acceleration."""
+acceleration. Simple avoidance cuts the velocity before the point moves on, so the point stops
+short of a fence (safety/simple_avoid.py)."""
 from __future__ import annotations
 
 import math
@@ -17,9 +18,9 @@ STOPPED_M_S = 0.05
 
 
 class LoiterNav:
-    def __init__(self, target_ne: tuple[float, float]):
+    def __init__(self, target_ne: tuple[float, float], vel_ne: tuple[float, float] = (0.0, 0.0)):
         self.target = target_ne
-        self.vel = (0.0, 0.0)
+        self.vel = vel_ne
         self.accel = (0.0, 0.0)  # the predicted acceleration (the lean the attitude has reached)
         self._centred_s = 0.0  # how long the sticks have been centred
 
@@ -45,6 +46,7 @@ class LoiterNav:
         speed_max = max(p["LOIT_SPEED"] / 100.0, 0.2)
         centred = fwd == 0.0 and right == 0.0
         self._centred_s = self._centred_s + dt if centred else 0.0
+        stopped = False
         if speed > 0.0:
             drag = GRAVITY * math.tan(angle_max) * speed / speed_max
             brake = 0.0
@@ -54,7 +56,11 @@ class LoiterNav:
             slowed = max(speed - (drag + brake) * dt, 0.0)
             slowed = min(slowed, speed_max)
             vn, ve = vn * slowed / speed, ve * slowed / speed
-            if centred and slowed < STOPPED_M_S:
-                vn = ve = 0.0
+            stopped = centred and slowed < STOPPED_M_S
+        avoided = ctx.avoid_velocity((vn, ve, 0.0), p["LOIT_ACC_MAX"] / 100.0, dt)
+        if avoided[0] != vn or avoided[1] != ve:  # a fence cuts the move or pushes the vehicle back
+            vn, ve = avoided[0], avoided[1]
+        elif stopped:
+            vn = ve = 0.0
         self.vel = (vn, ve)
         self.target = (self.target[0] + vn * dt, self.target[1] + ve * dt)

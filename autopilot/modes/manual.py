@@ -79,11 +79,14 @@ class PilotTakeoff:
         return ctx.time_s - self.asked_at_s < spool_s
 
 
-def pilot_vertical(ctx: ModeContext, sp: Setpoint, hold_d: float, takeoff: PilotTakeoff | None = None) -> float:
-    """Throttle stick in ALT_HOLD/LOITER: climb at the stick's rate, or hold the height it left;
-    returns the height to hold from now on. With `takeoff`, a climb from the ground waits for
-    the throttle's slew first."""
+def pilot_vertical(ctx: ModeContext, sp: Setpoint, hold_d: float, dt: float,
+                   takeoff: PilotTakeoff | None = None) -> float:
+    """Throttle stick in ALT_HOLD/LOITER: climb at the stick's rate (slowed before an altitude
+    fence), or hold the height it left; returns the height to hold from now on. With `takeoff`,
+    a climb from the ground waits for the throttle's slew first."""
     climb = pilot_climb_rate(ctx)
+    if climb:
+        climb = ctx.avoid_climb(climb, dt)
     if takeoff is not None and takeoff.waiting(ctx, climb):
         sp.vel_d = 0.5  # pressed to the ground while the throttle slews up
         return ctx.body.d_m
@@ -114,4 +117,4 @@ class AltHold(Mode):
     def update(self, ctx: ModeContext, sp: Setpoint, dt: float) -> None:
         sp.clear()
         pilot_lean_and_yaw(ctx, sp)
-        self._hold_d = pilot_vertical(ctx, sp, self._hold_d, self.takeoff)
+        self._hold_d = pilot_vertical(ctx, sp, self._hold_d, dt, self.takeoff)

@@ -31,4 +31,4 @@ class PosHold(Brake):
         else:
             self.brake_then_hold(ctx, sp)
             sp.yaw_rate = stick_deadzone(pilot.yaw) * math.radians(ctx.params["PILOT_Y_RATE"])
-        self._hold_d = pilot_vertical(ctx, sp, self._hold_d, self.takeoff)
+        self._hold_d = pilot_vertical(ctx, sp, self._hold_d, dt, self.takeoff)

@@ -1,4 +1,4 @@
-"""Failsafes and the geofence, configured by ArduCopter's parameters.
+"""Failsafes and the geofence's breaches (fence_breach.py), configured by ArduCopter's parameters.
 
 Each check looks at the vehicle (sim time only) and, on a new breach, announces it and switches
 to the configured action. Ground-station link loss is detected by the MAVLink session on the
@@ -7,12 +7,12 @@ link clock and reported here through `gcs_lost()`, so wall time never reaches th
 from __future__ import annotations
 
 import math
-from typing import Any
 
 from ..modes.numbers import ModeNumber
 from ..results import Result, Severity
 from ..views import FailsafeView
 from .ekf_check import EkfCheck
+from .fence_breach import FenceBreach
 
 RTL, LAND, AUTO = ModeNumber.RTL, ModeNumber.LAND, ModeNumber.AUTO
 # A mode tried first, what ArduCopter says when it is refused, and the mode then tried
@@ -31,26 +31,8 @@ RADIO_ACTIONS: dict[int, Action] = {1: RTL, 2: RTL, 3: LAND, 4: SMART_RTL_OR_RTL
 # FS_OPTIONS bits the radio failsafe reads
 RC_CONTINUE_IF_AUTO, RC_CONTINUE_IF_GUIDED, CONTINUE_IF_LANDING = 1, 4, 8
 RADIO_LOW_THROTTLE_CHECKS = 3  # ArduCopter's FS_COUNTER: low throttle readings in a row
-FENCE_ACTIONS: dict[int, Action] = {1: RTL, 2: LAND, 3: SMART_RTL_OR_RTL, 4: RTL, 5: SMART_RTL_OR_LAND}
 GCS_CONTINUE_IN_AUTO = 2  # FS_GCS_ENABLE: a mission in AUTO flies on
-FENCE_ALT, FENCE_CIRCLE, FENCE_POLYGON = 1, 2, 4
-CMD_POLY_INCLUSION, CMD_POLY_EXCLUSION, CMD_CIRCLE_INCLUSION, CMD_CIRCLE_EXCLUSION = 5001, 5002, 5003, 5004
 CHECK_S = 0.1  # check() runs at 10 Hz of sim time
-
-
-def point_in_polygon(p: tuple[float, float], poly: list[tuple[float, float]]) -> bool:
-    """Even-odd rule on a local (north, east) polygon."""
-    inside = False
-    x, y = p
-    for (x1, y1), (x2, y2) in zip(poly, poly[1:] + poly[:1]):
-        if (y1 > y) != (y2 > y) and x < (x2 - x1) * (y - y1) / (y2 - y1) + x1:
-            inside = not inside
-    return inside
-
-
-def vertex_count(p1: float) -> int:
-    """A polygon vertex's count of vertices (param 1), as a byte holds it: anything else is 0."""
-    return int(p1) if math.isfinite(p1) and 0 <= p1 <= 255 else 0
 
 
 class Failsafes:
@@ -64,12 +46,9 @@ class Failsafes:
         self._rc_silent_checks = 0  # checks since the last RC frame
         self._rc_low_throttle = 0  # ArduCopter's failsafe.radio_counter
         self.gcs = False
-        self.fence_breached = False
+        self.fence = FenceBreach()
         self.adsb = False  # ArduCopter's failsafe.adsb: avoidance is acting on a threat (adsb/escape.py)
         self.ekf = EkfCheck()
-        self._fence_version: int | None = None
-        # ("poly", inclusion, [(n, e), ...]) or ("circle", inclusion, (n, e, radius))
-        self._zones: list[tuple[str, bool, Any]] = []
 
     @property
     def radio_input_valid(self) -> bool:
@@ -79,8 +58,7 @@ class Failsafes:
 
     @property
     def active(self) -> bool:
-        return bool(self.battery_level or self.gcs or self.radio or self.fence_breached or self.adsb
-                    or self.ekf.failsafe)
+        return bool(self.battery_level or self.gcs or self.radio or self.adsb or self.ekf.failsafe)
 
     def _act(self, v: FailsafeView, mode: Action | None, reason: str) -> None:
         if mode is None or not v.armed or v.landed or v.mode_number == LAND:
@@ -210,59 +188,8 @@ class Failsafes:
             self.gcs = False
             v.notify("GCS Failsafe Cleared", Severity.CRITICAL)
 
-    # ----- fence --------------------------------------------------------------------------------
-    def _fence_zones(self, v: FailsafeView) -> list[tuple[str, bool, Any]]:
-        """Fence items from the store as local shapes, rebuilt when a new fence is uploaded."""
-        if self._fence_version == v.mission_version:
-            return self._zones
-        zones: list[tuple[str, bool, Any]] = []
-        vertices: list[tuple[float, float]] = []
-        for item in v.fence_items():
-            n, e, _ = v.ned_of(item.x * 1e-7, item.y * 1e-7, v.origin.alt_m)
-            if item.command in (CMD_POLY_INCLUSION, CMD_POLY_EXCLUSION):
-                vertices.append((n, e))
-                if len(vertices) >= max(vertex_count(item.p1), 3):
-                    zones.append(("poly", item.command == CMD_POLY_INCLUSION, vertices))
-                    vertices = []
-            elif item.command in (CMD_CIRCLE_INCLUSION, CMD_CIRCLE_EXCLUSION):
-                zones.append(("circle", item.command == CMD_CIRCLE_INCLUSION, (n, e, item.p1)))
-        self._zones, self._fence_version = zones, v.mission_version
-        return zones
-
-    def fence_breach(self, v: FailsafeView) -> str | None:
-        """Which fence the vehicle is outside of, or None."""
-        p, b = v.params, v.body
-        kinds = int(p["FENCE_TYPE"]) & v.fence.enabled_fences
-        home = v.home_ned or (0.0, 0.0, 0.0)
-        if kinds & FENCE_ALT and home[2] - b.d_m > p["FENCE_ALT_MAX"]:
-            return "maximum altitude"
-        if kinds & FENCE_CIRCLE and math.hypot(b.n_m - home[0], b.e_m - home[1]) > p["FENCE_RADIUS"]:
-            return "circle"
-        if kinds & FENCE_POLYGON:
-            here = (b.n_m, b.e_m)
-            for shape, inclusion, data in self._fence_zones(v):
-                inside = point_in_polygon(here, data) if shape == "poly" else \
-                    math.hypot(here[0] - data[0], here[1] - data[1]) <= data[2]
-                if inside != inclusion:
-                    return "polygon" if shape == "poly" else "circle zone"
-        return None
-
-    def check_fence(self, v: FailsafeView) -> None:
-        if not v.fence.enabled or not v.armed:
-            self.fence_breached = False
-            return
-        breach = self.fence_breach(v)
-        if breach is None:
-            self.fence_breached = False
-            return
-        if self.fence_breached:
-            return
-        self.fence_breached = True
-        v.notify(f"Fence Breached: {breach}", Severity.CRITICAL)
-        self._act(v, FENCE_ACTIONS.get(int(v.params["FENCE_ACTION"])), "fence")
-
     def check(self, v: FailsafeView) -> None:
         self.check_radio(v)
         self.check_battery(v)
-        self.check_fence(v)
+        self.fence.update(v, v.time_s, self.radio)
         self.ekf.check(v)

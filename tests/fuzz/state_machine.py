@@ -167,7 +167,7 @@ def facets(v, s) -> tuple:
         flags.append("fs:batt_crit" if fs.battery_level >= 2 else "fs:batt_low")
     if fs.gcs:
         flags.append("fs:gcs")
-    if fs.fence_breached:
+    if fs.fence.breaches:
         flags.append("fs:fence")
     if fs.ekf.failsafe:
         flags.append("fs:ekf")
@@ -792,7 +792,7 @@ ACTIONS = {
     "rally": (1, act_rally), "mission_start": (2, act_mission_start), "battery": (2, act_battery),
     "gcs": (1, act_gcs), "gps": (2, act_gps), "fence_params": (2, act_fence_params),
     "param_list": (1, act_param_list), "ftp": (2, act_ftp), "known": (3, act_known),
-    "camera": (2, act_camera),
+    "camera": (3, act_camera),
 }
 
 

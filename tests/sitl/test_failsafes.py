@@ -46,7 +46,13 @@ def test_fence_breach_triggers_rtl(autopilot):
     take_off(gcs)
     gcs.mav.set_position_target_local_ned_send(0, 1, 1, mav.MAV_FRAME_LOCAL_NED, 0x9F8, 80, 0, -10,
                                                0, 0, 0, 0, 0, 0, 0, 0)
-    expect_failsafe(gcs, "Fence Breached", RTL)
+    # As ArduCopter: the breach is told and answered, but it is not a failsafe the heartbeat shows
+    text = gcs.recv("STATUSTEXT", 30, lambda m: "fence breached" in m.text)
+    assert text is not None and text.text == "Circle fence breached" and text.severity == mav.MAV_SEVERITY_NOTICE
+    hb = gcs.recv("HEARTBEAT", 5, lambda m: m.custom_mode == RTL)
+    assert hb is not None and hb.system_status == mav.MAV_STATE_ACTIVE
     status = gcs.recv("SYS_STATUS", 5)
     assert not status.onboard_control_sensors_health & mav.MAV_SYS_STATUS_GEOFENCE
+    fence = gcs.recv("FENCE_STATUS", 5)
+    assert fence.breach_status == 1 and fence.breach_count == 1 and fence.breach_type == mav.FENCE_BREACH_BOUNDARY
     gcs.close()

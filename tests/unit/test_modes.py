@@ -31,6 +31,9 @@ def ctx(d_m=0.0, landed=False, armed=True, pilot=None, params=None, **body):
     c.require_home = lambda: c.home_ned
     c.height_ref_d = 0.0
     c.precland_kind = 0  # no precision landing
+    c.enabled_fences = 0  # no fence on
+    c.avoid_velocity = lambda vel, accel, dt: vel  # no fence
+    c.avoid_climb = lambda climb, dt: climb
     return c
 
 
