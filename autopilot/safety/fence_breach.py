@@ -63,7 +63,7 @@ class FenceBreach:
         configured = int(p["FENCE_TYPE"])
         self.breaches &= configured
         enabled = v.fence.enabled_fences
-        if not configured:
+        if not configured or not (enabled or self.breaches):  # (most vehicles: no fence, nothing kept)
             return 0
         b = v.body
         home = v.home_ned or (0.0, 0.0, 0.0)
