@@ -52,7 +52,8 @@ from .results import Result, Severity
 from .safety.arming import Arming, arm_refusals, prearm_failure
 from .safety.failsafe import Failsafes
 from .safety.fence_shapes import FenceShapes, Shape
-from .safety.simple_avoid import FenceGeometry, SimpleAvoid
+from .safety.simple_avoid import USE_PROXIMITY, FenceGeometry, SimpleAvoid
+from .proximity import Proximity
 from .safety.fence_switch import FenceSwitch
 from .safety.internal_error import CONSTRAINING_NAN, FLOW_OF_CONTROL, InternalErrors
 from .safety.land_detector import AutoDisarm, LandDetector
@@ -160,6 +161,7 @@ class Vehicle:
         self.rangefinder_prearm_failure = self.rangefinder.prearm_failure
         # Precision landing (AC_PrecLand): PLND_TYPE's sensor made at boot, steering LAND to a target
         self.precland = PrecLand(self.params)
+        self.proximity = Proximity(self.params)
         # ADS-B (adsb/): the receiver's traffic list (ADSB_TYPE), avoidance (AVD_ENABLE) and what the
         # copter does about a threat; both run at 10 Hz with the failsafe checks once either is on
         self.mode_changes = 0  # modes entered so far: whether the mode avoidance chose still stands
@@ -401,18 +403,47 @@ class Vehicle:
 
     def _fence_geometry(self) -> FenceGeometry:
         b, home = self.estimate.body, self.home_ned or (0.0, 0.0, 0.0)
+        prox = self.proximity
+        near = prox.good and int(self.params["AVOID_ENABLE"]) & USE_PROXIMITY != 0
         return FenceGeometry((b.n_m, b.e_m), (home[0], home[1]), home[2] - b.d_m, self.fence.enabled_fences,
-                             self.fence_shapes(), self.params)
+                             self.fence_shapes(), self.params, prox.obstacles() if near else (),
+                             self.estimate.attitude[2], prox.upward_m if near else None)
+
+    def _proximity_update(self, now: float) -> None:
+        """10 Hz: the proximity sensor (proximity.py); SITL's lidar reads the inclusion fence."""
+        shapes = self.fence_shapes()
+        b = self.estimate.body
+        here = (b.n_m, b.e_m)
+
+        def outside(dn: float, de: float) -> bool:
+            point = (here[0] + dn, here[1] + de)
+            return any(shape.contains(point) != shape.inclusion for shape in shapes)
+
+        home = self.home_ned or (0.0, 0.0, 0.0)
+        fenced = any(shape.inclusion and shape.kind == "poly" for shape in shapes)
+        self.proximity.update(now, self.estimate.attitude[2], outside, fenced, home[2] - b.d_m)
+
+    def obstacle_distance(self, distances, increment_deg: float, angle_offset_deg: float, min_cm: int,
+                          max_cm: int) -> None:
+        """A companion's OBSTACLE_DISTANCE: PRX1_TYPE 2's reading (proximity.py)."""
+        self.proximity.obstacle_distance(distances, increment_deg, angle_offset_deg, min_cm, max_cm, self.time_s)
 
     def avoid_velocity(self, vel_neu: Vector3, accel_m_s2: float, dt: float) -> Vector3:
         """A velocity (north, east, up) as simple avoidance lets it be flown (safety/simple_avoid.py),
         with the position controller's gains and the mode's horizontal acceleration."""
         avoid = self.simple_avoid
-        if not avoid.wanted(self.fence.enabled_fences) or not self.has_position():
+        if not avoid.wanted(self.fence.enabled_fences, self.proximity.good) or not self.has_position():
             return vel_neu
         p = self.params
         return avoid.adjust_velocity(self._fence_geometry(), vel_neu, p["PSC_POSXY_P"], accel_m_s2, p["PSC_POSZ_P"],
                                      p["PILOT_ACCEL_Z"] / 100.0, self.time_s, dt)
+
+    def avoid_lean(self, lean: tuple[float, float]) -> tuple[float, float]:
+        """ALT_HOLD's lean with the proximity sensor's push (safety/simple_avoid.py)."""
+        prox = self.proximity
+        if not prox.good or not int(self.params["AVOID_ENABLE"]) & USE_PROXIMITY:
+            return lean
+        return self.simple_avoid.adjust_lean(prox.objects(), lean, math.radians(self.params["ANGLE_MAX"] / 100.0))
 
     def avoid_limits_active(self) -> bool:
         """Whether simple avoidance changed a wanted velocity within the last half second."""
@@ -421,7 +452,7 @@ class Vehicle:
     def avoid_climb(self, climb_m_s: float, dt: float) -> float:
         """The pilot's climb rate as the altitude fences let it be flown (safety/simple_avoid.py)."""
         avoid = self.simple_avoid
-        if not climb_m_s or not avoid.wanted(self.fence.enabled_fences):
+        if not climb_m_s or not avoid.wanted(self.fence.enabled_fences, self.proximity.good):
             return climb_m_s
         p = self.params
         return avoid.adjust_climb_rate(self._fence_geometry(), climb_m_s, p["PSC_POSZ_P"], p["PILOT_ACCEL_Z"] / 100.0, dt)
@@ -496,8 +527,11 @@ class Vehicle:
 
     def distance_sensor(self, orientation: int, distance_cm: int, min_cm: int, max_cm: int, sensor_type: int,
                         signal_quality: int) -> None:
-        """A companion's DISTANCE_SENSOR: RNGFND1_TYPE 10's reading (rangefinder.py)."""
+        """A companion's DISTANCE_SENSOR: RNGFND1_TYPE 10's reading (rangefinder.py), and PRX1_TYPE
+        2's when it faces one of the eight ways or up (proximity.py)."""
         self.rangefinder.heard(self.time_s, orientation, distance_cm, min_cm, max_cm, sensor_type, signal_quality)
+        if self.proximity.kind:
+            self.proximity.distance_sensor(orientation, distance_cm, min_cm, max_cm, self.time_s)
 
     def aux_function(self, number: int, position: int) -> Result:
         """MAV_CMD_DO_AUX_FUNCTION: DENIED for a position past HIGH, FAILED for a function
@@ -933,6 +967,8 @@ class Vehicle:
                 avoidance = self.avoidance
                 if self._adsb_wanted or avoidance.on or avoidance.switched:
                     self._adsb_update(now)
+                if self.proximity.kind:
+                    self._proximity_update(now)
                 self._read_aux_switches(now)
                 self.thrust_loss.check(self, FAILSAFE_EVERY * dt)
                 if self.servo_relay.repeating:

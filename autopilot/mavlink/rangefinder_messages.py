@@ -11,6 +11,7 @@ rangefinder, healthy while it has data.
 from __future__ import annotations
 
 from ..c_casts import float32
+from ..proximity import FIRST_ID, SECTORS, Proximity
 from ..views import TelemetryView
 from .encoding import time_boot_ms
 from .dialect import mavlink as mav
@@ -32,11 +33,39 @@ def _mavlink_quality(quality: int) -> int:
 
 def distance_sensor(v: TelemetryView, codec):
     r = v.rangefinder_reading()
-    if not r.has_data:
-        return None
-    return codec.distance_sensor_encode(time_boot_ms(v), _cm(r.min_m), _cm(r.max_m), _cm(r.distance_m),
-                                        r.sensor_type, 0, r.orientation, 0, 0.0, 0.0, (0.0, 0.0, 0.0, 0.0),
-                                        _mavlink_quality(r.signal_quality))
+    own = None
+    if r.has_data:
+        own = codec.distance_sensor_encode(time_boot_ms(v), _cm(r.min_m), _cm(r.max_m), _cm(r.distance_m),
+                                           r.sensor_type, 0, r.orientation, 0, 0.0, 0.0, (0.0, 0.0, 0.0, 0.0),
+                                           _mavlink_quality(r.signal_quality))
+    prox = v.proximity
+    if not prox.kind:
+        return own
+    return ([own] if own is not None else []) + proximity_sensors(prox, time_boot_ms(v), codec)
+
+
+def proximity_sensors(prox: Proximity, stamp_ms: int, codec) -> list:
+    """The proximity sensor as GCS_MAVLINK's send_proximity: with data, one DISTANCE_SENSOR per
+    sector ever reported (id 10 + sector, facing it; a sector without a reading now reads the
+    sensor's maximum), then the room above (id 19, facing up) whenever there is a figure for it.
+    Laser, covariance 0. (ArduPilot keeps 'ever reported' per link, Firefly per vehicle.)"""
+    low, high = _cm(prox.range_m[0]), _cm(prox.range_m[1])
+    out = []
+    if prox.good:
+        for sector in range(SECTORS):
+            if prox.valid[sector]:
+                distance = prox.distance[sector]
+            elif prox.ever_valid >> sector & 1:
+                distance = prox.range_m[1]
+            else:
+                continue
+            out.append(codec.distance_sensor_encode(stamp_ms, low, high, _cm(distance), mav.MAV_DISTANCE_SENSOR_LASER,
+                                                    FIRST_ID + sector, sector, 0, 0.0, 0.0, (0.0, 0.0, 0.0, 0.0), 0))
+    if prox.upward_m is not None:
+        out.append(codec.distance_sensor_encode(stamp_ms, low, high, _cm(prox.upward_m), mav.MAV_DISTANCE_SENSOR_LASER,
+                                                FIRST_ID + SECTORS + 1, mav.MAV_SENSOR_ROTATION_PITCH_90, 0, 0.0, 0.0,
+                                                (0.0, 0.0, 0.0, 0.0), 0))
+    return out
 
 
 def rangefinder(v: TelemetryView, codec):

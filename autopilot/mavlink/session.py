@@ -112,6 +112,8 @@ class Session:
             "TIMESYNC": self._on_timesync,
             "DISTANCE_SENSOR": lambda m, now: self.vehicle.distance_sensor(
                 m.orientation, m.current_distance, m.min_distance, m.max_distance, m.type, m.signal_quality),
+            "OBSTACLE_DISTANCE": lambda m, now: self.vehicle.obstacle_distance(
+                m.distances, m.increment_f or m.increment, m.angle_offset, m.min_distance, m.max_distance),
             "SETUP_SIGNING": lambda m, now: self.signing.setup(m, self.vehicle.armed),
             # The request older ground stations send before REQUEST_MESSAGE existed.
             "AUTOPILOT_VERSION_REQUEST": lambda m, now: self.queue(self.build(mav.MAVLINK_MSG_ID_AUTOPILOT_VERSION)),
@@ -119,12 +121,16 @@ class Session:
 
     # ----- output helpers used by the services ------------------------------------------------
     def queue(self, msg) -> None:
-        if msg is not None:
+        """A message, or the list a builder made (DISTANCE_SENSOR: one per sensor and sector)."""
+        if type(msg) is list:
+            self._out.extend(msg)
+        elif msg is not None:
             self._out.append(msg)
 
     def build(self, msg_id: int):
-        """The message `msg_id` as the vehicle's state makes it now, or None if not built here.
-        A builder that fails (a bug) is an internal error: that message is not sent, the rest are."""
+        """The message `msg_id` as the vehicle's state makes it now, or None if not built here; a
+        list where one id is several messages (DISTANCE_SENSOR). A builder that fails (a bug) is an
+        internal error: that message is not sent, the rest are."""
         builder = BUILDERS.get(msg_id)
         if builder is None:
             return None
@@ -400,7 +406,9 @@ class Session:
                 due = [mav.MAVLINK_MSG_ID_HEARTBEAT, *due]
         for msg_id in due:  # heartbeat first, then the rest; most ticks none
             msg = self.build(msg_id)
-            if msg is not None:
+            if type(msg) is list:
+                out.extend(msg)
+            elif msg is not None:
                 out.append(msg)
         if vehicle.events:
             for severity, text in vehicle.drain_events():

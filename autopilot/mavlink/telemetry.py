@@ -108,6 +108,12 @@ def sys_status(v: TelemetryView, codec):
             enabled |= RANGEFINDER
             if v.rangefinder_reading().has_data:
                 healthy |= RANGEFINDER
+    prox = v.proximity
+    if prox.kind:  # as ArduCopter: a proximity sensor is present and enabled, healthy with data
+        present |= mav.MAV_SYS_STATUS_SENSOR_PROXIMITY
+        enabled |= mav.MAV_SYS_STATUS_SENSOR_PROXIMITY
+        if not prox.good:
+            healthy &= ~mav.MAV_SYS_STATUS_SENSOR_PROXIMITY
     if v.precland_kind and v.params["PLND_ENABLED"]:  # as ArduCopter: precision landing's sensor
         present |= VISION
         enabled |= VISION

@@ -71,12 +71,13 @@ class ModeContext:
         avoid_velocity(vel_neu, accel, dt) a wanted velocity (north, east, up) as simple avoidance
                                  lets it be flown, accel the mode's horizontal limit (m/s/s)
         avoid_climb(climb, dt)   a pilot's climb rate as the altitude fences let it be flown
+        avoid_lean(lean)         ALT_HOLD's (roll, pitch) pushed away from what the proximity sensor sees
     """
     __slots__ = ("_v", "_estimate", "_arming", "_land", "_sim", "params", "mission_progress", "return_path",
                  "follow_target", "camera", "notify", "disarm", "set_speed", "set_home", "fence_enable_item",
                  "set_servo", "repeat_servo", "set_relay", "repeat_relay", "ned_of", "position_global", "set_mode",
                  "hover_thrust_share", "restart_position_control", "use_gains", "precland_landing",
-                 "avoid_velocity", "avoid_climb")
+                 "avoid_velocity", "avoid_climb", "avoid_lean")
     params: ParamStore
     mission_progress: MissionProgress
     return_path: ReturnPath
@@ -99,6 +100,7 @@ class ModeContext:
     precland_landing: Callable[[tuple[float, float], float], tuple[tuple[float, float] | None, float | None]]
     avoid_velocity: Callable[[Vector3, float, float], Vector3]
     avoid_climb: Callable[[float, float], float]
+    avoid_lean: Callable[[tuple[float, float]], tuple[float, float]]
 
     def __init__(self, vehicle: ModeHost):
         self._v = vehicle
@@ -128,6 +130,7 @@ class ModeContext:
         self.precland_landing = vehicle.precland_landing
         self.avoid_velocity = vehicle.avoid_velocity
         self.avoid_climb = vehicle.avoid_climb
+        self.avoid_lean = vehicle.avoid_lean
         airframe = vehicle.sim.airframe
         self.hover_thrust_share = airframe.weight_n / (4.0 * airframe.max_rotor_thrust_n)
 

@@ -117,4 +117,6 @@ class AltHold(Mode):
     def update(self, ctx: ModeContext, sp: Setpoint, dt: float) -> None:
         sp.clear()
         pilot_lean_and_yaw(ctx, sp)
+        if not ctx.landed and sp.lean is not None:  # flying: pushed away from what a proximity sensor sees
+            sp.lean = ctx.avoid_lean(sp.lean)
         self._hold_d = pilot_vertical(ctx, sp, self._hold_d, dt, self.takeoff)

@@ -12,7 +12,9 @@ from collections.abc import Callable
 from ..modes.numbers import ModeNumber
 from ..rc.radio import ARMING_CHECK_THROTTLE, ARMING_SKIP_CHECK_RPY
 from ..views import PrearmView
+from .simple_avoid import USE_PROXIMITY
 
+PROXIMITY_CLEAR_M = 0.6  # ArduCopter's pre-arm: nothing this near
 FORCE_ARM_MAGIC = 2989  # COMPONENT_ARM_DISARM param2 that skips the checks (ArduPilot's)
 FORCE_DISARM_MAGIC = 21196  # ... and that disarms even in flight
 # Modes a ground station may arm with the throttle stick up (allows_GCS_or_SCR_arming_with_throttle_high)
@@ -74,6 +76,20 @@ def _rangefinder(v: PrearmView) -> str | None:
     return v.rangefinder_prearm_failure()
 
 
+def _proximity(v: PrearmView) -> str | None:
+    """AP_Arming's proximity check and ArduCopter's: a sensor set up must have data, and nothing
+    may be within 0.6 m while avoidance uses it (measured, both)."""
+    prox = v.proximity
+    if not prox.kind:
+        return None
+    if not prox.good:
+        return "PRX1: No Data"
+    closest = prox.closest() if int(v.params["AVOID_ENABLE"]) & USE_PROXIMITY else None
+    if closest is not None and closest[1] <= PROXIMITY_CLEAR_M:
+        return f"Proximity {int(closest[0])} deg, {closest[1]:4.2f}m (want > {PROXIMITY_CLEAR_M:0.1f}m)"
+    return None
+
+
 def _adsb_threat(v: PrearmView) -> str | None:
     """ArduCopter's parameter checks: not while ADS-B avoidance is acting on a threat (on the
     ground with AVD_F_ACTION above a report, a HIGH threat keeps it acting: measured)."""
@@ -92,7 +108,7 @@ def _terrain_data(v: PrearmView) -> str | None:
 # In ArduCopter's order; a check gives its words, a list of them, or None when it passes.
 PREARM_CHECKS: tuple[Callable[[PrearmView], str | list[str] | None], ...] = (
     _starting_up, _adsb_threat, _throttle_below_failsafe, _internal_errors, _need_position, _gps_glitching, _leaning, _battery_low,
-    _rangefinder, _terrain_data, _emergency_stopped)
+    _rangefinder, _proximity, _terrain_data, _emergency_stopped)
 
 
 def prearm_failures(v: PrearmView) -> list[str]:

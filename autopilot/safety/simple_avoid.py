@@ -7,8 +7,8 @@ rate of ALT_HOLD, LOITER, POSHOLD and CIRCLE too), backing off at up to AVOID_BA
 
 Fences only slow a vehicle down at 1 m/s/s (AC_AVOID_ACCEL_CMSS_MAX) whatever the mode's own
 acceleration, and the change avoidance makes to the wanted velocity is itself limited to
-AVOID_ACCEL_MAX. ArduCopter's odd corners are kept: a push back exactly along an axis falls in no
-quadrant and is dropped, and the circle fence pushes back only while a velocity is asked for.
+AVOID_ACCEL_MAX. ArduCopter's odd corner is kept: the circle fence pushes back only while a
+velocity is asked for (a loiter's drift is one).
 
 Everything is in SI units (m, m/s, m/s/s) in the local frame, north-east-up for velocities; the
 shapes are fence_shapes.py's.
@@ -28,12 +28,13 @@ from .fence_switch import ALT_MAX, ALT_MIN, CIRCLE, POLYGON
 if TYPE_CHECKING:
     from ..params import ParamStore
 
-STOP_AT_FENCE = 1  # AVOID_ENABLE bits (AC_AVOID_STOP_AT_FENCE)
+STOP_AT_FENCE, USE_PROXIMITY = 1, 2  # AVOID_ENABLE bits (AC_AVOID_STOP_AT_FENCE, _USE_PROXIMITY_SENSOR)
 SLIDE, STOP = 0, 1  # AVOID_BEHAVE
 FENCE_ACCEL_MAX = 1.0  # AC_AVOID_ACCEL_CMSS_MAX [m/s/s]
 LOOK_PAST_M = 0.02  # AC_Avoid looks 2 cm past the stopping point so that it reaches the boundary
 ACCEL_TIMEOUT_S = 0.2  # AC_AVOID_ACCEL_TIMEOUT_MS: a limit this old starts the change from scratch
 ACTIVE_TIMEOUT_S = 0.5  # AC_AVOID_ACTIVE_LIMIT_TIMEOUT_MS
+LEAN_SHARE_MAX = 0.75  # AC_AVOID_ANGLE_MAX_PERCENT: the push leaves the pilot a quarter of the lean
 
 Vec2 = tuple[float, float]
 
@@ -85,7 +86,10 @@ def _circle_segment_intersection(start: Vec2, end: Vec2, radius: float) -> Vec2 
 
 class Quadrants:
     """The largest push back in each quadrant, summed (find_max_quadrant_velocity): two pushes the
-    same way count once, opposite ones add up."""
+    same way count once, opposite ones add up. ArduCopter's test is strict, so a push exactly along
+    an axis falls in no quadrant; its float32 sums of measured positions practically never make
+    one, where Firefly's exact ones do (a vehicle square to a wall, its heading exactly north), so
+    here a zero component counts as positive and such a push is kept, as it is in practice there."""
     __slots__ = ("q",)
 
     def __init__(self) -> None:
@@ -93,13 +97,15 @@ class Quadrants:
 
     def add(self, x: float, y: float) -> None:
         q = self.q
-        if x > 0.0 and y > 0.0:
+        if x == 0.0 and y == 0.0:
+            return
+        if x >= 0.0 and y >= 0.0:
             q[0], q[1] = max(q[0], x), max(q[1], y)
-        elif x < 0.0 < y:
+        elif x < 0.0 <= y:
             q[2], q[3] = min(q[2], x), max(q[3], y)
         elif x < 0.0 and y < 0.0:
             q[4], q[5] = min(q[4], x), min(q[5], y)
-        elif x > 0.0 > y:
+        else:
             q[6], q[7] = max(q[6], x), min(q[7], y)
 
     def total(self) -> Vec2:
@@ -127,12 +133,17 @@ def _limit_along(kp: float, accel: float, vel: Vec2, direction: Vec2, distance: 
 
 
 class FenceGeometry:
-    """What avoidance reads of the vehicle and its fences, gathered once per call."""
+    """What avoidance reads of the vehicle, its fences and its proximity sensor (obstacles in the
+    body frame, forward and right, and the room above), gathered once per call."""
     __slots__ = ("position_ne", "home_ne", "height_above_home_m", "enabled_fences", "shapes", "margin_m",
-                 "radius_m", "alt_max_m", "alt_min_m")
+                 "radius_m", "alt_max_m", "alt_min_m", "obstacles", "yaw_rad", "upward_m")
 
     def __init__(self, position_ne: Vec2, home_ne: Vec2, height_above_home_m: float, enabled_fences: int,
-                 shapes: Sequence[Shape], params: ParamStore):
+                 shapes: Sequence[Shape], params: ParamStore, obstacles: Sequence[Vec2] = (), yaw_rad: float = 0.0,
+                 upward_m: float | None = None):
+        self.obstacles = obstacles
+        self.yaw_rad = yaw_rad
+        self.upward_m = upward_m
         self.position_ne = position_ne
         self.home_ne = home_ne
         self.height_above_home_m = height_above_home_m
@@ -152,9 +163,11 @@ class SimpleAvoid:
         self._prev_vel = (0.0, 0.0, 0.0)
         self._last_limit_s = -math.inf
 
-    def wanted(self, enabled_fences: int) -> bool:
-        """Whether avoidance has anything to do: a fence on and AVOID_ENABLE's fence bit."""
-        return bool(enabled_fences) and int(self.params["AVOID_ENABLE"]) & STOP_AT_FENCE != 0
+    def wanted(self, enabled_fences: int, proximity: bool = False) -> bool:
+        """Whether avoidance has anything to do: a fence on and AVOID_ENABLE's fence bit, or a
+        proximity sensor with data and its bit."""
+        enabled = int(self.params["AVOID_ENABLE"])
+        return bool(enabled_fences and enabled & STOP_AT_FENCE or proximity and enabled & USE_PROXIMITY)
 
     def limits_active(self, now_s: float) -> bool:
         return now_s - self._last_limit_s < ACTIVE_TIMEOUT_S
@@ -167,6 +180,12 @@ class SimpleAvoid:
         if int(p["AVOID_ENABLE"]) == 0:
             return vel
         original = vel
+        quads = Quadrants()
+        back_up = back_down = 0.0
+        if g.obstacles:
+            vel, (bn, be, bu) = self._proximity(g, vel, kp, min(accel, FENCE_ACCEL_MAX), dt)
+            quads.add(bn, be)
+            back_up, back_down = max(bu, 0.0), min(bu, 0.0)
         vn, ve, vu = vel
         fence_quads = Quadrants()
         accel_l = min(accel, FENCE_ACCEL_MAX)
@@ -176,10 +195,9 @@ class SimpleAvoid:
                 (vn, ve), back = adjust(g, (vn, ve), kp, accel_l, behave, dt)
                 fence_quads.add(*back)
         vu, back_z = self.adjust_climb(g, vu, kp_z, accel_z, dt)
-        quads = Quadrants()
         quads.add(*fence_quads.total())
         back_n, back_e = quads.total()
-        back_u = back_z  # one vertical push: its largest up plus its largest down
+        back_u = max(back_up, back_z, 0.0) + min(back_down, back_z, 0.0)  # the largest up plus the largest down
         limit_xy = p["AVOID_BACKUP_SPD"]
         if (back_n or back_e) and limit_xy > 0.0:
             length = math.hypot(back_n, back_e)
@@ -231,6 +249,10 @@ class SimpleAvoid:
                 above_min = g.height_above_home_m - (g.alt_min_m + g.margin_m)
             if g.enabled_fences & ALT_MAX:
                 above_max = (g.alt_max_m - g.margin_m) - g.height_above_home_m
+        if g.upward_m is not None and enabled & USE_PROXIMITY:  # the room above, less AVOID_MARGIN
+            room = g.upward_m - p["AVOID_MARGIN"]
+            if above_max is None or room < above_max:
+                above_max = room
         limit_z = p["AVOID_BACKZ_SPD"]
         if above_max is not None and above_max <= 0.0:
             back = max(-max_speed(kp_z, accel, -above_max, dt), -limit_z) if limit_z > 0.0 else 0.0
@@ -252,6 +274,67 @@ class SimpleAvoid:
         if back > 0.0:
             return max(climb, back)
         return climb
+
+    # ----- the proximity sensor ---------------------------------------------------------------------
+    def adjust_lean(self, objects: Sequence[tuple[float, float]], lean: tuple[float, float],
+                    angle_max_rad: float) -> tuple[float, float]:
+        """ALT_HOLD's lean (roll, pitch) with a push away from what the sensor sees within
+        AVOID_DIST_MAX, the nearer the harder, up to AVOID_ANGLE_MAX and never more than 75 % of
+        the vehicle's limit, so the pilot can still override (adjust_roll_pitch_rad)."""
+        p = self.params
+        dist_max, avoid_max = p["AVOID_DIST_MAX"], math.radians(p["AVOID_ANGLE_MAX"] / 100.0)
+        if avoid_max <= 0.0 or angle_max_rad <= 0.0 or dist_max <= 0.0:
+            return lean
+        roll_hi = roll_lo = pitch_hi = pitch_lo = 0.0
+        for angle_deg, distance in objects:
+            if not 0.0 <= distance < dist_max:
+                continue
+            share = 1.0 - distance / dist_max
+            roll, pitch = -math.sin(math.radians(angle_deg)) * share, math.cos(math.radians(angle_deg)) * share
+            roll_hi, roll_lo = max(roll_hi, roll), min(roll_lo, roll)
+            pitch_hi, pitch_lo = max(pitch_hi, pitch), min(pitch_lo, pitch)
+        push = ((roll_hi + roll_lo) * math.pi / 4.0, (pitch_hi + pitch_lo) * math.pi / 4.0)
+        if push == (0.0, 0.0):
+            return lean
+        limit = max(0.0, min(avoid_max, angle_max_rad * LEAN_SHARE_MAX))
+        size = math.hypot(*push)
+        if size > limit:
+            push = (push[0] * limit / size, push[1] * limit / size)
+        out = (push[0] + lean[0], push[1] + lean[1])
+        size = math.hypot(*out)
+        if size > angle_max_rad:
+            out = (out[0] * angle_max_rad / size, out[1] * angle_max_rad / size)
+        return out
+
+    def _proximity(self, g: FenceGeometry, vel: tuple[float, float, float], kp: float, accel: float,
+                   dt: float) -> tuple[tuple[float, float, float], tuple[float, float, float]]:
+        """Keep AVOID_MARGIN from each obstacle the sensor reports (adjust_velocity_proximity): the
+        velocity turned into the body frame, its part toward each obstacle cut to what stops at the
+        margin (AVOID_BEHAVE's stop is flown as the slide here), and a push back from one closer
+        than the margin by more than AVOID_BACKUP_DZ. Obstacles are level (the middle layer), so
+        the climb is left alone."""
+        p = self.params
+        c, s = math.cos(g.yaw_rad), math.sin(g.yaw_rad)
+        vn, ve, vu = vel
+        safe = (vn * c + ve * s, -vn * s + ve * c)
+        moving = vn != 0.0 or ve != 0.0 or vu != 0.0
+        margin = max(p["AVOID_MARGIN"], 0.0)
+        deadzone = max(0.0, p["AVOID_BACKUP_DZ"])
+        speed3 = math.sqrt(vn * vn + ve * ve + vu * vu)
+        margin_xy = margin * math.hypot(*safe) / speed3 if moving else 0.0
+        quads = Quadrants()
+        for ob in g.obstacles:
+            distance = math.hypot(*ob)
+            if distance == 0.0:
+                continue
+            if distance - margin < 0.0 and margin - distance > deadzone:
+                _back_away(quads, kp, accel, margin - distance, ob, dt)
+            if moving:
+                safe = _limit_along(kp, accel, safe, (ob[0] / distance, ob[1] / distance),
+                                    max(distance - margin_xy, 0.0), dt)
+        bf, br = quads.total()
+        back = (bf * c - br * s, bf * s + br * c, 0.0)
+        return (safe[0] * c - safe[1] * s, safe[0] * s + safe[1] * c, vu), back
 
     # ----- the horizontal fences ------------------------------------------------------------------
     @staticmethod

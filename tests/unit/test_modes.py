@@ -34,6 +34,7 @@ def ctx(d_m=0.0, landed=False, armed=True, pilot=None, params=None, **body):
     c.enabled_fences = 0  # no fence on
     c.avoid_velocity = lambda vel, accel, dt: vel  # no fence
     c.avoid_climb = lambda climb, dt: climb
+    c.avoid_lean = lambda lean: lean
     return c
 
 

@@ -1,5 +1,5 @@
 """A 360-degree proximity sensor (AP_Proximity, PRX1_TYPE read at power-on) as ArduCopter reports
-and uses it (recorded ahead of Firefly's sensor, issue 31: the area joins probes.AREAS with it): the DISTANCE_SENSOR messages it sends for its sectors, SYS_STATUS's proximity bits,
+and uses it: the DISTANCE_SENSOR messages it sends for its sectors, SYS_STATUS's proximity bits,
 simple avoidance with AVOID_ENABLE 2 (the sensor only: the geofence is off, FENCE_ENABLE 0,
 unless said), AVOID_MARGIN 2, the pre-arm check and ALT_HOLD's lean away. Each probe on a fresh
 vehicle; the sticks held by RC override (throttle and yaw at mid) from just before LOITER or
