@@ -101,11 +101,10 @@ class Proximity:
 
     def _edges_of(self, sector: int) -> None:
         """Both edges of a sector moved; an unheard neighbour's far edge follows (a cup)."""
-        for edge, beyond, neighbour in ((sector, (sector + 1) % SECTORS, (sector + 1) % SECTORS),
-                                        ((sector - 1) % SECTORS, (sector - 2) % SECTORS, (sector - 1) % SECTORS)):
+        for edge, beyond in ((sector, (sector + 1) % SECTORS), ((sector - 1) % SECTORS, (sector - 2) % SECTORS)):
             d = self._edge(edge)
             self.points[edge] = (EDGES[edge][0] * d, EDGES[edge][1] * d)
-            if not self.valid[neighbour if edge == sector else beyond]:
+            if not self.valid[beyond]:
                 self.points[beyond] = (EDGES[beyond][0] * d, EDGES[beyond][1] * d)
 
     def obstacles(self) -> list[Vec2]:

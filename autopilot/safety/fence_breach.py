@@ -21,8 +21,7 @@ from ..views import FailsafeView
 from .fence_shapes import Shape, closest_point
 from .fence_switch import ALT_MAX, ALT_MIN, CIRCLE, POLYGON, fence_names
 
-ALT_BACKUP_M = 20.0  # AC_FENCE_ALT_MAX/MIN_BACKUP_DISTANCE
-CIRCLE_BACKUP_M = 20.0  # AC_FENCE_CIRCLE_RADIUS_BACKUP_DISTANCE (a copter's)
+BACKUP_M = 20.0  # AC_FENCE_ALT_MAX/MIN_BACKUP_DISTANCE and a copter's AC_FENCE_CIRCLE_RADIUS_BACKUP_DISTANCE
 GIVE_UP_M = 100.0  # AC_FENCE_GIVE_UP_DISTANCE: this far outside, land where it is
 MANUAL_RECOVERY_S = 10.0  # AC_FENCE_MANUAL_RECOVERY_TIME_MIN
 REPORT_ONLY, RTL_AND_LAND, ALWAYS_LAND, SMART_RTL, BRAKE, SMART_RTL_OR_LAND = range(6)  # FENCE_ACTION
@@ -45,14 +44,13 @@ def _distance_outside(shape: Shape, p: tuple[float, float]) -> float:
 
 
 class FenceBreach:
-    __slots__ = ("breaches", "count", "time_ms", "_alt_max_backup", "_alt_min_backup", "_circle_backup",
-                 "_distances", "_recovery_from_s")
+    __slots__ = ("breaches", "count", "time_ms", "_backups", "_distances", "_recovery_from_s")
 
     def __init__(self) -> None:
         self.breaches = 0  # AC_FENCE_TYPE_* bits of the fences breached now
         self.count = 0  # breaches since boot (FENCE_STATUS), new fences and backup fences alike
         self.time_ms = 0  # boot time of the first breach of the present run of breaches
-        self._alt_max_backup = self._alt_min_backup = self._circle_backup = 0.0  # 0: none set
+        self._backups: dict[int, float] = {}  # per fence, how far past it a new breach is told again [m]
         self._distances: dict[int, float] = {}  # how far outside each fence [m] (negative: inside)
         self._recovery_from_s: float | None = None
 
@@ -70,11 +68,11 @@ class FenceBreach:
         height = home[2] - b.d_m
         new = 0
         if enabled & ALT_MAX:
-            new |= self._check_ceiling(height, p["FENCE_ALT_MAX"], now_s)
+            new |= self._check_limit(ALT_MAX, height - p["FENCE_ALT_MAX"], now_s)
         if enabled & ALT_MIN:
-            new |= self._check_floor(height, p["FENCE_ALT_MIN"], now_s)
+            new |= self._check_limit(ALT_MIN, p["FENCE_ALT_MIN"] - height, now_s)
         if enabled & CIRCLE:
-            new |= self._check_circle(math.hypot(b.n_m - home[0], b.e_m - home[1]), p["FENCE_RADIUS"], now_s)
+            new |= self._check_limit(CIRCLE, math.hypot(b.n_m - home[0], b.e_m - home[1]) - p["FENCE_RADIUS"], now_s)
         shapes = v.fence_shapes() if enabled & POLYGON else ()
         if shapes:
             new |= self._check_polygons(shapes, (b.n_m, b.e_m), now_s)
@@ -93,40 +91,20 @@ class FenceBreach:
         self.breaches |= fence
         return fence
 
-    def _check_ceiling(self, height: float, alt_max: float, now_s: float) -> int:
-        self._distances[ALT_MAX] = height - alt_max
-        if height >= alt_max:
-            if not self.breaches & ALT_MAX or (self._alt_max_backup and height >= self._alt_max_backup):
-                self._alt_max_backup = height + ALT_BACKUP_M
-                return self._record(ALT_MAX, now_s)
+    def _check_limit(self, fence: int, beyond_m: float, now_s: float) -> int:
+        """The ceiling, the floor or the circle, `beyond_m` past it (negative: inside): a breach
+        kept until back inside, and a new one each time past the backup fence set 20 m further
+        out (check_fence_alt_max / _alt_min / _circle)."""
+        self._distances[fence] = beyond_m
+        if beyond_m >= 0.0:
+            backup = self._backups.get(fence)
+            if not self.breaches & fence or (backup is not None and beyond_m >= backup):
+                self._backups[fence] = beyond_m + BACKUP_M
+                return self._record(fence, now_s)
             return 0
-        if self.breaches & ALT_MAX:
-            self.breaches &= ~ALT_MAX
-            self._alt_max_backup = 0.0
-        return 0
-
-    def _check_floor(self, height: float, alt_min: float, now_s: float) -> int:
-        self._distances[ALT_MIN] = alt_min - height
-        if height <= alt_min:
-            if not self.breaches & ALT_MIN or (self._alt_min_backup and height <= self._alt_min_backup):
-                self._alt_min_backup = height - ALT_BACKUP_M
-                return self._record(ALT_MIN, now_s)
-            return 0
-        if self.breaches & ALT_MIN:
-            self.breaches &= ~ALT_MIN
-            self._alt_min_backup = 0.0
-        return 0
-
-    def _check_circle(self, distance: float, radius: float, now_s: float) -> int:
-        self._distances[CIRCLE] = distance - radius
-        if distance >= radius:
-            if not self.breaches & CIRCLE or (self._circle_backup and distance >= self._circle_backup):
-                self._circle_backup = distance + CIRCLE_BACKUP_M
-                return self._record(CIRCLE, now_s)
-            return 0
-        if self.breaches & CIRCLE:
-            self.breaches &= ~CIRCLE
-            self._circle_backup = 0.0
+        if self.breaches & fence:
+            self.breaches &= ~fence
+            self._backups.pop(fence, None)
         return 0
 
     def _check_polygons(self, shapes: Sequence[Shape], here: tuple[float, float], now_s: float) -> int:

@@ -62,7 +62,7 @@ def test_rtl_then_a_mode_change_is_manual_recovery_for_ten_seconds():
         v.guided_velocity(0.0, 0.0, 0.0)
         v.run_until(v.time_s + 0.2)
     assert v.mode_number == ModeNumber.GUIDED and "Circle fence breached" not in [t for t, _ in said[-2:]]
-    fly_north_until(v, v.failsafes.fence._circle_backup + 2.0)  # the next one after the recovery: RTL again
+    fly_north_until(v, 40.0 + v.failsafes.fence._backups[CIRCLE] + 2.0)  # the next one after the recovery: RTL again
     v.run_until(v.time_s + 0.3)
     assert v.mode_number == ModeNumber.RTL
 
