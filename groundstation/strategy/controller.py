@@ -180,6 +180,7 @@ class SearchController:
         # fit of the finds, not waited for) or "find" (what a find changes)
         self._jobs: list[tuple[str, Iterator[None]]] = []
         self._thinking = False  # this step has thought: it is timed (decision_s)
+        self._starved = False  # the last step had jobs and worked none of them
         self._decided = False  # ... and the policy has chosen a waypoint in it
         # (point, job kinds): the vehicle holds there while jobs of those kinds run (a find's, or
         # after the cross over it the rebuild with the finds put right: steered by the belief
@@ -317,7 +318,9 @@ class SearchController:
         self._thinking = self._decided = False
         move = self._step(position, path_m, arrived)
         if self._jobs and self.declared is None:  # after the step: it judges what they have built so far
-            self._work(self._chunks_allowed())
+            chunks = self._chunks_allowed()
+            self._starved = chunks == 0
+            self._work(chunks)
         if self.timer and self._thinking:  # the whole step: its fits, decision and jobs' chunks
             self.decision_s.append(self.timer() - t0)
         return move
@@ -325,7 +328,10 @@ class SearchController:
     def _chunks_allowed(self) -> int:
         """The jobs' chunks this step may work, after what it has thought already."""
         if self._decided:
-            return 0
+            # none in a step the policy decided in, unless the step before worked none either: a
+            # policy that decides at every observation (greedy) starved a rebuild for good, and the
+            # search, never judging the rebuilt belief, flew on to its budget (a third of flights)
+            return 1 if self._starved else 0
         heavy = len(self.found) >= HEAVY_KNOWN or (self.found and self.belief.hyp_n.size > REFERENCE_HYPOTHESES)
         return 1 if self._thinking or heavy else JOB_CHUNKS_PER_STEP
 

@@ -139,3 +139,22 @@ def test_a_belief_over_more_hypotheses_gets_smaller_chunks_and_one_a_step(monkey
     assert any(known for known, _ in sizes)
     assert all(chunk == controller.JOB_ROWS // 2 for known, chunk in sizes if known)
     assert all(chunks <= 1 for found, chunks in given if found)
+
+
+def test_a_policy_deciding_at_every_observation_still_gets_its_rebuild_judged(monkeypatch):
+    """Greedy decides at every observation, and a step that decides works no chunk: the rebuild
+    that an estimated wind asks for starved, the search never judged it, and every episode in wind
+    flew its whole path budget. A step that follows one that worked nothing works a chunk."""
+    rebuilds = []
+    rebuild = SearchController._rebuild
+
+    def counted_rebuild(self, judged=True):
+        rebuilds.append(self.observations)
+        rebuild(self, judged)
+
+    monkeypatch.setattr(SearchController, "_rebuild", counted_rebuild)
+    config = EpisodeConfig(air_ne_m_s=(1.0, 0.0))
+    result = run_episode(FireWorld(), 5, 0, make_policy("greedy"), config)
+    assert rebuilds, "the estimated wind asked for no rebuild: nothing was tested"
+    assert not result.forced and result.success
+    assert result.path_m < config.budget_m / 5
