@@ -2,7 +2,9 @@
 
 The estimate is ideal, as a perfect EKF would be (the sim's own state), except its height, which
 is the barometer's, as ArduCopter's EKF takes it: a drifting barometer moves the estimate, and
-the vehicle holds the height it believes in while truly sinking or climbing. The GPS, barometer
+the vehicle holds the height it believes in while truly sinking or climbing. With EK3_SRC1_POSXY
+6 the horizontal position is external navigation's instead (external_nav.py), with its error;
+with EK3_SRC1_POSZ 6 the height too. GPS1_TYPE 0 (read at boot) is no GPS at all. The GPS, barometer
 and downward temperature sensor are sampled here at fixed sim rates, never when telemetry asks,
 so what a client requests cannot change a noise stream. The battery is read as a perfect
 monitor reads it.
@@ -14,6 +16,8 @@ import math
 from firefly.sim.battery import remaining_fraction
 from firefly.sim.physics import specific_force_body
 
+from .external_nav import SOURCE_BARO, SOURCE_EXTNAV, SOURCE_GPS, ExternalNav
+from .params import ParamStore
 from .startup import Startup
 from firefly.sim.rigid_body import euler_from_quaternion, ned_to_body
 
@@ -27,12 +31,24 @@ TEMPERATURE_RATE_HZ = 10
 # ArduCopter SITL: SIM_GPS1_ENABLE 0 in a hover, then the EKF failsafe's LAND 8 s later (7 s here,
 # then its check's 1 s).
 DEAD_RECKONING_S = 7.0
+EXTNAV_HEIGHT_FRESH_S = 0.5  # EKF3's extNavDataIsFresh: an older pose's height gives way to the barometer's
+
+
+NO_GPS = 0  # GPS_FIX_TYPE_NO_GPS: GPS1_TYPE 0, no receiver
 
 
 class StateEstimate:
-    def __init__(self, sim, physics_hz: int, startup=None):
+    def __init__(self, sim, physics_hz: int, startup=None, params=None):
         self.sim = sim
         self.startup = startup if startup is not None else Startup(None)
+        self.params = params
+        self.gps_fitted = params is None or int(params["GPS1_TYPE"]) != 0  # read at boot, as AP_GPS
+        self.external_nav = ExternalNav(params if params is not None else ParamStore())
+        # The horizontal error external navigation gives the estimate (north, east), None while
+        # the GPS is the source: the common case costs one test
+        self.nav_offset_ne: tuple[float, float] | None = None
+        self.posxy_source = self.posz_source = 0
+        self.follow_sources()
         self.battery_reset_mah: float | None = None  # the monitor's count less the pack's, after a reset
         self.gps_every = max(1, physics_hz // GPS_RATE_HZ)  # physics steps between GPS samples
         self.temperature_every = max(1, physics_hz // TEMPERATURE_RATE_HZ)
@@ -41,6 +57,7 @@ class StateEstimate:
         self.temperature = (0.0, math.nan)  # (sim time of the sample, degrees C)
         self.alt_error_m = 0.0  # how far the barometer, and so the height estimate, reads high
         self.last_fix_s = -math.inf  # sim time of the last GPS sample with a fix in use
+        self.origin_set_by_message = False  # SET_GPS_GLOBAL_ORIGIN gave the EKF its origin
 
     # ----- sampling, called by the vehicle loop ------------------------------------------------
     def sample_gps(self) -> None:
@@ -52,15 +69,43 @@ class StateEstimate:
 
     def _gps_reading(self):
         gps = self.sim.gps.read(self.sim.state.body)
+        if not self.gps_fitted:
+            return gps._replace(satellites=0, fix_type=NO_GPS)
         if not self.startup.gps_powered_up(self.sim.time_s):  # still acquiring: no fix, no satellites
             gps = gps._replace(satellites=0, fix_type=0)
         return gps
+
+    # ----- external navigation ---------------------------------------------------------------
+
+    def external_pose(self, frame_origin_ned: tuple[float, float, float], xyz: tuple[float, float, float],
+                      quality: int, reset_counter: int) -> None:
+        """A companion's pose, xyz in its frame, which starts at frame_origin_ned of the sim's:
+        fused by the sensor, and taken by the estimate when it is the source."""
+        ext = self.external_nav
+        b = self.sim.state.body
+        if ext.pose(self.sim.time_s, frame_origin_ned, xyz, (b.n_m, b.e_m, b.d_m), quality, reset_counter):
+            self.follow_sources()
+
+    def follow_sources(self) -> None:
+        """EK3_SRC1_POSXY and _POSZ as they are now (called when EK3_SRC1_* change, and on each
+        pose), and the horizontal error from external navigation while it is the source."""
+        p = self.params
+        self.posxy_source = int(p["EK3_SRC1_POSXY"]) if p is not None else SOURCE_GPS
+        self.posz_source = int(p["EK3_SRC1_POSZ"]) if p is not None else SOURCE_BARO
+        ext = self.external_nav
+        uses = ext.poses > 0 and self.posxy_source == SOURCE_EXTNAV
+        self.nav_offset_ne = ext.offset_ned[:2] if uses else None
 
     def sample_temperature(self, home_d_m: float) -> None:
         self.temperature = (self.sim.time_s, self.sim.read_temperature(home_d_m))
 
     def track_barometer(self) -> None:
-        """Follow the barometer's error into the height estimate (at the flight-mode rate)."""
+        """Follow the barometer's error into the height estimate (at the flight-mode rate), or
+        external navigation's while it is the height source and fresh."""
+        ext = self.external_nav
+        if ext.poses and self.posz_source == SOURCE_EXTNAV and self.sim.time_s - ext.heard_s < EXTNAV_HEIGHT_FRESH_S:
+            self.alt_error_m = -ext.offset_ned[2]
+            return
         baro = self.sim.baro
         self.alt_error_m = baro.error_m(self.sim.time_s) if baro.drift_m_s else 0.0
 
@@ -69,6 +114,9 @@ class StateEstimate:
     def body(self):
         """Position, velocity, attitude quaternion and rates (sim.rigid_body.BodyState)."""
         b = self.sim.state.body
+        off = self.nav_offset_ne
+        if off is not None:
+            return b._replace(n_m=b.n_m + off[0], e_m=b.e_m + off[1], d_m=b.d_m - self.alt_error_m)
         return b._replace(d_m=b.d_m - self.alt_error_m) if self.alt_error_m else b
 
     @property
@@ -81,13 +129,23 @@ class StateEstimate:
         """Whether the horizontal position is known: with a 3D GPS fix the EKF uses, and for
         DEAD_RECKONING_S after the last one."""
         now = self.sim.time_s
+        if self.nav_offset_ne is not None:  # external navigation is the source (no origin needed)
+            ext = self.external_nav
+            return not ext.lost and now - ext.measured_s <= DEAD_RECKONING_S
         if self.gps.fix_type >= 3 and self.startup.gps_in_use(now):
             return True
         return now - self.last_fix_s <= DEAD_RECKONING_S
 
+    def local_position_known(self) -> bool:
+        """Whether the EKF has a position in its local frame to report (LOCAL_POSITION_NED): with
+        no GPS fitted, or external navigation the source, only once a pose has been fused."""
+        if self.gps_fitted and self.posxy_source != SOURCE_EXTNAV:
+            return True
+        return self.external_nav.poses > 0
+
     def origin_known(self) -> bool:
         """Whether the EKF has an origin (set from a 3D fix), so home can be set."""
-        return self.gps.fix_type >= 3 and self.startup.origin_set(self.sim.time_s)
+        return self.origin_set_by_message or (self.gps.fix_type >= 3 and self.startup.origin_set(self.sim.time_s))
 
     def attitude_known(self) -> bool:
         """Whether the EKF has aligned its attitude (false only during a realistic start-up)."""

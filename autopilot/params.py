@@ -300,6 +300,23 @@ PARAM_TABLE: tuple[ParamSpec, ...] = (
     _f("PLND_ALT_MIN", 0.75, 0, 5, "the target is in the sensor's range above this rangefinder height [m]"),
     _f("PLND_ALT_MAX", 8, 0, 50, "and below this [m]; both 0: always"),
     replace(_i("PLND_OPTIONS", 0, 0, 7, "bit 2: no slow final descent"), mav_type=MAV_PARAM_TYPE_INT16),
+    # External navigation (external_nav.py): VISO_TYPE and GPS1_TYPE are read at boot; ArduCopter
+    # shows the rest of VISO_* once VISO_TYPE is set; EK3_SRC1_* act at once
+    _i8("GPS1_TYPE", 1, 0, 29, "0 no GPS (read at boot); any other type is the simulated receiver"),
+    _i8("VISO_TYPE", 0, 0, 3, "1 (2, 3): a companion's pose over MAVLink (read at boot), 0 none"),
+    _f("VISO_SCALE", 1.0, 0.0, FLOAT32_MAX, "the companion's positions are multiplied by this"),
+    _i8("VISO_QUAL_MIN", 0, -1, 100, "a pose of lower quality is not fused"),
+    *(_f(f"VISO_POS_{axis}", 0.0, -5, 5, "served, unread (where the camera sits) [m]") for axis in "XYZ"),
+    _i8("VISO_ORIENT", 0, 0, 100, "served, unread (the camera's orientation)"),
+    replace(_i("VISO_DELAY_MS", 10, 0, 250, "served, unread (the pose's lag) [ms]"), mav_type=MAV_PARAM_TYPE_INT16),
+    _f("VISO_VEL_M_NSE", 0.1, 0.05, 5.0, "served, unread (velocity noise) [m/s]"),
+    _f("VISO_POS_M_NSE", 0.2, 0.1, 10.0, "served, unread (position noise) [m]"),
+    _f("VISO_YAW_M_NSE", 0.2, 0.05, 1.0, "served, unread (yaw noise) [rad]"),
+    _i8("EK3_SRC1_POSXY", 3, 0, 6, "the horizontal position's source: 3 GPS, 6 external navigation"),
+    _i8("EK3_SRC1_VELXY", 3, 0, 6, "the horizontal velocity's source (Firefly's velocity is the truth's)"),
+    _i8("EK3_SRC1_POSZ", 1, 0, 6, "the height's source: 1 barometer, 6 external navigation"),
+    _i8("EK3_SRC1_VELZ", 3, 0, 6, "the vertical velocity's source (Firefly's velocity is the truth's)"),
+    _i8("EK3_SRC1_YAW", 1, 0, 6, "the heading's source (Firefly's heading is the truth's)"),
     # Mission (AP_Mission)
     _i("MIS_RESTART", 0, 0, 1, "AUTO after leaving it: 0 resumes the mission, 1 restarts it"),
     # The pilot's radio (autopilot/rc/): channel roles, the mode switch, overrides, the ground station

@@ -59,6 +59,11 @@ DEFAULT_DIFFERENCES: dict[str, str] = {
 }
 
 FIREFLY_ONLY: dict[str, str] = {
+    **{name: "external navigation's (AP_VisualOdom): ArduCopter serves it once VISO_TYPE is set (the "
+             "reference's set was recorded with VISO_TYPE 0); Firefly serves it always, so that it can be "
+             "set before enabling"
+       for name in ("VISO_SCALE", "VISO_QUAL_MIN", "VISO_POS_X", "VISO_POS_Y", "VISO_POS_Z", "VISO_ORIENT",
+                    "VISO_DELAY_MS", "VISO_VEL_M_NSE", "VISO_POS_M_NSE", "VISO_YAW_M_NSE")},
     "SIM_LINK_DOWN": "Firefly's own link fault: the ground-station link cut for some wall seconds",
     "SIM_LINK_LOSS": "Firefly's own link fault: a share of MAVLink frames lost each way",
     **{name: "FOLLOW's lead (AP_Follow): ArduCopter serves it once FOLL_ENABLE is 1 (the reference's set "

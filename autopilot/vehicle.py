@@ -33,6 +33,7 @@ from .tuning.gains import GainOverlay, Params
 from .version import board_id_for
 from .control.compiled import make_cascade
 from .estimate import StateEstimate
+from .external_nav import ExternalNav
 from .faults.world import Faults, world_values
 from .follow_target import FollowTarget
 from .mission import FENCE, MISSION, MissionStore
@@ -79,6 +80,7 @@ FAILSAFE_EVERY = 10  # flight-mode ticks between failsafe checks (10 Hz at the d
 RETURN_PATH_EVERY = 3  # failsafe checks between SmartRTL path updates (ArduCopter: 3 Hz)
 LAND_DETECTOR_ERROR_LINE = 66  # ArduCopter's land_detector.cpp line of its "climbed while landed" error
 MAX_PENDING_TEXTS = 64  # STATUSTEXTs waiting for the next poll; a loop of texts cannot grow memory
+EKF_LANES = ("IMU0", "IMU1")  # ArduCopter SITL's two EKF3 cores, each says what it does
 HOME_RANGE_M = 50_000  # DO_SET_HOME farther than this from the origin is refused
 LOCATION_ALT_MAX_M = 83_000  # the largest altitude ArduPilot's Location holds: home and commands' positions
 SPEED_MAX_WPNAV = 5.0  # DO_CHANGE_SPEED is capped at this multiple of WPNAV_SPEED
@@ -130,7 +132,7 @@ class Vehicle:
             self.params.set(name, value)
         self.faults = Faults(self.sim, self.params, self.origin)
         self.startup = Startup(config.startup)
-        self.estimate = StateEstimate(self.sim, config.rates.physics_hz, self.startup)
+        self.estimate = StateEstimate(self.sim, config.rates.physics_hz, self.startup, self.params)
         airframe = config.sim.airframe
         self.thrust_max_n = 4.0 * airframe.max_rotor_thrust_n
         self.omega_max_rad_s = airframe.omega_max_rad_s
@@ -180,6 +182,7 @@ class Vehicle:
         # The parts' own methods that readers call through their views (views.py), bound once:
         # no call in between (telemetry and the failsafes call them for every vehicle, often).
         self.attitude_known = self.estimate.attitude_known
+        self.origin_known = self.estimate.origin_known
         self.startup_initialising = self.startup.initialising  # (t_s)
         self.startup_arm_blockers = self.startup.arm_blockers  # (t_s)
         self.internal_error_prearm_text = self.internal_errors.prearm_text
@@ -232,6 +235,9 @@ class Vehicle:
     body: ReadThrough[BodyState] = property(attrgetter("estimate.body"), doc="The state estimate (estimate.py).")
     attitude: ReadThrough[Vector3] = property(attrgetter("estimate.attitude"), doc="(roll, pitch, yaw) [rad].")
     gps: ReadThrough[GpsReading] = property(attrgetter("estimate.gps"), doc="The last GPS sample.")
+    gps_fitted: ReadThrough[bool] = property(attrgetter("estimate.gps_fitted"), doc="GPS1_TYPE is not 0.")
+    external_nav: ReadThrough[ExternalNav] = property(attrgetter("estimate.external_nav"),
+                                                      doc="VISO_TYPE's sensor (external_nav.py).")
     armed: ReadThrough[bool] = property(attrgetter("arming.armed"))
     auto_armed: ReadThrough[bool] = property(attrgetter("arming.auto_armed"), doc="AUTO may start from the ground.")
     adsb_threat: ReadThrough[bool] = property(attrgetter("failsafes.adsb"), doc="ADS-B avoidance is acting.")
@@ -288,6 +294,13 @@ class Vehicle:
 
     def has_position(self) -> bool:
         return self.estimate.has_position()
+
+    def local_position_known(self) -> bool:
+        return self.estimate.local_position_known()
+
+    def navigating_externally(self) -> bool:
+        """The horizontal position is external navigation's (EK3_SRC1_POSXY 6, a pose fused)."""
+        return self.estimate.nav_offset_ne is not None
 
     @property
     def height_ref_d(self) -> float:
@@ -473,6 +486,48 @@ class Vehicle:
         if seen is not None:
             pl.heard(seen[0], seen[1], self.time_s)
 
+    def vision_pose(self, xyz: tuple[float, float, float], quality: int = 0, reset_counter: int = 0) -> None:
+        """A companion's pose (VISION_POSITION_ESTIMATE and its kin): metres north, east and down
+        in its frame, which starts where MAVLink's local frame does (external_nav.py)."""
+        on, oe = self.ekf_origin_ne
+        est = self.estimate
+        was = est.nav_offset_ne is not None
+        est.external_pose((on, oe, self.boot_ground_d), xyz, quality, reset_counter)
+        ext = est.external_nav
+        if not was and est.nav_offset_ne is not None and not ext.announced:
+            ext.announced = True  # as EKF3 says it once, when it starts using the pose (IMU1's core first)
+            b = self.body
+            for lane in reversed(EKF_LANES):
+                self.notify(f"EKF3 {lane} is using external nav data")
+                self.notify(f"EKF3 {lane} initial pos NED = {b.n_m - on:.1f},{b.e_m - oe:.1f},"
+                            f"{b.d_m - self.boot_ground_d:.1f} (m)")
+                if ext.speeds:  # only with a velocity from the companion too
+                    self.notify(f"EKF3 {lane} initial vel NED = {b.vn_m_s:.1f},{b.ve_m_s:.1f},{b.vd_m_s:.1f} (m/s)")
+
+    def vision_speed(self) -> None:
+        """A companion's VISION_SPEED_ESTIMATE: it keeps the sensor healthy."""
+        self.estimate.external_nav.speed(self.time_s)
+
+    def set_gps_global_origin(self, lat_deg: float, lon_deg: float, alt_m: float) -> bool:
+        """SET_GPS_GLOBAL_ORIGIN: the EKF's origin, taken only while it has none (from a GPS fix or
+        an earlier message). The sim's frame keeps its place; what moves is where it lies on the
+        earth, so that MAVLink's local frame starts at the given point. Whether it was taken."""
+        est = self.estimate
+        if est.origin_known() or not all(math.isfinite(x) for x in (lat_deg, lon_deg, alt_m)):
+            return False
+        if abs(lat_deg) > 90 or abs(lon_deg) > 180:
+            return False
+        on, oe = self.ekf_origin_ne
+        given = GeoPoint(lat_deg, lon_deg, alt_m)
+        self.origin = global_from_ned(given, -on, -oe, -self.boot_ground_d)
+        est.origin_set_by_message = True
+        for lane in EKF_LANES:
+            self.notify(f"EKF3 {lane} origin set")
+        if self.home_ned is None and self.has_position():  # as ArduCopter: home where it is, at once
+            self._set_home_here(in_flight=not self.land_detector.landed)
+        self.notify(f"Field Elevation Set: {alt_m:.0f}m")
+        return True
+
     def adsb_vehicle(self, report: AdsbReport) -> None:
         """An ADSB_VEHICLE from any link: traffic for the receiver's list (adsb/traffic_list.py)."""
         self.traffic.receive(report, int(self.time_s * 1000))
@@ -653,6 +708,8 @@ class Vehicle:
             self.avoidance.switched = None
         if name in ("ADSB_TYPE", "AVD_ENABLE"):
             self._want_adsb()
+        elif name.startswith("EK3_SRC1_"):
+            self.estimate.follow_sources()
 
     # ----- commands: arming ------------------------------------------------------------------
     def arm(self, force: bool = False) -> Result:
@@ -897,8 +954,10 @@ class Vehicle:
         if steps % self._mode_every == 0:
             self._mode_tick()
         sp = self.setpoint
-        if est.alt_error_m and sp.pos_d is not None:
-            sp = in_true_height(sp, est.alt_error_m)
+        if est.nav_offset_ne is not None:  # external navigation's position: the truth is off by its error
+            sp = in_true_frame(sp, est.nav_offset_ne, est.alt_error_m)
+        elif est.alt_error_m and sp.pos_d is not None:
+            sp = in_true_frame(sp, None, est.alt_error_m)
         arming, mode = self.arming, self.mode
         spinning = arming.armed and not (self.motors_emergency_stopped or mode.motors_stopped)
         if spinning and self.sim.time_s < arming.interlock_at_s:  # the arming delay
@@ -1045,12 +1104,15 @@ class Vehicle:
         sp.vel_d = sp.speed_dn = self.params["LAND_SPEED"] / 100.0
 
 
-def in_true_height(sp: Setpoint, alt_error_m: float) -> Setpoint:
-    """The setpoint as the cascade, which flies the true state, must see it when the height
-    estimate reads alt_error_m high: holding an estimated height means being that much lower."""
+def in_true_frame(sp: Setpoint, offset_ne: tuple[float, float] | None, alt_error_m: float) -> Setpoint:
+    """The setpoint as the cascade, which flies the true state, must see it when the estimate is
+    off the truth: by offset_ne horizontally (external navigation's error), and reading
+    alt_error_m high: holding an estimated height means being that much lower."""
     true_sp = Setpoint()
     for name in Setpoint.__slots__:
         setattr(true_sp, name, getattr(sp, name))
-    if sp.pos_d is not None:  # the caller's case: a height held
+    if sp.pos_d is not None:
         true_sp.pos_d = sp.pos_d + alt_error_m
+    if offset_ne is not None and sp.pos_ne is not None:
+        true_sp.pos_ne = (sp.pos_ne[0] - offset_ne[0], sp.pos_ne[1] - offset_ne[1])
     return true_sp

@@ -21,6 +21,7 @@ from .command_locations import is_location, target_ned
 from .do_item_commands import HANDLERS as DO_ITEM_HANDLERS
 from .preflight import HANDLERS as PREFLIGHT_HANDLERS
 
+MAV_CMD_DO_SET_GLOBAL_ORIGIN = 611  # MAVLink's, newer than this pymavlink's dialect
 RETRY_WINDOW_S = 1.5  # an unconfirmed repeat this close, in wall and in sim time, is a retry
 INT32_MAX = 2**31 - 1
 
@@ -203,6 +204,21 @@ def do_set_home(s, c: Command) -> Result:
     return Result.FAILED if target is None else _home_told(s, v.set_home(target))
 
 
+def do_set_global_origin(s, c: Command) -> Result:
+    """As ArduPilot's set_ekf_origin: a point that is no location (or 0, 0) DENIED; FAILED once the
+    EKF has an origin; else the origin, and GPS_GLOBAL_ORIGIN and HOME_POSITION with it, as for the
+    SET_GPS_GLOBAL_ORIGIN message (external_nav_messages.py)."""
+    if not c.is_int:
+        c = c._replace(frame=mav.MAV_FRAME_GLOBAL)
+    if not is_location(s, c) or (c.p5 == 0 and c.p6 == 0):
+        return Result.DENIED
+    if not s.vehicle.set_gps_global_origin(c.p5, c.p6, c.p7):
+        return Result.FAILED
+    s.queue(s.build(mav.MAVLINK_MSG_ID_GPS_GLOBAL_ORIGIN))
+    s.queue(s.build(mav.MAVLINK_MSG_ID_HOME_POSITION))
+    return Result.ACCEPTED
+
+
 def _home_told(s, result: Result) -> Result:
     """A home set (or asked for) is followed, as on ArduCopter, by HOME_POSITION and the EKF
     origin (GPS_GLOBAL_ORIGIN)."""
@@ -341,6 +357,7 @@ HANDLERS = {
     mav.MAV_CMD_DO_CHANGE_SPEED: do_change_speed,
     mav.MAV_CMD_DO_REPOSITION: do_reposition,
     mav.MAV_CMD_DO_SET_HOME: do_set_home,
+    MAV_CMD_DO_SET_GLOBAL_ORIGIN: do_set_global_origin,
     mav.MAV_CMD_GET_HOME_POSITION: get_home_position,
     mav.MAV_CMD_REQUEST_AUTOPILOT_CAPABILITIES: request_autopilot_capabilities,
     mav.MAV_CMD_REQUEST_MESSAGE: request_message,

@@ -10,6 +10,8 @@ parameter's new value goes to every other link that has spoken too: `take_announ
 """
 from __future__ import annotations
 
+from functools import partial
+
 from .. import version
 from ..results import Result
 from .adsb_messages import collision, forwarded, report_of
@@ -17,6 +19,7 @@ from .adsb_out import AdsbOut
 from .commands import Command, CommandService
 from .dialect import mavlink as mav
 from .fast_pack import FastCodec
+from .external_nav_messages import EXTERNAL_NAV_HANDLERS
 from .ftp import FtpServer
 from .follow_messages import on_follow_target, on_global_position_int
 from .guided_setpoints import handle_attitude_target, handle_global_int, handle_local_ned
@@ -118,6 +121,8 @@ class Session:
             # The request older ground stations send before REQUEST_MESSAGE existed.
             "AUTOPILOT_VERSION_REQUEST": lambda m, now: self.queue(self.build(mav.MAVLINK_MSG_ID_AUTOPILOT_VERSION)),
         }
+        for name, handle in EXTERNAL_NAV_HANDLERS.items():  # a companion's poses and the EKF origin
+            self._handlers[name] = partial(_with_session, handle, self)
 
     # ----- output helpers used by the services ------------------------------------------------
     def queue(self, msg) -> None:
@@ -417,3 +422,8 @@ class Session:
             return []
         self._out = []
         return out
+
+
+def _with_session(handle, session, msg, now) -> None:
+    """A table handler (external_nav_messages.py) in the session's (message, now) shape."""
+    handle(session, msg)

@@ -114,6 +114,16 @@ def sys_status(v: TelemetryView, codec):
         enabled |= mav.MAV_SYS_STATUS_SENSOR_PROXIMITY
         if not prox.good:
             healthy &= ~mav.MAV_SYS_STATUS_SENSOR_PROXIMITY
+    ext = v.external_nav
+    if ext is not None and ext.kind:  # as ArduCopter: visual odometry is present and enabled, healthy with data
+        present |= VISION
+        enabled |= VISION
+        if ext.healthy(v.time_s):
+            healthy |= VISION
+    if not v.gps_fitted:  # GPS1_TYPE 0: no receiver to report
+        present &= ~mav.MAV_SYS_STATUS_SENSOR_GPS
+        enabled &= ~mav.MAV_SYS_STATUS_SENSOR_GPS
+        healthy &= ~mav.MAV_SYS_STATUS_SENSOR_GPS
     if v.precland_kind and v.params["PLND_ENABLED"]:  # as ArduCopter: precision landing's sensor
         present |= VISION
         enabled |= VISION
@@ -136,9 +146,12 @@ def battery_status(v: TelemetryView, codec):
 
 
 def global_position_int(v: TelemetryView, codec):
-    b, pos = v.body, v.position_global()
-    home_alt = v.home.alt_m if v.home else v.origin.alt_m
+    b = v.body
     hdg = int(round(math.degrees(v.attitude[2]) * 100)) % 36000
+    if not v.origin_known() and v.gps.fix_type < 3:  # as ArduCopter: no location at all, all zeros
+        return codec.global_position_int_encode(_ms(v), 0, 0, 0, 0, 0, 0, 0, 0)
+    pos = v.position_global()
+    home_alt = v.home.alt_m if v.home else v.origin.alt_m
     return codec.global_position_int_encode(_ms(v), _deg_e7(pos.lat_deg), _deg_e7(pos.lon_deg),
                                             int(pos.alt_m * 1000), int((pos.alt_m - home_alt) * 1000),
                                             int(b.vn_m_s * 100), int(b.ve_m_s * 100),
@@ -146,6 +159,8 @@ def global_position_int(v: TelemetryView, codec):
 
 
 def local_position_ned(v: TelemetryView, codec):
+    if not v.local_position_known():  # as ArduCopter: not sent before the EKF has a position
+        return None
     b = v.body
     x, y = v.local_ne(b.n_m, b.e_m)
     return codec.local_position_ned_encode(_ms(v), x, y, b.d_m, b.vn_m_s, b.ve_m_s, b.vd_m_s)
@@ -245,6 +260,10 @@ EKF_GOOD = (mav.EKF_ATTITUDE | mav.EKF_VELOCITY_HORIZ | mav.EKF_VELOCITY_VERT | 
 # Without a GPS fix the estimate keeps attitude and height but not where it is: constant position mode.
 EKF_NO_POSITION = (mav.EKF_ATTITUDE | mav.EKF_VELOCITY_VERT | mav.EKF_POS_VERT_ABS | mav.EKF_POS_VERT_AGL
                    | mav.EKF_CONST_POS_MODE)
+# On external navigation (measured): these, without the height above ground; when its position is
+# lost, attitude, vertical velocity and height only.
+EKF_EXTNAV_GOOD = EKF_GOOD & ~mav.EKF_POS_VERT_AGL
+EKF_EXTNAV_LOST = mav.EKF_ATTITUDE | mav.EKF_VELOCITY_VERT | mav.EKF_POS_VERT_ABS
 EKF_GPS_GLITCH = 32768  # MAVLink's EKF_GPS_GLITCH flag, newer than this pymavlink's dialect
 
 
@@ -253,6 +272,8 @@ def ekf_status_report(v: TelemetryView, codec):
     if not v.attitude_known():  # a realistic start-up before the EKF has aligned
         return codec.ekf_status_report_encode(mav.EKF_UNINITIALIZED, 1.0, 1.0, 1.0, 1.0, 0.0)
     flags, variance = (EKF_GOOD, 0.01) if v.has_position() else (EKF_NO_POSITION, 1.0)
+    if v.navigating_externally():  # as ArduCopter on external navigation: no height above ground
+        flags = EKF_EXTNAV_GOOD if v.has_position() else EKF_EXTNAV_LOST
     if v.gps_glitching:
         flags |= EKF_GPS_GLITCH
     return codec.ekf_status_report_encode(flags, variance, variance, 0.01, 0.01, 0.0)

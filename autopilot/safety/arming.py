@@ -31,11 +31,19 @@ def _need_position(v: PrearmView) -> str | None:
     "AHRS: waiting for home" before the EKF has an origin, then "Need 3D Fix" while the GPS has
     no fix (the EKF's dead reckoning after a lost fix does not arm), "Need Position Estimate"
     while the EKF does not use it yet."""
-    if not v.mode_requires_position or (v.has_position() and v.gps.fix_type >= 3):
+    if not v.mode_requires_position:
         return None
-    if v.home_ned is None:
+    if v.home_ned is None:  # (external navigation has a position before any origin: measured)
         return "AHRS: waiting for home"
+    if v.has_position() and (v.gps.fix_type >= 3 or v.navigating_externally()):
+        return None
     return "Need 3D Fix" if v.gps.fix_type < 3 else "Need Position Estimate"
+
+
+def _visual_odometry(v: PrearmView) -> str | None:
+    """AP_Arming's visual odometry check: a sensor set up (VISO_TYPE) must be sending."""
+    ext = v.external_nav
+    return "VisOdom: not healthy" if ext.kind and not ext.healthy(v.time_s) else None
 
 
 def _throttle_below_failsafe(v: PrearmView) -> str | None:
@@ -107,7 +115,7 @@ def _terrain_data(v: PrearmView) -> str | None:
 
 # In ArduCopter's order; a check gives its words, a list of them, or None when it passes.
 PREARM_CHECKS: tuple[Callable[[PrearmView], str | list[str] | None], ...] = (
-    _starting_up, _adsb_threat, _throttle_below_failsafe, _internal_errors, _need_position, _gps_glitching, _leaning, _battery_low,
+    _starting_up, _adsb_threat, _throttle_below_failsafe, _internal_errors, _need_position, _visual_odometry, _gps_glitching, _leaning, _battery_low,
     _rangefinder, _proximity, _terrain_data, _emergency_stopped)
 
 

@@ -1,0 +1,40 @@
+"""A companion's navigation messages, as GCS_MAVLINK hands them to AP_VisualOdom and the EKF: the
+poses (VISION_POSITION_ESTIMATE and the messages with its fields, ATT_POS_MOCAP, ODOMETRY), the
+speed (VISION_SPEED_ESTIMATE) and SET_GPS_GLOBAL_ORIGIN. What the vehicle does with them is
+autopilot/external_nav.py's; here they are only read.
+"""
+from __future__ import annotations
+
+from .dialect import mavlink as mav
+
+
+def _pose(session, m) -> None:
+    session.vehicle.vision_pose((m.x, m.y, m.z), 0, getattr(m, "reset_counter", 0))
+
+
+def _odometry(session, m) -> None:
+    # ArduPilot takes only a local FRD pose of the body FRD frame; any other pair is dropped
+    if m.frame_id != mav.MAV_FRAME_LOCAL_FRD or m.child_frame_id != mav.MAV_FRAME_BODY_FRD:
+        return
+    session.vehicle.vision_pose((m.x, m.y, m.z), m.quality, m.reset_counter)
+    session.vehicle.vision_speed()
+
+
+def _origin(session, m) -> None:
+    """Taken only while the EKF has no origin; then, as ArduCopter, GPS_GLOBAL_ORIGIN and the home
+    it sets at once (a later one, or one with a bad position, is dropped in silence)."""
+    if session.vehicle.set_gps_global_origin(m.latitude * 1e-7, m.longitude * 1e-7, m.altitude * 1e-3):
+        session.queue(session.build(mav.MAVLINK_MSG_ID_GPS_GLOBAL_ORIGIN))
+        session.queue(session.build(mav.MAVLINK_MSG_ID_HOME_POSITION))
+
+
+# message name -> handler(session, message)
+EXTERNAL_NAV_HANDLERS = {
+    "VISION_POSITION_ESTIMATE": _pose,
+    "GLOBAL_VISION_POSITION_ESTIMATE": _pose,
+    "VICON_POSITION_ESTIMATE": _pose,
+    "ATT_POS_MOCAP": _pose,
+    "ODOMETRY": _odometry,
+    "VISION_SPEED_ESTIMATE": lambda session, m: session.vehicle.vision_speed(),
+    "SET_GPS_GLOBAL_ORIGIN": _origin,
+}

@@ -1,0 +1,152 @@
+"""External navigation (autopilot/external_nav.py): a companion's pose in place of the GPS, with
+EKF3's gate and reset and ArduCopter's answers around it, as measured on ArduCopter SITL (the
+sitl test flies it over real sockets)."""
+from __future__ import annotations
+
+import math
+
+from firefly.autopilot.external_nav import GATE_SIGMAS, RESET_AFTER_S, ExternalNav
+from firefly.autopilot.mavlink.commands import MAV_CMD_DO_SET_GLOBAL_ORIGIN
+from firefly.autopilot.mavlink.dialect import mavlink as mav
+from firefly.autopilot.mavlink.dialect import new_codec
+from firefly.autopilot.mavlink.session import Session
+from firefly.autopilot.modes import ModeNumber
+from firefly.autopilot.params import ParamStore
+from firefly.autopilot.results import Result
+
+from ._util import fly_until, ready_vehicle, wire
+
+EXTNAV = {"GPS1_TYPE": 0, "VISO_TYPE": 1, "EK3_SRC1_POSXY": 6, "EK3_SRC1_VELXY": 6}
+HERE = (0.0, 0.0, 0.0)
+
+
+def sensor(**values) -> ExternalNav:
+    params = ParamStore()
+    for name, value in {"VISO_TYPE": 1, **values}.items():
+        params.set(name, value)
+    return ExternalNav(params)
+
+
+def test_no_sensor_takes_nothing():
+    ext = sensor(VISO_TYPE=0)
+    assert not ext.pose(1.0, HERE, (1.0, 2.0, 0.0), HERE) and not ext.healthy(1.0) and ext.poses == 0
+
+
+def test_a_pose_gives_its_error_and_the_sensor_is_healthy_for_300_ms():
+    ext = sensor()
+    assert ext.pose(1.0, (10.0, 0.0, 0.0), (0.5, -0.2, -3.0), (10.0, 0.0, -3.0))
+    assert ext.offset_ned == (0.5, -0.2, 0.0)
+    assert ext.healthy(1.29) and not ext.healthy(1.3)
+
+
+def test_a_jump_past_the_gate_is_held_off_then_taken_and_the_position_lost():
+    ext = sensor()
+    gate = GATE_SIGMAS * 0.2  # VISO_POS_M_NSE's default
+    assert ext.pose(0.0, HERE, HERE, HERE)
+    assert ext.pose(0.1, HERE, (0.9 * gate, 0.0, 0.0), HERE)  # within the gate: at once
+    t = 0.2
+    while t < 0.2 + RESET_AFTER_S - 0.05:
+        assert not ext.pose(t, HERE, (5.0, 0.0, 0.0), HERE), t
+        assert not ext.lost and ext.measured_s == t  # held off, the position still trusted
+        t += 0.05
+    assert math.isclose(ext.offset_ned[0], 0.9 * gate)
+    t += 0.1
+    assert ext.pose(t, HERE, (5.0, 0.0, 0.0), HERE) and ext.lost and ext.offset_ned[0] == 5.0
+    assert ext.pose(t + 0.1, HERE, HERE, HERE)  # lost, it follows every pose (and stays lost)
+    assert ext.offset_ned[0] == 0.0 and ext.lost
+
+
+def test_a_nan_position_is_heard_not_fused_and_its_height_still_counts():
+    ext = sensor()
+    ext.pose(0.0, HERE, (1.0, 1.0, -2.0), HERE)
+    assert not ext.pose(1.0, HERE, (math.nan, 3.0, -4.0), HERE)
+    assert ext.healthy(1.0) and ext.measured_s == 0.0 and ext.offset_ned == (1.0, 1.0, -4.0)
+
+
+def test_a_pose_under_the_quality_floor_keeps_the_sensor_healthy_but_is_not_fused():
+    ext = sensor(VISO_QUAL_MIN=50)
+    assert not ext.pose(1.0, HERE, (1.0, 0.0, 0.0), HERE, quality=20)
+    assert ext.healthy(1.0) and ext.poses == 0
+    assert ext.pose(1.1, HERE, (1.0, 0.0, 0.0), HERE, quality=80)
+
+
+def speak(v, until_s: float, error_ne=(0.0, 0.0)) -> None:
+    """A companion sending the true position (plus error_ne) at 20 Hz until until_s."""
+    while v.time_s < until_s - 1e-9:
+        b = v.estimate.sim.state.body
+        v.vision_pose((b.n_m + error_ne[0], b.e_m + error_ne[1], b.d_m))
+        v.run_until(v.time_s + 0.05)
+
+
+def texts(v) -> list[str]:
+    return [text for _, text in v.drain_events()]
+
+
+def test_without_an_origin_it_navigates_but_reports_no_location_and_refuses_loiter():
+    v = ready_vehicle(EXTNAV)
+    assert v.gps.fix_type == 0 and not v.local_position_known()  # no LOCAL_POSITION_NED before a pose
+    texts(v)
+    speak(v, v.time_s + 1.0)
+    said = texts(v)
+    assert said[:2] == ["EKF3 IMU1 is using external nav data", "EKF3 IMU1 initial pos NED = 0.0,0.0,0.0 (m)"]
+    assert "EKF3 IMU0 is using external nav data" in said and not any("initial vel" in t for t in said)
+    assert v.has_position() and v.local_position_known() and v.home_ned is None
+    assert v.arm() == Result.ACCEPTED and v.disarm() == Result.ACCEPTED  # STABILIZE needs no home
+    texts(v)
+    assert v.set_mode(ModeNumber.LOITER) == Result.ACCEPTED
+    assert v.arm() == Result.FAILED and texts(v) == ["Arm: AHRS: waiting for home"]
+
+
+def test_the_origin_is_taken_once_with_home_and_its_texts():
+    v = ready_vehicle(EXTNAV)
+    speak(v, v.time_s + 1.0)
+    texts(v)
+    assert v.set_gps_global_origin(-35.3632621, 149.1652374, 584.0)
+    assert texts(v) == ["EKF3 IMU0 origin set", "EKF3 IMU1 origin set", "Field Elevation Set: 584m"]
+    assert v.home_ned is not None and abs(v.home.lat_deg + 35.3632621) < 1e-7 and abs(v.home.alt_m - 584.0) < 0.1
+    assert not v.set_gps_global_origin(-35.0, 149.0, 600.0) and texts(v) == []  # a second one: dropped
+    assert abs(v.home.lat_deg + 35.3632621) < 1e-7
+    session = Session(v, new_codec(1))
+    ack = session.receive(wire(session.codec.command_int_encode(1, 1, mav.MAV_FRAME_GLOBAL_INT, MAV_CMD_DO_SET_GLOBAL_ORIGIN,
+                                                                0, 0, 0, 0, 0, 0, -350000000, 1490000000, 600.0)),
+                          v.time_s, 0.0)
+    assert [m.result for m in ack if m.get_type() == "COMMAND_ACK"] == [mav.MAV_RESULT_FAILED]
+
+
+def test_the_origin_command_sets_it_and_sends_the_origin_and_home():
+    v = ready_vehicle(EXTNAV)
+    speak(v, v.time_s + 1.0)
+    session = Session(v, new_codec(1))
+    out = session.receive(wire(session.codec.command_int_encode(1, 1, mav.MAV_FRAME_GLOBAL_INT, MAV_CMD_DO_SET_GLOBAL_ORIGIN,
+                                                                0, 0, 0, 0, 0, 0, -353632621, 1491652374, 584.0)),
+                          v.time_s, 0.0)
+    assert [m.get_type() for m in out][-1] == "COMMAND_ACK" and out[-1].result == mav.MAV_RESULT_ACCEPTED
+    assert {"GPS_GLOBAL_ORIGIN", "HOME_POSITION"} <= {m.get_type() for m in session.poll(v.time_s, 0.0)} | \
+        {m.get_type() for m in out}
+
+
+def test_a_silent_sensor_refuses_arming_and_a_lost_pose_lands_by_the_ekf_failsafe():
+    v = ready_vehicle(EXTNAV)
+    assert v.arm() == Result.FAILED and "Arm: VisOdom: not healthy" in texts(v)
+    speak(v, v.time_s + 1.0)
+    v.set_gps_global_origin(-35.3632621, 149.1652374, 584.0)
+    assert v.set_mode(ModeNumber.GUIDED) == Result.ACCEPTED and v.arm() == Result.ACCEPTED
+    assert v.takeoff(10.0) == Result.ACCEPTED
+    speak(v, v.time_s + 15.0)
+    texts(v)
+    stopped = v.time_s
+    assert fly_until(v, lambda x: x.mode.number == ModeNumber.LAND, 15.0)
+    assert 7.5 <= v.time_s - stopped <= 8.5  # ArduCopter: 7.8-8.0 s
+    assert texts(v)[-2:] == ["EKF variance", "EKF Failsafe: changed to LAND Mode"]
+
+
+def test_the_vehicle_holds_the_point_the_pose_names():
+    v = ready_vehicle(EXTNAV)
+    speak(v, v.time_s + 1.0)
+    v.set_gps_global_origin(-35.3632621, 149.1652374, 584.0)
+    assert v.set_mode(ModeNumber.GUIDED) == Result.ACCEPTED and v.arm() == Result.ACCEPTED
+    assert v.takeoff(10.0) == Result.ACCEPTED
+    speak(v, v.time_s + 12.0, error_ne=(0.6, -0.4))
+    true = v.estimate.sim.state.body
+    assert abs(v.body.n_m) < 0.1 and abs(v.body.e_m) < 0.1
+    assert abs(true.n_m + 0.6) < 0.1 and abs(true.e_m - 0.4) < 0.1
