@@ -15,6 +15,7 @@ import math
 
 from firefly.sim.battery import remaining_fraction
 from firefly.sim.physics import specific_force_body
+from firefly.sim.sensors import NO_FIX, GpsReading
 
 from .external_nav import SOURCE_BARO, SOURCE_EXTNAV, SOURCE_GPS, ExternalNav
 from .params import ParamStore
@@ -35,6 +36,11 @@ EXTNAV_HEIGHT_FRESH_S = 0.5  # EKF3's extNavDataIsFresh: an older pose's height 
 
 
 NO_GPS = 0  # GPS_FIX_TYPE_NO_GPS: GPS1_TYPE 0, no receiver
+GPS_TYPE_NONE, GPS_TYPE_MAVLINK = 0, 14  # GPS1_TYPE: none, a companion's GPS_INPUT
+# A companion's fix (GPS1_TYPE 14) is the receiver's reading until it is this old; then the
+# receiver reports no fix (measured on ArduCopter SITL: fix type 1 and 0 satellites 2 s after the
+# last GPS_INPUT)
+GPS_INPUT_TIMEOUT_S = 2.0
 
 
 class StateEstimate:
@@ -42,7 +48,10 @@ class StateEstimate:
         self.sim = sim
         self.startup = startup if startup is not None else Startup(None)
         self.params = params
-        self.gps_fitted = params is None or int(params["GPS1_TYPE"]) != 0  # read at boot, as AP_GPS
+        gps_type = int(params["GPS1_TYPE"]) if params is not None else 1  # read at boot, as AP_GPS
+        self.gps_fitted = gps_type != GPS_TYPE_NONE
+        self.gps_from_mavlink = gps_type == GPS_TYPE_MAVLINK
+        self.gps_input: tuple[float, GpsReading] | None = None  # (sim time, reading) of the last GPS_INPUT
         self.external_nav = ExternalNav(params if params is not None else ParamStore())
         # The horizontal error external navigation gives the estimate (north, east), None while
         # the GPS is the source: the common case costs one test
@@ -71,9 +80,27 @@ class StateEstimate:
         gps = self.sim.gps.read(self.sim.state.body)
         if not self.gps_fitted:
             return gps._replace(satellites=0, fix_type=NO_GPS)
+        if self.gps_from_mavlink:  # the companion's fix while it comes, else none
+            given = self.gps_input
+            if given is None:
+                return gps._replace(satellites=0, fix_type=NO_GPS)
+            if self.sim.time_s - given[0] > GPS_INPUT_TIMEOUT_S:
+                return given[1]._replace(satellites=0, fix_type=NO_FIX)
+            return given[1]
         if not self.startup.gps_powered_up(self.sim.time_s):  # still acquiring: no fix, no satellites
             gps = gps._replace(satellites=0, fix_type=0)
         return gps
+
+    @property
+    def gps_detected(self) -> bool:
+        """A receiver is there: fitted, and a companion's once it has sent its first GPS_INPUT."""
+        return self.gps_fitted and (not self.gps_from_mavlink or self.gps_input is not None)
+
+    def take_gps_input(self, reading: GpsReading) -> bool:
+        """A companion's GPS_INPUT (GPS1_TYPE 14), in the sim's frame; whether it is the first."""
+        first = self.gps_input is None
+        self.gps_input = (self.sim.time_s, reading)
+        return first
 
     # ----- external navigation ---------------------------------------------------------------
 

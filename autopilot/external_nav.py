@@ -17,9 +17,10 @@ vehicle 5 m south of where it is asked to be, as on ArduCopter.
 
 As EKF3 with its default gates (measured on ArduCopter SITL):
 - a pose whose error jumps more than GATE_SIGMAS x VISO_POS_M_NSE from the error fused is not
-  fused; after RESET_AFTER_S of poses rejected, the estimate takes the new error at once and its
-  horizontal position is no longer trusted, for good (ArduCopter's flags never recovered in 60 s:
-  "Need Position Estimate" until a reboot), which starts the EKF failsafe;
+  fused; after RESET_POSE_ONLY_S of poses rejected, the estimate takes the new error at once; when
+  the companion sends its velocity too, only after RESET_WITH_VELOCITY_S, and then the horizontal
+  position is no longer trusted, for good (ArduCopter's flags never recovered in 60 s: "Need
+  Position Estimate" until a reboot), which starts the EKF failsafe;
 - a pose with a NaN position is heard (the sensor stays healthy) but not fused;
 - without a pose the horizontal position is dead-reckoned for DEAD_RECKONING_S
   (estimate.py), then lost, as with a GPS that stops. Firefly's dead reckoning holds the last
@@ -36,7 +37,12 @@ if TYPE_CHECKING:
 SOURCE_NONE, SOURCE_BARO, SOURCE_GPS, SOURCE_EXTNAV = 0, 1, 3, 6  # EK3_SRC1_* values
 HEALTHY_S = 0.3  # AP_VisualOdom's timeout: healthy with a message this recent
 GATE_SIGMAS = 5.0  # EK3_POS_I_GATE 500: five standard deviations
-RESET_AFTER_S = 10.2  # measured: a 5 m jump rejected this long, then taken with the position lost
+# Measured, a 5 m jump: with the companion's velocity too (SITL's Vicon) it is rejected 10.2 s, then
+# taken with the position lost; with a pose alone it is rejected 4.3 s and then taken, the
+# position still trusted (EKF3 resets a position it cannot check against a velocity)
+RESET_WITH_VELOCITY_S = 10.2
+RESET_POSE_ONLY_S = 4.3
+VELOCITY_FRESH_S = 0.5  # a speed this recent aids the EKF
 
 
 class ExternalNav:
@@ -53,6 +59,7 @@ class ExternalNav:
         self.offset_ned: tuple[float, float, float] = (0.0, 0.0, 0.0)  # the fused pose less the truth
         self.poses = 0  # poses fused so far
         self.speeds = 0  # speed messages heard (ODOMETRY carries one)
+        self.speed_s = -math.inf  # the last one
         self.rejected_since: float | None = None  # poses rejected by the gate since then
         self.lost = False  # a rejected jump was taken in the end: the position is not trusted again
         self.reset_counter: int | None = None  # the companion's, from its last pose
@@ -88,16 +95,17 @@ class ExternalNav:
 
     def _gate(self, now_s: float, jump_n: float, jump_e: float) -> bool:
         """Whether a pose whose error moved by (jump_n, jump_e) from the one fused is fused: within
-        the gate, the first pose, once the position is lost, or after RESET_AFTER_S of rejections
-        (then the position is lost)."""
+        the gate, the first pose, once the position is lost, or after rejections for as long as
+        EKF3 holds out (with a velocity the position is then lost)."""
         if not self.poses or self.lost or math.hypot(jump_n, jump_e) <= GATE_SIGMAS * self.params["VISO_POS_M_NSE"]:
             self.rejected_since = None
             return True
         if self.rejected_since is None:
             self.rejected_since = now_s
-        if now_s - self.rejected_since < RESET_AFTER_S:
+        aided = now_s - self.speed_s < VELOCITY_FRESH_S
+        if now_s - self.rejected_since < (RESET_WITH_VELOCITY_S if aided else RESET_POSE_ONLY_S):
             return False
-        self.lost = True
+        self.lost = aided
         self.rejected_since = None
         return True
 
@@ -105,7 +113,7 @@ class ExternalNav:
         """A VISION_SPEED_ESTIMATE: counted for the sensor's health (the estimate's velocity is
         the truth's: Firefly models no velocity error)."""
         if self.kind:
-            self.heard_s = now_s
+            self.heard_s = self.speed_s = now_s
             self.speeds += 1
 
     def healthy(self, now_s: float) -> bool:

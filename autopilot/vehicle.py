@@ -18,6 +18,7 @@ from operator import attrgetter
 from typing import TYPE_CHECKING
 
 from firefly.sim.geo import GeoPoint, global_from_ned, ned_from_global
+from firefly.sim.sensors import GpsReading
 from firefly.sim.vehicle import BATTERY_EVERY, SimConfig, SimVehicle
 
 from .adsb.escape import CopterEscape
@@ -236,6 +237,8 @@ class Vehicle:
     attitude: ReadThrough[Vector3] = property(attrgetter("estimate.attitude"), doc="(roll, pitch, yaw) [rad].")
     gps: ReadThrough[GpsReading] = property(attrgetter("estimate.gps"), doc="The last GPS sample.")
     gps_fitted: ReadThrough[bool] = property(attrgetter("estimate.gps_fitted"), doc="GPS1_TYPE is not 0.")
+    gps_detected: ReadThrough[bool] = property(attrgetter("estimate.gps_detected"),
+                                               doc="A receiver is there (a companion's once it has sent GPS_INPUT).")
     external_nav: ReadThrough[ExternalNav] = property(attrgetter("estimate.external_nav"),
                                                       doc="VISO_TYPE's sensor (external_nav.py).")
     armed: ReadThrough[bool] = property(attrgetter("arming.armed"))
@@ -503,6 +506,19 @@ class Vehicle:
                             f"{b.d_m - self.boot_ground_d:.1f} (m)")
                 if ext.speeds:  # only with a velocity from the companion too
                     self.notify(f"EKF3 {lane} initial vel NED = {b.vn_m_s:.1f},{b.ve_m_s:.1f},{b.vd_m_s:.1f} (m/s)")
+
+    def gps_input(self, gps_id: int, fix_type: int, lat_deg: float, lon_deg: float, alt_m: float,
+                  vel_ned: tuple[float, float, float], satellites: int) -> None:
+        """A companion's GPS_INPUT: the receiver's fix when GPS1_TYPE is 14 (AP_GPS_MAV), its
+        first one announced as AP_GPS detects a receiver. Only the first receiver's (gps_id 0)."""
+        est = self.estimate
+        if not est.gps_from_mavlink or gps_id != 0:
+            return
+        if not all(math.isfinite(x) for x in (lat_deg, lon_deg, alt_m, *vel_ned)):
+            return
+        n, e, d = self.ned_of(lat_deg, lon_deg, alt_m)
+        if est.take_gps_input(GpsReading(n, e, d, *vel_ned, satellites, fix_type)):
+            self.notify("GPS 1: detected MAV")
 
     def vision_speed(self) -> None:
         """A companion's VISION_SPEED_ESTIMATE: it keeps the sensor healthy."""

@@ -1,6 +1,6 @@
 """A companion's navigation messages, as GCS_MAVLINK hands them to AP_VisualOdom and the EKF: the
 poses (VISION_POSITION_ESTIMATE and the messages with its fields, ATT_POS_MOCAP, ODOMETRY), the
-speed (VISION_SPEED_ESTIMATE) and SET_GPS_GLOBAL_ORIGIN. What the vehicle does with them is
+speed (VISION_SPEED_ESTIMATE), SET_GPS_GLOBAL_ORIGIN, and a GPS of its own (GPS_INPUT). What the vehicle does with them is
 autopilot/external_nav.py's; here they are only read.
 """
 from __future__ import annotations
@@ -28,6 +28,15 @@ def _origin(session, m) -> None:
         session.queue(session.build(mav.MAVLINK_MSG_ID_HOME_POSITION))
 
 
+def _gps_input(session, m) -> None:
+    # velocities the companion says it left out are zero, as AP_GPS_MAV takes them
+    ignored = m.ignore_flags
+    vel = tuple(0.0 if ignored & flag else v for v, flag in ((m.vn, mav.GPS_INPUT_IGNORE_FLAG_VEL_HORIZ),
+                                                                (m.ve, mav.GPS_INPUT_IGNORE_FLAG_VEL_HORIZ),
+                                                                (m.vd, mav.GPS_INPUT_IGNORE_FLAG_VEL_VERT)))
+    session.vehicle.gps_input(m.gps_id, m.fix_type, m.lat * 1e-7, m.lon * 1e-7, m.alt, vel, m.satellites_visible)
+
+
 # message name -> handler(session, message)
 EXTERNAL_NAV_HANDLERS = {
     "VISION_POSITION_ESTIMATE": _pose,
@@ -37,4 +46,5 @@ EXTERNAL_NAV_HANDLERS = {
     "ODOMETRY": _odometry,
     "VISION_SPEED_ESTIMATE": lambda session, m: session.vehicle.vision_speed(),
     "SET_GPS_GLOBAL_ORIGIN": _origin,
+    "GPS_INPUT": _gps_input,
 }

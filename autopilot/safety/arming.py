@@ -46,6 +46,41 @@ def _visual_odometry(v: PrearmView) -> str | None:
     return "VisOdom: not healthy" if ext.kind and not ext.healthy(v.time_s) else None
 
 
+# EK3_SRCn_* values AP_NavEKF_Source takes for each part (others: "Check EK3_SRCn_<part>"), and the
+# sensor each source needs
+VALID_SOURCES = {"POSXY": (0, 3, 4, 6), "VELXY": (0, 3, 5, 6, 7), "POSZ": (0, 1, 2, 3, 4, 6), "VELZ": (0, 3, 6)}
+SOURCE_SENSOR = {3: "GPS", 4: "Beacon", 5: "OpticalFlow", 6: "VisualOdom", 7: "WheelEncoder"}
+SOURCE_SETS = 3
+
+
+def _ekf_sources(v: PrearmView) -> str | None:
+    """AP_NavEKF_Source::pre_arm_check, for a mode that needs a position: every source set's
+    position and velocity sources valid, and each sensor they name there (a GPS detected, VISO_TYPE
+    set, a downward rangefinder for a height from it; Firefly has no beacon, optical flow or wheel
+    encoder). ArduCopter says the first failure."""
+    if not v.mode_requires_position:
+        return None
+    p, needed = v.params, []
+    for n in range(1, SOURCE_SETS + 1):
+        for part, valid in VALID_SOURCES.items():
+            source = int(p[f"EK3_SRC{n}_{part}"])
+            if source not in valid:
+                return f"AHRS: Check EK3_SRC{n}_{part}"
+            if part == "POSZ" and source in (1, 2):
+                needed.append("Baro" if source == 1 else "RangeFinder")
+            elif source in SOURCE_SENSOR:
+                needed.append(SOURCE_SENSOR[source])
+    available = {"Baro", "GPS"} if v.gps_detected else {"Baro"}
+    if v.external_nav.kind:
+        available.add("VisualOdom")
+    if v.rangefinder_down:
+        available.add("RangeFinder")
+    for sensor in ("Baro", "Beacon", "GPS", "OpticalFlow", "RangeFinder", "VisualOdom", "WheelEncoder"):
+        if sensor in needed and sensor not in available:
+            return f"AHRS: EK3 sources require {sensor}"
+    return None
+
+
 def _throttle_below_failsafe(v: PrearmView) -> str | None:
     """With the radio failsafe on, a throttle channel reading under FS_THR_VALUE (a receiver in
     its own failsafe, SIM_RC_FAIL 2) refuses arming."""
@@ -115,7 +150,7 @@ def _terrain_data(v: PrearmView) -> str | None:
 
 # In ArduCopter's order; a check gives its words, a list of them, or None when it passes.
 PREARM_CHECKS: tuple[Callable[[PrearmView], str | list[str] | None], ...] = (
-    _starting_up, _adsb_threat, _throttle_below_failsafe, _internal_errors, _need_position, _visual_odometry, _gps_glitching, _leaning, _battery_low,
+    _starting_up, _adsb_threat, _throttle_below_failsafe, _internal_errors, _need_position, _visual_odometry, _ekf_sources, _gps_glitching, _leaning, _battery_low,
     _rangefinder, _proximity, _terrain_data, _emergency_stopped)
 
 

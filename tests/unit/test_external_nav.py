@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import math
 
-from firefly.autopilot.external_nav import GATE_SIGMAS, RESET_AFTER_S, ExternalNav
+from firefly.autopilot.external_nav import GATE_SIGMAS, RESET_POSE_ONLY_S, RESET_WITH_VELOCITY_S, ExternalNav
 from firefly.autopilot.mavlink.commands import MAV_CMD_DO_SET_GLOBAL_ORIGIN
 from firefly.autopilot.mavlink.dialect import mavlink as mav
 from firefly.autopilot.mavlink.dialect import new_codec
@@ -16,7 +16,7 @@ from firefly.autopilot.results import Result
 
 from ._util import fly_until, ready_vehicle, wire
 
-EXTNAV = {"GPS1_TYPE": 0, "VISO_TYPE": 1, "EK3_SRC1_POSXY": 6, "EK3_SRC1_VELXY": 6}
+EXTNAV = {"GPS1_TYPE": 0, "VISO_TYPE": 1, "EK3_SRC1_POSXY": 6, "EK3_SRC1_VELXY": 6, "EK3_SRC1_VELZ": 6}
 HERE = (0.0, 0.0, 0.0)
 
 
@@ -39,13 +39,14 @@ def test_a_pose_gives_its_error_and_the_sensor_is_healthy_for_300_ms():
     assert ext.healthy(1.29) and not ext.healthy(1.3)
 
 
-def test_a_jump_past_the_gate_is_held_off_then_taken_and_the_position_lost():
+def test_a_jump_past_the_gate_with_a_velocity_is_held_off_then_taken_and_the_position_lost():
     ext = sensor()
     gate = GATE_SIGMAS * 0.2  # VISO_POS_M_NSE's default
     assert ext.pose(0.0, HERE, HERE, HERE)
     assert ext.pose(0.1, HERE, (0.9 * gate, 0.0, 0.0), HERE)  # within the gate: at once
     t = 0.2
-    while t < 0.2 + RESET_AFTER_S - 0.05:
+    while t < 0.2 + RESET_WITH_VELOCITY_S - 0.05:
+        ext.speed(t)
         assert not ext.pose(t, HERE, (5.0, 0.0, 0.0), HERE), t
         assert not ext.lost and ext.measured_s == t  # held off, the position still trusted
         t += 0.05
@@ -54,6 +55,17 @@ def test_a_jump_past_the_gate_is_held_off_then_taken_and_the_position_lost():
     assert ext.pose(t, HERE, (5.0, 0.0, 0.0), HERE) and ext.lost and ext.offset_ned[0] == 5.0
     assert ext.pose(t + 0.1, HERE, HERE, HERE)  # lost, it follows every pose (and stays lost)
     assert ext.offset_ned[0] == 0.0 and ext.lost
+
+
+def test_a_jump_with_no_velocity_is_taken_sooner_and_the_position_kept():
+    ext = sensor()
+    assert ext.pose(0.0, HERE, HERE, HERE)
+    t = 0.05
+    while t < 0.05 + RESET_POSE_ONLY_S - 0.05:
+        assert not ext.pose(t, HERE, (5.0, 0.0, 0.0), HERE), t
+        t += 0.05
+    t += 0.1
+    assert ext.pose(t, HERE, (5.0, 0.0, 0.0), HERE) and not ext.lost and ext.offset_ned[0] == 5.0
 
 
 def test_a_nan_position_is_heard_not_fused_and_its_height_still_counts():
@@ -150,3 +162,49 @@ def test_the_vehicle_holds_the_point_the_pose_names():
     true = v.estimate.sim.state.body
     assert abs(v.body.n_m) < 0.1 and abs(v.body.e_m) < 0.1
     assert abs(true.n_m + 0.6) < 0.1 and abs(true.e_m - 0.4) < 0.1
+
+
+def test_a_source_left_on_a_missing_sensor_refuses_the_position_modes():
+    v = ready_vehicle({**EXTNAV, "EK3_SRC1_VELZ": 3})
+    speak(v, v.time_s + 1.0)
+    v.set_gps_global_origin(-35.3632621, 149.1652374, 584.0)
+    texts(v)
+    assert v.set_mode(ModeNumber.LOITER) == Result.ACCEPTED
+    assert v.arm() == Result.FAILED and texts(v) == ["Arm: AHRS: EK3 sources require GPS"]
+    v.params.set("EK3_SRC1_VELZ", 6)
+    v.params.set("EK3_SRC2_POSXY", 5)  # not a position source
+    assert v.arm() == Result.FAILED and texts(v) == ["Arm: AHRS: Check EK3_SRC2_POSXY"]
+    v.params.set("EK3_SRC2_POSXY", 0)
+    assert v.arm() == Result.ACCEPTED
+
+
+def gps_input(session, v, lat_e7: int, lon_e7: int, alt_m: float = 584.0, fix: int = 3):
+    return session.receive(wire(session.codec.gps_input_encode(0, 0, 0, 0, 0, fix, lat_e7, lon_e7, alt_m, 0.8, 1.0,
+                                                               0.0, 0.0, 0.0, 0.2, 0.3, 0.5, 12)), v.time_s, 0.0)
+
+
+def test_a_companion_gps_is_the_receiver_with_gps1_type_14():
+    v = ready_vehicle({"GPS1_TYPE": 14})
+    session = Session(v, new_codec(1))
+    assert v.gps.fix_type == 0 and v.home_ned is None and not v.gps_detected
+    texts(v)
+    origin = v.origin
+    lat, lon = round(origin.lat_deg * 1e7) + 270, round(origin.lon_deg * 1e7)  # 3 m north of the boot place
+    gps_input(session, v, lat, lon)
+    assert texts(v) == ["GPS 1: detected MAV"] and v.gps_detected
+    v.run_until(v.time_s + 0.2)
+    assert v.gps.fix_type == 3 and v.gps.satellites == 12 and abs(v.gps.n_m - 3.0) < 0.1
+    assert v.home_ned is not None  # Firefly's start-up: home at the first fix (ArduCopter's EKF: 10 s later)
+    gps_input(session, v, lat, lon)
+    assert texts(v) == []  # detected once
+    v.run_until(v.time_s + 2.2)  # silent: no fix (ArduCopter: fix type 1 after 2 s)
+    assert v.gps.fix_type == 1 and v.gps.satellites == 0
+
+
+def test_gps_input_is_ignored_without_gps1_type_14():
+    v = ready_vehicle()
+    session = Session(v, new_codec(1))
+    before = v.gps
+    gps_input(session, v, 0, 0)
+    v.run_until(v.time_s + 0.2)
+    assert v.gps.fix_type == 3 and abs(v.gps.n_m - before.n_m) < 5.0

@@ -1,0 +1,263 @@
+"""External navigation: no GPS, a companion's VISION_POSITION_ESTIMATE as the position (issue 31).
+
+Each vehicle boots with GPS1_TYPE 0, VISO_TYPE 1 and EK3_SRC1_POSXY / VELXY / VELZ 6 (height
+from the barometer), and each probe starts 25 s after boot. The companion is this client: it answers every SIMSTATE (the simulator's truth, asked
+for at 20 Hz) with a pose, the truth as metres north and east of where the vehicle booted, plus an
+error the probe chooses; it sends no velocity.
+
+no_origin  before the companion speaks: GPS_RAW_INT, SYS_STATUS's vision and GPS bits, LOITER's
+           refusal; once it does: the EKF's texts, its flags, LOCAL_POSITION_NED sent and
+           GLOBAL_POSITION_INT all zeros, LOITER's refusal without home, STABILIZE arming
+origin     then SET_GPS_GLOBAL_ORIGIN: what comes back (GPS_GLOBAL_ORIGIN, the texts, home), a
+           second origin and MAV_CMD_DO_SET_GLOBAL_ORIGIN after it, LOITER arming, and LOITER
+           refused once EK3_SRC1_VELZ is set back to the GPS
+hold       GUIDED at 10 m with the pose 0.8 m north of the truth: where the vehicle believes it
+           is and where it is; then a 5.8 m jump: held off for seconds, then taken (the vehicle
+           flies to where the pose says its point is)
+jump_with_speed  the same jump from a companion that sends VISION_SPEED_ESTIMATE too: held off
+           longer, then the EKF failsafe
+silent     GUIDED at 10 m, the companion stops: the vision bit, the EKF failsafe, its texts
+"""
+from __future__ import annotations
+
+import math
+
+from ..client import Client, mav
+from ..facts import Tol, Trace
+
+AREA = "extnav"
+EXTNAV = {"GPS1_TYPE": 0, "VISO_TYPE": 1, "EK3_SRC1_POSXY": 6, "EK3_SRC1_VELXY": 6, "EK3_SRC1_VELZ": 6}
+LOITER, GUIDED, LAND, STABILIZE = 5, 4, 9, 0
+M_PER_DEG = 1.0e7 * 0.011131884502145034  # ArduPilot's LOCATION_SCALING_FACTOR, per degree
+VISION = mav.MAV_SYS_STATUS_SENSOR_VISION_POSITION
+GPS = mav.MAV_SYS_STATUS_SENSOR_GPS
+ORIGIN = (-353632610, 1491652300, 584_000)  # the runners' home (targets.HOME), as an origin in e7 / mm
+DO_SET_GLOBAL_ORIGIN = 611
+# ArduCopter SITL's IMUs agree only this long after boot ("Arm: Accels inconsistent", "Gyros
+# inconsistent" before: startup.py); every probe starts after it on both vehicles
+SETTLED_MS = 25_000
+FAILSAFE_TEXTS = ("EKF variance", "EKF Failsafe: changed to LAND Mode")
+TIMING = Tol(abs=1.0, why="a 20 Hz companion answering over the link at speedup 10-20, and 10 Hz streams")
+HOLD = Tol(abs=0.3, why="both position controllers settling; the companion's pose lags its SIMSTATE by the link")
+
+
+class Companion:
+    """Answers each SIMSTATE with a pose (a listener of the client: it speaks inside every wait)."""
+
+    def __init__(self, c: Client):
+        self.c = c
+        self.link = mav.MAVLink(c.conn, srcSystem=1, srcComponent=mav.MAV_COMP_ID_VISUAL_INERTIAL_ODOMETRY)
+        self.first = None
+        self.error_ne = (0.0, 0.0)
+        self.speaking = False
+        self.with_speed = False  # also VISION_SPEED_ESTIMATE (the vehicle's own velocity, as it reports it)
+        self.last_truth = (0.0, 0.0)
+
+    def __call__(self, msg) -> None:
+        if msg.get_type() != "SIMSTATE":
+            return
+        if self.first is None:
+            self.first = msg
+        self.last_truth = self.truth_ne(msg)
+        if self.speaking:
+            n, e = self.last_truth
+            self.link.vision_position_estimate_send(self.c.now_ms * 1000, n + self.error_ne[0], e + self.error_ne[1],
+                                                    0.0, 0.0, 0.0, 0.0)
+            lpn = self.c.last.get("LOCAL_POSITION_NED")
+            if self.with_speed and lpn is not None:
+                self.link.vision_speed_estimate_send(self.c.now_ms * 1000, lpn.vx, lpn.vy, lpn.vz)
+
+    def truth_ne(self, s) -> tuple[float, float]:
+        f = self.first
+        return ((s.lat - f.lat) / 1e7 * M_PER_DEG,
+                (s.lng - f.lng) / 1e7 * M_PER_DEG * math.cos(math.radians(f.lat / 1e7)))
+
+
+def _bits(c: Client, bit: int) -> str:
+    c.fresh("SYS_STATUS")
+    s = c.last["SYS_STATUS"]
+    return "".join(str(int(bool(mask & bit))) for mask in (s.onboard_control_sensors_present,
+                                                           s.onboard_control_sensors_enabled,
+                                                           s.onboard_control_sensors_health))
+
+
+def _ekf_texts(texts: list[str]) -> list[str]:
+    """The EKF's own lines, sorted (its two cores say them in either order)."""
+    return sorted(t for t in texts if t.startswith("EKF3"))
+
+
+def _start(c: Client) -> Companion:
+    """Streams asked for, SIMSTATE at 20 Hz, the companion listening (silent until told)."""
+    c.request_streams(10)
+    c.wait(lambda: "ATTITUDE" in c.last, 60, what="requested streams")
+    c.command(mav.MAV_CMD_SET_MESSAGE_INTERVAL, mav.MAVLINK_MSG_ID_SIMSTATE, 50_000)
+    companion = Companion(c)
+    c.listeners.append(companion)
+    c.wait(lambda: companion.first is not None, 10, what="SIMSTATE")
+    c.wait(lambda: c.now_ms >= SETTLED_MS, 60, what="the IMUs settled")
+    return companion
+
+
+def _arm(c: Client, trace: Trace | None = None, name: str = "") -> int | None:
+    """ARM, its result and (with a trace) its texts; then two vehicle seconds, so that the next
+    ARM is never a retry of this one."""
+    t0 = c.now_ms
+    result = c.command(mav.MAV_CMD_COMPONENT_ARM_DISARM, 1)
+    c.idle(2.0)
+    if trace is not None:
+        trace.fact(f"{name}_result", result)
+        trace.fact(f"{name}_said", sorted(t for t in c.texts_since(t0) if t.startswith("Arm:")))
+    return result
+
+
+def _navigating(c: Client, companion: Companion) -> float:
+    """The companion speaks; the vehicle seconds until the EKF says it uses the pose."""
+    companion.speaking = True
+    return c.wait(lambda: any("is using external nav data" in t for _, _, t in c.texts), 30,
+                  what="the EKF using the pose")
+
+
+def probe_no_origin(c: Client, trace: Trace) -> None:
+    companion = _start(c)
+    c.fresh("GPS_RAW_INT")
+    gps = c.last["GPS_RAW_INT"]
+    trace.fact("gps_fix_type", gps.fix_type)
+    trace.fact("gps_satellites", gps.satellites_visible)
+    trace.fact("gps_bits", _bits(c, GPS))
+    trace.fact("vision_bits_silent", _bits(c, VISION))
+    trace.fact("local_position_silent", "LOCAL_POSITION_NED" in c.last)
+    c.set_mode(LOITER)
+    _arm(c, trace, "loiter_silent")
+    t0 = c.now_ms
+    _navigating(c, companion)
+    c.idle(3.0)
+    trace.fact("ekf_said", _ekf_texts(c.texts_since(t0)))
+    trace.fact("vision_bits", _bits(c, VISION))
+    c.fresh("EKF_STATUS_REPORT")
+    trace.fact("ekf_flags", c.last["EKF_STATUS_REPORT"].flags)
+    c.fresh("LOCAL_POSITION_NED")
+    c.fresh("GLOBAL_POSITION_INT")
+    g = c.last["GLOBAL_POSITION_INT"]
+    trace.fact("global_position", [g.lat, g.lon, g.alt, g.relative_alt])
+    trace.fact("home_sent", "HOME_POSITION" in c.last)
+    _arm(c, trace, "loiter")
+    c.set_mode(STABILIZE)
+    trace.fact("stabilize_arm", _arm(c))
+    c.command(mav.MAV_CMD_COMPONENT_ARM_DISARM, 0)
+
+
+def probe_origin(c: Client, trace: Trace) -> None:
+    companion = _start(c)
+    _navigating(c, companion)
+    c.idle(3.0)
+    t0 = c.now_ms
+    c.conn.mav.set_gps_global_origin_send(1, *ORIGIN)
+    c.wait(lambda: "GPS_GLOBAL_ORIGIN" in c.last and "HOME_POSITION" in c.last, 5, what="the origin and home")
+    c.idle(1.0)
+    trace.fact("said", c.texts_since(t0))
+    o = c.last["GPS_GLOBAL_ORIGIN"]
+    trace.fact("origin", [o.latitude, o.longitude, o.altitude])
+    h = c.last["HOME_POSITION"]
+    trace.fact("home_from_origin_m", [round((h.latitude - o.latitude) / 1e7 * M_PER_DEG, 1),
+                                      round((h.longitude - o.longitude) / 1e7 * M_PER_DEG, 1)], Tol(abs=0.2))
+    trace.fact("home_alt_above_origin_m", (h.altitude - o.altitude) / 1000.0, Tol(abs=0.2, why="the barometer's"))
+    c.fresh("GLOBAL_POSITION_INT")
+    trace.fact("located", c.last["GLOBAL_POSITION_INT"].lat != 0)
+    t1 = c.now_ms
+    c.conn.mav.set_gps_global_origin_send(1, ORIGIN[0] + 9000, ORIGIN[1], ORIGIN[2] + 10_000)  # 100 m north
+    c.idle(2.0)
+    trace.fact("second_said", c.texts_since(t1))
+    trace.fact("command_after", c.command_int(DO_SET_GLOBAL_ORIGIN, mav.MAV_FRAME_GLOBAL_INT, x=ORIGIN[0] + 9000,
+                                              y=ORIGIN[1], z=594.0))
+    seen = c.received.get("GPS_GLOBAL_ORIGIN", 0)
+    c.command(mav.MAV_CMD_GET_HOME_POSITION)
+    c.wait(lambda: c.received.get("GPS_GLOBAL_ORIGIN", 0) > seen, 3, what="GPS_GLOBAL_ORIGIN asked for")
+    o = c.last["GPS_GLOBAL_ORIGIN"]
+    trace.fact("origin_after", [o.latitude, o.longitude, o.altitude])
+    c.set_mode(LOITER)
+    trace.fact("loiter_arm", _arm(c))
+    c.command(mav.MAV_CMD_COMPONENT_ARM_DISARM, 0)
+    c.idle(1.0)
+    c.set_param("EK3_SRC1_VELZ", 3)  # the vertical velocity left on the GPS there is not
+    _arm(c, trace, "velz_on_gps")
+    c.command(mav.MAV_CMD_COMPONENT_ARM_DISARM, 0)
+
+
+def _hover(c: Client, companion: Companion) -> None:
+    """Navigating with an origin, GUIDED at 10 m, settled."""
+    _navigating(c, companion)
+    c.idle(3.0)
+    c.conn.mav.set_gps_global_origin_send(1, *ORIGIN)
+    c.wait(lambda: "HOME_POSITION" in c.last, 5, what="home")
+    c.idle(3.0)
+    c.set_mode(GUIDED)
+    _arm(c)
+    c.command(mav.MAV_CMD_NAV_TAKEOFF, 0, 0, 0, 0, 0, 0, 10)
+    c.wait(lambda: c.rel_alt_m() > 9.5, 30, what="10 m")
+    c.idle(5.0)
+
+
+def probe_hold(c: Client, trace: Trace) -> None:
+    companion = _start(c)
+    _hover(c, companion)
+    companion.error_ne = (0.8, 0.0)
+    c.idle(10.0)
+    c.fresh("LOCAL_POSITION_NED")
+    lpn = c.last["LOCAL_POSITION_NED"]
+    trace.fact("believed_ne", [lpn.x, lpn.y], Tol(abs=0.3, why=HOLD.why))
+    trace.fact("true_ne", list(companion.last_truth), Tol(abs=0.3, why=HOLD.why))
+    t0 = c.now_ms
+    companion.error_ne = (5.8, 0.0)
+    took = c.wait(lambda: c.last["LOCAL_POSITION_NED"].x > 2.5, 20, what="the jump taken")
+    trace.fact("held_off_s", took, Tol(abs=0.6, why=TIMING.why))
+    c.wait(lambda: c.now_ms >= t0 + 15_000, 20, what="15 s after the jump")
+    trace.fact("true_n_15s", companion.last_truth[0], Tol(abs=0.5, why=HOLD.why))
+    c.fresh_heartbeat()
+    trace.fact("mode_15s", c.mode)
+    trace.fact("said", [t for t in c.texts_since(t0) if t in FAILSAFE_TEXTS])
+
+
+def probe_jump_with_speed(c: Client, trace: Trace) -> None:
+    companion = _start(c)
+    companion.with_speed = True
+    _hover(c, companion)
+    t0 = c.now_ms
+    companion.error_ne = (5.0, 0.0)
+    c.idle(5.0)
+    c.fresh("LOCAL_POSITION_NED")
+    trace.fact("believed_n_5s", c.last["LOCAL_POSITION_NED"].x, Tol(abs=0.4, why=HOLD.why))
+    landed = c.try_wait(lambda: c.mode == LAND, 20)
+    trace.fact("failsafe_after_s", (c.now_ms - t0) / 1000.0 if landed else None, Tol(abs=1.5, why=TIMING.why))
+    c.idle(2.0)
+    trace.fact("said", [t for t in c.texts_since(t0) if t in FAILSAFE_TEXTS])
+
+
+def probe_silent(c: Client, trace: Trace) -> None:
+    companion = _start(c)
+    _hover(c, companion)
+    t0 = c.now_ms
+    companion.speaking = False
+    unhealthy = c.wait(lambda: _bits(c, VISION)[2] == "0", 5, what="the vision bit's health off")
+    trace.fact("unhealthy_after_s", unhealthy, Tol(abs=0.5, why=TIMING.why))
+    took = c.wait(lambda: c.mode == LAND, 20, what="the EKF failsafe") + unhealthy
+    trace.fact("failsafe_after_s", took, Tol(abs=1.0, why=TIMING.why))
+    c.idle(2.0)
+    trace.fact("said", [t for t in c.texts_since(t0) if t in FAILSAFE_TEXTS])
+
+
+PROBES = {"no_origin": probe_no_origin, "origin": probe_origin, "hold": probe_hold,
+          "jump_with_speed": probe_jump_with_speed, "silent": probe_silent}
+
+
+def run(target) -> dict[str, Trace]:
+    """Each probe on a fresh vehicle booted with external navigation, without waiting to be
+    armable: it is not, without a pose and an origin."""
+    traces = {}
+    try:
+        for name, probe in PROBES.items():
+            client = target.boot(streams_hz=None, params=EXTNAV)
+            trace = traces[name] = Trace()
+            probe(client, trace)
+    finally:
+        target.close()
+    return traces
