@@ -38,9 +38,9 @@ EXTNAV_HEIGHT_FRESH_S = 0.5  # EKF3's extNavDataIsFresh: an older pose's height 
 NO_GPS = 0  # GPS_FIX_TYPE_NO_GPS: GPS1_TYPE 0, no receiver
 GPS_TYPE_NONE, GPS_TYPE_MAVLINK = 0, 14  # GPS1_TYPE: none, a companion's GPS_INPUT
 # A companion's fix (GPS1_TYPE 14) is the receiver's reading until it is this old; then the
-# receiver reports no fix (measured on ArduCopter SITL: fix type 1 and 0 satellites 2 s after the
-# last GPS_INPUT)
-GPS_INPUT_TIMEOUT_S = 2.0
+# receiver reports no fix (AP_GPS's driver timeout; measured on ArduCopter SITL: fix type 1 and 0
+# satellites 4.2 s after the last GPS_INPUT)
+GPS_INPUT_TIMEOUT_S = 4.0
 
 
 class StateEstimate:
@@ -82,8 +82,8 @@ class StateEstimate:
             return gps._replace(satellites=0, fix_type=NO_GPS)
         if self.gps_from_mavlink:  # the companion's fix while it comes, else none
             given = self.gps_input
-            if given is None:
-                return gps._replace(satellites=0, fix_type=NO_GPS)
+            if given is None:  # (ArduCopter: no fix, once its driver is up, 10 s after boot)
+                return gps._replace(satellites=0, fix_type=NO_FIX)
             if self.sim.time_s - given[0] > GPS_INPUT_TIMEOUT_S:
                 return given[1]._replace(satellites=0, fix_type=NO_FIX)
             return given[1]

@@ -16,8 +16,8 @@ def _odometry(session, m) -> None:
     # ArduPilot takes only a local FRD pose of the body FRD frame; any other pair is dropped
     if m.frame_id != mav.MAV_FRAME_LOCAL_FRD or m.child_frame_id != mav.MAV_FRAME_BODY_FRD:
         return
+    session.vehicle.vision_speed()  # first: the EKF starting on this pose has its velocity too
     session.vehicle.vision_pose((m.x, m.y, m.z), m.quality, m.reset_counter)
-    session.vehicle.vision_speed()
 
 
 def _origin(session, m) -> None:

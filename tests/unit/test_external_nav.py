@@ -186,7 +186,7 @@ def gps_input(session, v, lat_e7: int, lon_e7: int, alt_m: float = 584.0, fix: i
 def test_a_companion_gps_is_the_receiver_with_gps1_type_14():
     v = ready_vehicle({"GPS1_TYPE": 14})
     session = Session(v, new_codec(1))
-    assert v.gps.fix_type == 0 and v.home_ned is None and not v.gps_detected
+    assert v.gps.fix_type == 1 and v.home_ned is None and not v.gps_detected
     texts(v)
     origin = v.origin
     lat, lon = round(origin.lat_deg * 1e7) + 270, round(origin.lon_deg * 1e7)  # 3 m north of the boot place
@@ -197,7 +197,9 @@ def test_a_companion_gps_is_the_receiver_with_gps1_type_14():
     assert v.home_ned is not None  # Firefly's start-up: home at the first fix (ArduCopter's EKF: 10 s later)
     gps_input(session, v, lat, lon)
     assert texts(v) == []  # detected once
-    v.run_until(v.time_s + 2.2)  # silent: no fix (ArduCopter: fix type 1 after 2 s)
+    v.run_until(v.time_s + 3.8)
+    assert v.gps.fix_type == 3
+    v.run_until(v.time_s + 0.4)  # silent: no fix (ArduCopter: fix type 1 after 4.2 s)
     assert v.gps.fix_type == 1 and v.gps.satellites == 0
 
 

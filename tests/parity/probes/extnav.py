@@ -17,10 +17,14 @@ hold       GUIDED at 10 m with the pose 0.8 m north of the truth: where the vehi
 jump_with_speed  the same jump from a companion that sends VISION_SPEED_ESTIMATE too: held off
            longer, then the EKF failsafe
 silent     GUIDED at 10 m, the companion stops: the vision bit, the EKF failsafe, its texts
+other_messages  ODOMETRY in local NED (not taken), in local FRD, then ATT_POS_MOCAP
+gps_input  GPS1_TYPE 14 alone: GPS_RAW_INT before, while and after a companion's GPS_INPUT
 """
 from __future__ import annotations
 
 import math
+
+from pymavlink.dialects.v20 import ardupilotmega as v20
 
 from ..client import Client, mav
 from ..facts import Tol, Trace
@@ -41,16 +45,23 @@ TIMING = Tol(abs=1.0, why="a 20 Hz companion answering over the link at speedup 
 HOLD = Tol(abs=0.3, why="both position controllers settling; the companion's pose lags its SIMSTATE by the link")
 
 
+def companion_link(c: Client):
+    """MAVLink 2 frames (ODOMETRY is a MAVLink 2 message) from a companion's visual odometry."""
+    return v20.MAVLink(c.conn, srcSystem=1, srcComponent=mav.MAV_COMP_ID_VISUAL_INERTIAL_ODOMETRY)
+
+
 class Companion:
     """Answers each SIMSTATE with a pose (a listener of the client: it speaks inside every wait)."""
 
     def __init__(self, c: Client):
         self.c = c
-        self.link = mav.MAVLink(c.conn, srcSystem=1, srcComponent=mav.MAV_COMP_ID_VISUAL_INERTIAL_ODOMETRY)
+        self.link = companion_link(c)
         self.first = None
         self.error_ne = (0.0, 0.0)
         self.speaking = False
         self.with_speed = False  # also VISION_SPEED_ESTIMATE (the vehicle's own velocity, as it reports it)
+        self.message = "VISION_POSITION_ESTIMATE"  # or ODOMETRY (frame_id below), ATT_POS_MOCAP
+        self.odometry_frame = v20.MAV_FRAME_LOCAL_FRD
         self.last_truth = (0.0, 0.0)
 
     def __call__(self, msg) -> None:
@@ -61,8 +72,15 @@ class Companion:
         self.last_truth = self.truth_ne(msg)
         if self.speaking:
             n, e = self.last_truth
-            self.link.vision_position_estimate_send(self.c.now_ms * 1000, n + self.error_ne[0], e + self.error_ne[1],
-                                                    0.0, 0.0, 0.0, 0.0)
+            n, e, usec = n + self.error_ne[0], e + self.error_ne[1], self.c.now_ms * 1000
+            if self.message == "ODOMETRY":
+                self.link.odometry_send(usec, self.odometry_frame, v20.MAV_FRAME_BODY_FRD, n, e, 0.0, [1, 0, 0, 0],
+                                        0.0, 0.0, 0.0, 0.0, 0.0, 0.0, [math.nan] * 21, [math.nan] * 21, 0, 0, 100)
+                return
+            if self.message == "ATT_POS_MOCAP":
+                self.link.att_pos_mocap_send(usec, [1, 0, 0, 0], n, e, 0.0)
+                return
+            self.link.vision_position_estimate_send(usec, n, e, 0.0, 0.0, 0.0, 0.0)
             lpn = self.c.last.get("LOCAL_POSITION_NED")
             if self.with_speed and lpn is not None:
                 self.link.vision_speed_estimate_send(self.c.now_ms * 1000, lpn.vx, lpn.vy, lpn.vz)
@@ -82,8 +100,10 @@ def _bits(c: Client, bit: int) -> str:
 
 
 def _ekf_texts(texts: list[str]) -> list[str]:
-    """The EKF's own lines, sorted (its two cores say them in either order)."""
-    return sorted(t for t in texts if t.startswith("EKF3"))
+    """The EKF's lines about external navigation, sorted (its two cores say them in either order;
+    its start-up lines are ArduCopter's start-up's, which Firefly's default boot skips)."""
+    return sorted(t for t in texts if t.startswith("EKF3") and ("external nav" in t or " initial pos " in t
+                                                                  or " initial vel " in t))
 
 
 def _start(c: Client) -> Companion:
@@ -245,8 +265,66 @@ def probe_silent(c: Client, trace: Trace) -> None:
     trace.fact("said", [t for t in c.texts_since(t0) if t in FAILSAFE_TEXTS])
 
 
+def probe_other_messages(c: Client, trace: Trace) -> None:
+    """ODOMETRY in a frame ArduCopter does not take, then in local FRD (a pose and a velocity),
+    then ATT_POS_MOCAP: the vision bit and the EKF's texts for each."""
+    companion = _start(c)
+    companion.message, companion.odometry_frame = "ODOMETRY", v20.MAV_FRAME_LOCAL_NED
+    companion.speaking = True
+    c.idle(3.0)
+    trace.fact("odometry_ned_vision_bits", _bits(c, VISION))
+    trace.fact("odometry_ned_said", _ekf_texts([t for _, _, t in c.texts]))
+    companion.odometry_frame = v20.MAV_FRAME_LOCAL_FRD
+    t0 = c.now_ms
+    c.idle(3.0)
+    trace.fact("odometry_vision_bits", _bits(c, VISION))
+    trace.fact("odometry_said", _ekf_texts(c.texts_since(t0)))
+    c.fresh("EKF_STATUS_REPORT")
+    trace.fact("odometry_ekf_flags", c.last["EKF_STATUS_REPORT"].flags)
+    companion.message = "ATT_POS_MOCAP"
+    c.idle(3.0)
+    trace.fact("mocap_vision_bits", _bits(c, VISION))
+    c.fresh("EKF_STATUS_REPORT")
+    trace.fact("mocap_ekf_flags", c.last["EKF_STATUS_REPORT"].flags)
+
+
+def probe_gps_input(c: Client, trace: Trace) -> None:
+    """GPS1_TYPE 14: the receiver before, while and after a companion sends GPS_INPUT (the
+    boot place, 12 satellites, at the SIMSTATE rate)."""
+    _start(c)
+    c.fresh("GPS_RAW_INT")
+    g = c.last["GPS_RAW_INT"]
+    trace.fact("before", [g.fix_type, g.satellites_visible])
+    trace.fact("before_gps_bits", _bits(c, GPS))
+
+    def gps_input(msg) -> None:
+        if msg.get_type() == "SIMSTATE" and sending[0]:
+            link.gps_input_send(c.now_ms * 1000, 0, 0, 0, 0, 3, msg.lat, msg.lng, 584.0, 0.8, 1.0, 0.0, 0.0,
+                                      0.0, 0.2, 0.3, 0.5, 12)
+    sending = [True]
+    link = companion_link(c)
+    t0 = c.now_ms
+    c.listeners.append(gps_input)
+    c.idle(3.0)
+    c.fresh("GPS_RAW_INT")
+    g = c.last["GPS_RAW_INT"]
+    trace.fact("sending", [g.fix_type, g.satellites_visible])
+    trace.fact("sending_near_m", round(math.hypot((g.lat - ORIGIN[0]) / 1e7 * M_PER_DEG,
+                                                   (g.lon - ORIGIN[1]) / 1e7 * M_PER_DEG * 0.815), 0) <= 1)
+    trace.fact("said", [t for t in c.texts_since(t0) if t.startswith("GPS")])
+    c.fresh("GLOBAL_POSITION_INT")
+    trace.fact("located", c.last["GLOBAL_POSITION_INT"].lat != 0)
+    sending[0] = False
+    took = c.wait(lambda: c.last["GPS_RAW_INT"].fix_type < 3, 15, what="the fix lost")
+    trace.fact("no_fix_after_s", took, Tol(abs=1.0, why=TIMING.why))
+    g = c.last["GPS_RAW_INT"]
+    trace.fact("stopped", [g.fix_type, g.satellites_visible])
+
+
 PROBES = {"no_origin": probe_no_origin, "origin": probe_origin, "hold": probe_hold,
-          "jump_with_speed": probe_jump_with_speed, "silent": probe_silent}
+          "jump_with_speed": probe_jump_with_speed, "silent": probe_silent, "other_messages": probe_other_messages,
+          "gps_input": probe_gps_input}
+PARAMS = {name: EXTNAV for name in PROBES} | {"gps_input": {"GPS1_TYPE": 14}}
 
 
 def run(target) -> dict[str, Trace]:
@@ -255,7 +333,7 @@ def run(target) -> dict[str, Trace]:
     traces = {}
     try:
         for name, probe in PROBES.items():
-            client = target.boot(streams_hz=None, params=EXTNAV)
+            client = target.boot(streams_hz=None, params=PARAMS[name])
             trace = traces[name] = Trace()
             probe(client, trace)
     finally:
