@@ -516,6 +516,8 @@ class Vehicle:
             return
         if not all(math.isfinite(x) for x in (lat_deg, lon_deg, alt_m, *vel_ned)):
             return
+        if abs(lat_deg) > 90 or abs(lon_deg) > 180 or abs(alt_m) > LOCATION_ALT_MAX_M:
+            return  # no place on earth: dropped
         n, e, d = self.ned_of(lat_deg, lon_deg, alt_m)
         if est.take_gps_input(GpsReading(n, e, d, *vel_ned, satellites, fix_type)):
             self.notify("GPS 1: detected MAV")

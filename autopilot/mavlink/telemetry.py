@@ -13,6 +13,7 @@ from ..views import StreamedView, TelemetryView
 from .dialect import mavlink as mav
 from .encoding import deg_e7 as _deg_e7
 from .encoding import time_boot_ms as _ms
+from .encoding import u16
 from .adsb_messages import BUILDERS as ADSB_BUILDERS
 from .camera_messages import BUILDERS as CAMERA_BUILDERS
 from .rangefinder_messages import BUILDERS as RANGEFINDER_BUILDERS
@@ -173,7 +174,7 @@ def gps_raw_int(v: TelemetryView, codec):
     cog = int(round(math.degrees(math.atan2(g.ve_m_s, g.vn_m_s)) * 100)) % 36000 if speed > 0.2 else 0
     return codec.gps_raw_int_encode(int(v.time_s * 1e6), g.fix_type, _deg_e7(pos.lat_deg),
                                     _deg_e7(pos.lon_deg), int(pos.alt_m * 1000), 80, 120,
-                                    int(speed * 100), cog, g.satellites)
+                                    u16(speed * 100), cog, g.satellites)  # a companion's GPS_INPUT may say anything
 
 
 def attitude(v: TelemetryView, codec):

@@ -5,6 +5,9 @@ from __future__ import annotations
 
 import math
 
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
 from firefly.autopilot.external_nav import GATE_SIGMAS, RESET_POSE_ONLY_S, RESET_WITH_VELOCITY_S, ExternalNav
 from firefly.autopilot.mavlink.commands import MAV_CMD_DO_SET_GLOBAL_ORIGIN
 from firefly.autopilot.mavlink.dialect import mavlink as mav
@@ -14,7 +17,9 @@ from firefly.autopilot.modes import ModeNumber
 from firefly.autopilot.params import ParamStore
 from firefly.autopilot.results import Result
 
+from ..fuzz.checks import vehicle_problems
 from ._util import fly_until, ready_vehicle, wire
+from .test_hostile_messages import MESSAGES
 
 EXTNAV = {"GPS1_TYPE": 0, "VISO_TYPE": 1, "EK3_SRC1_POSXY": 6, "EK3_SRC1_VELXY": 6, "EK3_SRC1_VELZ": 6}
 HERE = (0.0, 0.0, 0.0)
@@ -210,3 +215,22 @@ def test_gps_input_is_ignored_without_gps1_type_14():
     gps_input(session, v, 0, 0)
     v.run_until(v.time_s + 0.2)
     assert v.gps.fix_type == 3 and abs(v.gps.n_m - before.n_m) < 5.0
+
+
+@settings(max_examples=30, deadline=None, derandomize=True, suppress_health_check=[HealthCheck.too_slow])
+@given(st.lists(st.tuples(MESSAGES, st.sampled_from([0, 4, 40, 400])), min_size=1, max_size=12))
+def test_hostile_messages_to_a_vehicle_on_external_navigation_leave_it_valid(sequence):
+    """A hovering vehicle on a companion's pose, sent anything (poses at 1e30, NaN, other frames,
+    origins, GPS_INPUTs, commands): nothing raises and the vehicle stays valid."""
+    v = ready_vehicle({**EXTNAV, "GPS1_TYPE": 14})
+    speak(v, v.time_s + 1.0)
+    v.set_gps_global_origin(-35.3632621, 149.1652374, 584.0)
+    assert v.set_mode(ModeNumber.GUIDED) == Result.ACCEPTED and v.arm() == Result.ACCEPTED
+    assert v.takeoff(8.0) == Result.ACCEPTED
+    speak(v, v.time_s + 4.0)
+    session = Session(v, new_codec(1))
+    for msg, steps in sequence:
+        session.receive(wire(msg), v.time_s)
+        v.run_until(v.time_s + steps / 400.0)
+        session.poll(v.time_s, 0.0)
+        assert not vehicle_problems(v, session), vehicle_problems(v, session)

@@ -91,6 +91,16 @@ def _messages(c):
                   st.lists(u8, min_size=251, max_size=251)),
         st.builds(lambda v: c.named_value_float_encode(0, b"GND_TEMP", v), f32),  # not for the vehicle
         st.builds(lambda t: c.system_time_encode(t, 0), st.integers(0, 2**64 - 1)),  # not handled
+        # a companion's navigation (external_nav_messages.py): dropped unless the vehicle is set up for it
+        st.builds(lambda u, x, y, z, r: c.vision_position_estimate_encode(u, x, y, z, 0.0, 0.0, 0.0, [0.0] * 21, r),
+                  st.integers(0, 2**64 - 1), f32, f32, f32, u8),
+        st.builds(lambda x, y, z, fr, ch, q: c.odometry_encode(0, fr, ch, x, y, z, [1.0, 0.0, 0.0, 0.0], 0.0, 0.0, 0.0,
+                                                              0.0, 0.0, 0.0, [math.nan] * 21, [math.nan] * 21, 0, 0, q),
+                  f32, f32, f32, u8, u8, st.integers(-128, 127)),
+        st.builds(lambda t, la, lo, al: c.set_gps_global_origin_encode(t, la, lo, al), target, i32, i32, i32),
+        st.builds(lambda fix, la, lo, al, v, sats: c.gps_input_encode(0, 0, 0, 0, 0, fix, la, lo, al, 0.8, 1.0, v, v, v,
+                                                                      0.2, 0.3, 0.5, sats),
+                  u8, i32, i32, f32, f32, u8),
         st.builds(lambda t, key, ts: c.setup_signing_encode(t, 1, key, ts), target,
                   st.sampled_from([bytes(32), b"\x01" * 32]) | st.binary(min_size=32, max_size=32),
                   st.integers(0, 2**64 - 1)),
