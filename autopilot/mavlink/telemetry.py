@@ -149,7 +149,7 @@ def battery_status(v: TelemetryView, codec):
 def global_position_int(v: TelemetryView, codec):
     b = v.body
     hdg = int(round(math.degrees(v.attitude[2]) * 100)) % 36000
-    if not v.origin_known() and v.gps.fix_type < 3:  # as ArduCopter: no location at all, all zeros
+    if v.home_ned is None and v.gps.fix_type < 3 and not v.origin_known():  # as ArduCopter: no location at all
         return codec.global_position_int_encode(_ms(v), 0, 0, 0, 0, 0, 0, 0, 0)
     pos = v.position_global()
     home_alt = v.home.alt_m if v.home else v.origin.alt_m

@@ -234,3 +234,17 @@ def test_hostile_messages_to_a_vehicle_on_external_navigation_leave_it_valid(seq
         v.run_until(v.time_s + steps / 400.0)
         session.poll(v.time_s, 0.0)
         assert not vehicle_problems(v, session), vehicle_problems(v, session)
+
+
+def test_a_lost_gps_fix_keeps_the_location_known_since_home():
+    """GLOBAL_POSITION_INT is all zeros only before the vehicle ever had a location: a GPS lost in
+    flight leaves it reporting the estimate (parity area surface_sim_faults, SIM_GPS1_ENABLE 0)."""
+    from firefly.autopilot.mavlink.telemetry import global_position_int
+    v = ready_vehicle()
+    v.params.set("SIM_GPS1_ENABLE", 0)
+    v.run_until(v.time_s + 0.5)
+    assert v.gps.fix_type < 3
+    msg = global_position_int(v, new_codec(1))
+    assert msg.lat != 0 and msg.lon != 0
+    blind = ready_vehicle({"GPS1_TYPE": 0})
+    assert global_position_int(blind, new_codec(1)).lat == 0
