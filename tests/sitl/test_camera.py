@@ -6,6 +6,7 @@ the first at its start)."""
 from __future__ import annotations
 
 import math
+import time
 
 import pytest
 from pymavlink import mavutil
@@ -32,9 +33,11 @@ def test_a_survey_leg_reports_a_picture_every_trigger_distance(gcs):
     arm_in_guided_once_booted(gcs)
     assert gcs.command(mav.MAV_CMD_MISSION_START) == mav.MAV_RESULT_ACCEPTED
     feedback = []
+    deadline = time.monotonic() + 120  # the mission is some 40 s of flight: 4 s at speedup 10
     while True:
         msg = gcs.recv(["CAMERA_FEEDBACK", "HEARTBEAT"], 120)
         assert msg is not None, f"the mission stalled after {len(feedback)} pictures"
+        assert time.monotonic() < deadline, f"the mission never ended: {len(feedback)} pictures"
         if msg.get_type() == "CAMERA_FEEDBACK":
             feedback.append(msg)
         elif not msg.base_mode & mav.MAV_MODE_FLAG_SAFETY_ARMED:

@@ -23,8 +23,10 @@ def gcs(autopilot):
 
 
 def home(gcs: Gcs) -> tuple:
-    pos = gcs.recv("GLOBAL_POSITION_INT", 10)
-    assert pos is not None
+    """Where the vehicle is, once it knows: before a location (a rebooted vehicle before its GPS
+    fix) GLOBAL_POSITION_INT is all zeros, as ArduCopter's."""
+    pos = gcs.recv("GLOBAL_POSITION_INT", 30, lambda m: m.lat != 0 or m.lon != 0)
+    assert pos is not None, "no location"
     return pos.lat, pos.lon
 
 
