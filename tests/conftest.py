@@ -6,7 +6,14 @@ is timed (figures are measured by `make bench`), so the deadline is off.
 
 Every test fails if a vehicle it ran in this process had an internal error (a bug caught by the
 vehicle's guards, autopilot/safety/internal_error.py), unless it is marked
-`@pytest.mark.internal_errors` (a test of those guards themselves)."""
+`@pytest.mark.internal_errors` (a test of those guards themselves).
+
+Ctrl-C is this suite's to handle: a shell without job control starts a backgrounded `make test`
+with SIGINT ignored, every process it starts inherits that, and the tests that stop an autopilot
+or a campaign with SIGINT would wait on a process that cannot hear it. Handled here, the
+signal goes back to its default in every child."""
+import signal
+
 import pytest
 from hypothesis import settings
 
@@ -14,6 +21,7 @@ from firefly.autopilot.safety.internal_error import InternalErrors
 
 settings.register_profile("firefly", deadline=None)
 settings.load_profile("firefly")
+signal.signal(signal.SIGINT, signal.default_int_handler)
 
 
 @pytest.fixture(autouse=True)
