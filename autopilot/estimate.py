@@ -2,9 +2,9 @@
 
 The estimate is ideal, as a perfect EKF would be (the sim's own state), except its height, which
 is the barometer's, as ArduCopter's EKF takes it: a drifting barometer moves the estimate, and
-the vehicle holds the height it believes in while truly sinking or climbing. With EK3_SRC1_POSXY
-6 the horizontal position is external navigation's instead (external_nav.py), with its error;
-with EK3_SRC1_POSZ 6 the height too. GPS1_TYPE 0 (read at boot) is no GPS at all. The GPS, barometer
+the vehicle holds the height it believes in while truly sinking or climbing. With the source
+set's POSXY 6 (EK3_SRC1_POSXY unless another set is chosen) the horizontal position is external
+navigation's instead (external_nav.py), with its error; with its POSZ 6 the height too. GPS1_TYPE 0 (read at boot) is no GPS at all. The GPS, barometer
 and downward temperature sensor are sampled here at fixed sim rates, never when telemetry asks,
 so what a client requests cannot change a noise stream. The battery is read as a perfect
 monitor reads it.
@@ -17,7 +17,7 @@ from firefly.sim.battery import remaining_fraction
 from firefly.sim.physics import specific_force_body
 from firefly.sim.sensors import NO_FIX, GpsReading
 
-from .external_nav import SOURCE_BARO, SOURCE_EXTNAV, SOURCE_GPS, ExternalNav
+from .external_nav import SOURCE_BARO, SOURCE_EXTNAV, SOURCE_GPS, SOURCE_NONE, ExternalNav
 from .params import ParamStore
 from .startup import Startup
 from firefly.sim.rigid_body import euler_from_quaternion, ned_to_body
@@ -57,6 +57,8 @@ class StateEstimate:
         # the GPS is the source: the common case costs one test
         self.nav_offset_ne: tuple[float, float] | None = None
         self.posxy_source = self.posz_source = 0
+        self.source_set = 1  # EK3_SRCn_*'s n in use (MAV_CMD_SET_EKF_SOURCE_SET)
+        self.no_source_since_s = -math.inf  # switched to no horizontal position source then
         self.follow_sources()
         self.battery_reset_mah: float | None = None  # the monitor's count less the pack's, after a reset
         self.gps_every = max(1, physics_hz // GPS_RATE_HZ)  # physics steps between GPS samples
@@ -113,13 +115,25 @@ class StateEstimate:
         if ext.pose(self.sim.time_s, frame_origin_ned, xyz, (b.n_m, b.e_m, b.d_m), quality, reset_counter):
             self.follow_sources()
 
+    def use_source_set(self, n: int) -> None:
+        """EK3_SRCn_* become the sources (1..3)."""
+        self.source_set = n
+        self.follow_sources()
+
     def follow_sources(self) -> None:
-        """EK3_SRC1_POSXY and _POSZ as they are now (called when EK3_SRC1_* change, and on each
-        pose), and the horizontal error from external navigation while it is the source."""
+        """The set in use's POSXY and POSZ as they are now (called when EK3_SRC* change, and on
+        each pose), and the horizontal error from external navigation while it is the source.
+        Switched onto external navigation, the estimate resets to its last pose."""
         p = self.params
-        self.posxy_source = int(p["EK3_SRC1_POSXY"]) if p is not None else SOURCE_GPS
-        self.posz_source = int(p["EK3_SRC1_POSZ"]) if p is not None else SOURCE_BARO
+        was = self.posxy_source
+        n = self.source_set
+        self.posxy_source = int(p[f"EK3_SRC{n}_POSXY"]) if p is not None else SOURCE_GPS
+        self.posz_source = int(p[f"EK3_SRC{n}_POSZ"]) if p is not None else SOURCE_BARO
         ext = self.external_nav
+        if self.posxy_source == SOURCE_EXTNAV and was != SOURCE_EXTNAV:
+            ext.take_latest()
+        elif self.posxy_source == SOURCE_NONE and was != SOURCE_NONE:  # dead-reckoned from here
+            self.no_source_since_s = self.sim.time_s
         uses = ext.poses > 0 and self.posxy_source == SOURCE_EXTNAV
         self.nav_offset_ne = ext.offset_ned[:2] if uses else None
 
@@ -159,6 +173,8 @@ class StateEstimate:
         if self.nav_offset_ne is not None:  # external navigation is the source (no origin needed)
             ext = self.external_nav
             return not ext.lost and now - ext.measured_s <= DEAD_RECKONING_S
+        if self.posxy_source == SOURCE_NONE:  # no source (a source set left at its defaults)
+            return now - self.no_source_since_s <= DEAD_RECKONING_S
         if self.gps.fix_type >= 3 and self.startup.gps_in_use(now):
             return True
         return now - self.last_fix_s <= DEAD_RECKONING_S

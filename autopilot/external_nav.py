@@ -1,5 +1,5 @@
 """External navigation: a companion's pose (visual odometry, motion capture) in place of the GPS,
-as AP_VisualOdom hands it to EKF3 and EK3_SRC1_* choose it.
+as AP_VisualOdom hands it to EKF3 and the EK3_SRCn_* of the source set in use choose it.
 
 VISO_TYPE (read at boot) makes the sensor; it then takes VISION_POSITION_ESTIMATE,
 GLOBAL_VISION_POSITION_ESTIMATE, VICON_POSITION_ESTIMATE, ATT_POS_MOCAP and ODOMETRY (the
@@ -8,8 +8,9 @@ metres north, east and down of wherever its zero is, which is taken to be where 
 frame starts, times VISO_SCALE. A pose whose quality is under VISO_QUAL_MIN is counted for health
 but not fused. The sensor is healthy while a pose or a speed has come within HEALTHY_S.
 
-The estimate takes the pose when EK3_SRC1_POSXY is 6 (ExternalNav; the height too with
-EK3_SRC1_POSZ 6): from then on where the vehicle believes it is, is where the companion says.
+The estimate takes the pose when the set's POSXY is 6 (ExternalNav; the height too with its
+POSZ 6): from then on where the vehicle believes it is, is where the companion says. A switch of
+source set onto the pose resets the estimate to the last pose, as EKF3 resets on a source change.
 Firefly's estimate is otherwise the simulator's truth (estimate.py), so what the pose adds is its
 error, `offset_ned`: the pose's position less the true one at the moment it arrived, held between
 poses. The vehicle flies the estimate, so a pose that reads 5 m north of the truth holds the
@@ -34,7 +35,7 @@ from typing import TYPE_CHECKING
 if TYPE_CHECKING:
     from .params import ParamStore
 
-SOURCE_NONE, SOURCE_BARO, SOURCE_GPS, SOURCE_EXTNAV = 0, 1, 3, 6  # EK3_SRC1_* values
+SOURCE_NONE, SOURCE_BARO, SOURCE_GPS, SOURCE_EXTNAV = 0, 1, 3, 6  # EK3_SRCn_* values
 HEALTHY_S = 0.3  # AP_VisualOdom's timeout: healthy with a message this recent
 GATE_SIGMAS = 5.0  # EK3_POS_I_GATE 500: five standard deviations
 # Measured, a 5 m jump: with the companion's velocity too (SITL's Vicon) it is rejected 10.2 s, then
@@ -57,6 +58,7 @@ class ExternalNav:
         # trusted while the gate rejects (measured: its flags held for the 10 s until the reset)
         self.measured_s = -math.inf
         self.offset_ned: tuple[float, float, float] = (0.0, 0.0, 0.0)  # the fused pose less the truth
+        self.measured_ne: tuple[float, float] | None = None  # the last pose less the truth, fused or not
         self.poses = 0  # poses fused so far
         self.speeds = 0  # speed messages heard (ODOMETRY carries one)
         self.speed_s = -math.inf  # the last one
@@ -83,7 +85,7 @@ class ExternalNav:
         if fused:
             n = frame_origin_ned[0] + scale * xyz[0] - truth_ned[0]
             e = frame_origin_ned[1] + scale * xyz[1] - truth_ned[1]
-            self.measured_s = now_s
+            self.measured_s, self.measured_ne = now_s, (n, e)
             fused = self._gate(now_s, n - off_n, e - off_e)
             if fused:
                 off_n, off_e = n, e
@@ -108,6 +110,13 @@ class ExternalNav:
         self.lost = aided
         self.rejected_since = None
         return True
+
+    def take_latest(self) -> None:
+        """The estimate switches to this source (EKF3's posxy_source_reset): it resets to the last
+        pose, whatever the gate made of it, and the gate starts again from there."""
+        if self.measured_ne is not None:
+            self.offset_ned = (*self.measured_ne, self.offset_ned[2])
+            self.rejected_since = None
 
     def speed(self, now_s: float) -> None:
         """A VISION_SPEED_ESTIMATE: counted for the sensor's health (the estimate's velocity is

@@ -312,11 +312,14 @@ PARAM_TABLE: tuple[ParamSpec, ...] = (
     _f("VISO_VEL_M_NSE", 0.1, 0.05, 5.0, "served, unread (velocity noise) [m/s]"),
     _f("VISO_POS_M_NSE", 0.2, 0.1, 10.0, "served, unread (position noise) [m]"),
     _f("VISO_YAW_M_NSE", 0.2, 0.05, 1.0, "served, unread (yaw noise) [rad]"),
-    _i8("EK3_SRC1_POSXY", 3, 0, 6, "the horizontal position's source: 3 GPS, 6 external navigation"),
-    _i8("EK3_SRC1_VELXY", 3, 0, 6, "the horizontal velocity's source (Firefly's velocity is the truth's)"),
-    _i8("EK3_SRC1_POSZ", 1, 0, 6, "the height's source: 1 barometer, 6 external navigation"),
-    _i8("EK3_SRC1_VELZ", 3, 0, 6, "the vertical velocity's source (Firefly's velocity is the truth's)"),
-    _i8("EK3_SRC1_YAW", 1, 0, 6, "the heading's source (Firefly's heading is the truth's)"),
+    # Three source sets; MAV_CMD_SET_EKF_SOURCE_SET or RC function 90 chooses the one in use
+    *(spec for n, (posxy, velxy, velz, yaw) in enumerate(((3, 3, 3, 1), (0, 0, 0, 0), (0, 0, 0, 0)), start=1)
+      for spec in (
+          _i8(f"EK3_SRC{n}_POSXY", posxy, 0, 6, "the horizontal position's source: 0 none, 3 GPS, 6 external navigation"),
+          _i8(f"EK3_SRC{n}_VELXY", velxy, 0, 6, "the horizontal velocity's source (Firefly's velocity is the truth's)"),
+          _i8(f"EK3_SRC{n}_POSZ", 1, 0, 6, "the height's source: 1 barometer, 6 external navigation"),
+          _i8(f"EK3_SRC{n}_VELZ", velz, 0, 6, "the vertical velocity's source (Firefly's velocity is the truth's)"),
+          _i8(f"EK3_SRC{n}_YAW", yaw, 0, 6, "the heading's source (Firefly's heading is the truth's)"))),
     # Mission (AP_Mission)
     _i("MIS_RESTART", 0, 0, 1, "AUTO after leaving it: 0 resumes the mission, 1 restarts it"),
     # The pilot's radio (autopilot/rc/): channel roles, the mode switch, overrides, the ground station

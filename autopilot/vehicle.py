@@ -184,6 +184,7 @@ class Vehicle:
         # no call in between (telemetry and the failsafes call them for every vehicle, often).
         self.attitude_known = self.estimate.attitude_known
         self.origin_known = self.estimate.origin_known
+        self.local_position_known = self.estimate.local_position_known
         self.startup_initialising = self.startup.initialising  # (t_s)
         self.startup_arm_blockers = self.startup.arm_blockers  # (t_s)
         self.internal_error_prearm_text = self.internal_errors.prearm_text
@@ -298,11 +299,8 @@ class Vehicle:
     def has_position(self) -> bool:
         return self.estimate.has_position()
 
-    def local_position_known(self) -> bool:
-        return self.estimate.local_position_known()
-
     def navigating_externally(self) -> bool:
-        """The horizontal position is external navigation's (EK3_SRC1_POSXY 6, a pose fused)."""
+        """The horizontal position is external navigation's (the source set's POSXY 6, a pose fused)."""
         return self.estimate.nav_offset_ne is not None
 
     @property
@@ -526,6 +524,24 @@ class Vehicle:
         """A companion's VISION_SPEED_ESTIMATE: it keeps the sensor healthy."""
         self.estimate.external_nav.speed(self.time_s)
 
+    def use_source_set(self, n: int) -> None:
+        """EK3_SRCn_* become the estimate's sources (MAV_CMD_SET_EKF_SOURCE_SET, RC function 90).
+        Where the estimate jumps, the point the mode holds jumps with it."""
+        self._sources_changed(lambda: self.estimate.use_source_set(n))
+
+    def _sources_changed(self, change: Callable[[], None]) -> None:
+        est = self.estimate
+        before = est.nav_offset_ne or (0.0, 0.0)
+        change()
+        after = est.nav_offset_ne or (0.0, 0.0)
+        if after != before and self._mode_entered:
+            self.mode.position_reset(after[0] - before[0], after[1] - before[1])
+
+    def source_set_switch(self, position: int) -> None:
+        """RC function 90: low, middle and high choose source sets 1, 2 and 3, and say so."""
+        self.use_source_set(position + 1)
+        self.notify(f"Using EKF Source Set {position + 1}")
+
     def set_gps_global_origin(self, lat_deg: float, lon_deg: float, alt_m: float) -> bool:
         """SET_GPS_GLOBAL_ORIGIN: the EKF's origin, taken only while it has none (from a GPS fix or
         an earlier message). The sim's frame keeps its place; what moves is where it lies on the
@@ -726,8 +742,8 @@ class Vehicle:
             self.avoidance.switched = None
         if name in ("ADSB_TYPE", "AVD_ENABLE"):
             self._want_adsb()
-        elif name.startswith("EK3_SRC1_"):
-            self.estimate.follow_sources()
+        elif name.startswith("EK3_SRC"):
+            self._sources_changed(self.estimate.follow_sources)
 
     # ----- commands: arming ------------------------------------------------------------------
     def arm(self, force: bool = False) -> Result:

@@ -345,9 +345,18 @@ def battery_reset(s, c: Command) -> Result:
     return Result.ACCEPTED
 
 
+def set_ekf_source_set(s, c: Command) -> Result:
+    """Source sets 1 to 3 (param 1 cut to a whole number, as ArduPilot's uint32_t cast), else DENIED."""
+    if not (math.isfinite(c.p1) and 1 <= int(c.p1) <= 3):
+        return Result.DENIED
+    s.vehicle.use_source_set(int(c.p1))
+    return Result.ACCEPTED
+
+
 HANDLERS = {
     mav.MAV_CMD_COMPONENT_ARM_DISARM: arm_disarm,
     mav.MAV_CMD_BATTERY_RESET: battery_reset,
+    mav.MAV_CMD_SET_EKF_SOURCE_SET: set_ekf_source_set,
     mav.MAV_CMD_NAV_TAKEOFF: takeoff,
     mav.MAV_CMD_NAV_LAND: land,
     mav.MAV_CMD_NAV_RETURN_TO_LAUNCH: return_to_launch,

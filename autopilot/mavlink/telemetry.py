@@ -116,7 +116,7 @@ def sys_status(v: TelemetryView, codec):
         if not prox.good:
             healthy &= ~mav.MAV_SYS_STATUS_SENSOR_PROXIMITY
     ext = v.external_nav
-    if ext is not None and ext.kind:  # as ArduCopter: visual odometry is present and enabled, healthy with data
+    if ext.kind:  # as ArduCopter: visual odometry is present and enabled, healthy with data
         present |= VISION
         enabled |= VISION
         if ext.healthy(v.time_s):
@@ -261,8 +261,8 @@ EKF_GOOD = (mav.EKF_ATTITUDE | mav.EKF_VELOCITY_HORIZ | mav.EKF_VELOCITY_VERT | 
 # Without a GPS fix the estimate keeps attitude and height but not where it is: constant position mode.
 EKF_NO_POSITION = (mav.EKF_ATTITUDE | mav.EKF_VELOCITY_VERT | mav.EKF_POS_VERT_ABS | mav.EKF_POS_VERT_AGL
                    | mav.EKF_CONST_POS_MODE)
-# On external navigation (measured): these, without the height above ground; when its position is
-# lost, attitude, vertical velocity and height only.
+# With a visual odometry sensor (VISO_TYPE), on its pose or on the GPS (measured): these, without
+# the height above ground; when the position is lost, attitude, vertical velocity and height only.
 EKF_EXTNAV_GOOD = EKF_GOOD & ~mav.EKF_POS_VERT_AGL
 EKF_EXTNAV_LOST = mav.EKF_ATTITUDE | mav.EKF_VELOCITY_VERT | mav.EKF_POS_VERT_ABS
 EKF_GPS_GLITCH = 32768  # MAVLink's EKF_GPS_GLITCH flag, newer than this pymavlink's dialect
@@ -273,7 +273,7 @@ def ekf_status_report(v: TelemetryView, codec):
     if not v.attitude_known():  # a realistic start-up before the EKF has aligned
         return codec.ekf_status_report_encode(mav.EKF_UNINITIALIZED, 1.0, 1.0, 1.0, 1.0, 0.0)
     flags, variance = (EKF_GOOD, 0.01) if v.has_position() else (EKF_NO_POSITION, 1.0)
-    if v.navigating_externally():  # as ArduCopter on external navigation: no height above ground
+    if v.external_nav.kind:  # as ArduCopter with a visual odometry sensor, whatever the source: no height above ground
         flags = EKF_EXTNAV_GOOD if v.has_position() else EKF_EXTNAV_LOST
     if v.gps_glitching:
         flags |= EKF_GPS_GLITCH

@@ -121,6 +121,13 @@ class Mode:
         """'TAKEOFF' or 'LANDING' while the mode is doing either, else None."""
         return None
 
+    def position_reset(self, dn: float, de: float) -> None:
+        """The estimate's horizontal position jumped by (dn, de) on a change of its source: the
+        point held moves with it, so that the vehicle stays where it is in the world (measured on
+        ArduCopter, GUIDED holding after a takeoff: no move in the 10 s after the jump; the position
+        controller's handle_ekf_xy_reset). Modes that hold no point, or were not measured, keep
+        their targets."""
+
     def controls_position(self, ctx: ModeContext) -> bool:
         """The horizontal position controller flies this mode (HEARTBEAT's GUIDED_ENABLED flag,
         as ArduCopter sets it from its position controller)."""

@@ -214,6 +214,11 @@ class Guided(Mode):
             self.speed_dn = dn_m_s
         return True
 
+    def position_reset(self, dn: float, de: float) -> None:
+        self.target_ne = (self.target_ne[0] + dn, self.target_ne[1] + de)
+        if self.takeoff is not None:
+            self.takeoff.hold_ne = (self.takeoff.hold_ne[0] + dn, self.takeoff.hold_ne[1] + de)
+
     def destination(self) -> tuple[float, float, float | None] | None:
         """Only a position target is a destination: holding where it entered, taking off or
         flying a velocity, ArduCopter's GUIDED has no waypoint to report."""

@@ -59,6 +59,12 @@ class Loiter(Mode):
             self._hold_ne = (ctx.body.n_m, ctx.body.e_m)
             self._nav = None
 
+    def position_reset(self, dn: float, de: float) -> None:
+        """LOITER's point is the position controller's own target, which the reset moves."""
+        self._hold_ne = (self._hold_ne[0] + dn, self._hold_ne[1] + de)
+        if self._nav is not None:
+            self._nav.target = (self._nav.target[0] + dn, self._nav.target[1] + de)
+
     @staticmethod
     def _pushed_back(ctx: ModeContext, dt: float) -> bool:
         """Whether a vehicle holding inside a fence's margin is to back away from it. ArduCopter's

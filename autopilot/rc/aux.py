@@ -36,6 +36,7 @@ class AuxHost(Protocol):
     def zigzag_switch(self, which: str, position: int) -> None: ...
     def rangefinder_switch(self, position: int) -> None: ...
     def avoid_adsb_switch(self, position: int) -> None: ...
+    def source_set_switch(self, position: int) -> None: ...
 
 
 @dataclass(frozen=True)
@@ -132,6 +133,7 @@ AUX_FUNCTIONS: dict[int, AuxFunction] = {f.number: f for f in (
     AuxFunction(73, "DRIFT", _mode(M.DRIFT)),
     AuxFunction(81, "DISARM", _disarm),
     AuxFunction(83, "ZIGZAG_Auto", _zigzag("auto")),
+    AuxFunction(90, "EKF_SOURCE_SET", lambda v, position: v.source_set_switch(position)),
     AuxFunction(99, "AUTO_RTL", _mode(M.AUTO_RTL)),
     AuxFunction(151, "TURTLE", _mode(M.TURTLE)),
     AuxFunction(153, "ARMDISARM", _arm_disarm, settle_on_first_read=True),
@@ -142,7 +144,7 @@ AUX_FUNCTIONS: dict[int, AuxFunction] = {f.number: f for f in (
 # relays, gripper, winch, mount, simple modes, ...): known, accepted, nothing moves. Those whose
 # missing device ArduCopter reports as a failure are FAILED_WITHOUT_DEVICE.
 NOTHING_HERE = (3, 5, 9, 11, 13, 14, 15, 19, 21, 22, 23, 24, 25, 26, 27, 28, 29, 30, 32, 34, 35, 36, 39,
-                40, 44, 45, 46, 47, 48, 49, 58, 62, 65, 66, 67, 75, 76, 78, 79, 80, 84, 85, 90, 100, 101,
+                40, 44, 45, 46, 47, 48, 49, 58, 62, 65, 66, 67, 75, 76, 78, 79, 80, 84, 85, 100, 101,
                 102, 103, 104, 105, 106, 109, 110, 111, 112, 113, 152, 154, 158, 159, 160, 162, 163,
                 164, 171, 172, 177, 180, 182, *range(212, 220), *range(300, 316))
 FAILED_WITHOUT_DEVICE = (166, 167, 168, 169, 174, 175)  # camera functions: no camera

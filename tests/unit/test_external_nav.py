@@ -248,3 +248,55 @@ def test_a_lost_gps_fix_keeps_the_location_known_since_home():
     assert msg.lat != 0 and msg.lon != 0
     blind = ready_vehicle({"GPS1_TYPE": 0})
     assert global_position_int(blind, new_codec(1)).lat == 0
+
+
+SOURCE_SETS = {"VISO_TYPE": 1, "EK3_SRC2_POSXY": 6, "EK3_SRC2_VELXY": 6, "EK3_SRC2_VELZ": 6, "EK3_SRC2_YAW": 1}
+
+
+def source_set_command(session, v, wanted: float) -> int:
+    out = session.receive(wire(session.codec.command_long_encode(1, 1, mav.MAV_CMD_SET_EKF_SOURCE_SET, 0, wanted,
+                                                                 0, 0, 0, 0, 0, 0)), v.time_s, 0.0)
+    return [m.result for m in out if m.get_type() == "COMMAND_ACK"][0]
+
+
+def test_the_source_set_command_takes_sets_1_to_3_and_denies_the_rest():
+    v = ready_vehicle(SOURCE_SETS)
+    session = Session(v, new_codec(1))
+    for wanted in (0, 4, -1, math.nan, math.inf):
+        assert source_set_command(session, v, wanted) == mav.MAV_RESULT_DENIED
+        assert v.estimate.source_set == 1
+    assert source_set_command(session, v, 2.7) == mav.MAV_RESULT_ACCEPTED and v.estimate.source_set == 2
+    assert texts(v) == []  # the command says nothing; the RC switch does
+
+
+def test_switching_onto_the_pose_resets_to_it_and_back_onto_the_gps():
+    v = ready_vehicle(SOURCE_SETS)
+    speak(v, v.time_s + 1.0)  # a sensor set up must be sending to arm, whatever the source
+    assert v.set_mode(ModeNumber.GUIDED) == Result.ACCEPTED and v.arm() == Result.ACCEPTED
+    assert v.takeoff(10.0) == Result.ACCEPTED
+    speak(v, v.time_s + 10.0, error_ne=(3.0, 0.0))
+    assert abs(v.body.n_m - v.estimate.sim.state.body.n_m) < 1e-9  # on the GPS, the pose is not used
+    true_n = v.estimate.sim.state.body.n_m
+    v.use_source_set(2)
+    assert abs(v.body.n_m - true_n - 3.0) < 0.05  # reset to the pose at once
+    speak(v, v.time_s + 10.0, error_ne=(3.0, 0.0))
+    # the held point moved with the estimate: the vehicle stays where it was (measured)
+    assert abs(v.estimate.sim.state.body.n_m - true_n) < 0.2 and abs(v.body.n_m - true_n - 3.0) < 0.2
+    texts(v)
+    v.source_set_switch(0)  # RC function 90 low
+    assert texts(v) == ["Using EKF Source Set 1"] and v.estimate.source_set == 1
+    speak(v, v.time_s + 10.0, error_ne=(3.0, 0.0))
+    assert abs(v.estimate.sim.state.body.n_m - true_n) < 0.2 and abs(v.body.n_m - true_n) < 0.05
+
+
+def test_no_position_source_is_dead_reckoned_then_the_ekf_failsafe_lands():
+    v = ready_vehicle(SOURCE_SETS)
+    speak(v, v.time_s + 1.0)  # a sensor set up must be sending to arm, whatever the source
+    assert v.set_mode(ModeNumber.GUIDED) == Result.ACCEPTED and v.arm() == Result.ACCEPTED
+    assert v.takeoff(10.0) == Result.ACCEPTED
+    speak(v, v.time_s + 10.0)
+    switched = v.time_s
+    v.use_source_set(3)  # its defaults: no horizontal position source
+    assert fly_until(v, lambda x: x.mode.number == ModeNumber.LAND, 15.0)
+    assert 7.0 <= v.time_s - switched <= 9.0  # ArduCopter: LAND within the 10 s watched
+    assert texts(v)[-2:] == ["EKF variance", "EKF Failsafe: changed to LAND Mode"]

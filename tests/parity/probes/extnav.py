@@ -19,6 +19,11 @@ jump_with_speed  the same jump from a companion that sends VISION_SPEED_ESTIMATE
 silent     GUIDED at 10 m, the companion stops: the vision bit, the EKF failsafe, its texts
 other_messages  ODOMETRY in local NED (not taken), in local FRD, then ATT_POS_MOCAP
 gps_input  GPS1_TYPE 14 alone: GPS_RAW_INT before, while and after a companion's GPS_INPUT
+source_switch  the GPS as source set 1 and the pose (3 m north of the truth) as set 2:
+           MAV_CMD_SET_EKF_SOURCE_SET's answers, then in a GUIDED hover set 2 (the estimate
+           resets to the pose and the vehicle moves 3 m south), set 1 back, set 3 (no position
+           source at all, as its defaults leave it), then the RC function 90 (EKF source set)
+           middle and low, as MAV_CMD_DO_AUX_FUNCTION
 """
 from __future__ import annotations
 
@@ -28,6 +33,8 @@ from pymavlink.dialects.v20 import ardupilotmega as v20
 
 from ..client import Client, mav
 from ..facts import Tol, Trace
+from ..targets import wait_armable
+from .booting import each_on_a_fresh_vehicle
 
 AREA = "extnav"
 EXTNAV = {"GPS1_TYPE": 0, "VISO_TYPE": 1, "EK3_SRC1_POSXY": 6, "EK3_SRC1_VELXY": 6, "EK3_SRC1_VELZ": 6}
@@ -321,21 +328,59 @@ def probe_gps_input(c: Client, trace: Trace) -> None:
     trace.fact("stopped", [g.fix_type, g.satellites_visible])
 
 
+def _ne(c: Client) -> list:
+    c.fresh("LOCAL_POSITION_NED")
+    lpn = c.last["LOCAL_POSITION_NED"]
+    return [round(lpn.x, 2), round(lpn.y, 2)]
+
+
+def probe_source_switch(c: Client, trace: Trace) -> None:
+    companion = _start(c)
+    companion.error_ne = (3.0, 0.0)
+    companion.speaking = True
+    wait_armable(c)
+    for wanted in (0, 4):
+        trace.fact(f"set_{wanted}", c.command(mav.MAV_CMD_SET_EKF_SOURCE_SET, wanted))
+    c.set_mode(GUIDED)
+    trace.fact("arm", _arm(c))
+    c.command(mav.MAV_CMD_NAV_TAKEOFF, 0, 0, 0, 0, 0, 0, 10)
+    c.wait(lambda: c.rel_alt_m() > 9.5, 30, what="10 m")
+    c.idle(5.0)
+    trace.fact("gps.believed_ne", _ne(c), HOLD)
+    trace.fact("gps.true_ne", [round(x, 2) for x in companion.last_truth], HOLD)
+    c.fresh("EKF_STATUS_REPORT")
+    trace.fact("gps.ekf_flags", c.last["EKF_STATUS_REPORT"].flags)
+    steps = (("set_2", mav.MAV_CMD_SET_EKF_SOURCE_SET, 2), ("set_1", mav.MAV_CMD_SET_EKF_SOURCE_SET, 1),
+             ("set_3", mav.MAV_CMD_SET_EKF_SOURCE_SET, 3), ("aux_middle", mav.MAV_CMD_DO_AUX_FUNCTION, 90, 1),
+             ("aux_low", mav.MAV_CMD_DO_AUX_FUNCTION, 90, 0))
+    near = Tol(abs=0.5, why=HOLD.why)
+    for name, *command in steps:
+        t0 = c.now_ms
+        trace.fact(name, c.command(*command))
+        c.idle(1.0)
+        trace.fact(f"{name}.believed_ne_1s", _ne(c), near)
+        c.idle(9.0)
+        trace.fact(f"{name}.believed_ne", _ne(c), near)
+        trace.fact(f"{name}.true_ne", [round(x, 2) for x in companion.last_truth], near)
+        c.fresh("EKF_STATUS_REPORT")
+        trace.fact(f"{name}.ekf_flags", c.last["EKF_STATUS_REPORT"].flags)
+        c.fresh_heartbeat()
+        trace.fact(f"{name}.mode", c.mode)
+        # (the EKF failsafe's LAND touches down near the end: when it disarms is not this probe's)
+        trace.fact(f"{name}.said", [t for t in c.texts_since(t0)
+                                    if not t.startswith(("PreArm", "SIM Hit ground", "Disarming motors"))])
+
+
 PROBES = {"no_origin": probe_no_origin, "origin": probe_origin, "hold": probe_hold,
           "jump_with_speed": probe_jump_with_speed, "silent": probe_silent, "other_messages": probe_other_messages,
-          "gps_input": probe_gps_input}
-PARAMS = {name: EXTNAV for name in PROBES} | {"gps_input": {"GPS1_TYPE": 14}}
+          "gps_input": probe_gps_input, "source_switch": probe_source_switch}
+# the GPS as set 1 (EK3_SRC1_* defaults), the pose as set 2, set 3 left at its defaults (none)
+SOURCE_SETS = {"VISO_TYPE": 1, "EK3_SRC2_POSXY": 6, "EK3_SRC2_VELXY": 6, "EK3_SRC2_VELZ": 6, "EK3_SRC2_POSZ": 1,
+               "EK3_SRC2_YAW": 1}
+PARAMS = {name: EXTNAV for name in PROBES} | {"gps_input": {"GPS1_TYPE": 14}, "source_switch": SOURCE_SETS}
 
 
 def run(target) -> dict[str, Trace]:
     """Each probe on a fresh vehicle booted with external navigation, without waiting to be
     armable: it is not, without a pose and an origin."""
-    traces = {}
-    try:
-        for name, probe in PROBES.items():
-            client = target.boot(streams_hz=None, params=PARAMS[name])
-            trace = traces[name] = Trace()
-            probe(client, trace)
-    finally:
-        target.close()
-    return traces
+    return each_on_a_fresh_vehicle(target, PROBES, PARAMS, streams_hz=None)

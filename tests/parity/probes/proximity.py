@@ -40,6 +40,7 @@ import math
 from ..client import Client, mav
 from ..facts import Tol, Trace
 from ..targets import wait_armable
+from .booting import each_on_a_fresh_vehicle
 from .avoid import FULL_FORWARD, Recorder, _first, _in_loiter, _mode_now, _slowed_at, _square, _texts
 from .missions import upload
 from .nav_flight import goto, ne_alt
@@ -416,12 +417,4 @@ def run(target) -> dict[str, Trace]:
     """Each probe on a fresh vehicle, booted without waiting to be armable: it never is while its
     proximity sensor has no data (no fence for SITL's lidar to measure, no companion yet), so
     each probe makes it ready itself."""
-    traces = {}
-    try:
-        for name, probe in PROBES.items():
-            client = target.boot(streams_hz=None, params=PROBES_PARAMS[name])
-            trace = traces[name] = Trace()
-            probe(client, trace)
-    finally:
-        target.close()
-    return traces
+    return each_on_a_fresh_vehicle(target, PROBES, PROBES_PARAMS, streams_hz=None)
