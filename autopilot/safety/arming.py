@@ -109,8 +109,14 @@ def _leaning(v: PrearmView) -> str | None:
 
 
 def _battery_low(v: PrearmView) -> str | None:
-    low = v.params["BATT_LOW_VOLT"]
-    return "Battery below minimum arming voltage" if low > 0 and v.battery.voltage_v < low else None
+    """AP_BattMonitor's checks on its one battery, the first failing (measured: BATT_ARM_VOLT,
+    then BATT_LOW_VOLT's failsafe)."""
+    p, volts = v.params, v.battery.voltage_v
+    arm = p["BATT_ARM_VOLT"]
+    if arm > 0 and volts < arm:
+        return "Battery 1 below minimum arming voltage"
+    low = p["BATT_LOW_VOLT"]
+    return "Battery 1 low voltage failsafe" if low > 0 and volts < low else None
 
 
 def _rangefinder(v: PrearmView) -> str | None:

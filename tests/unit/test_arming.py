@@ -22,7 +22,8 @@ def test_a_ready_vehicle_passes_every_check():
 
 @pytest.mark.parametrize("param, value, words", [
     ("SIM_GPS_DISABLE", 1, "Need 3D Fix"),
-    ("BATT_LOW_VOLT", 20.0, "Battery below minimum arming voltage"),
+    ("BATT_LOW_VOLT", 20.0, "Battery 1 low voltage failsafe"),
+    ("BATT_ARM_VOLT", 20.0, "Battery 1 below minimum arming voltage"),
 ])
 def test_a_failing_check_refuses_the_arm_with_arducopters_words(param, value, words):
     v = ready_vehicle()
