@@ -181,9 +181,11 @@ class StateEstimate:
 
     def local_position_known(self) -> bool:
         """Whether the EKF has a position in its local frame to report (LOCAL_POSITION_NED): with
-        no GPS fitted, or external navigation the source, only once a pose has been fused."""
+        no GPS fitted, or external navigation the source, only once a pose has been fused; with a
+        companion's GPS (GPS1_TYPE 14), once its first GPS_INPUT came (ArduCopter SITL sent none
+        before its EKF had the companion's fix)."""
         if self.gps_fitted and self.posxy_source != SOURCE_EXTNAV:
-            return True
+            return not self.gps_from_mavlink or self.gps_input is not None
         return self.external_nav.poses > 0
 
     def origin_known(self) -> bool:

@@ -192,11 +192,12 @@ def test_a_companion_gps_is_the_receiver_with_gps1_type_14():
     v = ready_vehicle({"GPS1_TYPE": 14})
     session = Session(v, new_codec(1))
     assert v.gps.fix_type == 1 and v.home_ned is None and not v.gps_detected
+    assert not v.local_position_known()  # no LOCAL_POSITION_NED before the companion's fix
     texts(v)
     origin = v.origin
     lat, lon = round(origin.lat_deg * 1e7) + 270, round(origin.lon_deg * 1e7)  # 3 m north of the boot place
     gps_input(session, v, lat, lon)
-    assert texts(v) == ["GPS 1: detected MAV"] and v.gps_detected
+    assert texts(v) == ["GPS 1: detected MAV"] and v.gps_detected and v.local_position_known()
     v.run_until(v.time_s + 0.2)
     assert v.gps.fix_type == 3 and v.gps.satellites == 12 and abs(v.gps.n_m - 3.0) < 0.1
     assert v.home_ned is not None  # Firefly's start-up: home at the first fix (ArduCopter's EKF: 10 s later)
