@@ -59,7 +59,7 @@ from .proximity import Proximity
 from .safety.fence_switch import FenceSwitch
 from .safety.internal_error import CONSTRAINING_NAN, FLOW_OF_CONTROL, InternalErrors
 from .safety.land_detector import AutoDisarm, LandDetector
-from .safety.prearm_display import PrearmDisplay
+from .safety.prearm_display import NO_ARMING_CHANGE_TEXT, PrearmDisplay
 from .safety.thrust_loss import ThrustLossCheck
 from .payload.camera import Camera
 from .precland import BODY_FRD, LOCAL_FRD, PrecLand, line_of_sight
@@ -766,7 +766,7 @@ class Vehicle:
         self.land_detector.set_landed()
         self.auto_disarm.restart(self.time_s)
         self.cascade.reset()
-        self.notify("Arming motors")
+        self._say_arming_change("Arming motors")
         return Result.ACCEPTED
 
     def disarm(self, reason: str = "", force: bool = False) -> Result:
@@ -776,10 +776,15 @@ class Vehicle:
             return Result.FAILED  # ArduCopter refuses in silence
         self.arming.disarm()
         self.mission_progress.reset()  # as ArduCopter: a mission flown again starts over
-        self.notify("Disarming motors")
+        self._say_arming_change("Disarming motors")
         for mode in self.modes.values():  # after that text, as ArduCopter's AutoTune says its own
             mode.on_disarm(self.ctx, mode is self.mode)
         return Result.ACCEPTED
+
+    def _say_arming_change(self, text: str) -> None:
+        """Unless ARMING_OPTIONS bit 1 asks for silence (measured: no text either way)."""
+        if not int(self.params["ARMING_OPTIONS"]) & NO_ARMING_CHANGE_TEXT:
+            self.notify(text)
 
     def _set_home_here(self, in_flight: bool = False) -> None:
         """Home where the vehicle is; set in flight (the first fix after a take-off without GPS)

@@ -16,6 +16,7 @@ from collections.abc import Callable
 DISPLAY_PERIOD_S = 30.0  # PREARM_DISPLAY_PERIOD
 IMMEDIATE_GAP_S = 4.0  # a failure that just began waits for this since the last report
 DISABLE_PREARM_DISPLAY = 1 << 0  # ARMING_OPTIONS
+NO_ARMING_CHANGE_TEXT = 1 << 1  # ARMING_OPTIONS: no "Arming motors" / "Disarming motors" (vehicle.py)
 
 
 class PrearmDisplay:

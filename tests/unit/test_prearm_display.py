@@ -49,3 +49,14 @@ def test_the_vehicle_says_them_once_a_mode_it_cannot_arm_in_is_chosen():
     assert [t for _, t in v.drain_events() if t.startswith("PreArm")] == ["PreArm: AHRS: waiting for home"]
     speak(v, 42.95)  # 31 s on: "more than 30 s" at a once-a-second update
     assert [t for _, t in v.drain_events() if t.startswith("PreArm")] == ["PreArm: AHRS: waiting for home"]
+
+
+def test_arming_options_bit_1_silences_the_arming_texts():
+    v = ready_vehicle()
+    assert v.set_mode(ModeNumber.GUIDED) == Result.ACCEPTED
+    v.drain_events()
+    assert v.arm() == Result.ACCEPTED and v.disarm() == Result.ACCEPTED
+    assert [t for _, t in v.drain_events()] == ["Arming motors", "Disarming motors"]
+    v.params.set("ARMING_OPTIONS", 2)
+    assert v.arm() == Result.ACCEPTED and v.disarm() == Result.ACCEPTED
+    assert v.drain_events() == []

@@ -50,7 +50,24 @@ def check_fails(c: Client, trace: Trace) -> None:
     trace.fact("arm_volt.said", [r[2] for r in _reports(c, t2)])
 
 
-PROBES = {"check_fails": check_fails}
+def _arm_disarm(c: Client, trace: Trace, name: str) -> None:
+    for verb, value in (("arm", 1), ("disarm", 0)):
+        t0 = c.now_ms
+        trace.fact(f"{name}.{verb}", c.command(mav.MAV_CMD_COMPONENT_ARM_DISARM, value))
+        c.idle(1.0)
+        trace.fact(f"{name}.{verb}_said", [t for t in c.texts_since(t0) if not t.startswith("PreArm: ")])
+
+
+def arm_texts(c: Client, trace: Trace) -> None:
+    c.set_mode(4)  # GUIDED: an ARM on the ground there stays armed until disarmed
+    c.idle(1.0)
+    _arm_disarm(c, trace, "default")
+    trace.fact("options_set", c.set_param("ARMING_OPTIONS", 2))
+    _arm_disarm(c, trace, "options_2")
+    c.set_param("ARMING_OPTIONS", 0)
+
+
+PROBES = {"check_fails": check_fails, "arm_texts": arm_texts}
 
 
 def run(target) -> dict[str, Trace]:
