@@ -7,8 +7,13 @@ Two sensors feed it:
   inclusion fence uploaded (found by halving, to 0.1 m, out to 200 m, as AP_Proximity_SITL does),
   and upward the distance to FENCE_ALT_MAX. No inclusion fence: no data.
 - PRX1_TYPE 2, a companion: OBSTACLE_DISTANCE (its sectors folded into the eight, the nearest of
-  each) and DISTANCE_SENSOR facing one of the eight ways or up (AP_Proximity_MAV). No message for
-  0.5 s: no data. Readings of 0, 65535, or outside the message's own limits are none.
+  each), DISTANCE_SENSOR facing one of the eight ways or up, and OBSTACLE_DISTANCE_3D
+  (AP_Proximity_MAV). No message for 0.5 s: no data. Readings of 0, 65535, or outside the
+  message's own limits are none. OBSTACLE_DISTANCE_3D gives one point per message in the body
+  FRD frame (any other frame is heard, keeping the sensor healthy, and dropped); the points
+  that share a time stamp are one batch, the nearest per sector kept, which reaches the boundary
+  when a message with another stamp comes (or one more than 50 ms later). Only points within
+  15 degrees of level count here: the middle of AP_Proximity's five layers, the one Firefly keeps.
 
 The boundary is AP_Proximity_Boundary_3D's middle layer: a point on each edge between two sectors
 at the nearer of their filtered distances (100 m where neither has one; 0.6 m at least), and an
@@ -31,6 +36,9 @@ MAVLINK_TIMEOUT_S = 0.5  # PROXIMITY_MAV_TIMEOUT_MS
 FACE_RESET_S = 1.0  # PROXIMITY_FACE_RESET_MS
 BOUNDARY_DEFAULT_M, BOUNDARY_MIN_M = 100.0, 0.6  # PROXIMITY_BOUNDARY_DIST_DEFAULT / _MIN
 UPWARD = 24  # MAV_SENSOR_ROTATION_PITCH_90
+BODY_FRD = 12  # MAV_FRAME_BODY_FRD, OBSTACLE_DISTANCE_3D's only frame taken
+BATCH_GAP_S = 0.05  # PROXIMITY_TIMESTAMP_MSG_TIMEOUT_MS
+MIDDLE_LAYER_DEG = 15.0  # half of PROXIMITY_PITCH_WIDTH_DEG about level
 FIRST_ID = 10  # PROXIMITY_SENSOR_ID_START: DISTANCE_SENSOR ids 10-17 by sector, 19 upward
 # each edge's direction: the clockwise edge of sector i, at 45 i + 22.5 degrees
 EDGES = tuple((math.cos(math.radians(SECTOR_DEG * i + SECTOR_DEG / 2)), math.sin(math.radians(SECTOR_DEG * i + SECTOR_DEG / 2)))
@@ -72,6 +80,8 @@ class Proximity:
         self.upward_m: float | None = None
         self._last_message_s = -math.inf
         self._last_upward_s = -math.inf
+        self._batch: dict[int, tuple[float, float]] = {}  # OBSTACLE_DISTANCE_3D's: sector -> (angle, m)
+        self._batch_stamp_ms: int | None = None
 
     # ----- the boundary ----------------------------------------------------------------------------
     def _set(self, sector: int, angle_deg: float, distance_m: float, now_s: float) -> None:
@@ -187,6 +197,34 @@ class Proximity:
             else:
                 self._reset(sector)
         self.good = True
+
+    def obstacle_3d(self, stamp_ms: int, frame: int, xyz: tuple[float, float, float], min_m: float, max_m: float,
+                    now_s: float) -> None:
+        """A companion's OBSTACLE_DISTANCE_3D: one point (forward, right, down [m])."""
+        if self.kind != MAVLINK:
+            return
+        gap = now_s - self._last_message_s
+        self._last_message_s = now_s
+        self.good = True
+        if frame != BODY_FRD:
+            return
+        if stamp_ms != self._batch_stamp_ms or gap > BATCH_GAP_S:
+            for sector, (angle, metres) in self._batch.items():
+                self._set(sector, angle, metres, now_s)
+            self._batch = {}
+        self._batch_stamp_ms = stamp_ms
+        self.range_m = (float32(min_m), float32(max_m))
+        x, y, z = xyz
+        metres = math.sqrt(x * x + y * y + z * z)
+        if not (metres > 0.0 and min_m <= metres <= max_m):  # NaN too
+            return
+        if abs(math.degrees(math.atan2(-z, math.hypot(x, y)))) >= MIDDLE_LAYER_DEG:
+            return  # above or below the middle layer
+        angle = math.degrees(math.atan2(y, x)) % 360.0
+        sector = sector_of(angle)
+        held = self._batch.get(sector)
+        if held is None or metres < held[1]:
+            self._batch[sector] = (angle, float32(metres))
 
     def distance_sensor(self, orientation: int, distance_cm: int, min_cm: int, max_cm: int, now_s: float) -> None:
         """A companion's DISTANCE_SENSOR facing one of the eight ways, or up."""

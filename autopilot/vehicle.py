@@ -446,6 +446,11 @@ class Vehicle:
         """A companion's OBSTACLE_DISTANCE: PRX1_TYPE 2's reading (proximity.py)."""
         self.proximity.obstacle_distance(distances, increment_deg, angle_offset_deg, min_cm, max_cm, self.time_s)
 
+    def obstacle_distance_3d(self, stamp_ms: int, frame: int, xyz: tuple[float, float, float], min_m: float,
+                             max_m: float) -> None:
+        """A companion's OBSTACLE_DISTANCE_3D: a point for PRX1_TYPE 2 (proximity.py)."""
+        self.proximity.obstacle_3d(stamp_ms, frame, xyz, min_m, max_m, self.time_s)
+
     def avoid_velocity(self, vel_neu: Vector3, accel_m_s2: float, dt: float) -> Vector3:
         """A velocity (north, east, up) as simple avoidance lets it be flown (safety/simple_avoid.py),
         with the position controller's gains and the mode's horizontal acceleration."""

@@ -117,6 +117,8 @@ class Session:
                 m.orientation, m.current_distance, m.min_distance, m.max_distance, m.type, m.signal_quality),
             "OBSTACLE_DISTANCE": lambda m, now: self.vehicle.obstacle_distance(
                 m.distances, m.increment_f or m.increment, m.angle_offset, m.min_distance, m.max_distance),
+            "OBSTACLE_DISTANCE_3D": lambda m, now: self.vehicle.obstacle_distance_3d(
+                m.time_boot_ms, m.frame, (m.x, m.y, m.z), m.min_distance, m.max_distance),
             "SETUP_SIGNING": lambda m, now: self.signing.setup(m, self.vehicle.armed),
             # The request older ground stations send before REQUEST_MESSAGE existed.
             "AUTOPILOT_VERSION_REQUEST": lambda m, now: self.queue(self.build(mav.MAVLINK_MSG_ID_AUTOPILOT_VERSION)),

@@ -101,6 +101,9 @@ def _messages(c):
         st.builds(lambda fix, la, lo, al, v, sats: c.gps_input_encode(0, 0, 0, 0, 0, fix, la, lo, al, 0.8, 1.0, v, v, v,
                                                                       0.2, 0.3, 0.5, sats),
                   u8, i32, i32, f32, f32, u8),
+        # a companion's obstacles (proximity.py): dropped unless PRX1_TYPE is 2
+        st.builds(lambda ts, fr, x, y, z, lo, hi: c.obstacle_distance_3d_encode(ts, 0, fr, 0, x, y, z, lo, hi),
+                  st.integers(0, 2**32 - 1), frame, f32, f32, f32, f32, f32),
         st.builds(lambda t, key, ts: c.setup_signing_encode(t, 1, key, ts), target,
                   st.sampled_from([bytes(32), b"\x01" * 32]) | st.binary(min_size=32, max_size=32),
                   st.integers(0, 2**64 - 1)),

@@ -110,3 +110,31 @@ def test_arming_wants_data_and_nothing_within_60_cm():
     assert "Proximity 0 deg, 0.50m (want > 0.6m)" in prearm_failures(v)
     v.proximity.distance_sensor(0, 500, 20, 2000, v.time_s)
     assert not any("roximity" in f or "PRX1" in f for f in prearm_failures(v))
+
+
+def test_obstacle_distance_3d_points_reach_the_boundary_a_batch_at_a_time():
+    prox = sensor(MAVLINK)
+    prox.obstacle_3d(100, 12, (5.0, 0.0, 0.0), 0.2, 30.0, 1.00)
+    prox.obstacle_3d(100, 12, (4.0, 0.0, 0.0), 0.2, 30.0, 1.01)  # the nearer of a sector's points
+    prox.obstacle_3d(100, 12, (5.0, 5.0 * math.tan(math.radians(30.0)), 0.0), 0.2, 30.0, 1.02)
+    prox.obstacle_3d(100, 12, (3.0, 0.0, -3.0), 0.2, 30.0, 1.03)  # 45 degrees up: not the middle layer
+    assert prox.good and not any(prox.valid)  # the batch waits for the next stamp
+    prox.obstacle_3d(200, 12, (9.0, 0.0, 0.0), 0.2, 30.0, 1.1)
+    assert prox.valid[0] and prox.distance[0] == pytest.approx(4.0)
+    assert prox.valid[1] and prox.angle[1] == pytest.approx(30.0) and not prox.valid[7]
+    prox.obstacle_3d(200, 1, (2.0, 0.0, 0.0), 0.2, 30.0, 1.2)  # MAV_FRAME_LOCAL_NED: heard, dropped
+    prox.obstacle_3d(200, 12, (50.0, 0.0, 0.0), 0.2, 30.0, 1.3)  # out of the sensor's range
+    prox.obstacle_3d(200, 12, (math.nan, 0.0, 0.0), 0.2, 30.0, 1.31)
+    prox.obstacle_3d(201, 12, (6.0, 0.0, 0.0), 0.2, 30.0, 1.4)  # a new stamp commits 9 m
+    assert prox.distance[0] == pytest.approx(9.0)
+    prox.update(1.85, 0.0, lambda dn, de: False, False, 10.0)
+    assert prox.good  # heard within 0.5 s, whatever the frame
+    prox.update(1.95, 0.0, lambda dn, de: False, False, 10.0)
+    assert not prox.good
+
+
+def test_obstacle_distance_3d_is_ignored_without_a_companion_sensor():
+    prox = sensor(SITL)
+    prox.obstacle_3d(100, 12, (5.0, 0.0, 0.0), 0.2, 30.0, 1.0)
+    prox.obstacle_3d(200, 12, (5.0, 0.0, 0.0), 0.2, 30.0, 1.1)
+    assert not any(prox.valid) and not prox.good

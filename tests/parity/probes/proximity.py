@@ -24,6 +24,11 @@ companion_obstacle  PRX1_TYPE 2 (MAVLink): a companion (system 1, component 196)
                     DISTANCE_SENSOR messages the vehicle sends back, and the same LOITER push.
 companion_distance_sensor  PRX1_TYPE 2, the companion's DISTANCE_SENSOR facing forward (id 0,
                     20-2000 cm) at 10 Hz, a wall 15 m north of home: the same LOITER push.
+companion_obstacle_3d  PRX1_TYPE 2, the companion's OBSTACLE_DISTANCE_3D (body FRD, 0.2-30 m), at 10 Hz a
+                    batch of two points of one wall 17 m north of home, with one time stamp: straight
+                    ahead, and 30 degrees right: the bits, the DISTANCE_SENSOR messages and the same
+                    LOITER push; then a point in MAV_FRAME_LOCAL_NED only (ArduCopter takes body FRD
+                    alone): whether the sensor stays healthy on it
 prearm              PRX1_TYPE 2: ARM in LOITER with no companion yet, then with an obstacle straight
                     ahead at 1 m, 0.5 m and 5 m (the check wants more than 0.6 m): the COMMAND_ACK
                     result, the ARM's own texts and the pre-arm texts that name the sensor.
@@ -36,6 +41,8 @@ althold_push        PRX1_TYPE 2, AVOID_DIST_MAX 5, AVOID_ANGLE_MAX 10 degrees: A
 from __future__ import annotations
 
 import math
+
+from pymavlink.dialects.v20 import ardupilotmega as v20
 
 from ..client import Client, mav
 from ..facts import Tol, Trace
@@ -58,7 +65,8 @@ AHEAD_DEG = 15.0
 OBSTACLE_MIN_CM, OBSTACLE_MAX_CM = 20, 3000
 SENSOR_MIN_CM, SENSOR_MAX_CM = 20, 2000
 NORTH_M = 10.0  # sitl_sectors hovers this far north of home
-WALL_OBSTACLE_M, WALL_SENSOR_M = 20.0, 15.0  # the companions' walls, north of home
+WALL_OBSTACLE_M, WALL_SENSOR_M, WALL_3D_M = 20.0, 15.0, 17.0  # the companions' walls, north of home
+RIGHT_3D_DEG = 30.0  # the 3-D companion's second point of its wall
 PUSH_WALL_M = 3.0  # althold_push's wall, ahead of where ALT_HOLD starts
 
 COMMON = {"FENCE_ENABLE": 0, "FENCE_ACTION": 0, "AVOID_ENABLE": 2, "AVOID_MARGIN": 2, "WP_YAW_BEHAVIOR": 0}
@@ -69,6 +77,7 @@ PROBES_PARAMS = {
     "sitl_loiter_stop": SITL,
     "companion_obstacle": MAVLINK,
     "companion_distance_sensor": MAVLINK,
+    "companion_obstacle_3d": MAVLINK,
     "prearm": MAVLINK,
     "althold_push": {**MAVLINK, "AVOID_DIST_MAX": 5, "AVOID_ANGLE_MAX": 1000},
 }
@@ -153,9 +162,11 @@ class Companion:
     metres north of home (the distance ahead is the wall less the vehicle's north), or `ahead_m`
     fixed; neither: nothing seen. OBSTACLE_DISTANCE, or DISTANCE_SENSOR facing forward."""
 
-    def __init__(self, c: Client, distance_sensor: bool = False):
+    def __init__(self, c: Client, distance_sensor: bool = False, points_3d: bool = False):
         self.c = c
         self.distance_sensor = distance_sensor
+        self.points_3d = points_3d
+        self.frame_3d = v20.MAV_FRAME_BODY_FRD
         self.on = False
         self.wall_north: float | None = None
         self.ahead_m: float | None = None
@@ -179,7 +190,9 @@ class Companion:
         link.srcSystem, link.srcComponent = 1, OBSTACLE_AVOIDANCE
         try:
             d = self.distance_m()
-            if self.distance_sensor:
+            if self.points_3d:
+                self._send_3d(d)
+            elif self.distance_sensor:
                 cm = SENSOR_MAX_CM + 1 if d is None or d <= 0 else min(max(round(d * 100), SENSOR_MIN_CM),
                                                                         SENSOR_MAX_CM + 1)
                 link.distance_sensor_send(self.c.now_ms, SENSOR_MIN_CM, SENSOR_MAX_CM, cm,
@@ -194,6 +207,16 @@ class Companion:
                                             mav.MAV_FRAME_BODY_FRD)
         finally:
             link.srcSystem, link.srcComponent = old
+
+
+    def _send_3d(self, d: float | None) -> None:
+        """OBSTACLE_DISTANCE_3D, a MAVLink 2 message: the wall ahead and 30 degrees right, one stamp."""
+        if d is None or d <= 0:
+            return
+        link = v20.MAVLink(self.c.conn, srcSystem=1, srcComponent=OBSTACLE_AVOIDANCE)
+        for obstacle_id, (x, y) in enumerate(((d, 0.0), (d, d * math.tan(math.radians(RIGHT_3D_DEG))))):
+            link.obstacle_distance_3d_send(self.c.now_ms, mav.MAV_DISTANCE_SENSOR_LASER, self.frame_3d, obstacle_id,
+                                           x, y, 0.0, OBSTACLE_MIN_CM / 100.0, OBSTACLE_MAX_CM / 100.0)
 
 
 def _ready(c: Client, companion: Companion, trace: Trace | None = None) -> None:
@@ -311,6 +334,15 @@ def companion_distance_sensor(c: Client, trace: Trace) -> None:
                     "15 m less where the hover is, within a metre")
 
 
+def companion_obstacle_3d(c: Client, trace: Trace) -> None:
+    companion = Companion(c, points_3d=True)
+    _companion_push(c, trace, companion, WALL_3D_M, "17 m less where the hover is, within a metre")
+    with c.listening(companion):
+        companion.frame_3d = v20.MAV_FRAME_LOCAL_NED
+        c.idle(2.0)
+        trace.fact("local_ned.proximity_bits", _bits(c))
+
+
 def _companion_push(c: Client, trace: Trace, companion: Companion, wall_m: float, why: str,
                     ready_trace: bool = False) -> None:
     """A companion reporting a wall `wall_m` north of home: the hover's sensors, then the LOITER push."""
@@ -410,7 +442,8 @@ def althold_push(c: Client, trace: Trace) -> None:
 
 
 PROBES = {"sitl_sectors": sitl_sectors, "sitl_loiter_stop": sitl_loiter_stop, "companion_obstacle": companion_obstacle,
-          "companion_distance_sensor": companion_distance_sensor, "prearm": prearm, "althold_push": althold_push}
+          "companion_distance_sensor": companion_distance_sensor, "companion_obstacle_3d": companion_obstacle_3d,
+          "prearm": prearm, "althold_push": althold_push}
 
 
 def run(target) -> dict[str, Trace]:
