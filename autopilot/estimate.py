@@ -123,7 +123,8 @@ class StateEstimate:
     def follow_sources(self) -> None:
         """The set in use's POSXY and POSZ as they are now (called when EK3_SRC* change, and on
         each pose), and the horizontal error from external navigation while it is the source.
-        Switched onto external navigation, the estimate resets to its last pose."""
+        Switched onto external navigation, the estimate resets to its last pose; switched to no
+        source, it keeps the error it had (dead reckoning from there)."""
         p = self.params
         was = self.posxy_source
         n = self.source_set
@@ -131,9 +132,11 @@ class StateEstimate:
         self.posz_source = int(p[f"EK3_SRC{n}_POSZ"]) if p is not None else SOURCE_BARO
         ext = self.external_nav
         if self.posxy_source == SOURCE_EXTNAV and was != SOURCE_EXTNAV:
-            ext.take_latest()
-        elif self.posxy_source == SOURCE_NONE and was != SOURCE_NONE:  # dead-reckoned from here
-            self.no_source_since_s = self.sim.time_s
+            ext.take_latest(self.sim.time_s)
+        elif self.posxy_source == SOURCE_NONE:
+            if was != SOURCE_NONE:  # dead-reckoned from here, from where the estimate was
+                self.no_source_since_s = self.sim.time_s
+            return
         uses = ext.poses > 0 and self.posxy_source == SOURCE_EXTNAV
         self.nav_offset_ne = ext.offset_ned[:2] if uses else None
 
@@ -170,11 +173,11 @@ class StateEstimate:
         """Whether the horizontal position is known: with a 3D GPS fix the EKF uses, and for
         DEAD_RECKONING_S after the last one."""
         now = self.sim.time_s
+        if self.posxy_source == SOURCE_NONE:  # no source (a source set left at its defaults)
+            return now - self.no_source_since_s <= DEAD_RECKONING_S
         if self.nav_offset_ne is not None:  # external navigation is the source (no origin needed)
             ext = self.external_nav
             return not ext.lost and now - ext.measured_s <= DEAD_RECKONING_S
-        if self.posxy_source == SOURCE_NONE:  # no source (a source set left at its defaults)
-            return now - self.no_source_since_s <= DEAD_RECKONING_S
         if self.gps.fix_type >= 3 and self.startup.gps_in_use(now):
             return True
         return now - self.last_fix_s <= DEAD_RECKONING_S
@@ -182,8 +185,8 @@ class StateEstimate:
     def local_position_known(self) -> bool:
         """Whether the EKF has a position in its local frame to report (LOCAL_POSITION_NED): with
         no GPS fitted, or external navigation the source, only once a pose has been fused; with a
-        companion's GPS (GPS1_TYPE 14), once its first GPS_INPUT came (ArduCopter SITL sent none
-        before its EKF had the companion's fix)."""
+        companion's GPS (GPS1_TYPE 14), once its first GPS_INPUT came, whatever its fix
+        (ArduCopter SITL sent none before its EKF had the companion's fix, a few seconds later)."""
         if self.gps_fitted and self.posxy_source != SOURCE_EXTNAV:
             return not self.gps_from_mavlink or self.gps_input is not None
         return self.external_nav.poses > 0

@@ -66,6 +66,7 @@ class ExternalNav:
         self.lost = False  # a rejected jump was taken in the end: the position is not trusted again
         self.reset_counter: int | None = None  # the companion's, from its last pose
         self.announced = False  # "EKF3 ... is using external nav data" said
+        self.reset_pending = False  # switched onto the pose with none fresh: the next is taken as it is
 
     def pose(self, now_s: float, frame_origin_ned: tuple[float, float, float], xyz: tuple[float, float, float],
              truth_ned: tuple[float, float, float], quality: int = 0, reset_counter: int = 0) -> bool:
@@ -99,8 +100,10 @@ class ExternalNav:
         """Whether a pose whose error moved by (jump_n, jump_e) from the one fused is fused: within
         the gate, the first pose, once the position is lost, or after rejections for as long as
         EKF3 holds out (with a velocity the position is then lost)."""
-        if not self.poses or self.lost or math.hypot(jump_n, jump_e) <= GATE_SIGMAS * self.params["VISO_POS_M_NSE"]:
+        if not self.poses or self.lost or self.reset_pending or \
+                math.hypot(jump_n, jump_e) <= GATE_SIGMAS * self.params["VISO_POS_M_NSE"]:
             self.rejected_since = None
+            self.reset_pending = False
             return True
         if self.rejected_since is None:
             self.rejected_since = now_s
@@ -111,12 +114,15 @@ class ExternalNav:
         self.rejected_since = None
         return True
 
-    def take_latest(self) -> None:
-        """The estimate switches to this source (EKF3's posxy_source_reset): it resets to the last
-        pose, whatever the gate made of it, and the gate starts again from there."""
-        if self.measured_ne is not None:
+    def take_latest(self, now_s: float) -> None:
+        """The estimate switches to this source (EKF3's posxy_source_reset): it resets to the
+        pose, whatever the gate makes of it: the last one if fresh, else the next to come; the gate
+        starts again from there."""
+        self.rejected_since = None
+        if self.measured_ne is not None and now_s - self.measured_s < HEALTHY_S:
             self.offset_ned = (*self.measured_ne, self.offset_ned[2])
-            self.rejected_since = None
+        else:
+            self.reset_pending = True
 
     def speed(self, now_s: float) -> None:
         """A VISION_SPEED_ESTIMATE: counted for the sensor's health (the estimate's velocity is

@@ -206,20 +206,23 @@ class Proximity:
         gap = now_s - self._last_message_s
         self._last_message_s = now_s
         self.good = True
+        new_batch = stamp_ms != self._batch_stamp_ms or gap > BATCH_GAP_S
+        self._batch_stamp_ms = stamp_ms  # (a message in another frame moves the stamp on too)
         if frame != BODY_FRD:
             return
-        if stamp_ms != self._batch_stamp_ms or gap > BATCH_GAP_S:
+        if new_batch:
             for sector, (angle, metres) in self._batch.items():
                 self._set(sector, angle, metres, now_s)
             self._batch = {}
-        self._batch_stamp_ms = stamp_ms
+        if not (0.0 <= min_m <= max_m < math.inf):  # NaN too: no range to report or test against
+            return
         self.range_m = (float32(min_m), float32(max_m))
         x, y, z = xyz
         metres = math.sqrt(x * x + y * y + z * z)
-        if not (metres > 0.0 and min_m <= metres <= max_m):  # NaN too
+        if not (metres > 0.0 and min_m <= metres <= max_m):  # NaN too; max_m is finite
             return
-        if abs(math.degrees(math.atan2(-z, math.hypot(x, y)))) >= MIDDLE_LAYER_DEG:
-            return  # above or below the middle layer
+        if not -MIDDLE_LAYER_DEG <= math.degrees(math.atan2(-z, math.hypot(x, y))) < MIDDLE_LAYER_DEG:
+            return  # above or below the middle layer (AP_Proximity_Boundary_3D::get_layer's bands)
         angle = math.degrees(math.atan2(y, x)) % 360.0
         sector = sector_of(angle)
         held = self._batch.get(sector)

@@ -51,7 +51,7 @@ from .rc import RadioInput
 from .rc.aux import announcement, run_aux_function
 from .rates import LoopRates
 from .results import Result, Severity
-from .safety.arming import Arming, arm_refusals, prearm_failure, prearm_failures
+from .safety.arming import REPORTED_CHECKS, Arming, arm_refusals, prearm_failure, prearm_failures
 from .safety.failsafe import Failsafes
 from .safety.fence_shapes import FenceShapes, Shape
 from .safety.simple_avoid import USE_PROXIMITY, FenceGeometry, SimpleAvoid
@@ -80,7 +80,7 @@ if TYPE_CHECKING:
 
 FAILSAFE_EVERY = 10  # flight-mode ticks between failsafe checks (10 Hz at the default 100 Hz)
 RETURN_PATH_EVERY = 3  # failsafe checks between SmartRTL path updates (ArduCopter: 3 Hz)
-PREARM_DISPLAY_EVERY = 10  # failsafe checks between pre-arm reports (ArduCopter: 1 Hz)
+PREARM_DISPLAY_PERIOD_S = 1.0  # AP_Arming::update's rate
 LAND_DETECTOR_ERROR_LINE = 66  # ArduCopter's land_detector.cpp line of its "climbed while landed" error
 MAX_PENDING_TEXTS = 64  # STATUSTEXTs waiting for the next poll; a loop of texts cannot grow memory
 EKF_LANES = ("IMU0", "IMU1")  # ArduCopter SITL's two EKF3 cores, each says what it does
@@ -123,7 +123,7 @@ class Vehicle:
         self.follow_target = FollowTarget(self.params, self.notify)  # FOLLOW's lead, as others report it
         self._return_path_due = 0  # failsafe checks until the next path update
         self.prearm_display = PrearmDisplay()  # the "PreArm: " texts said unasked
-        self._prearm_display_due = PREARM_DISPLAY_EVERY  # failsafe checks until the next one
+        self._prearm_display_at_s = PREARM_DISPLAY_PERIOD_S  # sim time of the next update
         self.script: Script | None = None  # a scenario's scripted commands (autopilot.cli.script.Script), if any
         n0, e0 = config.offset_ne_m
         # Where this vehicle's EKF origin lies in the sim's frame (its start, where ArduCopter sets
@@ -1084,16 +1084,16 @@ class Vehicle:
                 if self._return_path_due <= 0:
                     self._return_path_due = RETURN_PATH_EVERY
                     self._update_return_path(now)
-                self._prearm_display_due -= 1
-                if self._prearm_display_due <= 0:
-                    self._prearm_display_due = PREARM_DISPLAY_EVERY
+                if now >= self._prearm_display_at_s - 1e-9:
+                    self._prearm_display_at_s = now + PREARM_DISPLAY_PERIOD_S
                     self._display_prearm(now)
         except Exception as exc:  # noqa: BLE001 - a bug is an internal error, never an exit
             self.internal_error(exc, f"{self.mode.name} tick")
 
     def _display_prearm(self, now: float) -> None:
         options = int(self.params["ARMING_OPTIONS"])
-        for reason in self.prearm_display.update(now, self.arming.armed, lambda: prearm_failures(self), options):
+        failures = lambda: prearm_failures(self, REPORTED_CHECKS)  # noqa: E731
+        for reason in self.prearm_display.update(now, self.arming.armed, failures, options):
             self.notify(f"PreArm: {reason}", Severity.CRITICAL)
 
     def _update_return_path(self, now: float) -> None:

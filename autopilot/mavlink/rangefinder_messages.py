@@ -20,7 +20,10 @@ CM_MAX = 65535
 
 
 def _cm(metres: float) -> int:
-    """Centimetres as ArduPilot truncates a float32 range times 100 (in float32) into a uint16."""
+    """Centimetres as ArduPilot truncates a float32 range times 100 (in float32) into a uint16 (a
+    range no sensor gives, negative, huge or NaN, is held to the field: the message must go out)."""
+    if not 0.0 <= metres < CM_MAX:  # NaN too
+        return 0 if not metres > 0.0 else CM_MAX
     return min(int(float32(metres * 100.0)), CM_MAX)
 
 

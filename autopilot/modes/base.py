@@ -125,8 +125,9 @@ class Mode:
         """The estimate's horizontal position jumped by (dn, de) on a change of its source: the
         point held moves with it, so that the vehicle stays where it is in the world (measured on
         ArduCopter, GUIDED holding after a takeoff: no move in the 10 s after the jump; the position
-        controller's handle_ekf_xy_reset). Modes that hold no point, or were not measured, keep
-        their targets."""
+        controller's handle_ekf_xy_reset, which shifts whatever point it holds). GUIDED, LOITER,
+        BRAKE (and POSHOLD's brake) and LAND move their held point; a mission's or a ground
+        station's waypoints stay where they are in the local frame."""
 
     def controls_position(self, ctx: ModeContext) -> bool:
         """The horizontal position controller flies this mode (HEARTBEAT's GUIDED_ENABLED flag,

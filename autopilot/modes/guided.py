@@ -215,9 +215,13 @@ class Guided(Mode):
         return True
 
     def position_reset(self, dn: float, de: float) -> None:
-        self.target_ne = (self.target_ne[0] + dn, self.target_ne[1] + de)
+        """The point held after a takeoff (measured) or where GUIDED stopped moves with the
+        estimate; a position the ground station sent is its point in the local frame, fed to
+        the controller again every tick (ArduCopter's guided_pos_target), so it stays."""
         if self.takeoff is not None:
             self.takeoff.hold_ne = (self.takeoff.hold_ne[0] + dn, self.takeoff.hold_ne[1] + de)
+        if self.takeoff is not None or (self.submode == POS and not self.has_waypoint):
+            self.target_ne = (self.target_ne[0] + dn, self.target_ne[1] + de)
 
     def destination(self) -> tuple[float, float, float | None] | None:
         """Only a position target is a destination: holding where it entered, taking off or

@@ -71,6 +71,10 @@ class Land(Mode):
         self._disarm_from_s = ctx.time_s + GROUND_DISARM_S if ctx.landed else ctx.time_s
         return None
 
+    def position_reset(self, dn: float, de: float) -> None:
+        if self._hold_ne is not None:
+            self._hold_ne = (self._hold_ne[0] + dn, self._hold_ne[1] + de)
+
     def update(self, ctx: ModeContext, sp: Setpoint, dt: float) -> None:
         sp.clear()
         if not ctx.has_position():

@@ -95,6 +95,10 @@ class Brake(Mode):
         sp.pos_d = self._hold_d
         sp.yaw = ctx.attitude[2] if self._hold_ne else None
 
+    def position_reset(self, dn: float, de: float) -> None:
+        if self._hold_ne is not None:
+            self._hold_ne = (self._hold_ne[0] + dn, self._hold_ne[1] + de)
+
     def brake_then_hold(self, ctx: ModeContext, sp: Setpoint) -> None:
         """Zero velocity wanted until the vehicle is nearly stopped (or on the ground), then the
         point where it stopped is held."""

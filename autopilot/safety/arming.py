@@ -160,15 +160,21 @@ PREARM_CHECKS: tuple[Callable[[PrearmView], str | list[str] | None], ...] = (
     _rangefinder, _proximity, _terrain_data, _emergency_stopped)
 
 
-def prearm_failures(v: PrearmView) -> list[str]:
+# Run by an ARM only (AP_Arming_Copter::arm_checks), never in the report said unasked
+ARM_ONLY_CHECKS = (_leaning,)
+REPORTED_CHECKS = tuple(check for check in PREARM_CHECKS if check not in ARM_ONLY_CHECKS)
+
+
+def prearm_failures(v: PrearmView, checks=PREARM_CHECKS) -> list[str]:
     """Every failing pre-arm check, in order ([] when all pass or ARMING_CHECK is 0): an ARM
-    refused by them is answered with each, as ArduCopter reports every failing check."""
+    refused by them is answered with each, as ArduCopter reports every failing check. The
+    report a disarmed vehicle says unasked runs REPORTED_CHECKS."""
     if v.params["ARMING_CHECK"] == 0:
         return []
     if v.startup_initialising(v.time_s):
         return ["System not initialised"]  # nothing else is checked yet
     failures: list[str] = []
-    for check in PREARM_CHECKS:
+    for check in checks:
         reason = check(v)
         if reason:
             failures.extend([reason] if isinstance(reason, str) else reason)

@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import math
 
+import pytest
+
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
@@ -301,3 +303,32 @@ def test_no_position_source_is_dead_reckoned_then_the_ekf_failsafe_lands():
     assert fly_until(v, lambda x: x.mode.number == ModeNumber.LAND, 15.0)
     assert 7.0 <= v.time_s - switched <= 9.0  # ArduCopter: LAND within the 10 s watched
     assert texts(v)[-2:] == ["EKF variance", "EKF Failsafe: changed to LAND Mode"]
+
+
+@pytest.mark.parametrize("mode", [ModeNumber.LOITER, ModeNumber.BRAKE, ModeNumber.POSHOLD, ModeNumber.LAND])
+def test_a_mode_holding_a_point_stays_put_when_the_source_switches(mode):
+    v = ready_vehicle(SOURCE_SETS)
+    speak(v, v.time_s + 1.0)
+    assert v.set_mode(ModeNumber.GUIDED) == Result.ACCEPTED and v.arm() == Result.ACCEPTED
+    assert v.takeoff(10.0) == Result.ACCEPTED
+    speak(v, v.time_s + 10.0, error_ne=(3.0, 0.0))
+    assert v.set_mode(mode) == Result.ACCEPTED
+    speak(v, v.time_s + 3.0, error_ne=(3.0, 0.0))
+    true_n = v.estimate.sim.state.body.n_m
+    v.use_source_set(2)
+    speak(v, v.time_s + 5.0, error_ne=(3.0, 0.0))
+    assert abs(v.estimate.sim.state.body.n_m - true_n) < 0.2
+
+
+def test_a_guided_waypoint_stays_where_it_is_in_the_local_frame():
+    v = ready_vehicle(SOURCE_SETS)
+    speak(v, v.time_s + 1.0)
+    assert v.set_mode(ModeNumber.GUIDED) == Result.ACCEPTED and v.arm() == Result.ACCEPTED
+    assert v.takeoff(10.0) == Result.ACCEPTED
+    speak(v, v.time_s + 10.0, error_ne=(3.0, 0.0))
+    here = v.body
+    v.guided_goto(here.n_m + 5.0, here.e_m, here.d_m)
+    speak(v, v.time_s + 10.0, error_ne=(3.0, 0.0))
+    v.use_source_set(2)
+    speak(v, v.time_s + 10.0, error_ne=(3.0, 0.0))
+    assert abs(v.body.n_m - (here.n_m + 5.0)) < 0.3  # believed there: truly 3 m short of it

@@ -6,14 +6,21 @@ from __future__ import annotations
 import math
 
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
+from firefly.autopilot.mavlink.dialect import new_codec
 from firefly.autopilot.mavlink.rangefinder_messages import proximity_sensors
+from firefly.autopilot.mavlink.session import Session
+from firefly.autopilot.modes import ModeNumber
 from firefly.autopilot.params import ParamStore
 from firefly.autopilot.proximity import MAVLINK, SITL, Proximity, sector_of
+from firefly.autopilot.results import Result
 from firefly.autopilot.safety.arming import prearm_failures
 from firefly.autopilot.safety.simple_avoid import FenceGeometry, SimpleAvoid
 
-from ._util import client_codec, ready_vehicle
+from ..fuzz.checks import vehicle_problems
+from ._util import client_codec, ready_vehicle, wire
 
 
 def sensor(kind: int, **params) -> Proximity:
@@ -138,3 +145,31 @@ def test_obstacle_distance_3d_is_ignored_without_a_companion_sensor():
     prox.obstacle_3d(100, 12, (5.0, 0.0, 0.0), 0.2, 30.0, 1.0)
     prox.obstacle_3d(200, 12, (5.0, 0.0, 0.0), 0.2, 30.0, 1.1)
     assert not any(prox.valid) and not prox.good
+
+
+F32 = st.floats(width=32) | st.sampled_from([0.0, -1.0, 1e30, math.inf, -math.inf, math.nan, 0.2, 30.0])
+OBSTACLES_3D = st.builds(lambda ts, fr, x, y, z, lo, hi: CODEC.obstacle_distance_3d_encode(ts, 0, fr, 0, x, y, z, lo, hi),
+                         st.sampled_from([0, 1, 100, 2**32 - 1]), st.sampled_from([12, 1, 8, 255]), F32, F32, F32, F32,
+                         F32)
+CODEC = client_codec()
+
+
+@settings(max_examples=40, deadline=None, derandomize=True, suppress_health_check=[HealthCheck.too_slow])
+@given(st.lists(st.tuples(OBSTACLES_3D, st.sampled_from([0, 4, 40])), min_size=1, max_size=12))
+def test_hostile_obstacles_3d_to_a_hovering_companion_sensor_leave_it_valid(sequence):
+    """PRX1_TYPE 2 in a LOITER hover, sent OBSTACLE_DISTANCE_3D with any numbers (NaN, infinite or
+    negative limits and points, other frames): nothing raises, the DISTANCE_SENSOR messages still
+    go out, the vehicle stays valid."""
+    v = ready_vehicle({"PRX1_TYPE": 2, "AVOID_ENABLE": 2})
+    session = Session(v, new_codec(1))
+    session.receive(wire(CODEC.obstacle_distance_3d_encode(1, 0, 12, 0, 10.0, 0.0, 0.0, 0.2, 30.0)), v.time_s)
+    assert v.set_mode(ModeNumber.GUIDED) == Result.ACCEPTED and v.arm() == Result.ACCEPTED
+    assert v.takeoff(5.0) == Result.ACCEPTED
+    v.run_until(v.time_s + 3.0)
+    for msg, steps in sequence:
+        session.receive(wire(msg), v.time_s)
+        v.run_until(v.time_s + steps / 400.0)
+        session.poll(v.time_s, 0.0)
+        assert not vehicle_problems(v, session), vehicle_problems(v, session)
+    for sensor in proximity_sensors(v.proximity, 0, CODEC):  # the builder that raised on a NaN range
+        assert 0 <= sensor.min_distance <= sensor.max_distance <= 65535

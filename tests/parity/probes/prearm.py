@@ -1,6 +1,6 @@
 """The pre-arm reports a disarmed vehicle says unasked ("PreArm: ..."), which ground stations show
 and scripts wait on: when the first comes after a check starts failing, how often it repeats,
-and ARMING_OPTIONS bit 1 turning them off.
+and ARMING_OPTIONS bit 0 turning them off; and bit 1 silencing the arming texts.
 
 check_fails  a ready vehicle; BATT_LOW_VOLT set above the battery's voltage (a check that fails
              at once, the same on both vehicles): the reports for 70 s, each as [seconds after the
