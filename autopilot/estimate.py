@@ -4,10 +4,10 @@ The estimate is ideal, as a perfect EKF would be (the sim's own state), except i
 is the barometer's, as ArduCopter's EKF takes it: a drifting barometer moves the estimate, and
 the vehicle holds the height it believes in while truly sinking or climbing. With the source
 set's POSXY 6 (EK3_SRC1_POSXY unless another set is chosen) the horizontal position is external
-navigation's instead (external_nav.py), with its error; with its POSZ 6 the height too. GPS1_TYPE 0 (read at boot) is no GPS at all. The GPS, barometer
-and downward temperature sensor are sampled here at fixed sim rates, never when telemetry asks,
-so what a client requests cannot change a noise stream. The battery is read as a perfect
-monitor reads it.
+navigation's instead (external_nav.py), with its error; with its POSZ 6 the height too.
+GPS1_TYPE 0 (read at boot) is no GPS at all. The GPS, barometer and downward temperature sensor
+are sampled here at fixed sim rates, never when telemetry asks, so what a client requests cannot
+change a noise stream. The battery is read as a perfect monitor reads it.
 """
 from __future__ import annotations
 
@@ -17,7 +17,7 @@ from firefly.sim.battery import remaining_fraction
 from firefly.sim.physics import specific_force_body
 from firefly.sim.sensors import NO_FIX, GpsReading
 
-from .external_nav import SOURCE_BARO, SOURCE_EXTNAV, SOURCE_GPS, SOURCE_NONE, ExternalNav
+from .external_nav import SOURCE_EXTNAV, SOURCE_NONE, ExternalNav
 from .params import ParamStore
 from .startup import Startup
 from firefly.sim.rigid_body import euler_from_quaternion, ned_to_body
@@ -44,15 +44,15 @@ GPS_INPUT_TIMEOUT_S = 4.0
 
 
 class StateEstimate:
-    def __init__(self, sim, physics_hz: int, startup=None, params=None):
+    def __init__(self, sim, physics_hz: int, startup: Startup, params: ParamStore):
         self.sim = sim
-        self.startup = startup if startup is not None else Startup(None)
+        self.startup = startup
         self.params = params
-        gps_type = int(params["GPS1_TYPE"]) if params is not None else 1  # read at boot, as AP_GPS
+        gps_type = int(params["GPS1_TYPE"])  # read at boot, as AP_GPS
         self.gps_fitted = gps_type != GPS_TYPE_NONE
         self.gps_from_mavlink = gps_type == GPS_TYPE_MAVLINK
         self.gps_input: tuple[float, GpsReading] | None = None  # (sim time, reading) of the last GPS_INPUT
-        self.external_nav = ExternalNav(params if params is not None else ParamStore())
+        self.external_nav = ExternalNav(params)
         # The horizontal error external navigation gives the estimate (north, east), None while
         # the GPS is the source: the common case costs one test
         self.nav_offset_ne: tuple[float, float] | None = None
@@ -128,8 +128,8 @@ class StateEstimate:
         p = self.params
         was = self.posxy_source
         n = self.source_set
-        self.posxy_source = int(p[f"EK3_SRC{n}_POSXY"]) if p is not None else SOURCE_GPS
-        self.posz_source = int(p[f"EK3_SRC{n}_POSZ"]) if p is not None else SOURCE_BARO
+        self.posxy_source = int(p[f"EK3_SRC{n}_POSXY"])
+        self.posz_source = int(p[f"EK3_SRC{n}_POSZ"])
         ext = self.external_nav
         if self.posxy_source == SOURCE_EXTNAV and was != SOURCE_EXTNAV:
             ext.take_latest(self.sim.time_s)

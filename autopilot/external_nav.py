@@ -35,7 +35,7 @@ from typing import TYPE_CHECKING
 if TYPE_CHECKING:
     from .params import ParamStore
 
-SOURCE_NONE, SOURCE_BARO, SOURCE_GPS, SOURCE_EXTNAV = 0, 1, 3, 6  # EK3_SRCn_* values
+SOURCE_NONE, SOURCE_EXTNAV = 0, 6  # EK3_SRCn_POSXY values: none, external navigation
 HEALTHY_S = 0.3  # AP_VisualOdom's timeout: healthy with a message this recent
 GATE_SIGMAS = 5.0  # EK3_POS_I_GATE 500: five standard deviations
 # Measured, a 5 m jump: with the companion's velocity too (SITL's Vicon) it is rejected 10.2 s, then

@@ -301,7 +301,7 @@ PARAM_TABLE: tuple[ParamSpec, ...] = (
     _f("PLND_ALT_MAX", 8, 0, 50, "and below this [m]; both 0: always"),
     replace(_i("PLND_OPTIONS", 0, 0, 7, "bit 2: no slow final descent"), mav_type=MAV_PARAM_TYPE_INT16),
     # External navigation (external_nav.py): VISO_TYPE and GPS1_TYPE are read at boot; ArduCopter
-    # shows the rest of VISO_* once VISO_TYPE is set; EK3_SRC1_* act at once
+    # shows the rest of VISO_* once VISO_TYPE is set; EK3_SRCn_* act at once
     _i8("GPS1_TYPE", 1, 0, 29, "0 no GPS (read at boot); any other type is the simulated receiver"),
     _i8("VISO_TYPE", 0, 0, 3, "1 (2, 3): a companion's pose over MAVLink (read at boot), 0 none"),
     _f("VISO_SCALE", 1.0, 0.0, FLOAT32_MAX, "the companion's positions are multiplied by this"),

@@ -19,6 +19,7 @@ from ..c_casts import as_int16, as_uint16
 from .camera_commands import HANDLERS as CAMERA_HANDLERS
 from .command_locations import is_location, target_ned
 from .do_item_commands import HANDLERS as DO_ITEM_HANDLERS
+from .external_nav_messages import origin_taken
 from .preflight import HANDLERS as PREFLIGHT_HANDLERS
 
 MAV_CMD_DO_SET_GLOBAL_ORIGIN = 611  # MAVLink's, newer than this pymavlink's dialect
@@ -214,8 +215,7 @@ def do_set_global_origin(s, c: Command) -> Result:
         return Result.DENIED
     if not s.vehicle.set_gps_global_origin(c.p5, c.p6, c.p7):
         return Result.FAILED
-    s.queue(s.build(mav.MAVLINK_MSG_ID_GPS_GLOBAL_ORIGIN))
-    s.queue(s.build(mav.MAVLINK_MSG_ID_HOME_POSITION))
+    origin_taken(s)
     return Result.ACCEPTED
 
 

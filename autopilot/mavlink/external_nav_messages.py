@@ -1,7 +1,7 @@
 """A companion's navigation messages, as GCS_MAVLINK hands them to AP_VisualOdom and the EKF: the
 poses (VISION_POSITION_ESTIMATE and the messages with its fields, ATT_POS_MOCAP, ODOMETRY), the
-speed (VISION_SPEED_ESTIMATE), SET_GPS_GLOBAL_ORIGIN, and a GPS of its own (GPS_INPUT). What the vehicle does with them is
-autopilot/external_nav.py's; here they are only read.
+speed (VISION_SPEED_ESTIMATE), SET_GPS_GLOBAL_ORIGIN, and a GPS of its own (GPS_INPUT). What the
+vehicle does with them is autopilot/external_nav.py's; here they are only read.
 """
 from __future__ import annotations
 
@@ -20,12 +20,18 @@ def _odometry(session, m) -> None:
     session.vehicle.vision_pose((m.x, m.y, m.z), m.quality, m.reset_counter)
 
 
+def origin_taken(session) -> None:
+    """An origin taken is told, as ArduCopter tells it: GPS_GLOBAL_ORIGIN, then the home it sets at
+    once (the message and MAV_CMD_DO_SET_GLOBAL_ORIGIN alike)."""
+    session.queue(session.build(mav.MAVLINK_MSG_ID_GPS_GLOBAL_ORIGIN))
+    session.queue(session.build(mav.MAVLINK_MSG_ID_HOME_POSITION))
+
+
 def _origin(session, m) -> None:
-    """Taken only while the EKF has no origin; then, as ArduCopter, GPS_GLOBAL_ORIGIN and the home
-    it sets at once (a later one, or one with a bad position, is dropped in silence)."""
+    """Taken only while the EKF has no origin (a later one, or one with a bad position, is dropped
+    in silence)."""
     if session.vehicle.set_gps_global_origin(m.latitude * 1e-7, m.longitude * 1e-7, m.altitude * 1e-3):
-        session.queue(session.build(mav.MAVLINK_MSG_ID_GPS_GLOBAL_ORIGIN))
-        session.queue(session.build(mav.MAVLINK_MSG_ID_HOME_POSITION))
+        origin_taken(session)
 
 
 def _gps_input(session, m) -> None:

@@ -7,6 +7,7 @@ Modes see the vehicle only through the small context interface documented on `Mo
 from __future__ import annotations
 
 import math
+from typing import overload
 
 from ..control.position import stopping_point_ne
 from .context import ModeContext
@@ -66,6 +67,17 @@ class Setpoint:
         if self.pos_d is not None and self.pos_d < d_m - 0.2:
             return True
         return self.vel_d < -0.05
+
+
+@overload
+def shifted(point: None, dn: float, de: float) -> None: ...
+@overload
+def shifted(point: tuple[float, float], dn: float, de: float) -> tuple[float, float]: ...
+
+
+def shifted(point, dn, de):
+    """A held point moved by a position reset (Mode.position_reset); None stays None."""
+    return None if point is None else (point[0] + dn, point[1] + de)
 
 
 class Mode:

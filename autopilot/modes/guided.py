@@ -12,7 +12,7 @@ import math
 
 from ..views import Vector3
 from .auto_yaw import AutoYaw
-from .base import Mode, Setpoint, stopping_point
+from .base import Mode, Setpoint, shifted, stopping_point
 from .context import ModeContext
 from .guided_angle import AttitudeTarget, guided_timeout_s
 from .guided_stop import JerkLimitedStop
@@ -219,9 +219,9 @@ class Guided(Mode):
         estimate; a position the ground station sent is its point in the local frame, fed to
         the controller again every tick (ArduCopter's guided_pos_target), so it stays."""
         if self.takeoff is not None:
-            self.takeoff.hold_ne = (self.takeoff.hold_ne[0] + dn, self.takeoff.hold_ne[1] + de)
+            self.takeoff.hold_ne = shifted(self.takeoff.hold_ne, dn, de)
         if self.takeoff is not None or (self.submode == POS and not self.has_waypoint):
-            self.target_ne = (self.target_ne[0] + dn, self.target_ne[1] + de)
+            self.target_ne = shifted(self.target_ne, dn, de)
 
     def destination(self) -> tuple[float, float, float | None] | None:
         """Only a position target is a destination: holding where it entered, taking off or

@@ -7,7 +7,7 @@ from ..control.attitude import wrap_pi
 from ..params import ParamStore
 from ..safety.fence_switch import ALT_MAX as FENCE_ALT_MAX
 from .auto_yaw import holds_in_rtl
-from .base import Mode, Setpoint, hold_here, stopping_point
+from .base import Mode, Setpoint, hold_here, shifted, stopping_point
 from .context import ModeContext
 from .numbers import ModeNumber
 from .waypoint_legs import WaypointLegs
@@ -72,8 +72,7 @@ class Land(Mode):
         return None
 
     def position_reset(self, dn: float, de: float) -> None:
-        if self._hold_ne is not None:
-            self._hold_ne = (self._hold_ne[0] + dn, self._hold_ne[1] + de)
+        self._hold_ne = shifted(self._hold_ne, dn, de)
 
     def update(self, ctx: ModeContext, sp: Setpoint, dt: float) -> None:
         sp.clear()

@@ -4,7 +4,7 @@ from __future__ import annotations
 import math
 from functools import cached_property
 
-from .base import Mode, Setpoint, hold_here, stick_deadzone
+from .base import Mode, Setpoint, hold_here, shifted, stick_deadzone
 from .context import ModeContext
 from .loiter_nav import LoiterNav
 from .manual import PilotTakeoff, pilot_vertical
@@ -61,9 +61,9 @@ class Loiter(Mode):
 
     def position_reset(self, dn: float, de: float) -> None:
         """LOITER's point is the position controller's own target, which the reset moves."""
-        self._hold_ne = (self._hold_ne[0] + dn, self._hold_ne[1] + de)
+        self._hold_ne = shifted(self._hold_ne, dn, de)
         if self._nav is not None:
-            self._nav.target = (self._nav.target[0] + dn, self._nav.target[1] + de)
+            self._nav.target = shifted(self._nav.target, dn, de)
 
     @staticmethod
     def _pushed_back(ctx: ModeContext, dt: float) -> bool:
@@ -96,8 +96,7 @@ class Brake(Mode):
         sp.yaw = ctx.attitude[2] if self._hold_ne else None
 
     def position_reset(self, dn: float, de: float) -> None:
-        if self._hold_ne is not None:
-            self._hold_ne = (self._hold_ne[0] + dn, self._hold_ne[1] + de)
+        self._hold_ne = shifted(self._hold_ne, dn, de)
 
     def brake_then_hold(self, ctx: ModeContext, sp: Setpoint) -> None:
         """Zero velocity wanted until the vehicle is nearly stopped (or on the ground), then the

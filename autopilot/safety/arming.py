@@ -109,8 +109,8 @@ def _leaning(v: PrearmView) -> str | None:
 
 
 def _battery_low(v: PrearmView) -> str | None:
-    """AP_BattMonitor's checks on its one battery, the first failing (measured: BATT_ARM_VOLT,
-    then BATT_LOW_VOLT's failsafe)."""
+    """AP_BattMonitor's checks on its one battery, the first failing in ArduPilot's order (each
+    wording measured: BATT_ARM_VOLT's, BATT_LOW_VOLT's failsafe)."""
     p, volts = v.params, v.battery.voltage_v
     arm = p["BATT_ARM_VOLT"]
     if arm > 0 and volts < arm:
