@@ -13,6 +13,14 @@ def as_uint16(value: float) -> int:
     return int(value) & 0xFFFF
 
 
+def as_uint32(value: float) -> int:
+    """Its integer part, modulo 2^32, as x86 converts a double to uint32_t (through an int64: a
+    value an int64 cannot hold, NaN included, becomes 0)."""
+    if not (math.isfinite(value) and -2**63 <= value < 2**63):
+        return 0
+    return int(value) & 0xFFFFFFFF
+
+
 def as_int16(value: float) -> int:
     """As as_uint16, read as a signed 16-bit number."""
     unsigned = as_uint16(value)

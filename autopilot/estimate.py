@@ -8,6 +8,13 @@ navigation's instead (external_nav.py), with its error; with its POSZ 6 the heig
 GPS1_TYPE 0 (read at boot) is no GPS at all. The GPS, barometer and downward temperature sensor
 are sampled here at fixed sim rates, never when telemetry asks, so what a client requests cannot
 change a noise stream. The battery is read as a perfect monitor reads it.
+
+While dead-reckoning, a position a client gives (MAV_CMD_EXTERNAL_POSITION_ESTIMATE) becomes the
+estimate's at once, whatever it is, as EKF3's setLatLng resets it: Firefly holds the error that
+leaves (`told_offset_ne`) until a position source is fused again. Measured on ArduCopter SITL: it
+is refused while a position was fused within POSITION_FUSED_RECENTLY_S, once the EKF stops aiding
+(AIDING_STOPS_S after the last), and without an origin; it keeps neither the position trusted nor
+the EKF failsafe away. What a fix back then does depends on the told accuracy (_fix_after_told).
 """
 from __future__ import annotations
 
@@ -17,7 +24,7 @@ from firefly.sim.battery import remaining_fraction
 from firefly.sim.physics import specific_force_body
 from firefly.sim.sensors import NO_FIX, GpsReading
 
-from .external_nav import SOURCE_EXTNAV, SOURCE_NONE, ExternalNav
+from .external_nav import GATE_SIGMAS, SOURCE_EXTNAV, SOURCE_NONE, ExternalNav
 from .params import ParamStore
 from .startup import Startup
 from firefly.sim.rigid_body import euler_from_quaternion, ned_to_body
@@ -32,6 +39,22 @@ TEMPERATURE_RATE_HZ = 10
 # ArduCopter SITL: SIM_GPS1_ENABLE 0 in a hover, then the EKF failsafe's LAND 8 s later (7 s here,
 # then its check's 1 s).
 DEAD_RECKONING_S = 7.0
+# EKF3's deadReckonDeclare_ms: a told position is refused while a position was fused this recently
+POSITION_FUSED_RECENTLY_S = 1.0
+# EKF3's tiltDriftTimeMax_ms: this long after the last position fused it stops aiding ("stopped
+# aiding" measured 15.0-15.2 s after SIM_GPS1_ENABLE 0), and a told position is refused from then on
+AIDING_STOPS_S = 15.0
+# A fix back after a told position: within EKF3's gate (GATE_SIGMAS standard deviations of the
+# told position, its accuracy but at least EK3_POSNE_M_NSE's POSNE_NOISE_M, and what the dead
+# reckoning and the fix add, DEAD_RECKONING_VARIANCE_M2) it is fused; past it, held off until this
+# long after the last fix, then the estimate resets to it (measured: 20 m off, the GPS back 4.5 s
+# after it was lost, reset 10.2 s after the loss). The added variance is fitted to the measured
+# 1 m accurate positions: a fix 8 m off fused, one 20 m off held off (0.28 to 7 m^2 fit both).
+GPS_GLITCH_RESET_S = 10.0
+POSNE_NOISE_M = 0.5
+DEAD_RECKONING_VARIANCE_M2 = 1.0
+GLITCH_RADIUS_M = 25.0  # EK3_GLITCH_RAD's default: a told variance past it resets to the fix at once
+TOLD_DELAY_MAX_S = 5.0  # EKF3 takes a told position's time stamp no older than this
 EXTNAV_HEIGHT_FRESH_S = 0.5  # EKF3's extNavDataIsFresh: an older pose's height gives way to the barometer's
 
 
@@ -56,6 +79,12 @@ class StateEstimate:
         # The horizontal error external navigation gives the estimate (north, east), None while
         # the GPS is the source: the common case costs one test
         self.nav_offset_ne: tuple[float, float] | None = None
+        # The horizontal error a told position left the dead-reckoned estimate with (None: none)
+        self.told_offset_ne: tuple[float, float] | None = None
+        # How far the horizontal estimate is off the truth, whatever made it so (None: it is not)
+        self.position_offset_ne: tuple[float, float] | None = None
+        self.told_variance_m2 = 0.0  # the told position's, north or east, as the EKF took it
+        self.gps_held_off = False  # a fix back, rejected as a glitch against a told position
         self.posxy_source = self.posz_source = 0
         self.source_set = 1  # EK3_SRCn_*'s n in use (MAV_CMD_SET_EKF_SOURCE_SET)
         self.no_source_since_s = -math.inf  # switched to no horizontal position source then
@@ -71,12 +100,42 @@ class StateEstimate:
         self.origin_set_by_message = False  # SET_GPS_GLOBAL_ORIGIN gave the EKF its origin
 
     # ----- sampling, called by the vehicle loop ------------------------------------------------
-    def sample_gps(self) -> None:
+    def sample_gps(self) -> tuple[float, float] | None:
+        """The GPS and barometer samples; the jump (north, east) of the estimate when a fix puts
+        an end to a told position's error, else None."""
         sim = self.sim
         self.gps = self._gps_reading()
         self.baro_alt_m = sim.baro.altitude_m(sim.state.body, sim.time_s)
         if self.gps.fix_type >= 3 and self.startup.gps_in_use(sim.time_s):
+            told = self.told_offset_ne
+            if told is not None and self.posxy_source != SOURCE_NONE:
+                return self._fix_after_told(told, sim.time_s)
             self.last_fix_s = sim.time_s
+        return None
+
+    def _fix_after_told(self, told: tuple[float, float], now: float) -> tuple[float, float] | None:
+        """A fix after a told position, as EKF3 takes one (measured in a GUIDED hover): the
+        estimate resets to it (returned: the jump, which the point held follows) when the position
+        had timed out (DEAD_RECKONING_S), or the told position's variance is past the glitch
+        radius (accuracy 30 m); within the gate it is fused, and the vehicle flies the told error
+        (accuracy 1 m, 8 m off; 5 m, 20 m off); further off it is a glitch, held off until
+        GPS_GLITCH_RESET_S after the last fix, then reset to (1 m, 20 m off)."""
+        b, gps = self.sim.state.body, self.gps
+        since = now - self.last_fix_s
+        reset = True
+        if self.gps_held_off:
+            if since < GPS_GLITCH_RESET_S:
+                return None
+        elif since <= DEAD_RECKONING_S and 2.0 * self.told_variance_m2 <= GLITCH_RADIUS_M ** 2:
+            gate = GATE_SIGMAS * math.sqrt(2.0 * (self.told_variance_m2 + DEAD_RECKONING_VARIANCE_M2))
+            if math.hypot(gps.n_m - b.n_m - told[0], gps.e_m - b.e_m - told[1]) > gate:
+                self.gps_held_off = True
+                return None
+            reset = False  # fused: the point held stays where it was in the local frame
+        self.told_offset_ne = None
+        self._offsets_changed()
+        self.last_fix_s = now
+        return (-told[0], -told[1]) if reset else None
 
     def _gps_reading(self):
         gps = self.sim.gps.read(self.sim.state.body)
@@ -123,22 +182,65 @@ class StateEstimate:
     def follow_sources(self) -> None:
         """The set in use's POSXY and POSZ as they are now (called when EK3_SRC* change, and on
         each pose), and the horizontal error from external navigation while it is the source.
-        Switched onto external navigation, the estimate resets to its last pose; switched to no
-        source, it keeps the error it had (dead reckoning from there)."""
+        Switched onto a source, the estimate resets to it (onto external navigation, to its last
+        pose); switched to no source, it keeps the error it had (dead reckoning from there)."""
         p = self.params
         was = self.posxy_source
         n = self.source_set
         self.posxy_source = int(p[f"EK3_SRC{n}_POSXY"])
         self.posz_source = int(p[f"EK3_SRC{n}_POSZ"])
         ext = self.external_nav
-        if self.posxy_source == SOURCE_EXTNAV and was != SOURCE_EXTNAV:
-            ext.take_latest(self.sim.time_s)
-        elif self.posxy_source == SOURCE_NONE:
+        if self.posxy_source == SOURCE_NONE:
             if was != SOURCE_NONE:  # dead-reckoned from here, from where the estimate was
                 self.no_source_since_s = self.sim.time_s
-            return
-        uses = ext.poses > 0 and self.posxy_source == SOURCE_EXTNAV
-        self.nav_offset_ne = ext.offset_ned[:2] if uses else None
+        else:
+            if self.posxy_source != was:
+                self.told_offset_ne = None
+            if self.posxy_source == SOURCE_EXTNAV and was != SOURCE_EXTNAV:
+                ext.take_latest(self.sim.time_s)
+            uses = ext.poses > 0 and self.posxy_source == SOURCE_EXTNAV
+            self.nav_offset_ne = ext.offset_ned[:2] if uses else None
+        self._offsets_changed()
+
+    # ----- a position told (MAV_CMD_EXTERNAL_POSITION_ESTIMATE) --------------------------------
+    def last_position_s(self) -> float:
+        """When the EKF last fused a horizontal position: the pose's while external navigation is
+        the source, the switch's to no source, else the GPS fix's."""
+        if self.posxy_source == SOURCE_EXTNAV:
+            return self.external_nav.fused_s
+        if self.posxy_source == SOURCE_NONE:
+            return self.no_source_since_s
+        return self.last_fix_s
+
+    def takes_told_position(self) -> bool:
+        """Whether a told position would be taken now: with an origin, while dead-reckoning
+        (no position fused for POSITION_FUSED_RECENTLY_S) and still aiding (AIDING_STOPS_S)."""
+        since = self.sim.time_s - self.last_position_s()
+        # the origin, once set (from the message, or with the GPS's first fix), stays when the GPS goes
+        has_origin = self.origin_set_by_message or self.last_fix_s > -math.inf
+        return POSITION_FUSED_RECENTLY_S <= since <= AIDING_STOPS_S and has_origin
+
+    def take_told_position(self, n_m: float, e_m: float, age_s: float, accuracy_m: float) -> None:
+        """The estimate jumps to (n_m, e_m) of the sim's frame as it was age_s ago (0 to
+        TOLD_DELAY_MAX_S), moved on by the velocity since, as EKF3 corrects a delayed one. Its
+        accuracy (NaN, or under POSNE_NOISE_M: that) decides what a returning fix does."""
+        b = self.sim.state.body
+        off = (n_m + b.vn_m_s * age_s - b.n_m, e_m + b.ve_m_s * age_s - b.e_m)
+        if self.posxy_source == SOURCE_EXTNAV and self.nav_offset_ne is not None:
+            ext = self.external_nav  # the pose's gate then measures the next poses against it
+            ext.offset_ned = (*off, ext.offset_ned[2])
+            ext.rejected_since = None
+            self.nav_offset_ne = off
+        else:
+            self.told_offset_ne = off
+        accuracy_m = POSNE_NOISE_M if math.isnan(accuracy_m) else max(accuracy_m, POSNE_NOISE_M)
+        self.told_variance_m2 = accuracy_m * accuracy_m  # (inf past 1e154, never an OverflowError)
+        self.gps_held_off = False
+        self._offsets_changed()
+
+    def _offsets_changed(self) -> None:
+        told = self.told_offset_ne
+        self.position_offset_ne = told if told is not None else self.nav_offset_ne
 
     def sample_temperature(self, home_d_m: float) -> None:
         self.temperature = (self.sim.time_s, self.sim.read_temperature(home_d_m))
@@ -158,7 +260,7 @@ class StateEstimate:
     def body(self):
         """Position, velocity, attitude quaternion and rates (sim.rigid_body.BodyState)."""
         b = self.sim.state.body
-        off = self.nav_offset_ne
+        off = self.position_offset_ne
         if off is not None:
             return b._replace(n_m=b.n_m + off[0], e_m=b.e_m + off[1], d_m=b.d_m - self.alt_error_m)
         return b._replace(d_m=b.d_m - self.alt_error_m) if self.alt_error_m else b

@@ -536,15 +536,33 @@ class Vehicle:
     def use_source_set(self, n: int) -> None:
         """EK3_SRCn_* become the estimate's sources (MAV_CMD_SET_EKF_SOURCE_SET, RC function 90).
         Where the estimate jumps, the point the mode holds jumps with it."""
-        self._sources_changed(lambda: self.estimate.use_source_set(n))
+        self._estimate_jumps(lambda: self.estimate.use_source_set(n))
 
-    def _sources_changed(self, change: Callable[[], None]) -> None:
+    def _estimate_jumps(self, change: Callable[[], None]) -> None:
+        """change() may make the horizontal estimate jump: the point the mode holds jumps with it."""
         est = self.estimate
-        before = est.nav_offset_ne or (0.0, 0.0)
+        before = est.position_offset_ne or (0.0, 0.0)
         change()
-        after = est.nav_offset_ne or (0.0, 0.0)
-        if after != before and self._mode_entered:
-            self.mode.position_reset(after[0] - before[0], after[1] - before[1])
+        after = est.position_offset_ne or (0.0, 0.0)
+        if after != before:
+            self._position_reset(after[0] - before[0], after[1] - before[1])
+
+    def _position_reset(self, dn: float, de: float) -> None:
+        if self._mode_entered:
+            self.mode.position_reset(dn, de)
+
+    def take_position_estimate(self, lat_deg: float, lon_deg: float, age_s: float, accuracy_m: float) -> Result:
+        """MAV_CMD_EXTERNAL_POSITION_ESTIMATE's position, as it was age_s ago: FAILED unless the
+        estimate takes one now (StateEstimate.takes_told_position). Taken, the estimate jumps there
+        and the point held with it, and nothing is said. A point off the globe (ArduCopter takes
+        it, and its estimate goes thousands of kilometres astray) is answered but not taken."""
+        est = self.estimate
+        if not est.takes_told_position():
+            return Result.FAILED
+        if abs(lat_deg) <= 90 and abs(lon_deg) <= 180:
+            n, e, _ = self.ned_of(lat_deg, lon_deg, self.origin.alt_m)
+            self._estimate_jumps(lambda: est.take_told_position(n, e, age_s, accuracy_m))
+        return Result.ACCEPTED
 
     def source_set_switch(self, position: int) -> None:
         """RC function 90: low, middle and high choose source sets 1, 2 and 3, and say so."""
@@ -752,7 +770,7 @@ class Vehicle:
         if name in ("ADSB_TYPE", "AVD_ENABLE"):
             self._want_adsb()
         elif name.startswith("EK3_SRC"):
-            self._sources_changed(self.estimate.follow_sources)
+            self._estimate_jumps(self.estimate.follow_sources)
 
     # ----- commands: arming ------------------------------------------------------------------
     def arm(self, force: bool = False) -> Result:
@@ -763,7 +781,8 @@ class Vehicle:
             for text in refusals:
                 self.notify(text, Severity.CRITICAL)
             return Result.FAILED
-        if self.home_ned is None and self.estimate.origin_known():  # without a fix it stays unset
+        est = self.estimate
+        if self.home_ned is None and est.origin_known() and est.local_position_known():  # else it stays unset
             self._set_home_here()
         self.arming.arm(self.attitude[2], self.time_s)
         b = self.body
@@ -993,8 +1012,12 @@ class Vehicle:
         steps = self.sim.steps
         est = self.estimate
         if steps % est.gps_every == 0:
-            est.sample_gps()
-            if self.home_ned is None and est.origin_known():
+            jump = est.sample_gps()
+            if jump is not None:  # the GPS again, after a position a client told
+                self._position_reset(*jump)
+            # home with the origin, once the EKF has a horizontal position to put it at (measured:
+            # none with GPS1_TYPE 0 and no external navigation, whatever the origin)
+            if self.home_ned is None and est.origin_known() and est.local_position_known():
                 self._set_home_here(in_flight=not self.land_detector.landed)
         if steps % est.temperature_every == 0:
             home = self.home_ned
@@ -1002,8 +1025,8 @@ class Vehicle:
         if steps % self._mode_every == 0:
             self._mode_tick()
         sp = self.setpoint
-        if est.nav_offset_ne is not None:  # external navigation's position: the truth is off by its error
-            sp = in_true_frame(sp, est.nav_offset_ne, est.alt_error_m)
+        if est.position_offset_ne is not None:  # the estimate is off the truth (external navigation, a told position)
+            sp = in_true_frame(sp, est.position_offset_ne, est.alt_error_m)
         elif est.alt_error_m and sp.pos_d is not None:
             sp = in_true_frame(sp, None, est.alt_error_m)
         arming, mode = self.arming, self.mode
@@ -1163,7 +1186,7 @@ class Vehicle:
 
 def in_true_frame(sp: Setpoint, offset_ne: tuple[float, float] | None, alt_error_m: float) -> Setpoint:
     """The setpoint as the cascade, which flies the true state, must see it when the estimate is
-    off the truth: by offset_ne horizontally (external navigation's error), and reading
+    off the truth: by offset_ne horizontally (external navigation's error, or a told position's), and reading
     alt_error_m high: holding an estimated height means being that much lower."""
     true_sp = Setpoint()
     for name in Setpoint.__slots__:

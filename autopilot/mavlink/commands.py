@@ -11,11 +11,12 @@ import math
 import struct
 from typing import NamedTuple
 
+from ..estimate import TOLD_DELAY_MAX_S
 from ..modes.numbers import ModeNumber
 from ..results import Result, Severity
 from ..safety.arming import FORCE_ARM_MAGIC, FORCE_DISARM_MAGIC, prearm_failures
 from .dialect import mavlink as mav
-from ..c_casts import as_int16, as_uint16
+from ..c_casts import as_int16, as_uint16, as_uint32
 from .camera_commands import HANDLERS as CAMERA_HANDLERS
 from .command_locations import is_location, target_ned
 from .do_item_commands import HANDLERS as DO_ITEM_HANDLERS
@@ -353,10 +354,30 @@ def set_ekf_source_set(s, c: Command) -> Result:
     return Result.ACCEPTED
 
 
+def external_position_estimate(s, c: Command) -> Result:
+    """A client's horizontal position for a dead-reckoning EKF: x, y; param 2 the seconds it took
+    to work out, param 3 its accuracy [m]; param 1 the sender's time, which ArduPilot's link lag
+    correction makes "now" for a sender whose clock keeps time (measured: 100 s ahead, 3 s behind,
+    NaN and inf moved nothing).
+    As ArduCopter: COMMAND_INT only (COMMAND_LONG UNSUPPORTED); DENIED in a frame other than
+    GLOBAL or GLOBAL_INT or with an altitude (z not NaN); FAILED where the estimate will not take
+    one (vehicle.take_position_estimate). The processing time is ArduPilot's: milliseconds as a
+    uint32_t, taken off the time stamp only when less than it, and no more than 5 s old."""
+    if not c.is_int:
+        return Result.UNSUPPORTED
+    if c.frame not in (mav.MAV_FRAME_GLOBAL, mav.MAV_FRAME_GLOBAL_INT) or not math.isnan(c.p7):
+        return Result.DENIED
+    v = s.vehicle
+    processing_ms = as_uint32(c.p2 * 1e3)
+    age_ms = processing_ms if processing_ms < int(v.time_s * 1e3) else 0
+    return v.take_position_estimate(c.p5, c.p6, min(age_ms / 1e3, TOLD_DELAY_MAX_S), c.p3)
+
+
 HANDLERS = {
     mav.MAV_CMD_COMPONENT_ARM_DISARM: arm_disarm,
     mav.MAV_CMD_BATTERY_RESET: battery_reset,
     mav.MAV_CMD_SET_EKF_SOURCE_SET: set_ekf_source_set,
+    mav.MAV_CMD_EXTERNAL_POSITION_ESTIMATE: external_position_estimate,
     mav.MAV_CMD_NAV_TAKEOFF: takeoff,
     mav.MAV_CMD_NAV_LAND: land,
     mav.MAV_CMD_NAV_RETURN_TO_LAUNCH: return_to_launch,

@@ -211,8 +211,9 @@ def home_position(v: TelemetryView, codec):
 
 def gps_global_origin(v: TelemetryView, codec):
     """The EKF origin; ArduCopter sends it with HOME_POSITION when asked for home or home moves.
-    Before home (no fix yet) there is none to send."""
-    if v.home_ned is None:
+    Before it has one there is none to send; an origin without home (SET_GPS_GLOBAL_ORIGIN to a
+    vehicle with no horizontal position) is sent too (measured, GPS1_TYPE 0)."""
+    if v.home_ned is None and not v.origin_known():
         return None
     origin = v.ekf_origin()
     return codec.gps_global_origin_encode(_deg_e7(origin.lat_deg), _deg_e7(origin.lon_deg),

@@ -24,6 +24,18 @@ source_switch  the GPS as source set 1 and the pose (3 m north of the truth) as 
            resets to the pose and the vehicle moves 3 m south), set 1 back, set 3 (no position
            source at all, as its defaults leave it), then the RC function 90 (EKF source set)
            middle and low, as MAV_CMD_DO_AUX_FUNCTION
+external_position_estimate  MAV_CMD_EXTERNAL_POSITION_ESTIMATE on a GPS vehicle: COMMAND_LONG,
+           a frame with an altitude, an altitude, the GPS in use, on the ground and hovering in
+           GUIDED; right behind SIM_GPS1_ENABLE 0; 2 s after it, 20 m north of the truth (the
+           estimate jumps, the vehicle stays; the GPS back a second later); then three times 2 s after
+           the loss a position north of the truth with the GPS back right behind it: 20 m off and
+           1 m accurate (a glitch held off, then the estimate resets to the GPS), 20 m off and 30 m
+           accurate (reset at once), 8 m off (fused: the vehicle flies it); lost for good: 10 s
+           after (in the EKF failsafe's LAND) 10 m west, 18 s after (the EKF stopped aiding at 15 s),
+           and once the GPS is back
+external_position_estimate_no_gps  the same command with GPS1_TYPE 0, before and after an origin
+external_position_estimate_extnav  on external navigation, with an origin: while the companion
+           speaks, 1.5 s after it fell silent (20 m north), then when it speaks again
 """
 from __future__ import annotations
 
@@ -371,13 +383,183 @@ def probe_source_switch(c: Client, trace: Trace) -> None:
                                     if not t.startswith(("PreArm", "SIM Hit ground", "Disarming motors"))])
 
 
+EXTERNAL_POSITION_ESTIMATE = 43003
+GPS_GLITCHING = 32768  # EKF_STATUS_REPORT's EKF_GPS_GLITCH flag
+LANES = ("EKF3 lane switch", "EKF primary changed")  # ArduCopter's EKF lanes, which Firefly does not model
+
+
+def _told_send(c: Client, companion: Companion, n: float, e: float, frame: int = mav.MAV_FRAME_GLOBAL_INT,
+               z: float = math.nan, long: bool = False, accuracy_m: float = 1.0) -> None:
+    """MAV_CMD_EXTERNAL_POSITION_ESTIMATE sent, not waited for: n, e metres from where the vehicle
+    booted, param 1 the sender's clock (the vehicle's here: no two sends alike)."""
+    f = companion.first
+    lat = f.lat + round(n / M_PER_DEG * 1e7)
+    lon = f.lng + round(e / (M_PER_DEG * math.cos(math.radians(f.lat / 1e7))) * 1e7)
+    c.acks.clear()
+    if long:
+        c.conn.mav.command_long_send(1, 1, EXTERNAL_POSITION_ESTIMATE, 0, c.now_ms / 1000.0, 0.0, accuracy_m, 0.0,
+                                     lat / 1e7, lon / 1e7, z)
+    else:
+        c.conn.mav.command_int_send(1, 1, frame, EXTERNAL_POSITION_ESTIMATE, 0, 0, c.now_ms / 1000.0, 0.0,
+                                    accuracy_m, 0.0, lat, lon, z)
+
+
+def _told(c: Client, companion: Companion, n: float, e: float, **how) -> int | None:
+    """MAV_CMD_EXTERNAL_POSITION_ESTIMATE (_told_send) and its answer."""
+    _told_send(c, companion, n, e, **how)
+    return c._ack_result(EXTERNAL_POSITION_ESTIMATE, 5.0)
+
+
+def _told_off_truth(c: Client, companion: Companion, dn: float, de: float, accuracy_m: float = 1.0) -> int | None:
+    n, e = companion.last_truth
+    return _told(c, companion, n + dn, e + de, accuracy_m=accuracy_m)
+
+
+def _believed_less_true(c: Client, companion: Companion) -> list:
+    """Where LOCAL_POSITION_NED says the vehicle is, less where it is (north, east)."""
+    believed = _ne(c)
+    return [round(believed[0] - companion.last_truth[0], 1), round(believed[1] - companion.last_truth[1], 1)]
+
+
+def _until(c: Client, t_ms: float) -> None:
+    c.wait(lambda: c.now_ms >= t_ms, (t_ms - c.now_ms) / 1000.0 + 5, what="vehicle time")
+
+
+def _gps_send(c: Client, on: bool) -> None:
+    c.conn.mav.param_set_send(1, 1, b"SIM_GPS1_ENABLE", 1.0 if on else 0.0, mav.MAV_PARAM_TYPE_REAL32)
+
+
+def _gps_lost(c: Client) -> int:
+    """The GPS switched off; the vehicle time of its first report without a fix. A command sent
+    later reaches the vehicle later still, by what the link lags (seconds of a vehicle run at 20x
+    on a loaded machine): each step below leaves that much room."""
+    _gps_send(c, False)
+    c.wait(lambda: c.last["GPS_RAW_INT"].fix_type < 3, 5, what="the fix lost", exact=True)
+    return c.now_ms
+
+
+NEAR = Tol(abs=0.5, why=HOLD.why)
+DRIFT = Tol(abs=1.0, why="ArduCopter's dead reckoning drifts the vehicle (0.4 m in 4 s); Firefly's holds the truth")
+
+
+def _told_then_gps_back(c: Client, companion: Companion, trace: Trace, name: str, north_m: float,
+                        accuracy_m: float) -> None:
+    """In a hover: the GPS lost; 2 s later told north_m north of the truth, the GPS back right
+    behind it: where the vehicle believes it is, and where it went."""
+    lost = _gps_lost(c)
+    _until(c, lost + 2000)
+    told_at = companion.last_truth
+    t0 = c.now_ms
+    _told_send(c, companion, told_at[0] + north_m, told_at[1], accuracy_m=accuracy_m)
+    _gps_send(c, True)
+    trace.fact(name, c._ack_result(EXTERNAL_POSITION_ESTIMATE, 5.0))
+    _until(c, lost + 6000)  # a glitch is held off until 10 s after the loss
+    trace.fact(f"{name}.6s.believed_less_true_ne", _believed_less_true(c, companion), NEAR)
+    c.fresh("EKF_STATUS_REPORT")
+    trace.fact(f"{name}.6s.gps_glitching", bool(c.last["EKF_STATUS_REPORT"].flags & GPS_GLITCHING))
+    _until(c, lost + 13_000)
+    trace.fact(f"{name}.13s.believed_less_true_ne", _believed_less_true(c, companion), NEAR)
+    trace.fact(f"{name}.13s.true_moved_m", round(math.dist(told_at, companion.last_truth), 1), DRIFT)
+    c.fresh_heartbeat()
+    trace.fact(f"{name}.13s.mode", c.mode)
+    trace.fact(f"{name}.said", [t for t in c.texts_since(t0) if not t.startswith(LANES)])
+    c.idle(10.0)  # ArduCopter's glitch clears 10 s after the reset
+
+
+def probe_external_position_estimate(c: Client, trace: Trace) -> None:
+    companion = _start(c)
+    wait_armable(c)
+    trace.fact("long", _told(c, companion, 20, 0, long=True))
+    trace.fact("frame_relative_alt", _told(c, companion, 20, 0, frame=mav.MAV_FRAME_GLOBAL_RELATIVE_ALT_INT))
+    trace.fact("altitude_given", _told(c, companion, 20, 0, z=584.0))
+    trace.fact("gps_in_use", _told(c, companion, 20, 0))
+    c.set_mode(GUIDED)
+    trace.fact("arm", _arm(c))
+    c.command(mav.MAV_CMD_NAV_TAKEOFF, 0, 0, 0, 0, 0, 0, 10)
+    c.wait(lambda: c.rel_alt_m() > 9.5, 30, what="10 m")
+    c.idle(5.0)
+    trace.fact("hover_gps_in_use", _told(c, companion, 20, 0))
+    _gps_send(c, False)
+    trace.fact("lost_0s", _told(c, companion, 20, 0))  # right behind the loss
+    c.set_param("SIM_GPS1_ENABLE", 1)
+    c.idle(5.0)
+    t0 = c.now_ms
+    lost = _gps_lost(c)
+    _until(c, lost + 2000)
+    trace.fact("lost_2s", _told_off_truth(c, companion, 20, 0))
+    c.idle(1.0)
+    trace.fact("lost_2s.believed_less_true_ne", _believed_less_true(c, companion), NEAR)
+    trace.fact("lost_2s.said", [t for t in c.texts_since(t0) if not t.startswith(LANES)])
+    c.set_param("SIM_GPS1_ENABLE", 1)
+    c.idle(20.0)  # a glitch until 10 s after the loss, then a reset; ArduCopter's glitch clears 10 s after it
+    _told_then_gps_back(c, companion, trace, "told_20m", 20, 1.0)  # a glitch, then a reset
+    _told_then_gps_back(c, companion, trace, "told_20m_30m_accurate", 20, 30.0)  # reset at once
+    _told_then_gps_back(c, companion, trace, "told_8m", 8, 1.0)  # fused: the vehicle flies it
+    lost = _gps_lost(c)
+    c.wait(lambda: c.mode == LAND, 15, what="the EKF failsafe")
+    _until(c, lost + 10_000)
+    trace.fact("lost_10s", _told_off_truth(c, companion, 0, -10))
+    c.idle(1.0)
+    trace.fact("lost_10s.believed_less_true_ne", _believed_less_true(c, companion), NEAR)
+    _until(c, lost + 18_000)
+    trace.fact("lost_18s", _told_off_truth(c, companion, 0, 0))  # the EKF stopped aiding at 15 s
+    c.set_param("SIM_GPS1_ENABLE", 1)
+    c.idle(1.5)
+    trace.fact("gps_again.believed_less_true_ne", _believed_less_true(c, companion), NEAR)
+    trace.fact("gps_again", _told_off_truth(c, companion, 20, 0))
+
+
+def probe_external_position_estimate_no_gps(c: Client, trace: Trace) -> None:
+    companion = _start(c)
+    t0 = c.now_ms
+    trace.fact("no_origin", _told(c, companion, 20, 0))
+    c.idle(1.0)
+    trace.fact("no_origin.said", [t for t in c.texts_since(t0) if not t.startswith("PreArm")])
+    c.conn.mav.set_gps_global_origin_send(1, *ORIGIN)
+    c.wait(lambda: any(t.endswith("origin set") for t in c.texts_since(t0)), 5, what="the origin")
+    c.idle(2.0)
+    trace.fact("origin_sent", "GPS_GLOBAL_ORIGIN" in c.last)
+    trace.fact("home_sent", "HOME_POSITION" in c.last)
+    t1 = c.now_ms
+    trace.fact("origin", _told(c, companion, 20, 0))
+    c.idle(1.0)
+    trace.fact("origin.said", [t for t in c.texts_since(t1) if not t.startswith("PreArm")])
+
+
+def probe_external_position_estimate_extnav(c: Client, trace: Trace) -> None:
+    companion = _start(c)
+    _navigating(c, companion)
+    c.idle(3.0)
+    c.conn.mav.set_gps_global_origin_send(1, *ORIGIN)
+    c.wait(lambda: "HOME_POSITION" in c.last, 5, what="home")
+    c.idle(2.0)
+    trace.fact("speaking", _told_off_truth(c, companion, 20, 0))
+    companion.speaking = False
+    c.idle(1.5)
+    t0 = c.now_ms
+    trace.fact("silent_1.5s", _told_off_truth(c, companion, 20, 0))
+    c.idle(0.5)
+    trace.fact("silent.believed_less_true_ne", _believed_less_true(c, companion), NEAR)
+    companion.speaking = True
+    c.idle(2.0)
+    trace.fact("speaking_again_2s.believed_less_true_ne", _believed_less_true(c, companion), NEAR)
+    c.idle(8.0)
+    trace.fact("speaking_again_10s.believed_less_true_ne", _believed_less_true(c, companion), NEAR)
+    trace.fact("said", [t for t in c.texts_since(t0) if not t.startswith("PreArm")])
+
+
 PROBES = {"no_origin": probe_no_origin, "origin": probe_origin, "hold": probe_hold,
           "jump_with_speed": probe_jump_with_speed, "silent": probe_silent, "other_messages": probe_other_messages,
-          "gps_input": probe_gps_input, "source_switch": probe_source_switch}
+          "gps_input": probe_gps_input, "source_switch": probe_source_switch,
+          "external_position_estimate": probe_external_position_estimate,
+          "external_position_estimate_no_gps": probe_external_position_estimate_no_gps,
+          "external_position_estimate_extnav": probe_external_position_estimate_extnav}
 # the GPS as set 1 (EK3_SRC1_* defaults), the pose as set 2, set 3 left at its defaults (none)
 SOURCE_SETS = {"VISO_TYPE": 1, "EK3_SRC2_POSXY": 6, "EK3_SRC2_VELXY": 6, "EK3_SRC2_VELZ": 6, "EK3_SRC2_POSZ": 1,
                "EK3_SRC2_YAW": 1}
-PARAMS = {name: EXTNAV for name in PROBES} | {"gps_input": {"GPS1_TYPE": 14}, "source_switch": SOURCE_SETS}
+PARAMS = {name: EXTNAV for name in PROBES} | {"gps_input": {"GPS1_TYPE": 14}, "source_switch": SOURCE_SETS,
+                                              "external_position_estimate": None,
+                                              "external_position_estimate_no_gps": {"GPS1_TYPE": 0}}
 
 
 def run(target) -> dict[str, Trace]:
