@@ -109,7 +109,7 @@ class Mode:
     motors_stopped = False
     skips_arming_delay = False  # the motors may spin at once on arming (ArduCopter: THROW)
     # Its waypoint legs go round the fence by OA_TYPE's path planner (ctx.path_planner), as
-    # ArduCopter's AUTO and GUIDED legs do (their wp_nav is AC_WPNav_OA)
+    # ArduCopter's legs flown by its wp_nav (AC_WPNav_OA) do: AUTO, GUIDED, RTL, SMART_RTL (measured)
     plans_paths = False
 
     def __init_subclass__(cls, **kwargs: object) -> None:

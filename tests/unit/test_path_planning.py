@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import itertools
 import math
+import random
 
 import pytest
 
@@ -143,6 +144,28 @@ def test_hostile_fences_give_a_path_or_a_reason(name, margin):
         assert path[0] == (0.0, 0.0) and path[-1] == (100.0, 0.0)
 
 
+def test_random_fences_give_a_clear_path_or_a_reason():
+    rng = random.Random(7)
+    for _ in range(200):
+        shapes = []
+        for _ in range(rng.randint(1, 4)):
+            if rng.random() < 0.3:
+                shapes.append(circle(rng.uniform(-50, 150), rng.uniform(-80, 80), rng.uniform(-5, 30),
+                                     rng.random() < 0.2))
+            else:
+                count = rng.randint(3, 9)
+                shapes.append(poly([(rng.uniform(-50, 150), rng.uniform(-80, 80)) for _ in range(count)],
+                                   rng.random() < 0.2))
+        start, goal = (rng.uniform(-50, 150), rng.uniform(-80, 80)), (rng.uniform(-50, 150), rng.uniform(-80, 80))
+        try:
+            path = FenceGraph(shapes, rng.choice([0.0, 2.0, 5.0, 50.0])).shortest_path(start, goal)
+        except PlanError as error:
+            assert str(error)
+            continue
+        assert path[0] == start and path[-1] == goal
+        assert all(not crosses_fence(shapes, a, b) for a, b in zip(path, path[1:]))
+
+
 def test_degenerate_polygons_are_refused_as_arducopter_refuses_them():
     with pytest.raises(PlanError, match=OVERLAPPING_POINTS):
         FenceGraph(HOSTILE["repeated vertex"], MARGIN)
@@ -231,13 +254,17 @@ def fenced_vehicle(**params):
     return v
 
 
-def test_auto_flies_round_an_exclusion_square_and_reaches_its_waypoint():
-    v = fenced_vehicle()
-    v.mission.replace(0, [MissionItem(22, REL, z=10.0), item_at(v, 16, 100, 0)])
+def flying_fenced_vehicle(**params):
+    """fenced_vehicle taken off in GUIDED to 10 m."""
+    v = fenced_vehicle(**params)
     v.set_mode(4)
-    assert v.arm() == Result.ACCEPTED
-    v.set_mode(3)
-    assert v.mission_start() == Result.ACCEPTED
+    assert v.arm() == Result.ACCEPTED and v.takeoff(10.0) == Result.ACCEPTED
+    assert fly_until(v, lambda x: altitude(x) > 9.8, 20.0)
+    return v
+
+
+def fly_watching(v, done, timeout_s: float) -> tuple[list, set]:
+    """Fly until done(v): the track flown and the destinations reported on the way (rounded)."""
     track, corners = [], set()
 
     def watch(x):
@@ -245,8 +272,19 @@ def test_auto_flies_round_an_exclusion_square_and_reaches_its_waypoint():
         dest = x.destination()
         if dest is not None:
             corners.add((round(dest[0], 1), round(dest[1], 1)))
-        return 2 in x.mission_progress.reached
-    assert fly_until(v, watch, 60.0)
+        return done(x)
+    assert fly_until(v, watch, timeout_s)
+    return track, corners
+
+
+def test_auto_flies_round_an_exclusion_square_and_reaches_its_waypoint():
+    v = fenced_vehicle()
+    v.mission.replace(0, [MissionItem(22, REL, z=10.0), item_at(v, 16, 100, 0)])
+    v.set_mode(4)
+    assert v.arm() == Result.ACCEPTED
+    v.set_mode(3)
+    assert v.mission_start() == Result.ACCEPTED
+    track, corners = fly_watching(v, lambda x: 2 in x.mission_progress.reached, 60.0)
     assert {(36.5, -10.5), (63.5, -10.5)} <= corners
     assert min(math.dist(p, closest_point(p, (40, -7), (60, -7))) for p in track) > 2.5  # the west edge
     assert not any(40 < n < 60 and -7 < e < 13 for n, e in track)
@@ -254,10 +292,7 @@ def test_auto_flies_round_an_exclusion_square_and_reaches_its_waypoint():
 
 
 def test_guided_with_waypoint_navigation_flies_round_and_reports_its_arrival():
-    v = fenced_vehicle(GUID_OPTIONS=64)
-    v.set_mode(4)
-    assert v.arm() == Result.ACCEPTED and v.takeoff(10.0) == Result.ACCEPTED
-    assert fly_until(v, lambda x: altitude(x) > 9.8, 20.0)
+    v = flying_fenced_vehicle(GUID_OPTIONS=64)
     v.drain_events()
     assert v.guided_target((100.0, 0.0, v.home_ned[2] - 10.0), None, None) == Result.ACCEPTED
     track = []
@@ -267,11 +302,7 @@ def test_guided_with_waypoint_navigation_flies_round_and_reports_its_arrival():
 
 
 def test_guided_refuses_a_destination_inside_the_fence_and_auto_stops_short_of_one():
-    v = fenced_vehicle(GUID_OPTIONS=64)
-    v.set_mode(4)
-    v.arm()
-    v.takeoff(10.0)
-    assert fly_until(v, lambda x: altitude(x) > 9.8, 20.0)
+    v = flying_fenced_vehicle(GUID_OPTIONS=64)
     assert v.guided_target((50.0, 3.0, v.home_ned[2] - 10.0), None, None) == Result.DENIED
     v.mission.replace(0, [MissionItem(22, REL, z=10.0), item_at(v, 16, 50, 3)])
     v.drain_events()
@@ -280,3 +311,15 @@ def test_guided_refuses_a_destination_inside_the_fence_and_auto_stops_short_of_o
     assert math.hypot(v.body.n_m, v.body.e_m) < 1.0  # held where it was
     said = [t for _, t in v.drain_events() if t.startswith("Dijkstra")]
     assert said == ["Dijkstra: could not find path"] * 3
+
+
+def test_rtl_comes_back_round_the_fence():
+    """Measured: out through the square in GUIDED (the position controller plans nothing), RTL
+    returns by the corners (63.5, -10.5) and (36.5, -10.5)."""
+    v = flying_fenced_vehicle(FENCE_ACTION=0)
+    assert v.guided_target((100.0, 0.0, v.home_ned[2] - 10.0), None, None) == Result.ACCEPTED
+    assert fly_until(v, lambda x: math.dist((x.body.n_m, x.body.e_m), (100, 0)) < 0.5, 40.0)
+    assert v.set_mode(6) == Result.ACCEPTED
+    track, corners = fly_watching(v, lambda x: math.hypot(x.body.n_m, x.body.e_m) < 1.0, 80.0)
+    assert {(63.5, -10.5), (36.5, -10.5)} <= corners
+    assert not any(40 < n < 60 and -7 < e < 13 for n, e in track)
