@@ -22,6 +22,8 @@ auto_fast_waypoints    OA_OPTIONS 5 (bit 2, fast waypoints): through the corners
 auto_inclusion_notch   an inclusion polygon with a notch cut across the line from the west.
 auto_no_path           the waypoint inside the exclusion square: "Dijkstra: could not find path"
                        (again every 5.1 s), held where it was.
+auto_repeated_vertex   the exclusion square uploaded with a vertex twice: "Dijkstra: overlapping polygon
+                       points" (again every 5.1 s), held where it was.
 guided_no_path         GUIDED targets inside the square (a SET_POSITION_TARGET_GLOBAL_INT, then a
                        DO_REPOSITION), with both GUID_OPTIONS: refused (the fence's check).
 rtl_round_square       GUIDED (position controller) straight through the square to 100 m north
@@ -70,6 +72,7 @@ PROBES_PARAMS = {
     "auto_fast_waypoints": {**BOOT, "OA_OPTIONS": 5},
     "auto_inclusion_notch": BOOT,
     "auto_no_path": BOOT,
+    "auto_repeated_vertex": BOOT,
     "guided_no_path": BOOT,
     "rtl_round_square": {**BOOT, "FENCE_ACTION": 0},
     "smart_rtl_round_square": {**BOOT, "FENCE_ACTION": 0},
@@ -295,6 +298,11 @@ def auto_no_path(c: Client, trace: Trace) -> None:
     _fly_auto(c, trace, SQUARE_OBSTACLE.items(c), [SQUARE[:2]], 22.0, None)
 
 
+def auto_repeated_vertex(c: Client, trace: Trace) -> None:
+    vertices = _square_vertices(*SQUARE)
+    _fly_auto(c, trace, _polygon(c, EXCLUSION_POLY, (vertices[0], *vertices)), [GOAL], 22.0, None)
+
+
 def guided_no_path(c: Client, trace: Trace) -> None:
     _fence(c, trace, SQUARE_OBSTACLE.items(c))
     inside = SQUARE[:2]
@@ -386,6 +394,7 @@ PROBES = {"guided_position": guided_position, "guided_wpnav_square": guided_wpna
           "guided_wpnav_circle": guided_wpnav_circle, "auto_square": auto_square,
           "auto_two_waypoints": auto_two_waypoints, "auto_fast_waypoints": auto_fast_waypoints,
           "auto_inclusion_notch": auto_inclusion_notch, "auto_no_path": auto_no_path,
+          "auto_repeated_vertex": auto_repeated_vertex,
           "guided_no_path": guided_no_path, "rtl_round_square": rtl_round_square,
           "smart_rtl_round_square": smart_rtl_round_square, "oa_type_set_late": oa_type_set_late,
           "reposition_beyond_fence": reposition_beyond_fence}
