@@ -3,8 +3,8 @@ waypoint legs consult it: given where the vehicle is and the leg's destination (
 one), it answers whether avoidance is needed and, if so, the corner to fly to now.
 
 The planner is made at boot for the OA_TYPE then (2 Dijkstra; 3, Dijkstra with BendyRuler, plans
-as 2 here: BendyRuler's proximity obstacles are not modelled; 1, BendyRuler alone, not at all):
-OA_TYPE set later is refused at arming ("Dijkstra OA requires reboot") and plans nothing, while
+as 2 here: BendyRuler's proximity obstacles are not modelled; 1, BendyRuler alone, not at all: the
+legs fly as with OA_TYPE 0). OA_TYPE set later is refused at arming ("Dijkstra OA requires reboot") and plans nothing, while
 OA_TYPE 0 stops it at once. ArduCopter plans on a thread of its own about once a second, for the
 request the legs last made; the legs act on an answer only when it was planned for their present
 destination. Until then the answer is "processing" (the legs stop where they can, unless
@@ -178,6 +178,8 @@ class PathPlanner:
         kind = int(self._params["OA_TYPE"])
         if kind == DISABLED or not self._made:  # (no planner thread was made)
             return Answer(NOT_REQUIRED)
+        if kind == BENDY_RULER and BENDY_RULER in self._made:
+            return Answer(NOT_REQUIRED)  # BendyRuler is not modelled: the legs fly as without a planner
         since_asked = now_s - self._asked_s
         if since_asked > REQUEST_GAP_S:
             self._activated_s = now_s
@@ -201,7 +203,7 @@ class PathPlanner:
             return  # a planner not made at boot: no answer (a timeout, as ArduCopter's)
         shapes = self._fence_shapes()
         fenced = any(s.kind == "poly" or not s.inclusion for s in shapes)
-        if kind == BENDY_RULER or not fenced or not self._fence.enabled_fences & POLYGON:  # (BendyRuler: not modelled)
+        if not fenced or not self._fence.enabled_fences & POLYGON:
             answer = Answer(NOT_REQUIRED)
         else:
             answer = self._dijkstra.plan(now_s, request, shapes, float(self._params["OA_MARGIN_MAX"]))

@@ -237,6 +237,12 @@ def test_oa_type_is_read_at_boot():
     store.set("OA_TYPE", 0)  # off at once
     assert p.prearm_failure() is None
     assert p.avoid(5.0, (0.0, 0.0), (100.0, 0.0), None).state == NOT_REQUIRED
+    store.set("OA_TYPE", 1)  # BendyRuler, not made at boot: no answer, then a timeout after 3 s
+    assert p.prearm_failure() == "BendyRuler OA requires reboot"
+    states = [p.avoid(10.0 + k * 0.01, (0.0, 0.0), (100.0, 0.0), None).state for k in range(400)]
+    assert states[0] == PROCESSING and states[-1] == ERROR and states.index(ERROR) == pytest.approx(300, abs=2)
+    p, _, _ = planner([poly(square(50, 0, 10))], oa_type=1)  # BendyRuler made at boot: not modelled
+    assert {p.avoid(k * 0.01, (0.0, 0.0), (100.0, 0.0), None).state for k in range(300)} == {NOT_REQUIRED}
 
 
 # ----- flown -----------------------------------------------------------------------------------
