@@ -241,6 +241,20 @@ PARAM_TABLE: tuple[ParamSpec, ...] = (
     *(_f(f"RNGFND1_POS_{axis}", 0.0, -5, 5, "served; where it sits on the body [m] (SITL's beam starts at the centre)")
       for axis in "XYZ"),
     _i8("RNGFND1_ORIENT", 25, doc="the way it faces: 25 down (RANGEFINDER, the laser-position bit)"),
+    # The path planner round the fence (AP_OAPathPlanner, path_planning/): ArduCopter shows OA_* once
+    # OA_TYPE is set (no reboot needed to see them, one to plan), with these types and defaults
+    # (measured). The OA_DB_* are the obstacle database of BendyRuler, not modelled: served only.
+    _i8("OA_TYPE", 0, 0, 3, "0 none, 2 Dijkstra round the fence (3 as 2; 1 BendyRuler: not modelled); read at boot"),
+    _f("OA_MARGIN_MAX", 5.0, 0.1, 100, "the path keeps this far out from the fence's corners [m]"),
+    replace(_i("OA_OPTIONS", 1, 0, 32767, "bit 2: fast waypoints (fly on while planning and through the corners)"),
+            mav_type=MAV_PARAM_TYPE_INT16),
+    *(replace(_i(f"OA_DB_{name}", default, low, high, "served; the obstacle database's (BendyRuler's)"),
+              mav_type=MAV_PARAM_TYPE_INT16)
+      for name, default, low, high in (("SIZE", 100, 0, 10000), ("EXPIRE", 10, 0, 500), ("QUEUE_SIZE", 80, 1, 200))),
+    _i8("OA_DB_OUTPUT", 1, 0, 3, "served; the obstacle database's (BendyRuler's)"),
+    *(_f(f"OA_DB_{name}", default, low, high, "served; the obstacle database's (BendyRuler's)")
+      for name, default, low, high in (("BEAM_WIDTH", 5.0, 1, 10), ("RADIUS_MIN", 0.01, 0, 10),
+                                       ("DIST_MAX", 0.0, 0, 10), ("ALT_MIN", 0.0, 0, 4))),
     # ADS-B (adsb/): the receiver's list (AP_ADSB) and avoidance (AP_Avoidance). ArduCopter shows
     # the rest of each group once ADSB_TYPE / AVD_ENABLE is set, with these types and defaults
     # (measured); both act without a reboot.

@@ -91,6 +91,10 @@ FIREFLY_ONLY: dict[str, str] = {
                     "ADSB_LIST_ALT", "ADSB_ICAO_SPECL", "ADSB_LOG", "ADSB_OPTIONS", "AVD_F_ACTION", "AVD_W_ACTION",
                     "AVD_F_RCVRY", "AVD_OBS_MAX", "AVD_W_TIME", "AVD_F_TIME", "AVD_W_DIST_XY", "AVD_F_DIST_XY",
                     "AVD_W_DIST_Z", "AVD_F_DIST_Z", "AVD_F_ALT_MIN")},
+    **{name: "the path planner's (AP_OAPathPlanner): ArduCopter serves it once OA_TYPE is set (the reference's "
+             "set was recorded with it 0); Firefly serves it always, so that it can be set before enabling"
+       for name in ("OA_MARGIN_MAX", "OA_OPTIONS", "OA_DB_SIZE", "OA_DB_EXPIRE", "OA_DB_QUEUE_SIZE",
+                    "OA_DB_OUTPUT", "OA_DB_BEAM_WIDTH", "OA_DB_RADIUS_MIN", "OA_DB_DIST_MAX", "OA_DB_ALT_MIN")},
     **{name: "precision landing's (AC_PrecLand): ArduCopter serves it once PLND_ENABLED is set (the reference's "
              "set was recorded with it 0); Firefly serves it always, so that it can be set before enabling"
        for name in ("PLND_TYPE", "PLND_YAW_ALIGN", "PLND_LAND_OFS_X", "PLND_LAND_OFS_Y", "PLND_EST_TYPE",

@@ -53,6 +53,7 @@ from .rates import LoopRates
 from .results import Result, Severity
 from .safety.arming import REPORTED_CHECKS, Arming, arm_refusals, prearm_failure, prearm_failures
 from .safety.failsafe import Failsafes
+from .safety.fence_breach import destination_within_fence
 from .safety.fence_shapes import FenceShapes, Shape
 from .safety.simple_avoid import USE_PROXIMITY, FenceGeometry, SimpleAvoid
 from .proximity import Proximity
@@ -61,6 +62,7 @@ from .safety.internal_error import CONSTRAINING_NAN, FLOW_OF_CONTROL, InternalEr
 from .safety.land_detector import AutoDisarm, LandDetector
 from .safety.prearm_display import NO_ARMING_CHANGE_TEXT, PrearmDisplay
 from .safety.thrust_loss import ThrustLossCheck
+from .path_planning.planner import PathPlanner
 from .payload.camera import Camera
 from .precland import BODY_FRD, LOCAL_FRD, PrecLand, line_of_sight
 from .precland import MAVLINK as PRECLAND_MAVLINK
@@ -149,6 +151,9 @@ class Vehicle:
         self.failsafes = Failsafes()
         self.fence = FenceSwitch(self.params)
         self._fence_shapes = FenceShapes()
+        # OA_TYPE's path planner round the fence (made at boot), which modes' waypoint legs ask
+        self.path_planner = PathPlanner(self.params, self.fence_shapes, self.fence, self.notify)
+        self.path_planner_prearm_failure = self.path_planner.prearm_failure
         self.simple_avoid = SimpleAvoid(self.params)
         self.thrust_loss = ThrustLossCheck()
         self.cascade = make_cascade(self.sim, self.params, config.rates, config.compiled)
@@ -418,6 +423,13 @@ class Vehicle:
     def fence_shapes(self) -> tuple[Shape, ...]:
         """The stored fence's polygons and circles in the local frame."""
         return self._fence_shapes.shapes(self.mission.version, self.fence_items, self.ned_of)
+
+    def destination_within_fence(self, n: float, e: float, d: float) -> bool:
+        """A GUIDED destination (local NED) within every enabled fence (fence_breach.py)."""
+        enabled = self.fence.enabled_fences
+        if not enabled or self.home_ned is None:
+            return True
+        return destination_within_fence(enabled, self.params, self.fence_shapes(), self.home_ned, (n, e, d))
 
     def _fence_geometry(self) -> FenceGeometry:
         b, home = self.estimate.body, self.home_ned or (0.0, 0.0, 0.0)

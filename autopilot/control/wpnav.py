@@ -112,7 +112,7 @@ class WaypointNav:
             if self.reached:
                 origin = old.destination
             else:  # interrupted: ArduCopter starts the navigator afresh, its clock at full rate
-                origin, self._time_scale = self._stopping_point(), 1.0
+                origin, self._time_scale = self.stopping_point(), 1.0
             self._prev = None
             self._this, self._t_this = self.limits.leg(origin, destination), 0.0
             if self._origin_speed > 0.0:
@@ -138,6 +138,21 @@ class WaypointNav:
         return self._this.destination
 
     @property
+    def vehicle_position(self) -> tuple:
+        """Where the vehicle was at the last update."""
+        return self._vehicle[0]
+
+    @property
+    def next_destination(self) -> tuple | None:
+        """Where the leg after this one goes (None: the vehicle stops at the destination)."""
+        return self._next.destination if self._next is not None else None
+
+    def stop_at_destination(self) -> None:
+        """Stop at the destination rather than fly through it, unless the turn has begun."""
+        if self._next is not None and self._t_next == 0.0:
+            self._next = None
+
+    @property
     def origin(self) -> tuple:
         """Where the current leg started (its chord is destination - origin)."""
         return self._this.origin
@@ -159,7 +174,7 @@ class WaypointNav:
                 fastest = max(fastest, leg.peak * math.hypot(leg.unit[0], leg.unit[1]))
         return fastest
 
-    def _stopping_point(self) -> tuple:
+    def stopping_point(self) -> tuple:
         """Where the position controller brings the vehicle to rest from its present motion:
         along its horizontal velocity (capped at the leg speed), and vertically within
         ArduCopter's caps."""

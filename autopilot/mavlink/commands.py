@@ -179,7 +179,9 @@ def do_reposition(s, c: Command) -> Result:
     if not is_location(s, c):
         return Result.DENIED
     target = target_ned(s, c)
-    if target is None:  # ArduCopter: GUIDED cannot take the destination yet
+    # ArduCopter: GUIDED cannot take the destination yet, or it lies beyond the fence (checked
+    # before any mode change: measured, FAILED from AUTO and the mode kept)
+    if target is None or not v.destination_within_fence(*target):
         return Result.FAILED
     if v.mode.number != ModeNumber.GUIDED and v.set_mode(ModeNumber.GUIDED) != Result.ACCEPTED:
         return Result.FAILED

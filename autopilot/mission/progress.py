@@ -344,6 +344,10 @@ class MissionProgress:
         """Seqs reached and not yet reported, oldest first."""
         return list(self._reached)
 
+    def report_reached(self, seq: int) -> None:
+        """An item reached outside the mission (GUIDED's waypoint, which ArduCopter reports as 0)."""
+        self._reached.append(seq)
+
     def drain_reached(self) -> list[int]:
         reached, self._reached = self._reached, []
         return reached

@@ -62,6 +62,7 @@ def _flown(item: MissionItem) -> MissionItem:
 class Auto(Mode):
     takes_speed_change = True
     number = ModeNumber.AUTO
+    plans_paths = True
     requires_position = True
     requires_home = True  # items at heights above home, RTL and land items
     _ctx: ModeContext
@@ -102,7 +103,7 @@ class Auto(Mode):
         # Until enter() (which may wait for home): no item flown, no destination.
         self._index = None
         self._rtl = Rtl(disarm_on_land=False)
-        self._legs = WaypointLegs()  # an ROI or speed change may come before the mode is entered
+        self._legs = WaypointLegs(self.plans_paths)  # an ROI or speed change may come before the mode is entered
         self.heading = GuidedYaw()
         # DO_GUIDED_LIMITS' last limits: kept from one AUTO to the next, as ArduCopter's GUIDED keeps them
         self.guided_limits = GuidedLimits()
@@ -119,7 +120,7 @@ class Auto(Mode):
         self._rtl = Rtl(disarm_on_land=False)  # the mission's end disarms (mission_complete)
         self._index = None
         self._nav_done = False
-        self._legs = WaypointLegs()
+        self._legs = WaypointLegs(self.plans_paths)
         self._hold_ne, self._hold_d = (ctx.body.n_m, ctx.body.e_m), ctx.body.d_m
         self._waiting_to_start = True  # the mission starts (or resumes) at the first tick
         self._paused_d = None
@@ -136,7 +137,14 @@ class Auto(Mode):
             mission.stop()
 
     def destination(self) -> tuple[float, float, float | None] | None:
-        return getattr(self, "_target", None) if self._index is not None else None
+        """The item's point, or the corner of the path round the fence flown to it."""
+        if self._index is None:
+            return None
+        return self._legs.destination if self._legs.avoiding else getattr(self, "_target", None)
+
+    def nav_distance_bearing(self) -> tuple[float, float] | None:
+        """While a path round the fence is flown: the way to the item's point, not the corner."""
+        return self._legs.way_to_final() if self._index is not None and self._legs.avoiding else None
 
     def pause(self, ctx: ModeContext, paused: bool) -> bool:
         """As ArduCopter's: only a waypoint leg not yet at its point stops (where the vehicle can);

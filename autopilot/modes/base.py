@@ -108,6 +108,9 @@ class Mode:
     # THROW_MOT_START 0): nothing spins and nothing is controlled. A mode sets it on itself.
     motors_stopped = False
     skips_arming_delay = False  # the motors may spin at once on arming (ArduCopter: THROW)
+    # Its waypoint legs go round the fence by OA_TYPE's path planner (ctx.path_planner), as
+    # ArduCopter's legs flown by its wp_nav (AC_WPNav_OA) do: AUTO, GUIDED, RTL, SMART_RTL (measured)
+    plans_paths = False
 
     def __init_subclass__(cls, **kwargs: object) -> None:
         super().__init_subclass__(**kwargs)

@@ -21,6 +21,7 @@ if TYPE_CHECKING:
     from ..payload.camera import Camera
     from ..pilot import PilotInput
     from .return_path import ReturnPath
+    from ..path_planning.planner import PathPlanner
     from ..results import Result
 
 
@@ -50,6 +51,8 @@ class ModeContext:
         mission_progress         mission/progress.py: AP_Mission's rules; AUTO binds itself as its
                                  runner and drives it (start_or_resume, update, stop)
         return_path              modes/return_path.py: the way back SMART_RTL takes (pop, peek)
+        path_planner             path_planning/planner.py: OA_TYPE's planner round the fence, asked by
+                                 the waypoint legs of a mode that plans_paths (avoid, options)
         follow_target            follow_target.py: the lead FOLLOW flies after (views.FollowTargetView):
                                  update(now, own position), the point to fly to, the lead's heading
         camera                   payload/camera.py: CAM1, as the mission's camera items drive it
@@ -72,15 +75,17 @@ class ModeContext:
                                  lets it be flown, accel the mode's horizontal limit (m/s/s)
         avoid_climb(climb, dt)   a pilot's climb rate as the altitude fences let it be flown
         avoid_lean(lean)         ALT_HOLD's (roll, pitch) pushed away from what the proximity sensor sees
+        destination_within_fence(n, e, d) a GUIDED destination (local NED) inside every enabled fence
     """
-    __slots__ = ("_v", "_estimate", "_arming", "_land", "_sim", "params", "mission_progress", "return_path",
+    __slots__ = ("_v", "_estimate", "_arming", "_land", "_sim", "params", "mission_progress", "return_path", "path_planner",
                  "follow_target", "camera", "notify", "disarm", "set_speed", "set_home", "fence_enable_item",
                  "set_servo", "repeat_servo", "set_relay", "repeat_relay", "ned_of", "position_global", "set_mode",
                  "hover_thrust_share", "restart_position_control", "use_gains", "precland_landing",
-                 "avoid_velocity", "avoid_climb", "avoid_lean")
+                 "avoid_velocity", "avoid_climb", "avoid_lean", "destination_within_fence")
     params: ParamStore
     mission_progress: MissionProgress
     return_path: ReturnPath
+    path_planner: PathPlanner
     follow_target: FollowTargetView
     camera: Camera
     notify: Notify
@@ -101,6 +106,7 @@ class ModeContext:
     avoid_velocity: Callable[[Vector3, float, float], Vector3]
     avoid_climb: Callable[[float, float], float]
     avoid_lean: Callable[[tuple[float, float]], tuple[float, float]]
+    destination_within_fence: Callable[[float, float, float], bool]
 
     def __init__(self, vehicle: ModeHost):
         self._v = vehicle
@@ -111,6 +117,7 @@ class ModeContext:
         self.params = vehicle.params
         self.mission_progress = vehicle.mission_progress
         self.return_path = vehicle.return_path
+        self.path_planner = vehicle.path_planner
         self.follow_target = vehicle.follow_target
         self.camera = vehicle.camera
         self.notify = vehicle.notify
@@ -131,6 +138,7 @@ class ModeContext:
         self.avoid_velocity = vehicle.avoid_velocity
         self.avoid_climb = vehicle.avoid_climb
         self.avoid_lean = vehicle.avoid_lean
+        self.destination_within_fence = vehicle.destination_within_fence
         airframe = vehicle.sim.airframe
         self.hover_thrust_share = airframe.weight_n / (4.0 * airframe.max_rotor_thrust_n)
 

@@ -5,11 +5,17 @@ As ArduCopter's ModeGuided: each kind of target is a sub-mode; a velocity, accel
 attitude stream that stops for GUID_TIMEOUT stops the vehicle (velocity and acceleration to
 zero, the attitude level); none of them moves a landed vehicle (only a takeoff, or an attitude
 target's climb, leaves the ground); DO_PAUSE_CONTINUE stops it where it is and lets it go on.
+
+A position target is flown by the position controller, or with GUID_OPTIONS bit 6 as a waypoint
+leg of the waypoint navigator (ArduCopter's WP sub-mode), which goes round the fence by the path
+planner (OA_TYPE) and reports its arrival as MISSION_ITEM_REACHED 0. A destination outside an
+enabled fence is refused either way.
 """
 from __future__ import annotations
 
 import math
 
+from ..control.wpnav import WPNAV_SPEED_MIN_M_S
 from ..views import Vector3
 from .auto_yaw import AutoYaw
 from .base import Mode, Setpoint, shifted, stopping_point
@@ -19,6 +25,7 @@ from .guided_stop import JerkLimitedStop
 from .guided_yaw import DEFAULT, SLEW_YAW_DEFAULT_CDEG_S, TURNING, GuidedYaw
 from .numbers import ModeNumber
 from .takeoff_climb import TakeoffClimb
+from .waypoint_legs import WaypointLegs
 
 VELOCITY_TIMEOUT_S = 3.0  # GUID_TIMEOUT's default: ArduCopter stops if velocity setpoints stop arriving
 FACE_TARGET_BEYOND_M = 1.0  # nearer than this the heading stays: an overshoot does not turn it
@@ -29,13 +36,15 @@ FACE_TARGET_BEYOND_M = 1.0  # nearer than this the heading stays: an overshoot d
 VERTICAL_MOVING_M_S = 0.5
 VERTICAL_STILL_M_S = 0.2
 # Sub-modes (ArduCopter's ModeGuided::SubMode): what the last target asked for
-POS, POS_VEL_ACCEL, VEL_ACCEL, ACCEL, ANGLE = "pos", "pos_vel_accel", "vel_accel", "accel", "angle"
+POS, POS_VEL_ACCEL, VEL_ACCEL, ACCEL, ANGLE, WP = "pos", "pos_vel_accel", "vel_accel", "accel", "angle", "wp"
+WPNAV_FOR_POSITION = 1 << 6  # GUID_OPTIONS: a position target is a waypoint leg
 ZERO3: Vector3 = (0.0, 0.0, 0.0)
 
 
 class Guided(Mode):
     takes_speed_change = True
     number = ModeNumber.GUIDED
+    plans_paths = True
     requires_position = True
     allows_arming = True
     has_user_takeoff = True
@@ -55,6 +64,8 @@ class Guided(Mode):
     stopping: JerkLimitedStop | None  # slowing to a stop: paused, or a velocity stream that stopped
     speed_up: float | None  # DO_CHANGE_SPEED's climb and descent speeds [m/s] (None: WPNAV_SPEED_UP/DN)
     speed_dn: float | None
+    legs: WaypointLegs | None = None  # the WP sub-mode's leg
+    reach_untold = False  # the WP sub-mode's arrival is still to be reported
 
     def __init__(self) -> None:
         self.angle = AttitudeTarget()
@@ -96,6 +107,7 @@ class Guided(Mode):
         self.has_waypoint = False
         self.stopping = None
         self.yaw = GuidedYaw()
+        self.legs, self.reach_untold = None, False
 
     def stop(self, ctx: ModeContext) -> bool:
         """A target ArduCopter finds invalid: it stops (re-initialises the mode)."""
@@ -113,9 +125,8 @@ class Guided(Mode):
     def goto(self, ctx: ModeContext, n: float, e: float, d: float | None, yaw: float | None = None,
              vel_ff: Vector3 = ZERO3) -> bool:
         """A position (d None: keep the height), with a velocity: ArduCopter's PosVelAccel."""
-        self.set_target(ctx, (n, e, self.target_d if d is None else d), None if vel_ff == ZERO3 else vel_ff,
-                        None, yaw, None)
-        return True
+        return self.set_target(ctx, (n, e, self.target_d if d is None else d), None if vel_ff == ZERO3 else vel_ff,
+                               None, yaw, None)
 
     def set_velocity(self, ctx: ModeContext, vn: float, ve: float, vd: float, yaw: float | None = None) -> bool:
         self.set_target(ctx, None, (vn, ve, vd), None, yaw, None)
@@ -125,12 +136,18 @@ class Guided(Mode):
                    yaw: float | None, yaw_rate: float | None, yaw_relative: bool = False) -> bool:
         """A SET_POSITION_TARGET's parts (local NED; None = ignored), as ArduCopter takes them:
         position [+ velocity [+ acceleration]], velocity [+ acceleration], or acceleration."""
+        if pos is not None and not ctx.destination_within_fence(*pos):
+            return False  # ArduCopter refuses it, and flies on as it was
         self.takeoff = None
         self.stopping = None
         before = self.submode
         if pos is not None:
             self.stopping_vertically = False
-            self.submode = POS if vel is None else POS_VEL_ACCEL
+            if vel is None and int(ctx.params["GUID_OPTIONS"]) & WPNAV_FOR_POSITION:
+                self._set_waypoint(ctx, pos, before)
+            else:
+                self.submode = POS if vel is None else POS_VEL_ACCEL
+                self.legs = None
             self.target_ne, self.target_d = (pos[0], pos[1]), pos[2]
             self.has_waypoint = vel is None
         elif vel is None:  # the acceleration moves a velocity on: from the present one at its start
@@ -142,6 +159,8 @@ class Guided(Mode):
         else:
             self.submode = VEL_ACCEL
             self.has_waypoint = False
+        if pos is None:
+            self.legs = None
         if vel is not None or pos is not None:
             self.target_vel = vel or ZERO3
         self.target_accel = accel or ZERO3
@@ -153,6 +172,15 @@ class Guided(Mode):
                 ctx.restart_position_control()
         self._set_yaw(ctx, yaw, yaw_rate, yaw_relative)
         return True
+
+    def _set_waypoint(self, ctx: ModeContext, pos: Vector3, before: str) -> None:
+        """The WP sub-mode's leg to `pos`: from where the vehicle can stop when it starts, else
+        on from the leg being flown (ArduCopter's wp_control_start and set_wp_destination)."""
+        if before != WP or self.legs is None:
+            self.legs = WaypointLegs(self.plans_paths)
+        self.submode = WP
+        self.legs.begin(ctx, pos, None)
+        self.reach_untold = True
 
     def _set_yaw(self, ctx: ModeContext, yaw: float | None, rate: float | None, relative: bool) -> None:
         heading = ctx.attitude[2]
@@ -225,8 +253,15 @@ class Guided(Mode):
 
     def destination(self) -> tuple[float, float, float | None] | None:
         """Only a position target is a destination: holding where it entered, taking off or
-        flying a velocity, ArduCopter's GUIDED has no waypoint to report."""
+        flying a velocity, ArduCopter's GUIDED has no waypoint to report. A leg round the fence
+        reports the corner it flies to."""
+        if self.legs is not None and self.legs.avoiding:
+            return self.legs.destination
         return (self.target_ne[0], self.target_ne[1], self.target_d) if self.has_waypoint else None
+
+    def nav_distance_bearing(self) -> tuple[float, float] | None:
+        """While a leg round the fence is flown: the way to the target, not to the corner."""
+        return self.legs.way_to_final() if self.legs is not None and self.legs.avoiding else None
 
     # Loop --------------------------------------------------------------------------------------
     def update(self, ctx: ModeContext, sp: Setpoint, dt: float) -> None:
@@ -245,13 +280,15 @@ class Guided(Mode):
             sp.pos_d = self.paused_d
             sp.yaw = ctx.attitude[2] if self.yaw.kind == DEFAULT else self.yaw.angle
             return
-        if (self.submode != POS or self.yaw.kind in TURNING) and ctx.time_s - self.updated_s > guided_timeout_s(ctx):
+        if (self.submode not in (POS, WP) or self.yaw.kind in TURNING) and ctx.time_s - self.updated_s > guided_timeout_s(ctx):
             self._timed_out(ctx)
         submode = self.submode
         if takeoff is not None:  # climbing, then holding the height it climbed to
             takeoff.fly(ctx, sp, dt)
         elif submode == POS:
             self._fly_position(ctx, sp)
+        elif submode == WP and self.legs is not None:
+            self._fly_waypoint(ctx, sp, dt, self.legs)
         elif submode == POS_VEL_ACCEL:
             self._fly_pos_vel_accel(ctx, sp, dt)
         else:
@@ -294,6 +331,16 @@ class Guided(Mode):
             sp.yaw = self.auto_yaw.facing(ctx, dn * scale, de * scale)
         else:
             sp.yaw = self.auto_yaw.yaw
+
+    def _fly_waypoint(self, ctx: ModeContext, sp: Setpoint, dt: float, legs: WaypointLegs) -> None:
+        if legs.nav is None:
+            return
+        if legs.planned_for != max(ctx.nav_speed_m_s, WPNAV_SPEED_MIN_M_S):
+            legs.change_speed(ctx)
+        sp.speed_xy = legs.speed_cap
+        if legs.update(ctx, sp, dt) and self.reach_untold:
+            self.reach_untold = False
+            ctx.mission_progress.report_reached(0)  # (ArduCopter's "mission item" 0: the guided one)
 
     def _fly_pos_vel_accel(self, ctx: ModeContext, sp: Setpoint, dt: float) -> None:
         """The position moves on with the velocity, the velocity with the acceleration (as

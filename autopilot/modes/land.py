@@ -128,6 +128,7 @@ class Rtl(Mode):
     (ArduCopter's RESET_TO_ARMED_YAW, measured: the descent faces the armed heading)."""
     takes_speed_change = True
     number = ModeNumber.RTL
+    plans_paths = True
     requires_position = True
     requires_home = True
 
@@ -186,6 +187,10 @@ class Rtl(Mode):
     def destination(self) -> tuple[float, float, float | None] | None:
         return self._legs.destination if self._legs is not None else None
 
+    def nav_distance_bearing(self) -> tuple[float, float] | None:
+        """While a path round the fence is flown: the way to the leg's end, not the corner."""
+        return self._legs.way_to_final() if self._legs is not None and self._legs.avoiding else None
+
     def controls_position(self, ctx: ModeContext) -> bool:
         return ctx.armed  # disarmed on the ground ArduCopter's RTL runs no position controller
 
@@ -198,7 +203,7 @@ class Rtl(Mode):
         return_target = (home_ne[0], home_ne[1], self._return_d)
         legs = self._legs
         if legs is None:
-            legs = self._legs = WaypointLegs()
+            legs = self._legs = WaypointLegs(self.plans_paths)
             legs.auto_yaw.rtl = True
             climb_target = (self._hold_ne[0], self._hold_ne[1], self._return_d)
             legs.begin(ctx, climb_target, return_target, speed)

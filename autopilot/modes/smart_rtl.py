@@ -28,6 +28,7 @@ CLEANUP, FOLLOW, PRELAND, DESCEND, LAND = "CLEANUP", "FOLLOW", "PRELAND", "DESCE
 class SmartRtl(Mode):
     number = ModeNumber.SMART_RTL
     text_name = "SMARTRTL"
+    plans_paths = True
     requires_position = True
     climbs_without_takeoff = True
     stage: str
@@ -38,13 +39,13 @@ class SmartRtl(Mode):
 
     def __init__(self) -> None:
         self.stage = CLEANUP
-        self._legs = WaypointLegs()
+        self._legs = WaypointLegs(self.plans_paths)
 
     def enter(self, ctx: ModeContext) -> str | None:
         if not ctx.return_path.active:
             return "init failed"
         (n, e), d = stopping_point(ctx)
-        self._legs = WaypointLegs()
+        self._legs = WaypointLegs(self.plans_paths)
         self._legs.begin(ctx, (n, e, d), None)
         self._reached = False
         self._unreached = None
@@ -104,6 +105,10 @@ class SmartRtl(Mode):
 
     def destination(self) -> tuple[float, float, float | None] | None:
         return None if self.stage == LAND else self._legs.destination
+
+    def nav_distance_bearing(self) -> tuple[float, float] | None:
+        """While a path round the fence is flown: the way to the point, not the corner."""
+        return self._legs.way_to_final() if self.stage != LAND and self._legs.avoiding else None
 
     def landed_state_hint(self, ctx: ModeContext) -> str | None:
         return "LANDING" if self.stage == LAND and not ctx.landed else None

@@ -6,6 +6,9 @@ navigation item is a waypoint or a loiter (ArduCopter's "fast" waypoint); otherw
 loiters themselves, the leg stops at the point. The navigator is kept from one leg to the next,
 so a corner in progress goes on; any other navigation item (takeoff, land, RTL) ends it, and the
 next waypoint starts afresh from where the vehicle can stop.
+
+Legs of a mode that plans paths (Mode.plans_paths: AUTO, GUIDED) go round the fence by the
+path planner, OA_TYPE's (leg_avoidance.py), as ArduCopter's AC_WPNav_OA flies every leg.
 """
 from __future__ import annotations
 
@@ -14,10 +17,12 @@ import math
 from ..control.wpnav import NavLimits, WaypointNav
 from ..mission.commands import is_nav
 from ..mission.jumps import jump_of
+from ..path_planning.planner import NOT_REQUIRED
 from ..views import Vector3
 from .auto_yaw import AutoYaw
 from .base import Setpoint
 from .context import ModeContext
+from .leg_avoidance import LegAvoidance
 
 CMD_WAYPOINT, CMD_LOITER_UNLIM, CMD_LOITER_TIME = 16, 17, 19
 NAV_BY_LEGS = {CMD_WAYPOINT, CMD_LOITER_UNLIM, CMD_LOITER_TIME}
@@ -50,8 +55,9 @@ def flies_through(item, next_item) -> bool:
 
 
 class WaypointLegs:
-    def __init__(self) -> None:
+    def __init__(self, plans_paths: bool = False) -> None:
         self.nav: WaypointNav | None = None
+        self.avoidance = LegAvoidance() if plans_paths else None
         self.auto_yaw = AutoYaw()  # kept from leg to leg, as ArduCopter's heading is
         self.vertical_speeds: tuple[float | None, float | None] = (None, None)  # DO_CHANGE_SPEED's up, down
         # The next leg's jerk, once, when it resumes a paused one: ArduCopter takes its track up
@@ -64,8 +70,31 @@ class WaypointLegs:
 
     @property
     def destination(self) -> Vector3 | None:
-        """The point the current leg flies to (local NED)."""
+        """The point the current leg flies to (local NED): a corner of the path round the fence
+        while one is flown."""
         return self.nav.destination if self.nav is not None else None
+
+    @property
+    def final_destination(self) -> Vector3 | None:
+        """The point the mode sent the leg to, also while the path planner's corners are flown."""
+        if self.nav is None:
+            return None
+        return self.nav.destination if self.avoidance is None else self.avoidance.destination(self.nav)
+
+    def way_to_final(self) -> tuple[float, float] | None:
+        """NAV_CONTROLLER_OUTPUT's (distance [m], bearing [deg]) from where the vehicle was last
+        seen to final_destination."""
+        final = self.final_destination
+        if final is None or self.nav is None:
+            return None
+        here = self.nav.vehicle_position
+        dn, de = final[0] - here[0], final[1] - here[1]
+        return math.hypot(dn, de), round(math.degrees(math.atan2(de, dn)))
+
+    @property
+    def avoiding(self) -> bool:
+        """The path planner replaced (or stopped) the leg's destination."""
+        return self.avoidance is not None and self.nav is not None and self.avoidance.state != NOT_REQUIRED
 
     def end(self) -> None:
         """Another kind of item took over: the next leg starts afresh."""
@@ -90,6 +119,8 @@ class WaypointLegs:
         else:
             self.nav.limits = limits
         self.nav.set_destination(target, next_target)
+        if self.avoidance is not None:
+            self.avoidance.reset()
         self.planned_for = limits.speed_xy
         self.speed_cap = max(limits.speed_xy, self.nav.planned_speed)
 
@@ -118,7 +149,12 @@ class WaypointLegs:
         nav = self.nav
         if nav is None:
             raise RuntimeError("waypoint leg flown before begin() (or after end())")
+        avoidance = self.avoidance
+        if avoidance is not None:
+            avoidance.steer(ctx, nav)
         reached = nav.update(dt, (b.n_m, b.e_m, b.d_m), (b.vn_m_s, b.ve_m_s, b.vd_m_s))
+        if avoidance is not None and avoidance.state != NOT_REQUIRED:
+            reached = False
         p, v, a = nav.pos, nav.vel, nav.accel
         sp.pos_ne, sp.vel_ne, sp.accel_ne = (p[0], p[1]), (v[0], v[1]), (a[0], a[1])
         sp.pos_d, sp.vel_d = p[2], v[2]

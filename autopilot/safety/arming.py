@@ -145,6 +145,11 @@ def _adsb_threat(v: PrearmView) -> str | None:
     return "ADSB threat detected" if v.adsb_threat else None
 
 
+def _object_avoidance(v: PrearmView) -> str | None:
+    """AP_Arming_Copter::oa_checks: the path planner OA_TYPE names was made at boot."""
+    return v.path_planner_prearm_failure()
+
+
 def _terrain_data(v: PrearmView) -> str | None:
     """A mission at heights above terrain needs the terrain database (AP_Arming::terrain_checks);
     Firefly has none, as ArduCopter SITL has none until a ground station serves its tiles
@@ -156,7 +161,7 @@ def _terrain_data(v: PrearmView) -> str | None:
 
 # In ArduCopter's order; a check gives its words, a list of them, or None when it passes.
 PREARM_CHECKS: tuple[Callable[[PrearmView], str | list[str] | None], ...] = (
-    _starting_up, _adsb_threat, _throttle_below_failsafe, _internal_errors, _need_position, _visual_odometry, _ekf_sources, _gps_glitching, _leaning, _battery_low,
+    _starting_up, _adsb_threat, _object_avoidance, _throttle_below_failsafe, _internal_errors, _need_position, _visual_odometry, _ekf_sources, _gps_glitching, _leaning, _battery_low,
     _rangefinder, _proximity, _terrain_data, _emergency_stopped)
 
 

@@ -18,7 +18,7 @@ from collections.abc import Sequence
 from ..modes.numbers import ModeNumber
 from ..results import Result, Severity
 from ..views import FailsafeView
-from .fence_shapes import Shape, closest_point
+from .fence_shapes import Shape, breached_shapes, closest_point
 from .fence_switch import ALT_MAX, ALT_MIN, CIRCLE, POLYGON, fence_names
 
 BACKUP_M = 20.0  # AC_FENCE_ALT_MAX/MIN_BACKUP_DISTANCE and a copter's AC_FENCE_CIRCLE_RADIUS_BACKUP_DISTANCE
@@ -41,6 +41,21 @@ def _distance_outside(shape: Shape, p: tuple[float, float]) -> float:
     return min(math.hypot(q[0] - p[0], q[1] - p[1])
                for q in (closest_point(p, vertices[i], vertices[(i + 1) % len(vertices)])
                          for i in range(len(vertices))))
+
+
+def destination_within_fence(enabled: int, params, shapes: Sequence[Shape], home: tuple[float, float, float],
+                             point: tuple[float, float, float]) -> bool:
+    """Whether a GUIDED destination (local NED) lies within every enabled fence, which ArduCopter
+    asks before it takes one (AC_Fence::check_destination_within_fence): below the ceiling, above
+    the floor, within FENCE_RADIUS of home, inside the inclusion and outside the exclusion shapes."""
+    height = home[2] - point[2]
+    if enabled & ALT_MAX and height > params["FENCE_ALT_MAX"]:
+        return False
+    if enabled & ALT_MIN and height < params["FENCE_ALT_MIN"]:
+        return False
+    if enabled & CIRCLE and math.hypot(point[0] - home[0], point[1] - home[1]) > params["FENCE_RADIUS"]:
+        return False
+    return not (enabled & POLYGON and breached_shapes(shapes, (point[0], point[1])))
 
 
 class FenceBreach:
@@ -108,7 +123,7 @@ class FenceBreach:
         return 0
 
     def _check_polygons(self, shapes: Sequence[Shape], here: tuple[float, float], now_s: float) -> int:
-        outside = [s for s in shapes if s.contains(here) != s.inclusion]
+        outside = breached_shapes(shapes, here)
         if outside:
             self._distances[POLYGON] = max(_distance_outside(s, here) for s in outside)
             return 0 if self.breaches & POLYGON else self._record(POLYGON, now_s)

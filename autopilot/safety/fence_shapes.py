@@ -36,6 +36,11 @@ def point_in_polygon(p: tuple[float, float], poly: Sequence[tuple[float, float]]
     return inside
 
 
+def breached_shapes(shapes: Sequence[Shape], p: Vec2) -> list[Shape]:
+    """The shapes the point is on the wrong side of: outside an inclusion or inside an exclusion."""
+    return [s for s in shapes if s.contains(p) != s.inclusion]
+
+
 def closest_point(p: Vec2, v: Vec2, w: Vec2) -> Vec2:
     """The point of segment v-w nearest p (Vector2::closest_point)."""
     dx, dy = w[0] - v[0], w[1] - v[1]
@@ -48,6 +53,22 @@ def closest_point(p: Vec2, v: Vec2, w: Vec2) -> Vec2:
     if t >= 1.0:
         return w
     return v[0] + dx * t, v[1] + dy * t
+
+
+def segment_intersection(a0: Vec2, a1: Vec2, b0: Vec2, b1: Vec2) -> Vec2 | None:
+    """Where segments a0-a1 and b0-b1 cross, ends included (Vector2::segment_intersection);
+    None for parallel or collinear ones."""
+    r1 = (a1[0] - a0[0], a1[1] - a0[1])
+    r2 = (b1[0] - b0[0], b1[1] - b0[1])
+    q = (b0[0] - a0[0], b0[1] - a0[1])
+    cross = r1[0] * r2[1] - r1[1] * r2[0]
+    if cross == 0.0:
+        return None
+    t = (q[0] * r2[1] - q[1] * r2[0]) / cross
+    u = (q[0] * r1[1] - q[1] * r1[0]) / cross
+    if 0.0 <= u <= 1.0 and 0.0 <= t <= 1.0:
+        return a0[0] + r1[0] * t, a0[1] + r1[1] * t
+    return None
 
 
 def vertex_count(p1: float) -> int:

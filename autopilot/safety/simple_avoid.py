@@ -22,7 +22,7 @@ from typing import TYPE_CHECKING
 from firefly.autopilot.control.position import stopping_distance as _pos_stopping_distance
 from firefly.autopilot.control.shaping import sqrt_controller
 
-from .fence_shapes import Shape, closest_point, point_in_polygon
+from .fence_shapes import Shape, closest_point, point_in_polygon, segment_intersection
 from .fence_switch import ALT_MAX, ALT_MIN, CIRCLE, POLYGON
 
 if TYPE_CHECKING:
@@ -50,20 +50,6 @@ def stopping_distance(kp: float, accel: float, speed: float) -> float:
     if accel <= 0.0 or speed == 0.0:
         return 0.0
     return _pos_stopping_distance(speed, kp, accel)
-
-
-def _segment_intersection(a0: Vec2, a1: Vec2, b0: Vec2, b1: Vec2) -> Vec2 | None:
-    r1 = (a1[0] - a0[0], a1[1] - a0[1])
-    r2 = (b1[0] - b0[0], b1[1] - b0[1])
-    q = (b0[0] - a0[0], b0[1] - a0[1])
-    cross = r1[0] * r2[1] - r1[1] * r2[0]
-    if cross == 0.0:
-        return None
-    t = (q[0] * r2[1] - q[1] * r2[0]) / cross
-    u = (q[0] * r1[1] - q[1] * r1[0]) / cross
-    if 0.0 <= u <= 1.0 and 0.0 <= t <= 1.0:
-        return a0[0] + r1[0] * t, a0[1] + r1[1] * t
-    return None
 
 
 def _circle_segment_intersection(start: Vec2, end: Vec2, radius: float) -> Vec2 | None:
@@ -507,7 +493,7 @@ def _polygon(pos: Vec2, vel: Vec2, vertices: Sequence[Vec2], margin: float, kp: 
             safe = _limit_along(kp, accel, safe, (to_edge[0] / distance, to_edge[1] / distance),
                                 max(distance - margin, 0.0), dt)
         else:
-            hit = _segment_intersection(pos, end, start, finish)
+            hit = segment_intersection(pos, end, start, finish)
             if hit is None:
                 continue
             toward = (hit[0] - pos[0], hit[1] - pos[1])

@@ -35,6 +35,7 @@ def ctx(d_m=0.0, landed=False, armed=True, pilot=None, params=None, **body):
     c.avoid_velocity = lambda vel, accel, dt: vel  # no fence
     c.avoid_climb = lambda climb, dt: climb
     c.avoid_lean = lambda lean: lean
+    c.destination_within_fence = lambda n, e, d: True
     return c
 
 

@@ -1,0 +1,84 @@
+"""Waypoint legs flown round the fence by the path planner, as ArduCopter's AC_WPNav_OA flies them.
+
+Every tick the leg's destination (and the next one) is put to the planner (path_planning/), which
+answers:
+- not required: the leg flies to its own destination (set again if a corner was flown before it);
+  when the way on to the next destination crosses the fence, it stops there;
+- success: the destination is replaced by the planner's corner, its height taken along the leg
+  from the origin to the destination, and flown to as a leg of its own (through it to the next
+  corner with OA_OPTIONS' fast waypoints);
+- processing (a new destination not planned yet) or an error (no path): the vehicle stops where
+  it can and holds there; with fast waypoints it flies on while processing.
+The leg counts as reached only when no avoidance is needed any more.
+"""
+from __future__ import annotations
+
+import math
+
+from ..control.wpnav import WaypointNav
+from ..path_planning.planner import ERROR, FAST_WAYPOINTS, NOT_REQUIRED, PROCESSING, SUCCESS, Answer
+from ..views import Vector3
+from .context import ModeContext
+
+Vec2 = tuple[float, float]
+
+
+def _height_along(point: Vec2, origin: Vector3, destination: Vector3) -> Vector3:
+    """`point` with the height the leg origin-destination has abreast of it
+    (Location::linearly_interpolate_alt)."""
+    dn, de = destination[0] - origin[0], destination[1] - origin[1]
+    span = dn * dn + de * de
+    share = 1.0 if span < 0.001 else ((point[0] - origin[0]) * dn + (point[1] - origin[1]) * de) / span
+    share = min(max(share, 0.0), 1.0) if math.isfinite(share) else 1.0
+    return point[0], point[1], origin[2] + (destination[2] - origin[2]) * share
+
+
+class LegAvoidance:
+    __slots__ = ("state", "oa_destination", "_origin", "_destination", "_next")
+
+    def __init__(self) -> None:
+        self.state = NOT_REQUIRED
+        self.oa_destination: Vec2 | None = None  # the corner being flown to
+        # The leg the mode set, kept while the planner's corners replace its destination
+        self._origin: Vector3 = (0.0, 0.0, 0.0)
+        self._destination: Vector3 = (0.0, 0.0, 0.0)
+        self._next: Vector3 | None = None
+
+    def reset(self) -> None:
+        """The mode set a new destination: planning starts again from it."""
+        self.state = NOT_REQUIRED
+
+    def destination(self, nav: WaypointNav) -> Vector3:
+        """The destination the mode set (not the corner flown to)."""
+        return nav.destination if self.state == NOT_REQUIRED else self._destination
+
+    def steer(self, ctx: ModeContext, nav: WaypointNav) -> None:
+        """Ask the planner about the leg and fly what it answers (AC_WPNav_OA::update_wpnav)."""
+        if self.state == NOT_REQUIRED:
+            self._origin, self._destination, self._next = nav.origin, nav.destination, nav.next_destination
+        planner, b = ctx.path_planner, ctx.body
+        following = None if self._next is None else (self._next[0], self._next[1])
+        answer = planner.avoid(ctx.time_s, (b.n_m, b.e_m), (self._destination[0], self._destination[1]), following)
+        fast = bool(planner.options & FAST_WAYPOINTS)
+        if answer.state == NOT_REQUIRED:
+            if self.state != NOT_REQUIRED:
+                nav.set_destination(self._destination, self._next if answer.dest_to_next_clear and fast else None)
+                self.state = NOT_REQUIRED
+            if not answer.dest_to_next_clear:
+                nav.stop_at_destination()
+        elif answer.state == SUCCESS:
+            self._fly_corner(nav, answer, fast)
+        elif not (answer.state == PROCESSING and fast) and self.state not in (PROCESSING, ERROR):
+            point = nav.stopping_point()  # processing or an error: stop, and hold there
+            nav.set_destination(point)
+            self.oa_destination, self.state = (point[0], point[1]), answer.state
+
+    def _fly_corner(self, nav: WaypointNav, answer: Answer, fast: bool) -> None:
+        corner = answer.destination
+        if corner is None or (self.state == SUCCESS and self.oa_destination is not None
+                              and math.dist(corner, self.oa_destination) < 0.01):
+            return
+        after = answer.next_destination if fast else None
+        nav.set_destination(_height_along(corner, self._origin, self._destination),
+                            None if after is None else _height_along(after, self._origin, self._destination))
+        self.state, self.oa_destination = SUCCESS, corner
