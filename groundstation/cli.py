@@ -84,6 +84,12 @@ def build_parser() -> argparse.ArgumentParser:
     ev.add_argument("--subcells", type=count, default=3, help="sub-positions per cell side in the belief (default 3)")
     ev.add_argument("--outlier-rate", type=share, default=0.02,
                     help="the belief's prior share of wild readings (default 0.02; 0 = the plain Gaussian model)")
+    ev.add_argument("--further-prior", type=probability, default=0.5, metavar="P",
+                    help="not told how many fires: prior probability of no further fire once one is found "
+                         "(default 0.5)")
+    ev.add_argument("--clear", type=fraction, default=0.98, metavar="P",
+                    help="not told how many fires: probability of no further fire that ends the search "
+                         "(default 0.98)")
     ev.add_argument("--fires", type=count, default=1,
                     help="fires drawn per episode (default 1); found fires are counted per fire")
     ev.add_argument("--fire-spacing", type=positive, default=None, metavar="M",
@@ -167,6 +173,14 @@ def fraction(text: str) -> float:
         raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
     if not 0 < value <= 1:
         raise argparse.ArgumentTypeError(f"must be within (0, 1], got {text!r}")
+    return value
+
+
+def probability(text: str) -> float:
+    """A prior probability: within (0, 1), both excluded (a prior of 0 or 1 no reading can move)."""
+    value = fraction(text)
+    if value == 1:
+        raise argparse.ArgumentTypeError(f"must be within (0, 1), got {text!r}")
     return value
 
 

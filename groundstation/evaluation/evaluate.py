@@ -251,7 +251,8 @@ def evaluate(args) -> int:
                                confirm_m=None if args.no_confirm else args.confirm, outlier_rate=args.outlier_rate,
                                wind_ne_m_s=told_wind(args, scenario), air_ne_m_s=scenario.sim.wind.velocity_ned()[:2],
                                fires=args.fires, max_fires=(args.max_fires or 1) if team else args.max_fires,
-                               fire_spacing_m=args.fire_spacing)
+                               fire_spacing_m=args.fire_spacing, further_prior=args.further_prior,
+                               clear_threshold=args.clear)
         episode_world(world, seed, 0, config)  # a world that cannot be drawn fails here, in one line
     except ValueError as exc:
         raise EvaluateError(f"--fire-spacing/--fires: {exc}" if args.fire_spacing else str(exc)) from None

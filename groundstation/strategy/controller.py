@@ -131,7 +131,10 @@ class SearchConfig:
     outlier_range_k: float = 100.0  # the span a wild reading may take anywhere in [K]
     max_fires: int | None = 1       # fires to look for; above 1 the search goes on after a find (below);
                                     # None: as many as there are (the search is not told)
-    null_prior: float = 0.5         # with max_fires > 1: prior probability that there is no (further) fire
+    null_prior: float = 0.5         # with max_fires > 1: prior probability that there is no fire at all
+    further_prior: float = 0.5      # ... and, once one is found, that there is no further one: the
+                                    # balance between ruling a second fire out and missing one
+                                    # (EVALUATION.md, "How many fires: the balance")
     clear_threshold: float = 0.98   # ... and the probability of none that ends the search ("clear")
 
     def __post_init__(self):
@@ -143,8 +146,9 @@ class SearchConfig:
             raise ValueError(f"max_fires must be a positive whole number, got {self.max_fires!r}")
         if not 0.0 < self.clear_threshold <= 1.0:
             raise ValueError(f"clear_threshold must be within 0..1 (0 excluded), got {self.clear_threshold!r}")
-        if not 0.0 < self.null_prior < 1.0:
-            raise ValueError(f"null_prior must be within 0..1 (both excluded), got {self.null_prior!r}")
+        for name in ("null_prior", "further_prior"):
+            if not 0.0 < getattr(self, name) < 1.0:
+                raise ValueError(f"{name} must be within 0..1 (both excluded), got {getattr(self, name)!r}")
 
     @property
     def observation_spacing_m(self) -> float:
@@ -214,9 +218,11 @@ class SearchController:
 
     def _belief(self, known: tuple, null: bool | None = None) -> Belief:
         """A belief over one (more) fire, the `known` hot spots explained away; with several fires to
-        look for, it also weighs the hypothesis that there is none (unless null is False)."""
+        look for, it also weighs the hypothesis that there is none (unless null is False): none at
+        all before a find, none further after one."""
         c = self.config
-        null_prior = c.null_prior if (self.several if null is None else null) else 0.0
+        none = c.further_prior if known else c.null_prior
+        null_prior = none if (self.several if null is None else null) else 0.0
         return Belief(self.geometry, c.prior_strength_mean_k, c.prior_strength_sd_k, subcells=c.subcells,
                       outlier_rate=c.outlier_rate, outlier_range_k=c.outlier_range_k,
                       wind_ne_m_s=self.wind_ne_m_s, known=known, null_prior=null_prior)

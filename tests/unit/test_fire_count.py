@@ -97,3 +97,24 @@ def test_the_joint_fit_gives_a_ghost_no_strength():
     _, strengths = fit_hot_spots(Geometry(), readings, spots, 0.5)
     assert strengths[0] == pytest.approx(50.0, abs=3.0) and strengths[1] == pytest.approx(40.0, abs=3.0)
     assert abs(strengths[2]) < controller.GHOST_BELOW_K
+
+
+def test_the_prior_of_a_further_fire_is_its_own_setting():
+    """Before a find the null hypothesis is "no fire at all" (null_prior); after one it is "no
+    further fire" (further_prior): the knob that trades ruling a second fire out against missing one."""
+    config = EpisodeConfig(max_fires=None, null_prior=0.5, further_prior=0.9)
+    geometry = Geometry.from_world(one_fire("R"))
+    search = controller.SearchController(geometry, make_policy("gig"), config, (0.0, 0.0), np.random.default_rng(0))
+    assert search._belief(()).null_prior == 0.5
+    assert search._belief(((250.0, 130.0, 0.0, 0.0),)).null_prior == 0.9
+    assert search._belief(((250.0, 130.0, 0.0, 0.0),), null=False).null_prior == 0.0
+    for bad in (0.0, 1.0):
+        with pytest.raises(ValueError, match="further_prior"):
+            EpisodeConfig(further_prior=bad)
+
+
+@pytest.mark.parametrize("flag, value", [("--further-prior", "1"), ("--further-prior", "0"), ("--clear", "1.5")])
+def test_evaluate_refuses_a_prior_or_clear_level_out_of_range_naming_the_option(flag, value, capsys):
+    assert cli.main(["evaluate", "--episodes", "1", flag, value]) == 2
+    err = capsys.readouterr().err
+    assert flag in err and len(err.strip().splitlines()) == 1
