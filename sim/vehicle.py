@@ -1,6 +1,7 @@
 """One simulated vehicle: physics state, battery, wind and sensors, advanced in fixed steps of
 sim time. Injected faults reach it as plain settings: motor health (set_motor_thrust_scale), the
-wind (self.wind), the sensors' fault attributes, the battery's resting voltage."""
+wind (self.wind), the sensors' fault attributes, the battery's resting voltage. A recovery
+parachute's canopy, once deployed (deploy_canopy), drags it through the air."""
 from __future__ import annotations
 
 import math
@@ -10,6 +11,7 @@ from .airframe import Airframe
 from .fire import FireWorld, TemperatureSensor
 from .battery import (STEP_AT, BatteryState, open_circuit_volts_per_cell, remaining_fraction,
                       soc_at_open_circuit_volts)
+from .parachute import Canopy, slowed
 from .physics import PhysicsState, initial_state, make_fast_step
 from .rotors import HEALTHY, shaft_power_per_thrust_1p5
 from .precland import Beacon
@@ -31,6 +33,7 @@ class SimConfig:
     seed: int = 0
     world: FireWorld = field(default_factory=FireWorld)
     traffic: tuple[Track, ...] = ()  # the scenario's own aircraft ([[traffic]])
+    canopy: Canopy = field(default_factory=Canopy)  # the recovery parachute's ([parachute])
 
 
 class SimVehicle:
@@ -59,6 +62,10 @@ class SimVehicle:
         # acceleration [m/s^2] until _shove_until_s, or None.
         self.shove_accel_frd: tuple[float, float, float] | None = None
         self._shove_until_s = 0.0
+        # The parachute's canopy: sim time it was deployed (None: packed), and the acceleration
+        # [m/s^2, NED] its drag gave at the last battery step, which the accelerometer feels.
+        self.canopy_deployed_at_s: float | None = None
+        self.canopy_accel_ned: tuple[float, float, float] | None = None
         af = self.airframe
         power_per_omega_cubed = shaft_power_per_thrust_1p5(af) * af.thrust_coeff_b ** 1.5 / af.motor_efficiency
         self._battery_constants = (power_per_omega_cubed, af.battery_cells, af.battery_capacity_mah,
@@ -87,6 +94,8 @@ class SimVehicle:
                 self.conditions_version += 1
             if self.shove_accel_frd is not None:
                 self._push(self.dt * BATTERY_EVERY)
+            if self.canopy_deployed_at_s is not None:
+                self._drag_canopy(self.dt * BATTERY_EVERY, self.time_s - self.canopy_deployed_at_s)
 
     def shove(self, accel_frd: tuple[float, float, float], seconds: float) -> None:
         """Push the body with a body-frame acceleration [m/s^2] for `seconds` (0: stop pushing),
@@ -108,6 +117,21 @@ class SimVehicle:
         dvd = (2.0 * (qx * qz - qw * qy) * ax + 2.0 * (qy * qz + qw * qx) * ay + (1.0 - 2.0 * (qx * qx + qy * qy)) * az) * dt
         body = b._replace(vn_m_s=b.vn_m_s + dvn, ve_m_s=b.ve_m_s + dve, vd_m_s=b.vd_m_s + dvd)
         self.state = self.state._replace(body=body)
+
+    def deploy_canopy(self) -> None:
+        """Open the parachute (once: a canopy cannot be packed again in flight)."""
+        if self.canopy_deployed_at_s is None:
+            self.canopy_deployed_at_s = self.time_s
+
+    def _drag_canopy(self, dt: float, since_deploy_s: float) -> None:
+        b = self.state.body
+        if self.state.on_ground:  # it rests on the ground: the canopy lies beside it
+            self.canopy_accel_ned = None
+            return
+        area = self.config.canopy.drag_area_at(since_deploy_s)
+        vn, ve, vd = slowed((b.vn_m_s, b.ve_m_s, b.vd_m_s), self._wind_ned, area, self.airframe.mass_kg, dt)
+        self.canopy_accel_ned = ((vn - b.vn_m_s) / dt, (ve - b.ve_m_s) / dt, (vd - b.vd_m_s) / dt)
+        self.state = self.state._replace(body=b._replace(vn_m_s=vn, ve_m_s=ve, vd_m_s=vd))
 
     def set_motor_thrust_scale(self, thrust_scale: tuple) -> None:
         """Each motor's share of the thrust it is asked for (1 healthy, 0.7 weak, 0 failed): its

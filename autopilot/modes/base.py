@@ -108,6 +108,9 @@ class Mode:
     # THROW_MOT_START 0): nothing spins and nothing is controlled. A mode sets it on itself.
     motors_stopped = False
     skips_arming_delay = False  # the motors may spin at once on arming (ArduCopter: THROW)
+    # ArduCopter's crash checks watch it (crash_check_enabled: all but ACRO and FLIP): a parachute
+    # releases itself on a sink rate only in these
+    checks_for_crashes = True
 
     def __init_subclass__(cls, **kwargs: object) -> None:
         super().__init_subclass__(**kwargs)

@@ -19,6 +19,8 @@ if TYPE_CHECKING:
     from ..mission.progress import MissionProgress
     from ..params import ParamStore
     from ..payload.camera import Camera
+    from ..payload.parachute import Parachute
+    from ..payload.sprayer import Sprayer
     from ..pilot import PilotInput
     from .return_path import ReturnPath
     from ..results import Result
@@ -53,6 +55,8 @@ class ModeContext:
         follow_target            follow_target.py: the lead FOLLOW flies after (views.FollowTargetView):
                                  update(now, own position), the point to fly to, the lead's heading
         camera                   payload/camera.py: CAM1, as the mission's camera items drive it
+        parachute, sprayer       payload/parachute.py, payload/sprayer.py: as the mission's
+                                 DO_PARACHUTE and DO_SPRAYER drive them
         set_speed(m_s)           as DO_CHANGE_SPEED
         set_home(ned or None)    as DO_SET_HOME (None = here)
         fence_enable_item(action) as the mission's DO_FENCE_ENABLE (0 off, 1 on, 2 the floor off)
@@ -74,7 +78,8 @@ class ModeContext:
         avoid_lean(lean)         ALT_HOLD's (roll, pitch) pushed away from what the proximity sensor sees
     """
     __slots__ = ("_v", "_estimate", "_arming", "_land", "_sim", "params", "mission_progress", "return_path",
-                 "follow_target", "camera", "notify", "disarm", "set_speed", "set_home", "fence_enable_item",
+                 "follow_target", "camera", "parachute", "sprayer", "notify", "disarm", "set_speed", "set_home",
+                 "fence_enable_item",
                  "set_servo", "repeat_servo", "set_relay", "repeat_relay", "ned_of", "position_global", "set_mode",
                  "hover_thrust_share", "restart_position_control", "use_gains", "precland_landing",
                  "avoid_velocity", "avoid_climb", "avoid_lean")
@@ -83,6 +88,8 @@ class ModeContext:
     return_path: ReturnPath
     follow_target: FollowTargetView
     camera: Camera
+    parachute: Parachute
+    sprayer: Sprayer
     notify: Notify
     disarm: Callable[[str], Result]
     set_speed: Callable[[float], Result]
@@ -113,6 +120,8 @@ class ModeContext:
         self.return_path = vehicle.return_path
         self.follow_target = vehicle.follow_target
         self.camera = vehicle.camera
+        self.parachute = vehicle.parachute
+        self.sprayer = vehicle.sprayer
         self.notify = vehicle.notify
         self.disarm = vehicle.disarm
         self.set_speed = vehicle.set_speed
