@@ -334,10 +334,10 @@ class StateEstimate:
         push = sim.shove_accel_frd
         if push is not None:
             force = (force[0] + push[0], force[1] + push[1], force[2] + push[2])
-        canopy = sim.canopy_accel_ned  # a parachute's drag, felt as any other force
-        if canopy is not None:
-            drag = ned_to_body(sim.state.body, canopy)
-            force = (force[0] + drag[0], force[1] + drag[1], force[2] + drag[2])
+        payloads = sim.payload_accel_ned  # a parachute's drag, a load's weight: felt as any other force
+        if payloads is not None:
+            extra = ned_to_body(sim.state.body, payloads)
+            force = (force[0] + extra[0], force[1] + extra[1], force[2] + extra[2])
         return force
 
     @property

@@ -195,6 +195,12 @@ PARAM_TABLE: tuple[ParamSpec, ...] = (
     # SITL's parachute (payload/sitl_parachute.py), as SIM_PARA_*: fires once its pin reaches 1250 us
     _i8("SIM_PARA_ENABLE", 0, 0, 1, "1: a simulated parachute is fitted"),
     _i8("SIM_PARA_PIN", -1, -1, 16, "the output (1-16) that fires it; -1 none"),
+    # SITL's servo gripper (payload/sitl_gripper.py), as SIM_GRPS_*: jaws that hold a 1 kg load
+    _i8("SIM_GRPS_ENABLE", 0, 0, 1, "1: a simulated gripper is fitted"),
+    _i8("SIM_GRPS_PIN", -1, -1, 16, "the output (1-16) that moves its jaws; -1 none"),
+    replace(_i("SIM_GRPS_GRAB", 2000, 1000, 2000, "the PWM that shuts its jaws [us]"), mav_type=MAV_PARAM_TYPE_INT16),
+    replace(_i("SIM_GRPS_RELEASE", 1000, 1000, 2000, "the PWM that opens them [us]"), mav_type=MAV_PARAM_TYPE_INT16),
+    _i8("SIM_GRPS_REVERSE", 0, 0, 1, "1: the jaws move the other way"),
     # FOLLOW's lead (AP_Follow, follow_target.py): ArduCopter shows them once FOLL_ENABLE is 1
     _i("FOLL_SYSID", 0, 0, 255, "the lead's system id; 0 = the first other system heard"),
     _f("FOLL_DIST_MAX", 100, 0, 1000, "a lead farther than this is not followed [m]; 0 = no limit"),
@@ -244,6 +250,16 @@ PARAM_TABLE: tuple[ParamSpec, ...] = (
     replace(_i("SPRAY_SPINNER", 1300, 1000, 2000, "the spinner while spraying [us]"), mav_type=MAV_PARAM_TYPE_INT16),
     _f("SPRAY_SPEED_MIN", 100, 0, 1000, "sprays from this ground speed up [cm/s]"),
     _i8("SPRAY_PUMP_MIN", 0, 0, 100, "the pump's least share of its range while spraying [%]"),
+    # The gripper (AP_Gripper, payload/gripper.py): ArduCopter shows GRIP_* but GRIP_ENABLE once it is
+    # set, with these types and defaults (measured); GRIP_ENABLE and GRIP_TYPE make it at boot
+    _i8("GRIP_ENABLE", 0, 0, 1, "1: DO_GRIPPER acts (read at boot with GRIP_TYPE, then it switches it)"),
+    _i8("GRIP_TYPE", 0, 0, 2, "made at boot: 1 a servo (SERVOn_FUNCTION 28); 0 none, 2 an EPM (not modelled)"),
+    replace(_i("GRIP_GRAB", 1900, 1000, 2000, "the servo grabbing [us]"), mav_type=MAV_PARAM_TYPE_INT16),
+    replace(_i("GRIP_RELEASE", 1100, 1000, 2000, "the servo releasing [us]"), mav_type=MAV_PARAM_TYPE_INT16),
+    replace(_i("GRIP_NEUTRAL", 1500, 0, 2000, "the servo at boot [us]"), mav_type=MAV_PARAM_TYPE_INT16),
+    _i8("GRIP_REGRAB", 0, 0, 255, "served, unread (an EPM's regrab interval) [s]"),
+    replace(_i("GRIP_CAN_ID", 0, 0, 255, "served, unread (a DroneCAN hardpoint)"), mav_type=MAV_PARAM_TYPE_INT16),
+    _f("GRIP_AUTOCLOSE", 0, 0, 255, "a released gripper grabs again this long after [s], 0 = never"),
     # The rangefinder (AP_RangeFinder, rangefinder.py): ArduCopter shows RNGFND1_* but the type once
     # RNGFND1_TYPE is set and the vehicle rebooted, with these types and defaults (measured). No
     # documented range: an int8's, or a float's.

@@ -104,6 +104,10 @@ FIREFLY_ONLY: dict[str, str] = {
     **{name: "the sprayer's (AC_Sprayer): ArduCopter serves it once SPRAY_ENABLE is set (the reference's set was "
              "recorded with it 0); Firefly serves it always, so that it can be set before enabling"
        for name in ("SPRAY_PUMP_RATE", "SPRAY_SPINNER", "SPRAY_SPEED_MIN", "SPRAY_PUMP_MIN")},
+    **{name: "the gripper's (AP_Gripper): ArduCopter serves it once GRIP_ENABLE is set (the reference's set was "
+             "recorded with it 0); Firefly serves it always, so that it can be set before enabling"
+       for name in ("GRIP_TYPE", "GRIP_GRAB", "GRIP_RELEASE", "GRIP_NEUTRAL", "GRIP_REGRAB", "GRIP_CAN_ID",
+                    "GRIP_AUTOCLOSE")},
 }
 
 _OLD_NAME = "ArduPilot 4.5's name of {}, which scenarios and scripts written for 4.5 set"

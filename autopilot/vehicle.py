@@ -62,7 +62,9 @@ from .safety.land_detector import AutoDisarm, LandDetector
 from .safety.prearm_display import NO_ARMING_CHANGE_TEXT, PrearmDisplay
 from .safety.thrust_loss import ThrustLossCheck
 from .payload.camera import Camera
+from .payload.gripper import Gripper
 from .payload.parachute import Parachute
+from .payload.sitl_gripper import SitlGripper
 from .payload.sitl_parachute import SitlParachute
 from .payload.sprayer import Sprayer
 from .precland import BODY_FRD, LOCAL_FRD, PrecLand, line_of_sight
@@ -165,13 +167,16 @@ class Vehicle:
         # CAM1 (AP_Camera): pictures on command, by interval and by distance; drives those outputs
         self.camera = Camera(self, self.params, self.servo_relay.pwm, self.servo_relay.relays)
         self.camera_status = self.camera.status
-        # The parachute (CHUTE_*) and the sprayer (SPRAY_*), driving those outputs too; SITL's
-        # simulated parachute (SIM_PARA_*) fires on its output and opens the sim's canopy
+        # The parachute (CHUTE_*), the sprayer (SPRAY_*) and the gripper (GRIP_*), driving those
+        # outputs too; SITL's simulated parachute (SIM_PARA_*) fires on its output and opens the
+        # sim's canopy, its simulated gripper (SIM_GRPS_*) takes up a load and lets it go
         self.parachute = Parachute(self.params, self.servo_relay.pwm, self.servo_relay.relays, self.notify,
                                    partial(self.disarm, "parachute", force=True))
         self.parachute_prearm_failure = self.parachute.prearm_failure
         self.sprayer = Sprayer(self.params, self.servo_relay.pwm)
         self.sitl_parachute = SitlParachute(self.params, self.servo_relay.pwm, self.notify, self.sim.deploy_canopy)
+        self.gripper = Gripper(self.params, self.servo_relay.pwm, self.notify)
+        self.sitl_gripper = SitlGripper(self.params, self.servo_relay.pwm, self.sim.hang_load, self.sim.drop_load)
         # RNGFND1 (AP_RangeFinder): SITL's beam or a companion's DISTANCE_SENSOR, read at 20 Hz
         self.rangefinder = Rangefinder(self.params)
         self.rangefinder_reading = self.rangefinder.reading
@@ -406,6 +411,17 @@ class Vehicle:
             chute.manual_release(self.time_s, self.land_detector.landed, self.height_above_home_m())
         else:
             return Result.FAILED
+        return Result.ACCEPTED
+
+    def gripper_action(self, action: int) -> Result:
+        """DO_GRIPPER: FAILED while GRIP_ENABLE is 0; 0 releases, 1 grabs (payload/gripper.py),
+        anything else FAILED."""
+        if not self.gripper.enabled or action not in (0, 1):
+            return Result.FAILED
+        if action == 0:
+            self.gripper.release(self.time_s)
+        else:
+            self.gripper.grab(self.time_s)
         return Result.ACCEPTED
 
     def run_sprayer(self, on: bool) -> None:
@@ -1105,6 +1121,10 @@ class Vehicle:
                 self.sprayer.update(now, math.hypot(b.vn_m_s, b.ve_m_s))
             if self.sitl_parachute.ready:
                 self.sitl_parachute.update()
+            if self.gripper.fitted and now >= self.gripper.next_update_s - 1e-9:
+                self.gripper.update(now)
+            if self.sitl_gripper.ready:
+                self.sitl_gripper.update(now, -self.sim.state.body.d_m)
             armed, detector = self.arming.armed, self.land_detector
             if armed or not detector.landed:  # disarmed on the ground neither check has anything to do
                 body = estimate.body

@@ -40,6 +40,7 @@ if TYPE_CHECKING:
     from .modes.return_path import ReturnPath
     from .params import ParamStore
     from .payload.camera import Camera, CameraStatus
+    from .payload.gripper import Gripper
     from .payload.parachute import Parachute
     from .payload.sprayer import Sprayer
     from .pilot import PilotInput
@@ -464,6 +465,8 @@ class ModeHost(Protocol):
     def parachute(self) -> Parachute: ...
     @property
     def sprayer(self) -> Sprayer: ...
+    @property
+    def gripper(self) -> Gripper: ...
     @property
     def pilot(self) -> PilotInput: ...
     @property

@@ -88,6 +88,7 @@ ITEMS: dict[int, type[AutoItem]] = {
     206: CameraItem,  # DO_SET_CAM_TRIGG_DIST
     207: FenceEnable,  # DO_FENCE_ENABLE
     208: PayloadItem,  # DO_PARACHUTE
+    211: PayloadItem,  # DO_GRIPPER
     216: PayloadItem,  # DO_SPRAYER
     222: DoGuidedLimits,  # DO_GUIDED_LIMITS
     534: CameraItem,  # SET_CAMERA_SOURCE

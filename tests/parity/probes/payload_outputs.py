@@ -17,6 +17,11 @@ chute_sink     CHUTE_CRT_SINK 3: a GUIDED descent at up to 3.5 m/s (WPNAV_SPEED_
                releases it by itself once sinking faster than 3 m/s for a second.
 chute_mission  AUTO: takeoff to 8 m (below CHUTE_ALT_MIN), a waypoint, DO_PARACHUTE 2, a waypoint,
                LAND: what is said, reached and current, arming and mode after, the output.
+gripper        GRIP_ENABLE 1, GRIP_TYPE 1 (a servo) on output 9 (SERVO9_FUNCTION 28), SITL's gripper on
+               that pin (its jaws take up a 1 kg load on the ground): the GRIP_* values and types,
+               the output at rest; DO_GRIPPER's answers, texts and output for each action on the
+               ground; the hover's motor outputs carrying the load, after releasing it in the air
+               and after grabbing again there (nothing to take up); then a mission's DO_GRIPPER.
 sprayer        SPRAY_ENABLE 0 then 1, the pump on output 9 (SERVO9_FUNCTION 22) and the spinner on
                10 (23): DO_SPRAYER's answers and outputs on the ground, hovering, flying north at
                6 m/s (the pump follows the speed: SPRAY_PUMP_RATE % of its range per m/s), after
@@ -39,6 +44,11 @@ PUMP, SPINNER = 9, 10  # the sprayer's outputs
 CHUTE = 9  # the parachute's servo output
 CHUTE_BOOT = {"CHUTE_ENABLED": 1, "CHUTE_TYPE": 10, "SERVO9_FUNCTION": 27}
 SIM_PARACHUTE = {"SIM_PARA_ENABLE": 1, "SIM_PARA_PIN": CHUTE}
+GRIPPER = 9  # the gripper's servo output
+GRIPPER_BOOT = {"GRIP_ENABLE": 1, "GRIP_TYPE": 1, "SERVO9_FUNCTION": 28, "SIM_GRPS_ENABLE": 1, "SIM_GRPS_PIN": GRIPPER}
+GRIP_PARAMS = ("GRIP_ENABLE", "GRIP_TYPE", "GRIP_GRAB", "GRIP_RELEASE", "GRIP_NEUTRAL", "GRIP_REGRAB", "GRIP_CAN_ID",
+               "GRIP_AUTOCLOSE")
+LOAD_SHOWS_US = 30  # the hover's motor outputs rise by more than this carrying SITL's 1 kg (measured 91 us)
 CHUTE_PARAMS = ("CHUTE_ENABLED", "CHUTE_TYPE", "CHUTE_SERVO_ON", "CHUTE_SERVO_OFF", "CHUTE_ALT_MIN",
                 "CHUTE_DELAY_MS", "CHUTE_CRT_SINK", "CHUTE_OPTIONS")
 SPRAY_PARAMS = ("SPRAY_ENABLE", "SPRAY_PUMP_RATE", "SPRAY_SPINNER", "SPRAY_SPEED_MIN", "SPRAY_PUMP_MIN")
@@ -286,6 +296,52 @@ def chute_mission(c: Client, trace: Trace) -> None:
     trace.fact("output_values", sorted({pwm for _, pwm in watch.output(CHUTE)}))
 
 
+def _mission_said(c: Client, t0: int) -> list[str]:
+    """What was said once AUTO began (the upload's "Flight plan received" may come a moment late)."""
+    return [text for text in said(c.texts_since(t0)) if text != "Flight plan received"]
+
+
+def _hover_us(c: Client, samples: int = 20) -> float:
+    """The four motors' mean output over `samples` SERVO_OUTPUT_RAWs."""
+    total = 0.0
+    for _ in range(samples):
+        c.fresh("SERVO_OUTPUT_RAW")
+        m = c.last["SERVO_OUTPUT_RAW"]
+        total += (m.servo1_raw + m.servo2_raw + m.servo3_raw + m.servo4_raw) / 4.0
+    return total / samples
+
+
+def gripper(c: Client, trace: Trace) -> None:
+    for name in GRIP_PARAMS:
+        trace.fact(f"param.{name}", _param(c, name))
+    c.command(mav.MAV_CMD_SET_MESSAGE_INTERVAL, mav.MAVLINK_MSG_ID_SERVO_OUTPUT_RAW, 100_000)
+    trace.fact("rest.outputs", _outputs(c, GRIPPER))
+    for name, params in (("release", (1, 0)), ("release_again", (1, 0)), ("action2", (1, 2)), ("grab", (1, 1)),
+                         ("grab_again", (1, 1)), ("gripper5_release", (5, 0)), ("grab_load", (1, 1))):
+        _command(c, trace, name, mav.MAV_CMD_DO_GRIPPER, *params, outputs=(GRIPPER,))
+    c.idle(3.0)  # SITL's jaws shut on the load 2.3 s after a grab from open
+    reach_flying(c, 10.0)
+    c.idle(3.0)
+    loaded = _hover_us(c)
+    _command(c, trace, "release_flying", mav.MAV_CMD_DO_GRIPPER, 1, 0, outputs=(GRIPPER,), settle_s=3.0)
+    unloaded = _hover_us(c)
+    trace.fact("load_raised_hover", loaded - unloaded > LOAD_SHOWS_US)
+    _command(c, trace, "grab_flying", mav.MAV_CMD_DO_GRIPPER, 1, 1, outputs=(GRIPPER,), settle_s=3.0)
+    trace.fact("no_load_taken_up_flying", abs(_hover_us(c) - unloaded) < LOAD_SHOWS_US / 2)
+    m = c.last["GLOBAL_POSITION_INT"]
+    geo = Geometry(m.lat, m.lon)
+    items = [item(mav.MAV_CMD_NAV_WAYPOINT, geo, at=(0.0, 0.0), alt=10.0), item(mav.MAV_CMD_DO_GRIPPER, geo, (1, 0, 0, 0)),
+             item(mav.MAV_CMD_NAV_WAYPOINT, geo, at=(10.0, 0.0), alt=10.0),
+             item(mav.MAV_CMD_NAV_LOITER_UNLIM, geo, at=(10.0, 0.0), alt=10.0)]
+    trace.fact("mission.upload", upload(c, items))
+    t0 = c.now_ms
+    c.set_mode(AUTO)
+    c.wait(lambda: "MISSION_CURRENT" in c.last and c.last["MISSION_CURRENT"].seq == 4, 60, what="the loiter")
+    c.idle(1.0)
+    trace.fact("mission.said", _mission_said(c, t0))
+    trace.fact("mission.outputs_after", _outputs(c, GRIPPER))
+
+
 def sprayer(c: Client, trace: Trace) -> None:
     for name in SPRAY_PARAMS:
         trace.fact(f"param.{name}", _param(c, name))
@@ -334,7 +390,7 @@ def sprayer(c: Client, trace: Trace) -> None:
         c.wait(lambda: "MISSION_CURRENT" in c.last and c.last["MISSION_CURRENT"].seq == 5, 60, what="the last leg")
         on_leg_end = c.now_ms
         c.idle(1.0)
-    trace.fact("mission.said", said(c.texts_since(t0)))
+    trace.fact("mission.said", _mission_said(c, t0))
     leg = [(t, pump, spinner) for (t, pump), (_, spinner) in zip(watch.output(PUMP), watch.output(SPINNER))
            if t0 <= t <= on_leg_end]
     trace.fact("mission.pump_top", max((pump for _, pump, _ in leg), default=None), PUMP_PWM)
@@ -347,6 +403,7 @@ PROBES = {"chute_off": (chute_off, None), "chute_servo": (chute_servo, {**CHUTE_
                                                 "CHUTE_OPTIONS": 1}),
           "chute_sink": (chute_sink, {**CHUTE_BOOT, "CHUTE_CRT_SINK": 3}),
           "chute_mission": (chute_mission, {**CHUTE_BOOT, **SIM_PARACHUTE}),
+          "gripper": (gripper, GRIPPER_BOOT),
           "sprayer": (sprayer, {"SERVO9_FUNCTION": 22, "SERVO10_FUNCTION": 23})}
 
 
