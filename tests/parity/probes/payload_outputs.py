@@ -2,6 +2,11 @@
 with SITL's simulated one, SIM_PARA_*) and the sprayer (AC_Sprayer, SPRAY_*), each answering its
 command and mission item and moving its outputs, read off SERVO_OUTPUT_RAW.
 
+motor_order    the quad's motors on outputs 1-4, told apart by what they do: hovering in GUIDED,
+               which outputs first work harder as the vehicle rolls into a move east ("a": 2 over
+               1), pitches into a move north (4 over 3) and turns its nose right (1 and 2 over 3
+               and 4): ArduCopter's QUAD PLUS has 1 right, 2 left, 3 front, 4 back, 1 and 2 turning
+               the other way from 3 and 4.
 chute_off      defaults (CHUTE_ENABLED 0): DO_PARACHUTE's answers and CHUTE_ENABLED after each;
                enabled by command with the relay release (CHUTE_TYPE 0), the arming checks on
                the relay; disabled again, armed.
@@ -180,6 +185,49 @@ def _fall(trace: Trace, watch: Watch, t0: int, timing: Tol) -> None:
     ground = watch.landed_at(t0)
     trace.fact("release.ground_s", _seconds(t0, ground), timing)
     trace.fact("release.impact_m_s", watch.top_sink(t0, ground or t0), IMPACT)
+
+
+def _outputs_while(c: Client, seconds: float, send) -> list[tuple[int, int, int, int]]:
+    """The four motor outputs over `seconds` from sending a target (send())."""
+    seen: list[tuple[int, int, int, int]] = []
+
+    def take(msg) -> None:
+        if msg.get_type() == "SERVO_OUTPUT_RAW":
+            seen.append((msg.servo1_raw, msg.servo2_raw, msg.servo3_raw, msg.servo4_raw))
+    with c.listening(take):
+        send()
+        c.idle(seconds)
+    return seen
+
+
+def _first_ahead(seen: list[tuple[int, int, int, int]], a, b) -> str | None:
+    """Which side's outputs first work harder than the other's by more than 3 us (a and b pick
+    a side's sum out of the four outputs): "a", "b" or None."""
+    for outputs in seen:
+        lead = a(*outputs) - b(*outputs)
+        if abs(lead) > 3:
+            return "a" if lead > 0 else "b"
+    return None
+
+
+def motor_order(c: Client, trace: Trace) -> None:
+    reach_flying(c, 10.0)
+    c.command(mav.MAV_CMD_SET_MESSAGE_INTERVAL, mav.MAVLINK_MSG_ID_SERVO_OUTPUT_RAW, 20_000)
+    c.idle(2.0)
+
+    def velocity(vn: float, ve: float, yaw_rate: float = 0.0, mask: int = 0b010111000111):
+        return lambda: c.conn.mav.set_position_target_local_ned_send(0, 1, 1, mav.MAV_FRAME_LOCAL_NED, mask,
+                                                                    0, 0, 0, vn, ve, 0, 0, 0, 0, 0, yaw_rate)
+    stop = velocity(0.0, 0.0)
+    east = _outputs_while(c, 0.6, velocity(0.0, 5.0))
+    trace.fact("rolling_right.ahead", _first_ahead(east, lambda s1, s2, s3, s4: s2, lambda s1, s2, s3, s4: s1))
+    _outputs_while(c, 4.0, stop)
+    north = _outputs_while(c, 0.6, velocity(5.0, 0.0))
+    trace.fact("pitching_down.ahead", _first_ahead(north, lambda s1, s2, s3, s4: s4, lambda s1, s2, s3, s4: s3))
+    _outputs_while(c, 4.0, stop)
+    turning = _outputs_while(c, 1.0, velocity(0.0, 0.0, 1.5, 0b000111000111))
+    trace.fact("turning_right.ahead", _first_ahead(turning, lambda s1, s2, s3, s4: s1 + s2,
+                                                   lambda s1, s2, s3, s4: s3 + s4))
 
 
 def chute_off(c: Client, trace: Trace) -> None:
@@ -398,7 +446,7 @@ def sprayer(c: Client, trace: Trace) -> None:
     trace.fact("mission.outputs_after", _outputs(c, *both))
 
 
-PROBES = {"chute_off": (chute_off, None), "chute_servo": (chute_servo, {**CHUTE_BOOT, **SIM_PARACHUTE}),
+PROBES = {"motor_order": (motor_order, None), "chute_off": (chute_off, None), "chute_servo": (chute_servo, {**CHUTE_BOOT, **SIM_PARACHUTE}),
           "chute_free_fall": (chute_free_fall, {**CHUTE_BOOT, "CHUTE_ALT_MIN": 0, "CHUTE_DELAY_MS": 0,
                                                 "CHUTE_OPTIONS": 1}),
           "chute_sink": (chute_sink, {**CHUTE_BOOT, "CHUTE_CRT_SINK": 3}),
