@@ -332,9 +332,13 @@ class StateEstimate:
         sim = self.sim
         force = specific_force_body(sim.state, sim.airframe, sim.wind_ned)
         push = sim.shove_accel_frd
-        if push is None:
-            return force
-        return (force[0] + push[0], force[1] + push[1], force[2] + push[2])
+        if push is not None:
+            force = (force[0] + push[0], force[1] + push[1], force[2] + push[2])
+        payloads = sim.payload_accel_ned  # a parachute's drag, a load's weight: felt as any other force
+        if payloads is not None:
+            extra = ned_to_body(sim.state.body, payloads)
+            force = (force[0] + extra[0], force[1] + extra[1], force[2] + extra[2])
+        return force
 
     @property
     def mag_body_mgauss(self) -> tuple:

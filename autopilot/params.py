@@ -192,6 +192,15 @@ PARAM_TABLE: tuple[ParamSpec, ...] = (
     _f("SIM_PLD_DIST_LMT", 10, 5, 100, "nor farther than this sideways (type 0), in its cone (1), away (2) [m]"),
     _i("SIM_PLD_TYPE", 0, 0, 2, "0 cylinder, 1 cone, 2 sphere"),
     _i("SIM_PLD_OPTIONS", 0, 0, 1, "bit 0: the beacon gives its distance (no rangefinder needed)"),
+    # SITL's parachute (payload/sitl_parachute.py), as SIM_PARA_*: fires once its pin reaches 1250 us
+    _i8("SIM_PARA_ENABLE", 0, 0, 1, "1: a simulated parachute is fitted"),
+    _i8("SIM_PARA_PIN", -1, -1, 16, "the output (1-16) that fires it; -1 none"),
+    # SITL's servo gripper (payload/sitl_gripper.py), as SIM_GRPS_*: jaws that hold a 1 kg load
+    _i8("SIM_GRPS_ENABLE", 0, 0, 1, "1: a simulated gripper is fitted"),
+    _i8("SIM_GRPS_PIN", -1, -1, 16, "the output (1-16) that moves its jaws; -1 none"),
+    replace(_i("SIM_GRPS_GRAB", 2000, 1000, 2000, "the PWM that shuts its jaws [us]"), mav_type=MAV_PARAM_TYPE_INT16),
+    replace(_i("SIM_GRPS_RELEASE", 1000, 1000, 2000, "the PWM that opens them [us]"), mav_type=MAV_PARAM_TYPE_INT16),
+    _i8("SIM_GRPS_REVERSE", 0, 0, 1, "1: the jaws move the other way"),
     # FOLLOW's lead (AP_Follow, follow_target.py): ArduCopter shows them once FOLL_ENABLE is 1
     _i("FOLL_SYSID", 0, 0, 255, "the lead's system id; 0 = the first other system heard"),
     _f("FOLL_DIST_MAX", 100, 0, 1000, "a lead farther than this is not followed [m]; 0 = no limit"),
@@ -222,6 +231,35 @@ PARAM_TABLE: tuple[ParamSpec, ...] = (
     _f("CAM1_VFOV", 0, 0, 180, "served; field of view [deg], 0 unknown"),
     _i("CAM_AUTO_ONLY", 0, 0, 1, "1: distance triggering in AUTO only"),
     _i("CAM_MAX_ROLL", 0, 0, 180, "no distance-triggered picture while rolled beyond this [deg], 0 = any roll"),
+    # The parachute (AP_Parachute, payload/parachute.py): ArduCopter shows CHUTE_* but CHUTE_ENABLED
+    # once it is set, with these types and defaults (measured); each acts at once
+    _i8("CHUTE_ENABLED", 0, 0, 1, "1: the parachute may be released (DO_PARACHUTE 0 / 1 set it)"),
+    _i8("CHUTE_TYPE", 0, 0, 10, "the release: 0-3 a relay (RELAYn_FUNCTION 3), 10 a servo (SERVOn_FUNCTION 27)"),
+    replace(_i("CHUTE_SERVO_ON", 1300, 1000, 2000, "the servo while released [us]"), mav_type=MAV_PARAM_TYPE_INT16),
+    replace(_i("CHUTE_SERVO_OFF", 1100, 1000, 2000, "the servo otherwise [us]"), mav_type=MAV_PARAM_TYPE_INT16),
+    replace(_i("CHUTE_ALT_MIN", 10, 0, 32000, "no release asked for below this height above home [m], 0 = any"),
+            mav_type=MAV_PARAM_TYPE_INT16),
+    replace(_i("CHUTE_DELAY_MS", 500, 0, 5000, "from the motors' stop to the release [ms]"),
+            mav_type=MAV_PARAM_TYPE_INT16),
+    _f("CHUTE_CRT_SINK", 0, 0, 15, "sinking faster than this for a second releases it [m/s], 0 = never"),
+    replace(_i("CHUTE_OPTIONS", 0, 0, 3, "bit 0: held open for ever, bit 1: released without disarming"),
+            mav_type=MAV_PARAM_TYPE_INT32),
+    # The sprayer (AC_Sprayer, payload/sprayer.py): ArduCopter shows SPRAY_* but SPRAY_ENABLE once it is set
+    _i8("SPRAY_ENABLE", 0, 0, 1, "1: DO_SPRAYER may switch the sprayer on"),
+    _f("SPRAY_PUMP_RATE", 10, 0, 100, "the pump's share of its range per m/s of ground speed [%]"),
+    replace(_i("SPRAY_SPINNER", 1300, 1000, 2000, "the spinner while spraying [us]"), mav_type=MAV_PARAM_TYPE_INT16),
+    _f("SPRAY_SPEED_MIN", 100, 0, 1000, "sprays from this ground speed up [cm/s]"),
+    _i8("SPRAY_PUMP_MIN", 0, 0, 100, "the pump's least share of its range while spraying [%]"),
+    # The gripper (AP_Gripper, payload/gripper.py): ArduCopter shows GRIP_* but GRIP_ENABLE once it is
+    # set, with these types and defaults (measured); GRIP_ENABLE and GRIP_TYPE make it at boot
+    _i8("GRIP_ENABLE", 0, 0, 1, "1: DO_GRIPPER acts (read at boot with GRIP_TYPE, then it switches it)"),
+    _i8("GRIP_TYPE", 0, 0, 2, "made at boot: 1 a servo (SERVOn_FUNCTION 28); 0 none, 2 an EPM (not modelled)"),
+    replace(_i("GRIP_GRAB", 1900, 1000, 2000, "the servo grabbing [us]"), mav_type=MAV_PARAM_TYPE_INT16),
+    replace(_i("GRIP_RELEASE", 1100, 1000, 2000, "the servo releasing [us]"), mav_type=MAV_PARAM_TYPE_INT16),
+    replace(_i("GRIP_NEUTRAL", 1500, 0, 2000, "the servo at boot [us]"), mav_type=MAV_PARAM_TYPE_INT16),
+    _i8("GRIP_REGRAB", 0, 0, 255, "served, unread (an EPM's regrab interval) [s]"),
+    replace(_i("GRIP_CAN_ID", 0, 0, 255, "served, unread (a DroneCAN hardpoint)"), mav_type=MAV_PARAM_TYPE_INT16),
+    _f("GRIP_AUTOCLOSE", 0, 0, 255, "a released gripper grabs again this long after [s], 0 = never"),
     # The rangefinder (AP_RangeFinder, rangefinder.py): ArduCopter shows RNGFND1_* but the type once
     # RNGFND1_TYPE is set and the vehicle rebooted, with these types and defaults (measured). No
     # documented range: an int8's, or a float's.

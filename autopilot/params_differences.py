@@ -101,6 +101,17 @@ FIREFLY_ONLY: dict[str, str] = {
                     "PLND_ACC_P_NSE", "PLND_CAM_POS_X", "PLND_CAM_POS_Y", "PLND_CAM_POS_Z", "PLND_BUS", "PLND_LAG",
                     "PLND_XY_DIST_MAX", "PLND_STRICT", "PLND_RET_MAX", "PLND_TIMEOUT", "PLND_RET_BEHAVE",
                     "PLND_ALT_MIN", "PLND_ALT_MAX", "PLND_OPTIONS")},
+    **{name: "the parachute's (AP_Parachute): ArduCopter serves it once CHUTE_ENABLED is set (the reference's set "
+             "was recorded with it 0); Firefly serves it always, so that it can be set before enabling"
+       for name in ("CHUTE_TYPE", "CHUTE_SERVO_ON", "CHUTE_SERVO_OFF", "CHUTE_ALT_MIN", "CHUTE_DELAY_MS",
+                    "CHUTE_CRT_SINK", "CHUTE_OPTIONS")},
+    **{name: "the sprayer's (AC_Sprayer): ArduCopter serves it once SPRAY_ENABLE is set (the reference's set was "
+             "recorded with it 0); Firefly serves it always, so that it can be set before enabling"
+       for name in ("SPRAY_PUMP_RATE", "SPRAY_SPINNER", "SPRAY_SPEED_MIN", "SPRAY_PUMP_MIN")},
+    **{name: "the gripper's (AP_Gripper): ArduCopter serves it once GRIP_ENABLE is set (the reference's set was "
+             "recorded with it 0); Firefly serves it always, so that it can be set before enabling"
+       for name in ("GRIP_TYPE", "GRIP_GRAB", "GRIP_RELEASE", "GRIP_NEUTRAL", "GRIP_REGRAB", "GRIP_CAN_ID",
+                    "GRIP_AUTOCLOSE")},
 }
 
 _OLD_NAME = "ArduPilot 4.5's name of {}, which scenarios and scripts written for 4.5 set"

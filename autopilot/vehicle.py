@@ -64,6 +64,11 @@ from .safety.prearm_display import NO_ARMING_CHANGE_TEXT, PrearmDisplay
 from .safety.thrust_loss import ThrustLossCheck
 from .path_planning.planner import PathPlanner
 from .payload.camera import Camera
+from .payload.gripper import Gripper
+from .payload.parachute import Parachute
+from .payload.sitl_gripper import SitlGripper
+from .payload.sitl_parachute import SitlParachute
+from .payload.sprayer import Sprayer
 from .precland import BODY_FRD, LOCAL_FRD, PrecLand, line_of_sight
 from .precland import MAVLINK as PRECLAND_MAVLINK
 from .precland import SITL as PRECLAND_SITL
@@ -167,6 +172,16 @@ class Vehicle:
         # CAM1 (AP_Camera): pictures on command, by interval and by distance; drives those outputs
         self.camera = Camera(self, self.params, self.servo_relay.pwm, self.servo_relay.relays)
         self.camera_status = self.camera.status
+        # The parachute (CHUTE_*), the sprayer (SPRAY_*) and the gripper (GRIP_*), driving those
+        # outputs too; SITL's simulated parachute (SIM_PARA_*) fires on its output and opens the
+        # sim's canopy, its simulated gripper (SIM_GRPS_*) takes up a load and lets it go
+        self.parachute = Parachute(self.params, self.servo_relay.pwm, self.servo_relay.relays, self.notify,
+                                   partial(self.disarm, "parachute", force=True))
+        self.parachute_prearm_failure = self.parachute.prearm_failure
+        self.sprayer = Sprayer(self.params, self.servo_relay.pwm)
+        self.sitl_parachute = SitlParachute(self.params, self.servo_relay.pwm, self.notify, self.sim.deploy_canopy)
+        self.gripper = Gripper(self.params, self.servo_relay.pwm, self.notify)
+        self.sitl_gripper = SitlGripper(self.params, self.servo_relay.pwm, self.sim.hang_load, self.sim.drop_load)
         # RNGFND1 (AP_RangeFinder): SITL's beam or a companion's DISTANCE_SENSOR, read at 20 Hz
         self.rangefinder = Rangefinder(self.params)
         self.rangefinder_reading = self.rangefinder.reading
@@ -388,6 +403,35 @@ class Vehicle:
         """DO_REPEAT_RELAY (servo_relay.py), from now: FAILED as set_relay."""
         done = self.servo_relay.repeat_relay(relay, count, cycle_s, self.time_s)
         return Result.ACCEPTED if done else Result.FAILED
+
+    def parachute_action(self, action: int) -> Result:
+        """DO_PARACHUTE: 0 disables it, 1 enables it, 2 releases it as the pilot would (refused on
+        the ground and below CHUTE_ALT_MIN: payload/parachute.py); anything else FAILED."""
+        chute = self.parachute
+        if action == 0:
+            chute.enable(False)
+        elif action == 1:
+            chute.enable(True)
+        elif action == 2:
+            chute.manual_release(self.time_s, self.land_detector.landed, self.height_above_home_m())
+        else:
+            return Result.FAILED
+        return Result.ACCEPTED
+
+    def gripper_action(self, action: int) -> Result:
+        """DO_GRIPPER: FAILED while GRIP_ENABLE is 0; 0 releases, 1 grabs (payload/gripper.py),
+        anything else FAILED."""
+        if not self.gripper.enabled or action not in (0, 1):
+            return Result.FAILED
+        if action == 0:
+            self.gripper.release(self.time_s)
+        else:
+            self.gripper.grab(self.time_s)
+        return Result.ACCEPTED
+
+    def run_sprayer(self, on: bool) -> None:
+        """DO_SPRAYER (payload/sprayer.py)."""
+        self.sprayer.run(on, self.time_s)
 
     def _rangefinder_height(self) -> float | None:
         """ArduCopter's rangefinder_alt_ok height [m]: a downward rangefinder's good reading, else None."""
@@ -1082,6 +1126,17 @@ class Vehicle:
                     self.internal_error(exc, f"{self.mode.name} update")
             if self.camera.busy:  # a picture, an interval or distance triggering under way
                 self.camera.update()
+            if self.parachute.enabled:
+                self._parachute_tick(now)
+            if self.sprayer.running and now >= self.sprayer.next_update_s - 1e-9:
+                b = estimate.body
+                self.sprayer.update(now, math.hypot(b.vn_m_s, b.ve_m_s))
+            if self.sitl_parachute.ready:
+                self.sitl_parachute.update()
+            if self.gripper.fitted and now >= self.gripper.next_update_s - 1e-9:
+                self.gripper.update(now)
+            if self.sitl_gripper.ready:
+                self.sitl_gripper.update(now, -self.sim.state.body.d_m)
             armed, detector = self.arming.armed, self.land_detector
             if armed or not detector.landed:  # disarmed on the ground neither check has anything to do
                 body = estimate.body
@@ -1124,6 +1179,12 @@ class Vehicle:
                     self._display_prearm(now)
         except Exception as exc:  # noqa: BLE001 - a bug is an internal error, never an exit
             self.internal_error(exc, f"{self.mode.name} tick")
+
+    def _parachute_tick(self, now: float) -> None:
+        """The parachute's output, and its release on a sink rate (payload/parachute.py)."""
+        vd = self.estimate.body.vd_m_s
+        self.parachute.update(now, self.arming.armed, self.land_detector.landed, self.mode.checks_for_crashes,
+                              vd, self.height_above_home_m())
 
     def _display_prearm(self, now: float) -> None:
         options = int(self.params["ARMING_OPTIONS"])

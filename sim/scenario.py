@@ -1,5 +1,6 @@
 """Scenario files (TOML): the world a run takes place in — home, airframe, wind, sensor noise,
-physics rate, seed, and the fire world — read the same way by the autopilot and the companion.
+physics rate, seed, the recovery parachute's canopy, and the fire world — read the same way by
+the autopilot and the companion.
 
 The tables that only the vehicle acts on ([script], [signing], [faults]) are kept as written in
 `vehicle_tables`; the autopilot checks them (autopilot/cli/scenario.py). Every mistake is reported
@@ -15,6 +16,7 @@ from pathlib import Path
 from .airframe import Airframe
 from .fire import FireWorld, world_from_tables
 from .geo import GeoPoint
+from .parachute import Canopy
 from .sensors import NoiseConfig
 from .traffic import tracks_from_tables
 from .vehicle import SimConfig
@@ -101,7 +103,7 @@ def load_scenario(path: Path) -> Scenario:
     return scenario_from_dict(read_toml(path), str(path))
 
 
-WORLD_TABLES = ("seed", "home", "airframe", "wind", "noise", "sim", "world", "fire", "traffic")
+WORLD_TABLES = ("seed", "home", "airframe", "wind", "noise", "sim", "world", "fire", "traffic", "parachute")
 VEHICLE_TABLES = ("script", "signing", "faults", "startup", "params")  # what the vehicle acts on: checked by the autopilot
 KNOWN_TABLES = WORLD_TABLES + VEHICLE_TABLES
 
@@ -116,7 +118,7 @@ def scenario_from_dict(data: dict, name: str = "scenario") -> Scenario:
     sc = Scenario()
     if "seed" in data:
         sc.seed = number(f"{name}: seed", data["seed"], integer=True)
-    for key in ("home", "airframe", "wind", "noise", "sim"):
+    for key in ("home", "airframe", "wind", "noise", "sim", "parachute"):
         if key in data and not isinstance(data[key], dict):
             raise ScenarioError(f"{name}: [{key}] must be a table")
     home = data.get("home", {})
@@ -133,6 +135,7 @@ def scenario_from_dict(data: dict, name: str = "scenario") -> Scenario:
     airframe = _table_to(Airframe, data.get("airframe", {}), f"{name}: [airframe]")
     wind = _table_to(SteadyWind, data.get("wind", {}), f"{name}: [wind]")
     noise = _table_to(NoiseConfig, data.get("noise", {}), f"{name}: [noise]")
+    canopy = _table_to(Canopy, data.get("parachute", {}), f"{name}: [parachute]")
     sim_table = data.get("sim", {})
     unknown = set(sim_table) - {"physics_rate_hz"}
     if unknown:
@@ -157,6 +160,6 @@ def scenario_from_dict(data: dict, name: str = "scenario") -> Scenario:
     except ValueError as exc:
         raise ScenarioError(str(exc)) from None
     sc.sim = SimConfig(airframe=airframe, wind=wind, noise=noise, physics_rate_hz=rate, seed=sc.seed,
-                       world=sc.world, traffic=traffic)
+                       world=sc.world, traffic=traffic, canopy=canopy)
     sc.vehicle_tables = {key: data[key] for key in VEHICLE_TABLES if key in data}
     return sc

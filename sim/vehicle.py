@@ -1,15 +1,19 @@
 """One simulated vehicle: physics state, battery, wind and sensors, advanced in fixed steps of
 sim time. Injected faults reach it as plain settings: motor health (set_motor_thrust_scale), the
-wind (self.wind), the sensors' fault attributes, the battery's resting voltage."""
+wind (self.wind), the sensors' fault attributes, the battery's resting voltage. Payloads act at the
+battery steps: a recovery parachute's canopy, once deployed (deploy_canopy), drags it through the
+air; a load on a string (hang_load) makes it heavier while it hangs."""
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
 
-from .airframe import Airframe
+from .airframe import GRAVITY_M_S2, Airframe
 from .fire import FireWorld, TemperatureSensor
 from .battery import (STEP_AT, BatteryState, open_circuit_volts_per_cell, remaining_fraction,
                       soc_at_open_circuit_volts)
+from .parachute import Canopy, slowed
+from .slung_load import SlungLoad, carried
 from .physics import PhysicsState, initial_state, make_fast_step
 from .rotors import HEALTHY, shaft_power_per_thrust_1p5
 from .precland import Beacon
@@ -31,6 +35,7 @@ class SimConfig:
     seed: int = 0
     world: FireWorld = field(default_factory=FireWorld)
     traffic: tuple[Track, ...] = ()  # the scenario's own aircraft ([[traffic]])
+    canopy: Canopy = field(default_factory=Canopy)  # the recovery parachute's ([parachute])
 
 
 class SimVehicle:
@@ -59,6 +64,13 @@ class SimVehicle:
         # acceleration [m/s^2] until _shove_until_s, or None.
         self.shove_accel_frd: tuple[float, float, float] | None = None
         self._shove_until_s = 0.0
+        # The parachute's canopy: sim time it was deployed (None: packed); a load on a string
+        # (None: none); the acceleration [m/s^2, NED] they gave at the last battery step, which
+        # the accelerometer feels (None: none), and the velocity then.
+        self.canopy_deployed_at_s: float | None = None
+        self.load: SlungLoad | None = None
+        self.payload_accel_ned: tuple[float, float, float] | None = None
+        self._payload_v: tuple[float, float, float] | None = None
         af = self.airframe
         power_per_omega_cubed = shaft_power_per_thrust_1p5(af) * af.thrust_coeff_b ** 1.5 / af.motor_efficiency
         self._battery_constants = (power_per_omega_cubed, af.battery_cells, af.battery_capacity_mah,
@@ -87,6 +99,8 @@ class SimVehicle:
                 self.conditions_version += 1
             if self.shove_accel_frd is not None:
                 self._push(self.dt * BATTERY_EVERY)
+            if self.canopy_deployed_at_s is not None or self.load is not None:
+                self._act_payloads(self.dt * BATTERY_EVERY)
 
     def shove(self, accel_frd: tuple[float, float, float], seconds: float) -> None:
         """Push the body with a body-frame acceleration [m/s^2] for `seconds` (0: stop pushing),
@@ -108,6 +122,39 @@ class SimVehicle:
         dvd = (2.0 * (qx * qz - qw * qy) * ax + 2.0 * (qy * qz + qw * qx) * ay + (1.0 - 2.0 * (qx * qx + qy * qy)) * az) * dt
         body = b._replace(vn_m_s=b.vn_m_s + dvn, ve_m_s=b.ve_m_s + dve, vd_m_s=b.vd_m_s + dvd)
         self.state = self.state._replace(body=body)
+
+    def deploy_canopy(self) -> None:
+        """Open the parachute (once: a canopy cannot be packed again in flight)."""
+        if self.canopy_deployed_at_s is None:
+            self.canopy_deployed_at_s = self.time_s
+
+    def hang_load(self, mass_kg: float) -> None:
+        """A load on a string below the vehicle (a gripper closing on it on the ground)."""
+        self.load = SlungLoad(mass_kg)
+
+    def drop_load(self) -> None:
+        self.load = None
+        self._payload_v = None
+
+    def _act_payloads(self, dt: float) -> None:
+        """The load's weight and inertia, then the canopy's drag, over the last battery interval."""
+        state, b = self.state, self.state.body
+        v0 = v = (b.vn_m_s, b.ve_m_s, b.vd_m_s)
+        if state.on_ground:  # resting: the canopy lies beside it, the load beneath
+            self.payload_accel_ned = self._payload_v = None
+            return
+        mass, load, before = self.airframe.mass_kg, self.load, self._payload_v
+        hanging_kg = load.mass_kg if load is not None and load.hangs(-b.d_m) else 0.0
+        if hanging_kg:
+            if before is not None:  # (else it has just begun to hang: from the next interval on)
+                v = carried(before, v, GRAVITY_M_S2 * dt, mass, hanging_kg)
+            mass += hanging_kg
+        if self.canopy_deployed_at_s is not None:
+            area = self.config.canopy.drag_area_at(self.time_s - self.canopy_deployed_at_s)
+            v = slowed(v, self._wind_ned, area, mass, dt)
+        self.payload_accel_ned = ((v[0] - v0[0]) / dt, (v[1] - v0[1]) / dt, (v[2] - v0[2]) / dt)
+        self._payload_v = v if hanging_kg else None
+        self.state = state._replace(body=b._replace(vn_m_s=v[0], ve_m_s=v[1], vd_m_s=v[2]))
 
     def set_motor_thrust_scale(self, thrust_scale: tuple) -> None:
         """Each motor's share of the thrust it is asked for (1 healthy, 0.7 weak, 0 failed): its

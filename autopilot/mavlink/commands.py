@@ -20,6 +20,7 @@ from ..c_casts import as_int16, as_uint16, as_uint32
 from .camera_commands import HANDLERS as CAMERA_HANDLERS
 from .command_locations import is_location, target_ned
 from .do_item_commands import HANDLERS as DO_ITEM_HANDLERS
+from .payload_commands import HANDLERS as PAYLOAD_HANDLERS
 from .external_nav_messages import origin_taken
 from .preflight import HANDLERS as PREFLIGHT_HANDLERS
 
@@ -264,7 +265,7 @@ def run_prearm_checks(s, c: Command) -> Result:
 
 def no_such_device(s, c: Command) -> Result:
     """FAILED, as ArduCopter SITL answers for a device it has none of: a mount or gimbal, a
-    camera, a gripper, a winch, an SD card to format."""
+    camera, a winch, an SD card to format."""
     return Result.FAILED
 
 
@@ -413,10 +414,11 @@ HANDLERS = {
     **PREFLIGHT_HANDLERS,  # reboot, storage, calibrations, banner (preflight.py)
     **DO_ITEM_HANDLERS,  # fence switch, mission current and tags, ROI (do_item_commands.py)
     **CAMERA_HANDLERS,  # CAM1: pictures, intervals, distance triggering (camera_commands.py)
+    **PAYLOAD_HANDLERS,  # the parachute, the sprayer and the gripper (payload_commands.py)
     **{command: no_such_device for command in (
         mav.MAV_CMD_DO_MOUNT_CONFIGURE, mav.MAV_CMD_DO_MOUNT_CONTROL, mav.MAV_CMD_DO_GIMBAL_MANAGER_PITCHYAW,
         mav.MAV_CMD_DO_GIMBAL_MANAGER_CONFIGURE, mav.MAV_CMD_SET_CAMERA_FOCUS,
-        mav.MAV_CMD_VIDEO_START_CAPTURE, mav.MAV_CMD_VIDEO_STOP_CAPTURE, mav.MAV_CMD_DO_GRIPPER,
+        mav.MAV_CMD_VIDEO_START_CAPTURE, mav.MAV_CMD_VIDEO_STOP_CAPTURE,
         mav.MAV_CMD_DO_WINCH, mav.MAV_CMD_STORAGE_FORMAT)},
     mav.MAV_CMD_DO_ADSB_OUT_IDENT: adsb_out_ident,
 }

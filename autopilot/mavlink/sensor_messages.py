@@ -12,6 +12,7 @@ from firefly.sim.airframe import GRAVITY_M_S2
 from firefly.sim.rigid_body import euler_from_quaternion
 
 from ..control.attitude import wrap_pi
+from ..motor_outputs import in_output_order
 from ..views import SensorView
 from .dialect import mavlink as mav
 from .encoding import deg_e7, time_boot_ms, u16
@@ -134,7 +135,7 @@ def rc_channels(v: SensorView, codec):
 
 
 def motor_pwm(v: SensorView) -> list[int]:
-    """Each motor's PWM as ArduCopter's motor library makes it: thrust as a fraction of the most
+    """Each motor's PWM as ArduCopter's motor library makes it, on its outputs (motor_outputs.py): thrust as a fraction of the most
     a rotor gives, turned into throttle through the MOT_THST_EXPO curve, spread over
     MOT_SPIN_MIN..MOT_SPIN_MAX of the MOT_PWM_MIN..MOT_PWM_MAX range; MOT_PWM_MIN disarmed, and for
     a motor commanded to stop (armed with the motors shut down: the arming delay, emergency stop,
@@ -146,7 +147,7 @@ def motor_pwm(v: SensorView) -> list[int]:
     expo, spin_min, spin_max = params["MOT_THST_EXPO"], params["MOT_SPIN_MIN"], params["MOT_SPIN_MAX"]
     out = []
     idle = v.omega_idle_rad_s
-    for omega in v.motor_commands:
+    for omega in in_output_order(v.motor_commands):
         if omega <= 0.0:
             out.append(int(low))
             continue
@@ -170,7 +171,7 @@ def servo_output_raw(v: SensorView, codec):
 def esc_telemetry_1_to_4(v: SensorView, codec):
     """Each ESC's voltage, a quarter of the pack current and charge, and its rotor's speed."""
     batt = v.battery
-    rpm = [u16(round(w * 60.0 / (2.0 * math.pi))) for w in v.motor_speeds_rad_s]
+    rpm = [u16(round(w * 60.0 / (2.0 * math.pi))) for w in in_output_order(v.motor_speeds_rad_s)]
     count = int(v.time_s * 10) & 0xFFFF  # reports received: one per 100 ms of vehicle time
     return codec.esc_telemetry_1_to_4_encode(
         [ESC_TEMPERATURE_C] * 4, [u16(batt.voltage_v * 100)] * 4,

@@ -74,6 +74,7 @@ def acro_rates(params: ParamStore, pilot: PilotInput, target_euler: tuple[float,
 
 class Acro(Mode):
     number = ModeNumber.ACRO
+    checks_for_crashes = False
     allows_arming = True
     manual_throttle = True
 

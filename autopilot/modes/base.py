@@ -111,6 +111,9 @@ class Mode:
     # Its waypoint legs go round the fence by OA_TYPE's path planner (ctx.path_planner), as
     # ArduCopter's legs flown by its wp_nav (AC_WPNav_OA) do: AUTO, GUIDED, RTL, SMART_RTL (measured)
     plans_paths = False
+    # ArduCopter's crash checks watch it (crash_check_enabled: all but ACRO and FLIP): a parachute
+    # releases itself on a sink rate only in these
+    checks_for_crashes = True
 
     def __init_subclass__(cls, **kwargs: object) -> None:
         super().__init_subclass__(**kwargs)

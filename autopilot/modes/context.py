@@ -19,6 +19,9 @@ if TYPE_CHECKING:
     from ..mission.progress import MissionProgress
     from ..params import ParamStore
     from ..payload.camera import Camera
+    from ..payload.gripper import Gripper
+    from ..payload.parachute import Parachute
+    from ..payload.sprayer import Sprayer
     from ..pilot import PilotInput
     from .return_path import ReturnPath
     from ..path_planning.planner import PathPlanner
@@ -56,6 +59,8 @@ class ModeContext:
         follow_target            follow_target.py: the lead FOLLOW flies after (views.FollowTargetView):
                                  update(now, own position), the point to fly to, the lead's heading
         camera                   payload/camera.py: CAM1, as the mission's camera items drive it
+        parachute, sprayer, gripper payload/parachute.py, sprayer.py, gripper.py: as the
+                                 mission's DO_PARACHUTE, DO_SPRAYER and DO_GRIPPER drive them
         set_speed(m_s)           as DO_CHANGE_SPEED
         set_home(ned or None)    as DO_SET_HOME (None = here)
         fence_enable_item(action) as the mission's DO_FENCE_ENABLE (0 off, 1 on, 2 the floor off)
@@ -78,7 +83,8 @@ class ModeContext:
         destination_within_fence(n, e, d) a GUIDED destination (local NED) inside every enabled fence
     """
     __slots__ = ("_v", "_estimate", "_arming", "_land", "_sim", "params", "mission_progress", "return_path", "path_planner",
-                 "follow_target", "camera", "notify", "disarm", "set_speed", "set_home", "fence_enable_item",
+                 "follow_target", "camera", "parachute", "sprayer", "gripper", "notify", "disarm", "set_speed",
+                 "set_home", "fence_enable_item",
                  "set_servo", "repeat_servo", "set_relay", "repeat_relay", "ned_of", "position_global", "set_mode",
                  "hover_thrust_share", "restart_position_control", "use_gains", "precland_landing",
                  "avoid_velocity", "avoid_climb", "avoid_lean", "destination_within_fence")
@@ -88,6 +94,9 @@ class ModeContext:
     path_planner: PathPlanner
     follow_target: FollowTargetView
     camera: Camera
+    parachute: Parachute
+    sprayer: Sprayer
+    gripper: Gripper
     notify: Notify
     disarm: Callable[[str], Result]
     set_speed: Callable[[float], Result]
@@ -120,6 +129,9 @@ class ModeContext:
         self.path_planner = vehicle.path_planner
         self.follow_target = vehicle.follow_target
         self.camera = vehicle.camera
+        self.parachute = vehicle.parachute
+        self.sprayer = vehicle.sprayer
+        self.gripper = vehicle.gripper
         self.notify = vehicle.notify
         self.disarm = vehicle.disarm
         self.set_speed = vehicle.set_speed

@@ -42,6 +42,7 @@ def flip_refusal(ctx: ModeContext) -> bool:
 
 class Flip(Mode):
     number = ModeNumber.FLIP
+    checks_for_crashes = False
 
     def __init__(self) -> None:
         self._target = AttitudeTarget()

@@ -125,6 +125,12 @@ def _rangefinder(v: PrearmView) -> str | None:
     return v.rangefinder_prearm_failure()
 
 
+def _parachute(v: PrearmView) -> str | None:
+    """AP_Parachute's arming check (AP_Arming's system checks, after the rangefinder's): enabled,
+    its release output is set up and it has not been released since boot (measured)."""
+    return v.parachute_prearm_failure()
+
+
 def _proximity(v: PrearmView) -> str | None:
     """AP_Arming's proximity check and ArduCopter's: a sensor set up must have data, and nothing
     may be within 0.6 m while avoidance uses it (measured, both)."""
@@ -162,7 +168,7 @@ def _terrain_data(v: PrearmView) -> str | None:
 # In ArduCopter's order; a check gives its words, a list of them, or None when it passes.
 PREARM_CHECKS: tuple[Callable[[PrearmView], str | list[str] | None], ...] = (
     _starting_up, _adsb_threat, _object_avoidance, _throttle_below_failsafe, _internal_errors, _need_position, _visual_odometry, _ekf_sources, _gps_glitching, _leaning, _battery_low,
-    _rangefinder, _proximity, _terrain_data, _emergency_stopped)
+    _rangefinder, _parachute, _proximity, _terrain_data, _emergency_stopped)
 
 
 # Run by an ARM only (AP_Arming_Copter::arm_checks), never in the report said unasked

@@ -1,13 +1,15 @@
 """ArduCopter's thrust-loss check (crash_check.cpp): descending while nearly level, with the
 throttle high or a motor at its limit, and attitude still under control, for a second, means a
 motor or propeller has lost thrust. It is announced as "Potential Thrust Loss (N)", N being the
-motor that works hardest. ArduCopter then engages "thrust boost" (yaw gives way to roll, pitch
-and thrust); this allocator always ranks them so, so announcing is all that is left to do.
+motor that works hardest (ArduCopter's number, motor_outputs.py). ArduCopter then engages
+"thrust boost" (yaw gives way to roll, pitch and thrust); this allocator always ranks them so, so
+announcing is all that is left to do.
 """
 from __future__ import annotations
 
 import math
 
+from ..motor_outputs import OUTPUT_OF_MOTOR
 from ..results import Severity
 from ..views import ThrustLossView
 
@@ -38,7 +40,7 @@ class ThrustLossCheck:
         if self._seconds >= TRIGGER_S - 1e-9:
             self._seconds = 0.0
             self.announced = True
-            motor = commands.index(max(commands)) + 1
+            motor = OUTPUT_OF_MOTOR[commands.index(max(commands))]
             v.notify(f"Potential Thrust Loss ({motor})", Severity.EMERGENCY)
 
     @staticmethod

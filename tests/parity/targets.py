@@ -15,6 +15,7 @@ from pathlib import Path
 from firefly.groundstation.flight.autopilot_process import free_udp_port, start_autopilot, stop_process
 
 from .client import Client, ProbeTimeout, mav
+from .facts import Trace
 
 HOME = "-35.363261,149.165230,584,0"
 PREARM = mav.MAV_SYS_STATUS_PREARM_CHECK
@@ -142,3 +143,19 @@ class ArduCopterTarget:
         if self.process is not None:
             stop_process(self.process)
             self.process = None
+
+
+def run_each(target, probes: dict, only: tuple[str, ...] = ()) -> dict[str, Trace]:
+    """Each probe (name -> (probe(client, trace), boot parameters or None)) on a fresh vehicle booted
+    with its parameters; with `only`, those named alone. The target is closed at the end."""
+    traces = {}
+    try:
+        for name, (probe, params) in probes.items():
+            if only and name not in only:
+                continue
+            client = target.boot(params=params)
+            trace = traces[name] = Trace()
+            probe(client, trace)
+    finally:
+        target.close()
+    return traces

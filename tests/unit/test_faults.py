@@ -175,7 +175,8 @@ def test_a_loaded_copter_with_a_weak_motor_reports_potential_thrust_loss():
     v.params.set("SIM_ENGINE_FAIL", 0)
     v.params.set("SIM_ENGINE_MUL", 0.5)  # total thrust available now below the weight
     assert fly_until(v, lambda x: said(x, "Potential Thrust Loss"), 5.0)
-    assert (int(Severity.EMERGENCY), "Potential Thrust Loss (1)") in v.events
+    # the sim's motor 1 (front) is ArduCopter's motor 3 (autopilot/motor_outputs.py)
+    assert (int(Severity.EMERGENCY), "Potential Thrust Loss (3)") in v.events
     assert true_altitude(v) < 19.5  # it was coming down
 
 

@@ -10,6 +10,7 @@ from firefly.autopilot.mavlink import sensor_messages, terrain
 from firefly.autopilot.mavlink.streams import StreamScheduler
 from firefly.autopilot.adsb.traffic_list import AdsbReport
 from firefly.autopilot.mavlink.telemetry import BUILDERS, STREAM_GROUPS
+from firefly.autopilot.motor_outputs import MOTOR_ON_OUTPUT, OUTPUT_OF_MOTOR, in_output_order
 from firefly.sim.vehicle import SimConfig
 from firefly.sim.wind import SteadyWind
 
@@ -117,3 +118,9 @@ def test_every_streamed_message_has_a_builder_and_builds():
             msg.pack(CODEC)  # every field in range for its wire type
     assert all(math.isfinite(x) for x in sensor_messages.ahrs2(v, CODEC).to_dict().values()
                if isinstance(x, float))
+
+
+def test_the_motors_are_reported_on_arducopters_outputs():
+    """The sim's motors 1-4 (front, left, back, right) are ArduCopter QUAD PLUS's 3, 2, 4, 1."""
+    assert in_output_order(("front", "left", "back", "right")) == ["right", "left", "front", "back"]
+    assert [OUTPUT_OF_MOTOR[m] for m in MOTOR_ON_OUTPUT] == [1, 2, 3, 4]

@@ -102,7 +102,7 @@ TestStateSpaceRules = StateSpace.TestCase
 
 # ----- the seeded walk of `make fuzz`, shorter -----------------------------------------------------------
 WALK_STEPS = 10000
-WALK_SEED = 2  # one whose walk reaches every REQUIRED state (seeds 2, 5 and 6 do with the fence avoidance)
+WALK_SEED = 6  # one whose walk reaches every REQUIRED state (seeds 1, 3 and 6 do with the payload commands)
 
 # What the walk must reach (state_machine.facets names them): every start-up stage; every mode
 # disarmed and flying; armed on the ground in the modes that arm; landing; every failsafe; the

@@ -64,6 +64,7 @@ from .nav_attitude_time import NavAttitudeTime  # noqa: E402
 from .nav_delay import NavDelay  # noqa: E402
 from .nav_guided_enable import NavGuidedEnable  # noqa: E402
 from .nav_script_time import NavScriptTime  # noqa: E402
+from .payload import PayloadItem  # noqa: E402
 from .payload_place import PayloadPlace  # noqa: E402
 from .roi import SetRoi  # noqa: E402
 from .spline_waypoint import SplineWaypoint  # noqa: E402
@@ -86,6 +87,9 @@ ITEMS: dict[int, type[AutoItem]] = {
     203: CameraItem,  # DO_DIGICAM_CONTROL
     206: CameraItem,  # DO_SET_CAM_TRIGG_DIST
     207: FenceEnable,  # DO_FENCE_ENABLE
+    208: PayloadItem,  # DO_PARACHUTE
+    211: PayloadItem,  # DO_GRIPPER
+    216: PayloadItem,  # DO_SPRAYER
     222: DoGuidedLimits,  # DO_GUIDED_LIMITS
     534: CameraItem,  # SET_CAMERA_SOURCE
     2000: CameraItem,  # IMAGE_START_CAPTURE

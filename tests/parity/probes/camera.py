@@ -25,7 +25,7 @@ from ..facts import Tol, Trace
 from .missions import upload
 from .states import GUIDED, reach_flying
 from .surface_mission import ALT_M, Geometry, item
-from ..targets import ready
+from ..targets import ready, run_each
 
 AREA = "camera"
 # The trigger output is read off SERVO_OUTPUT_RAW at 50 Hz: at 20x that is a thousand messages a
@@ -315,12 +315,4 @@ PROBES = {"commands": (commands, BOOT_PARAMS), "survey_leg": (survey_leg, BOOT_P
 
 
 def run(target) -> dict[str, Trace]:
-    traces = {}
-    try:
-        for name, (probe, params) in PROBES.items():
-            client = target.boot(params=params)
-            trace = traces[name] = Trace()
-            probe(client, trace)
-    finally:
-        target.close()
-    return traces
+    return run_each(target, PROBES)

@@ -1,0 +1,34 @@
+"""The payload's commands (COMMAND_LONG / COMMAND_INT), as ArduCopter answers them (measured):
+DO_PARACHUTE, DO_SPRAYER and DO_GRIPPER. Joined into the command table (commands.HANDLERS) as **HANDLERS."""
+from __future__ import annotations
+
+from ..c_casts import as_uint16
+from ..results import Result
+from .dialect import mavlink as mav
+
+
+def do_parachute(s, c) -> Result:
+    """Param 1, cut to a uint16: 0 disable, 1 enable, 2 release (refused in words on the ground and
+    below CHUTE_ALT_MIN, still ACCEPTED; accepted and ignored while disabled); else FAILED."""
+    return s.vehicle.parachute_action(as_uint16(c.p1))
+
+
+def do_gripper(s, c) -> Result:
+    """Param 1 the gripper (one: ignored), param 2 the action cut to a uint8: 0 release, 1 grab."""
+    return s.vehicle.gripper_action(as_uint16(c.p2) & 0xFF)
+
+
+def do_sprayer(s, c) -> Result:
+    """Param 1: exactly 1 on, exactly 0 off, anything else nothing; always ACCEPTED."""
+    if c.p1 == 1.0:
+        s.vehicle.run_sprayer(True)
+    elif c.p1 == 0.0:
+        s.vehicle.run_sprayer(False)
+    return Result.ACCEPTED
+
+
+HANDLERS = {
+    mav.MAV_CMD_DO_PARACHUTE: do_parachute,
+    mav.MAV_CMD_DO_SPRAYER: do_sprayer,
+    mav.MAV_CMD_DO_GRIPPER: do_gripper,
+}
