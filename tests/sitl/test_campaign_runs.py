@@ -15,7 +15,7 @@ import pytest
 
 from firefly.groundstation.campaign.spec import load_campaign
 
-pytestmark = pytest.mark.sitl
+pytestmark = [pytest.mark.sitl, pytest.mark.serial]  # two campaign workers keep both cores busy
 REPO = Path(__file__).resolve().parents[2]
 CAMPAIGN_WALL_S = 600
 
