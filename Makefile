@@ -21,12 +21,14 @@ run: install
 
 # The unit tests share no sockets, ports or wall-clock timing: two workers halve their time. The
 # parity areas wait mostly on their vehicles' sim time at speedup 20 (a mismatch is run again
-# before it fails), so two run at once too. The rest flies real processes against wall-clock
-# budgets and runs one test at a time.
+# before it fails), so two run at once too. The rest flies real processes on free ports, waiting
+# on conditions with generous deadlines: two at once as well, except the tests marked `serial`,
+# which judge wall-clock time or keep both cores busy themselves and run one at a time, last.
 test: install
 	$(PY) -m pytest -q -ra -n 2 tests/unit
 	$(PY) -m pytest -q -ra -n 2 --durations=15 tests/parity
-	$(PY) -m pytest -q -ra --durations=30 --ignore=tests/unit --ignore=tests/parity
+	$(PY) -m pytest -q -ra -n 2 --durations=20 -m "not serial" --ignore=tests/unit --ignore=tests/parity
+	$(PY) -m pytest -q -ra --durations=15 -m serial --ignore=tests/unit --ignore=tests/parity
 
 unit: install
 	$(PY) -m pytest -q tests/unit

@@ -131,6 +131,7 @@ class Flood(threading.Thread):
 
 
 @pytest.mark.sitl
+@pytest.mark.serial  # the flood is paced in wall time
 def test_the_vehicle_flies_a_clients_commands_through_a_10khz_flood(tmp_path):
     from ..sitl.conftest import free_udp_port
     listen = free_udp_port()

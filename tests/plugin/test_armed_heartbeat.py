@@ -11,7 +11,7 @@ from .armed_heartbeat_stress import TEST_FILE
 from .inner import run_inner
 
 pytest_plugins = ["pytester"]
-pytestmark = pytest.mark.sitl
+pytestmark = [pytest.mark.sitl, pytest.mark.serial]  # its inner -n 2 keeps both cores busy
 
 TESTS = 10
 

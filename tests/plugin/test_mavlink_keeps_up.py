@@ -9,7 +9,7 @@ import time
 
 import pytest
 
-pytestmark = pytest.mark.sitl
+pytestmark = [pytest.mark.sitl, pytest.mark.serial]  # a reader thread keeping up with 30,000 messages a second
 
 ARM = 400  # MAV_CMD_COMPONENT_ARM_DISARM
 READ_WALL_S = 60.0  # to read what queued up during the sleep (flat out: about 2 s)

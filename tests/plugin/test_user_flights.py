@@ -31,6 +31,7 @@ async def test_hop_and_land_at_home(firefly, height_m):
 '''
 
 
+@pytest.mark.serial  # its inner -n 2 keeps both cores busy
 def test_a_mavsdk_flight_file_passes_serially_and_under_xdist(pytester):
     """Four MAVSDK flights (arm, take off, land, wait in vehicle time for the landing, assert on the
     true position) pass in one process, then with -n 2, where the verbose report shows each of

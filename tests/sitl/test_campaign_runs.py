@@ -15,9 +15,10 @@ import pytest
 
 from firefly.groundstation.campaign.spec import load_campaign
 
-pytestmark = pytest.mark.sitl
+pytestmark = [pytest.mark.sitl, pytest.mark.serial]  # two campaign workers keep both cores busy
 REPO = Path(__file__).resolve().parents[2]
 CAMPAIGN_WALL_S = 600
+SMALL_WORLD = REPO / "tests" / "sitl" / "data" / "small_world.toml"
 
 
 def campaign_command(campaign: Path, out: Path, *args: str) -> list[str]:
@@ -97,8 +98,10 @@ noise_k = [1.0, 2.0]
 
 
 def small_campaign(tmp_path: Path, episodes: int, flown: int) -> Path:
+    """On the explore tests' 200 m world: its episodes, decided or flown, take a quarter of the
+    default world's time, and killing, retrying and resuming do not depend on the world."""
     path = tmp_path / "small.toml"
-    path.write_text(SMALL.format(scenario=REPO / "scenarios" / "default.toml", episodes=episodes, flown=flown))
+    path.write_text(SMALL.format(scenario=SMALL_WORLD, episodes=episodes, flown=flown))
     return path
 
 
@@ -170,8 +173,9 @@ def test_a_worker_killed_mid_flight_is_retried_and_every_episode_is_recorded_onc
 
 
 def test_an_interrupted_campaign_resumes_to_every_episode_exactly_once(tmp_path):
-    # 34 tasks: decided ones take about 3 s of a worker each, so the interrupt after ten leaves
-    # some 20 to resume (40 episodes took two minutes of make test for no more coverage)
+    # 34 tasks: decided ones take under a second of a worker each on the small world, so the
+    # interrupt after ten leaves some 20 to resume (40 episodes took two minutes of make test
+    # for no more coverage)
     campaign = small_campaign(tmp_path, episodes=16, flown=1)
     out = tmp_path / "out"
     proc = start(campaign, out)

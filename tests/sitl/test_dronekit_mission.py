@@ -186,6 +186,9 @@ def fly_mission(vehicle, watch: Watch) -> None:
 
     watch.until(landed_and_disarmed, "the mission to end with the vehicle landed and disarmed")
     flown_s = watch.sim_s() - started_s
+    # The reset to 0 comes with the next MISSION_CURRENT, which a busy machine can deliver after
+    # the wait above has woken on the HEARTBEAT that showed the disarm.
+    watch.until(lambda: watch.currents[-1] == 0, "MISSION_CURRENT 0 after the disarm", timeout=10)
 
     # Every item was current in turn; ArduCopter sets the mission back to 0 when it disarms.
     flown = [seq for seq in watch.currents if seq]

@@ -22,7 +22,7 @@ import pytest
 from .conftest import free_udp_port, start_autopilot
 from .floods import Listener, Prober, start_flood
 
-pytestmark = pytest.mark.sitl
+pytestmark = [pytest.mark.sitl, pytest.mark.serial]  # the heartbeat's gaps are timed in wall seconds
 FLOOD_S = 5.0
 MAX_GAP_S = 1.5  # HEARTBEAT is 1 Hz
 

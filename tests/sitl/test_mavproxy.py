@@ -43,8 +43,11 @@ class MavProxy:
         home.mkdir(exist_ok=True)
         self.state_dir = state_dir
         master = master_port if isinstance(master_port, str) else f"udpin:127.0.0.1:{master_port}"
+        # Its terrain module would answer the vehicle's TERRAIN_REQUEST by forking a process to
+        # download SRTM tiles; forked while the main thread reads stdin, that child deadlocks on
+        # the stdin lock, and MAVProxy's exit then waits on it until killed. No terrain is sent.
         cmd = [sys.executable, "-m", "MAVProxy.mavproxy", "--master", master,
-               "--state-basedir", str(state_dir)]
+               "--state-basedir", str(state_dir), "--cmd", "terrain set terrain_data_rate 0"]
         env = {**os.environ, "HOME": str(home), "PYTHONUNBUFFERED": "1"}
         env.pop("DISPLAY", None)
         self.process = subprocess.Popen(cmd, stdin=subprocess.PIPE, stdout=subprocess.PIPE,
@@ -94,9 +97,10 @@ class MavProxy:
             return len(self.lines)
 
     def stop(self) -> None:
-        """End of input makes MAVProxy quit (it does within a second, when its input is read);
-        if it does not within two, its process group (its own session, so only MAVProxy and its
-        children) is killed while it is alive. Teardowns measured 10 s each waiting longer."""
+        """End of input makes MAVProxy quit (within a second, with no terrain download child to
+        wait on); if it does not within two (its exit can still hang on a backlog of its tlog
+        queue), its process group (its own session, so only MAVProxy and its children) is killed
+        while it is alive."""
         proc = self.process
         try:
             proc.stdin.close()

@@ -95,6 +95,7 @@ def read_param(gcs: Gcs, name: str) -> float:
     return msg.param_value
 
 
+@pytest.mark.serial  # the silence of a reboot, in wall time
 def test_reboot_in_place_keeps_saved_state_and_the_link(autopilot):
     gcs = Gcs(autopilot.pymavlink_url)
     try:

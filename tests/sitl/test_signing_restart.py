@@ -19,7 +19,7 @@ from firefly.autopilot.mavlink.signing import RESERVE, TICKS_PER_S, signing_time
 
 from .test_signing import ARM, KEY, PROBE, answers_before_probe, armed, key_file, signing_gcs  # noqa: F401
 
-pytestmark = pytest.mark.sitl
+pytestmark = [pytest.mark.sitl, pytest.mark.serial]  # signing timestamps are judged against the wall clock
 mav = mavutil.mavlink
 RESTARTS = 2
 SLACK = TICKS_PER_S // 5  # the frame's flight and the test's own reading of the clock

@@ -24,7 +24,7 @@ from firefly.sim.scenario import DEFAULT_HOME
 from ..fuzz import hostile
 from ..fuzz.state_machine import describe_message
 
-pytestmark = pytest.mark.sitl
+pytestmark = [pytest.mark.sitl, pytest.mark.serial]  # a HEARTBEAT is due within 3 s of wall time
 mav = mavutil.mavlink
 REPO = Path(__file__).resolve().parents[2]
 SPEEDUP = 5  # home is set at 19.9 s of sim time: 4 s of wall time to attack the vehicle before it
