@@ -122,5 +122,5 @@ IN_PROCESS_ONLY: dict[str, str] = {
 
 SEMANTIC_DIFFERENCES: dict[str, str] = {
     "SIM_ENGINE_FAIL": "Firefly (as SITL 4.5): the number of the one motor SIM_ENGINE_MUL applies to, "
-                       "0 = motor 1; the reference: a bitmask of motors, bit 0 = motor 1",
+                       "0 = the front one (output 3); the reference: a bitmask of motors, bit 0 = motor 1",
 }

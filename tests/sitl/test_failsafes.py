@@ -43,11 +43,18 @@ def test_fence_breach_triggers_rtl(autopilot):
         set_param(gcs, name, value)
     status = gcs.recv("SYS_STATUS", 5)
     assert status.onboard_control_sensors_present & mav.MAV_SYS_STATUS_GEOFENCE
+    set_param(gcs, "AVOID_ENABLE", 0)  # so that nothing holds the vehicle back at the fence
     take_off(gcs)
-    gcs.mav.set_position_target_local_ned_send(0, 1, 1, mav.MAV_FRAME_LOCAL_NED, 0x9F8, 80, 0, -10,
-                                               0, 0, 0, 0, 0, 0, 0, 0)
+    # A position target beyond the fence is refused (as ArduCopter's GUIDED does): fly out on a
+    # velocity target instead, sent again as a companion does (GUIDED stops one 3 s old)
+    text = None
+    for _ in range(60):
+        gcs.mav.set_position_target_local_ned_send(0, 1, 1, mav.MAV_FRAME_LOCAL_NED, 0xDC7, 0, 0, 0,
+                                                   5, 0, 0, 0, 0, 0, 0, 0)
+        text = gcs.recv("STATUSTEXT", 0.5, lambda m: "fence breached" in m.text)
+        if text is not None:
+            break
     # As ArduCopter: the breach is told and answered, but it is not a failsafe the heartbeat shows
-    text = gcs.recv("STATUSTEXT", 30, lambda m: "fence breached" in m.text)
     assert text is not None and text.text == "Circle fence breached" and text.severity == mav.MAV_SEVERITY_NOTICE
     hb = gcs.recv("HEARTBEAT", 5, lambda m: m.custom_mode == RTL)
     assert hb is not None and hb.system_status == mav.MAV_STATE_ACTIVE
