@@ -27,6 +27,14 @@ def as_int16(value: float) -> int:
     return unsigned - 0x10000 if unsigned >= 0x8000 else unsigned
 
 
+def param5_int(p5: float, is_int: bool) -> int:
+    """A command's param 5 as the int32 `x` ArduPilot reads: a COMMAND_INT's x (held in degrees,
+    x * 1e-7), a COMMAND_LONG's param 5 cut to an integer (0 if an int32 cannot hold it)."""
+    if is_int:
+        return round(p5 * 1e7)
+    return int(p5) if math.isfinite(p5) and abs(p5) < 2**31 else 0
+
+
 def float32(value: float) -> float:
     """The nearest float32, as ArduPilot holds its floats (built with single-precision constants,
     its arithmetic is float32 too: a product of two float32s is this of the exact product)."""

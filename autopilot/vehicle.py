@@ -50,6 +50,8 @@ from .pilot import PilotInput
 from .rc import RadioInput
 from .rc.aux import announcement, run_aux_function
 from .rates import LoopRates
+from .motor_outputs import OUTPUT_OF_MOTOR, omega_of_pwm
+from .motor_test import COMPASS_CAL, DELAY_TEXT_EVERY_S, MotorTest
 from .results import Result, Severity
 from .safety.arming import REPORTED_CHECKS, Arming, arm_refusals, prearm_failure, prearm_failures
 from .safety.failsafe import Failsafes
@@ -181,6 +183,10 @@ class Vehicle:
         self.sprayer = Sprayer(self.params, self.servo_relay.pwm)
         self.sitl_parachute = SitlParachute(self.params, self.servo_relay.pwm, self.notify, self.sim.deploy_canopy)
         self.gripper = Gripper(self.params, self.servo_relay.pwm, self.notify)
+        self.motor_test = MotorTest()
+        self._motor_test_omega = (0.0, 0.0, 0.0, 0.0)
+        self._arming_stuck = False  # a test ended on an armed vehicle: ARM answers ACCEPTED, arms nothing
+        self._delay_text_at_s = -math.inf  # when ArduPilot's blocking-delay callback last spoke
         self.sitl_gripper = SitlGripper(self.params, self.servo_relay.pwm, self.sim.hang_load, self.sim.drop_load)
         # RNGFND1 (AP_RangeFinder): SITL's beam or a companion's DISTANCE_SENSOR, read at 20 Hz
         self.rangefinder = Rangefinder(self.params)
@@ -428,6 +434,60 @@ class Vehicle:
         else:
             self.gripper.grab(self.time_s)
         return Result.ACCEPTED
+
+    def start_motor_test(self, seq: int, kind: int, value: float, timeout_s: float, count: int) -> Result:
+        """DO_MOTOR_TEST (motor_test.py): refused in words unless landed and not emergency-stopped;
+        a test that runs already takes the new settings."""
+        test = self.motor_test
+        if not test.running:
+            refusal = ("vehicle not landed" if not self.land_detector.landed else
+                       "Motor Emergency Stopped" if self.motors_emergency_stopped else None)
+            if refusal is not None:
+                self.notify(f"Motor Test: {refusal}", Severity.CRITICAL)
+                return Result.FAILED
+        starting = test.start(seq, kind, value, timeout_s, count, self.time_s)
+        if starting:
+            self.notify("starting motor test")
+        if kind == COMPASS_CAL and self.time_s - self._delay_text_at_s > DELAY_TEXT_EVERY_S:
+            # the per-motor compass calibration starts with 200 ms of blocking compass reads, and
+            # ArduPilot's delay callback says this when it has not for 5 s
+            self._delay_text_at_s = self.time_s
+            self.notify("Initialising ArduPilot")
+        return Result.ACCEPTED
+
+    @property
+    def motors_armed(self) -> bool:
+        """HEARTBEAT's armed flag: ArduCopter's motors, which a motor test arms too."""
+        return self.arming.armed or self.motor_test.running
+
+    @property
+    def motor_test_pwm(self) -> list[int] | None:
+        """Outputs 1-4 while a motor test runs, else None."""
+        return self.motor_test.outputs(self._pwm_range()[0]) if self.motor_test.running else None
+
+    def _pwm_range(self) -> tuple[int, int]:
+        p = self.params
+        return int(p["MOT_PWM_MIN"] or 1000), int(p["MOT_PWM_MAX"] or 2000)
+
+    def _motor_test_tick(self, now: float) -> None:
+        """The test's outputs, spun by the sim's motors; its end said, and the motors disarmed."""
+        test = self.motor_test
+        if self.arming.armed and now < self.arming.interlock_at_s:  # no motor interlock in the arming delay
+            self.notify("Motor Test: cancelled")
+            test.stop()
+        elif test.update(now, self._pwm_range(), self.rc.radio_in[2]):
+            low, high = self._pwm_range()
+            p = self.params
+            outputs = test.outputs(low)
+            self._motor_test_omega = tuple(  # type: ignore[assignment]
+                omega_of_pwm(outputs[output - 1], low, high, p["MOT_SPIN_MIN"], p["MOT_SPIN_MAX"], p["MOT_THST_EXPO"],
+                             self.omega_idle_rad_s, self.omega_max_rad_s)
+                for output in OUTPUT_OF_MOTOR)
+            return
+        self.notify("finished motor test")
+        if self.arming.armed:  # the motors disarmed, in silence, and ArduCopter's arming left set:
+            self._disarm_now(None)  # ARM and DISARM are ACCEPTED from then on and change nothing
+            self._arming_stuck = True
 
     def run_sprayer(self, on: bool) -> None:
         """DO_SPRAYER (payload/sprayer.py)."""
@@ -830,7 +890,7 @@ class Vehicle:
 
     # ----- commands: arming ------------------------------------------------------------------
     def arm(self, force: bool = False) -> Result:
-        if self.armed:
+        if self.armed or self._arming_stuck or self.motor_test.running:  # (a test's motors are armed)
             return Result.ACCEPTED
         refusals = arm_refusals(self, force)
         if refusals:
@@ -854,12 +914,16 @@ class Vehicle:
             return Result.ACCEPTED
         if not force and not self.landed:
             return Result.FAILED  # ArduCopter refuses in silence
+        self._disarm_now("Disarming motors")
+        return Result.ACCEPTED
+
+    def _disarm_now(self, text: str | None) -> None:
         self.arming.disarm()
         self.mission_progress.reset()  # as ArduCopter: a mission flown again starts over
-        self._say_arming_change("Disarming motors")
+        if text is not None:
+            self._say_arming_change(text)
         for mode in self.modes.values():  # after that text, as ArduCopter's AutoTune says its own
             mode.on_disarm(self.ctx, mode is self.mode)
-        return Result.ACCEPTED
 
     def _say_arming_change(self, text: str) -> None:
         """Unless ARMING_OPTIONS bit 1 asks for silence (measured: no text either way)."""
@@ -1085,6 +1149,9 @@ class Vehicle:
             sp = in_true_frame(sp, est.position_offset_ne, est.alt_error_m)
         elif est.alt_error_m and sp.pos_d is not None:
             sp = in_true_frame(sp, None, est.alt_error_m)
+        if self.motor_test.running:  # the test drives the motors, the controllers rest
+            self.cascade.run_fixed(min(most, self._chunk - steps % self._chunk), self._motor_test_omega)
+            return
         arming, mode = self.arming, self.mode
         spinning = arming.armed and not (self.motors_emergency_stopped or mode.motors_stopped)
         if spinning and self.sim.time_s < arming.interlock_at_s:  # the arming delay
@@ -1126,6 +1193,8 @@ class Vehicle:
                     self.internal_error(exc, f"{self.mode.name} update")
             if self.camera.busy:  # a picture, an interval or distance triggering under way
                 self.camera.update()
+            if self.motor_test.running:
+                self._motor_test_tick(now)
             if self.parachute.enabled:
                 self._parachute_tick(now)
             if self.sprayer.running and now >= self.sprayer.next_update_s - 1e-9:

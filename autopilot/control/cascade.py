@@ -127,6 +127,13 @@ class Cascade(CascadeSetup):
                     self._attitude_step(b, attitude)
             sim.step(self.omega_cmd)
 
+    def run_fixed(self, n: int, omega: tuple[float, float, float, float]) -> None:
+        """n physics steps with the motors held at `omega`, no control (a motor test)."""
+        sim = self.sim
+        self.omega_cmd = omega
+        for _ in range(n):
+            sim.step(omega)
+
     def ground_idle(self, d_m: float) -> bool:
         """Whether the motors should just idle (disarmed, or armed on the ground not taking off)."""
         sp = self._sp

@@ -136,14 +136,27 @@ class CompiledCascade(CascadeSetup):
         self.loop.reset()
 
     def run(self, n: int) -> None:
+        self._ready()
+        self.loop.run(self.sim.steps, n)
+        self._took(n)
+
+    def run_fixed(self, n: int, omega: tuple[float, float, float, float]) -> None:
+        """n physics steps with the motors held at `omega`, no control (a motor test)."""
+        self._ready()
+        self.loop.run_physics(n, omega)
+        self._took(n)
+
+    def _ready(self) -> None:
+        """The loop stepping from the sim's state, in its wind and motor conditions."""
         sim = self.sim
         self._sync()
         if sim.conditions_version != self._conditions:
             self.loop.set_conditions(sim.wind_ned, sim.motor_speed_scale)
             self._conditions = sim.conditions_version
-        self.loop.run(sim.steps, n)
+
+    def _took(self, n: int) -> None:
         self._loaded = self.loop.state()
-        sim.take(self._loaded, n)
+        self.sim.take(self._loaded, n)
 
     @property
     def lean_t(self) -> tuple[float, float]:

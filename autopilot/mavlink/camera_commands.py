@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import math
 
-from ..c_casts import as_uint16
+from ..c_casts import as_uint16, param5_int
 from ..results import Result
 from .dialect import mavlink as mav
 
@@ -26,10 +26,8 @@ def _camera_index(number: float) -> int | None:
 
 
 def _x(c) -> int:
-    """Param 5 as the int32 AP_Camera reads (a COMMAND_LONG's is cut to an integer)."""
-    if c.is_int:
-        return round(c.p5 * 1e7)
-    return int(c.p5) if math.isfinite(c.p5) and abs(c.p5) < 2**31 else 0
+    """Param 5 as the int32 AP_Camera reads."""
+    return param5_int(c.p5, c.is_int)
 
 
 def digicam_configure(s, c) -> Result:

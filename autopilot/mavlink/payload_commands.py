@@ -1,8 +1,8 @@
 """The payload's commands (COMMAND_LONG / COMMAND_INT), as ArduCopter answers them (measured):
-DO_PARACHUTE, DO_SPRAYER and DO_GRIPPER. Joined into the command table (commands.HANDLERS) as **HANDLERS."""
+DO_PARACHUTE, DO_SPRAYER, DO_GRIPPER and DO_MOTOR_TEST. Joined into the command table (commands.HANDLERS) as **HANDLERS."""
 from __future__ import annotations
 
-from ..c_casts import as_uint16
+from ..c_casts import as_uint16, param5_int
 from ..results import Result
 from .dialect import mavlink as mav
 
@@ -27,7 +27,15 @@ def do_sprayer(s, c) -> Result:
     return Result.ACCEPTED
 
 
+def do_motor_test(s, c) -> Result:
+    """Param 1 the motor's place in the test order, 2 the throttle's type, 3 its value, 4 the
+    timeout [s], 5 (x) how many motors in turn; param 6, the order, is not read (motor_test.py)."""
+    return s.vehicle.start_motor_test(as_uint16(c.p1) & 0xFF, as_uint16(c.p2) & 0xFF, c.p3, c.p4,
+                                        param5_int(c.p5, c.is_int) & 0xFF)
+
+
 HANDLERS = {
+    mav.MAV_CMD_DO_MOTOR_TEST: do_motor_test,
     mav.MAV_CMD_DO_PARACHUTE: do_parachute,
     mav.MAV_CMD_DO_SPRAYER: do_sprayer,
     mav.MAV_CMD_DO_GRIPPER: do_gripper,

@@ -46,7 +46,7 @@ def heartbeat(v: TelemetryView, codec):
         | mav.MAV_MODE_FLAG_MANUAL_INPUT_ENABLED
     if v.controls_position():
         base |= mav.MAV_MODE_FLAG_GUIDED_ENABLED
-    if v.armed:
+    if v.motors_armed:
         base |= mav.MAV_MODE_FLAG_SAFETY_ARMED
     # As ArduCopter: BOOT while it starts, then any failsafe or internal error makes it CRITICAL,
     # on the ground (armed or not) it is STANDBY.

@@ -445,10 +445,10 @@ class Walk:
             if m.get_type() == "HEARTBEAT":
                 self.last_hb_s = now
                 armed = bool(m.base_mode & mav.MAV_MODE_FLAG_SAFETY_ARMED)
-                if m.custom_mode != v.mode.number or armed != v.armed:
+                if m.custom_mode != v.mode.number or armed != v.motors_armed:  # (a motor test arms the motors)
                     self._fail("heartbeat", "session.poll", state, None,
                                f"HEARTBEAT says mode {m.custom_mode} armed {armed}; the vehicle is in mode "
-                               f"{v.mode.number} armed {v.armed}")
+                               f"{v.mode.number} with its motors armed {v.motors_armed}")
 
     def _check_heartbeat_gap(self, now: float, state) -> None:
         allowed = max(HEARTBEAT_GAP_S, 1.5 * self.hb_interval_s)
