@@ -14,7 +14,7 @@ from firefly.groundstation.evaluation.episodes import EpisodeConfig, run_episode
 from firefly.groundstation.strategy import controller, make_policy
 from firefly.groundstation.strategy.belief import Geometry
 from firefly.groundstation.strategy.refine import fit_hot_spots
-from firefly.groundstation.strategy.controller import RULE_OUT_HEIGHT_M, Goto, SearchConfig
+from firefly.groundstation.strategy.controller import RULE_OUT_HEIGHT_M, Goto, SearchConfig, SearchController
 from firefly.sim.fire import Fire, FireWorld, true_temperature
 
 DEFAULT_SCENARIO = "scenarios/default.toml"
@@ -70,29 +70,32 @@ def test_evaluate_does_not_tell_the_search_how_many_fires_the_episodes_hold(tmp_
     assert row["first_find_m"] is None or row["first_find_m"] <= row["path_m"]
 
 
-def small_two_fire_world() -> FireWorld:
-    """The sitl two-fire world: 200 m, fires at (135, 72) 45 K and (45, 150) 40 K."""
-    return FireWorld(fires=(Fire(135.0, 72.0, 45.0), Fire(45.0, 150.0, 40.0)), area_m=200.0, survey_alt_m=25.0,
-                     ambient_c=18.0)
-
-
-@pytest.mark.parametrize("ghost_below_k, false_finds", [(-math.inf, 1), (controller.GHOST_BELOW_K, 0)])
-def test_a_find_between_two_fires_goes_once_both_are_found(monkeypatch, ghost_below_k, false_finds):
-    """Episode 18 of seed 11 declares a fire where the two fires' tails add up (N 95 E 125, 56 m
-    from the nearer). Once both fires are found the joint fit gives it almost no strength, and it
-    is dropped; kept, it is a false declaration beside the two true ones."""
-    monkeypatch.setattr(controller, "GHOST_BELOW_K", ghost_below_k)
-    result = run_episode(small_two_fire_world(), 11, 18, make_policy("gig"),
-                         EpisodeConfig(fixed_fire=True, fires=2, max_fires=None))
-    assert result.fires_found == 2
-    assert int(result.false_declaration) == false_finds and len(result.declarations) == 2 + false_finds
-
-
-def test_the_joint_fit_gives_a_ghost_no_strength():
+def ghost_readings() -> tuple[FireWorld, list[tuple]]:
+    """Two fires 160 m apart and 300 noisy readings at 30 m over the whole area."""
     w = FireWorld(fires=(Fire(200.0, 120.0, 50.0), Fire(200.0, 280.0, 40.0)), ambient_c=21.0, noise_k=0.5)
     rng = np.random.default_rng(5)
     points = rng.uniform(0.0, w.area_m, size=(300, 2))
-    readings = [(n, e, true_temperature(w, n, e, 30.0, 0.0) + rng.normal(0.0, 0.5), 30.0) for n, e in points]
+    return w, [(n, e, true_temperature(w, n, e, 30.0, 0.0) + rng.normal(0.0, 0.5), 30.0) for n, e in points]
+
+
+@pytest.mark.parametrize("ghost_below_k, kept", [(-math.inf, 3), (controller.GHOST_BELOW_K, 2)])
+def test_a_find_between_two_fires_goes_once_both_are_found(monkeypatch, ghost_below_k, kept):
+    """A find declared where two fires' tails add up (seen in two-fire episodes: one at N 95 E 125,
+    56 m from the nearer fire) is dropped once both fires are found, as the joint fit gives it
+    almost no strength; kept, it would be a false declaration beside the two true ones."""
+    monkeypatch.setattr(controller, "GHOST_BELOW_K", ghost_below_k)
+    search = SearchController(Geometry(), make_policy("gig"), SearchConfig(max_fires=None), (0.0, 0.0),
+                              np.random.default_rng(0))
+    _, search.readings = ghost_readings()
+    finds = [(200.0, 120.0, 0.0, 0.0), (200.0, 280.0, 0.0, 0.0), (200.0, 200.0, 0.0, 0.0)]  # the last midway
+    search.found = [(object(), spot) for spot in finds]
+    search._move_spots(search._fit())
+    assert len(search.found) == kept
+    assert all(math.hypot(spot[0] - 200.0, spot[1] - e) < 5.0 for (_, spot), e in zip(search.found, (120.0, 280.0)))
+
+
+def test_the_joint_fit_gives_a_ghost_no_strength():
+    _, readings = ghost_readings()
     spots = [(200.0, 120.0, 0.0, 0.0), (200.0, 280.0, 0.0, 0.0), (200.0, 200.0, 0.0, 0.0)]  # the last midway
     _, strengths = fit_hot_spots(Geometry(), readings, spots, 0.5)
     assert strengths[0] == pytest.approx(50.0, abs=3.0) and strengths[1] == pytest.approx(40.0, abs=3.0)
