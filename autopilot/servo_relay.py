@@ -22,6 +22,7 @@ from .params import ParamStore
 CHANNELS = 16
 RELAYS = 6
 RELAY_FUNCTION = 1  # RELAYn_FUNCTION: a plain relay
+RELAY_FUNCTIONS = 26  # AP_Relay_Params::FUNCTION::NUM_FUNCTIONS: 1-25 are functions
 # SRV_Channel functions an event may drive: none, manual, sprayer pump and spinner, gripper, RC
 # pass-through 1-16 and mapped RC pass-through 1-16. (ArduPilot rescales a PWM sent to a mapped
 # pass-through through the output's range; Firefly passes it on as it is.)
@@ -58,6 +59,18 @@ class ServoRelayEvents:
         p = self.params
         return (0 <= relay < RELAYS and int(p.get(f"RELAY{relay + 1}_FUNCTION", 0)) == RELAY_FUNCTION
                 and int(p.get(f"RELAY{relay + 1}_PIN", -1)) != -1)
+
+    def relay_masks(self) -> tuple[int, int]:
+        """RELAY_STATUS's present and on masks: a relay is present with any known RELAYn_FUNCTION
+        (1 to 25), pin or not (measured: RELAY2_FUNCTION 1 with no pin is present, 99 is not)."""
+        p = self.params
+        present = on = 0
+        for relay in range(RELAYS):
+            if 0 < int(p.get(f"RELAY{relay + 1}_FUNCTION", 0)) < RELAY_FUNCTIONS:
+                present |= 1 << relay
+                if self.relays[relay]:
+                    on |= 1 << relay
+        return present, on
 
     def _cancel(self, kind: str, channel: int) -> None:
         if self._kind == kind and self._channel == channel:

@@ -410,6 +410,10 @@ class Vehicle:
         done = self.servo_relay.repeat_relay(relay, count, cycle_s, self.time_s)
         return Result.ACCEPTED if done else Result.FAILED
 
+    def relay_masks(self) -> tuple[int, int]:
+        """RELAY_STATUS's present and on masks (servo_relay.py)."""
+        return self.servo_relay.relay_masks()
+
     def parachute_action(self, action: int) -> Result:
         """DO_PARACHUTE: 0 disables it, 1 enables it, 2 releases it as the pilot would (refused on
         the ground and below CHUTE_ALT_MIN: payload/parachute.py); anything else FAILED."""

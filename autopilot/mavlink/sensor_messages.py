@@ -225,7 +225,14 @@ def position_target_global_int(v: SensorView, codec):
         deg_e7(target.lon_deg), target.alt_m, 0, 0, 0, 0, 0, 0, 0, 0)
 
 
+def relay_status(v: SensorView, codec):
+    """The relays present and on: asked for only (no stream carries it, measured)."""
+    present, on = v.relay_masks()
+    return codec.relay_status_encode(time_boot_ms(v), on, present)
+
+
 BUILDERS = {
+    mav.MAVLINK_MSG_ID_RELAY_STATUS: relay_status,
     mav.MAVLINK_MSG_ID_RAW_IMU: raw_imu,
     mav.MAVLINK_MSG_ID_SCALED_IMU2: scaled_imu2,
     mav.MAVLINK_MSG_ID_SCALED_IMU3: scaled_imu3,

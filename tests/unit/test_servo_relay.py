@@ -78,3 +78,14 @@ def test_relay_0_is_sitls_relay_and_toggles_the_others_are_not_relays():
     fly_until(v, lambda x: (not states or states[-1] != x.servo_relay.relays[0]) and states.append(
         x.servo_relay.relays[0]) and False, 5.0)
     assert states == [True, False, True, False]
+
+
+def test_relay_status_names_each_relay_with_a_function_and_the_ones_on():
+    v = ready_vehicle()
+    present, _ = v.relay_masks()
+    assert present & 1  # SITL's relay 1
+    v.params.set("RELAY2_FUNCTION", 1)  # no pin: present, but DO_SET_RELAY refuses it
+    v.params.set("RELAY3_FUNCTION", 99)  # no such function: absent
+    assert v.set_relay(0, 1) == Result.ACCEPTED and v.set_relay(1, 1) == Result.FAILED
+    assert v.relay_masks() == (present | 0b010, 0b001)
+    assert v.set_relay(0, 2) == Result.ACCEPTED and v.relay_masks()[1] == 0  # toggled off
