@@ -185,6 +185,7 @@ class Vehicle:
         self.gripper = Gripper(self.params, self.servo_relay.pwm, self.notify)
         self.motor_test = MotorTest()
         self._motor_test_omega = (0.0, 0.0, 0.0, 0.0)
+        self.safety_on = False  # the safety switch (SITL boots with it off: BRD_SAFETY_DEFLT 0)
         self._arming_stuck = False  # a test ended on an armed vehicle: ARM answers ACCEPTED, arms nothing
         self._delay_text_at_s = -math.inf  # when ArduPilot's blocking-delay callback last spoke
         self.sitl_gripper = SitlGripper(self.params, self.servo_relay.pwm, self.sim.hang_load, self.sim.drop_load)
@@ -445,6 +446,7 @@ class Vehicle:
         test = self.motor_test
         if not test.running:
             refusal = ("vehicle not landed" if not self.land_detector.landed else
+                       "Safety switch" if self.safety_on else
                        "Motor Emergency Stopped" if self.motors_emergency_stopped else None)
             if refusal is not None:
                 self.notify(f"Motor Test: {refusal}", Severity.CRITICAL)
@@ -463,6 +465,12 @@ class Vehicle:
     def motors_armed(self) -> bool:
         """HEARTBEAT's armed flag: ArduCopter's motors, which a motor test arms too."""
         return self.arming.armed or self.motor_test.running
+
+    def set_safety_switch(self, on: bool) -> None:
+        """DO_SET_SAFETY_SWITCH_STATE: on, no motor output reaches its motor (SITL writes 0 us),
+        in flight too, and arming is refused; off, they flow again (measured)."""
+        self.safety_on = on
+        self.sim.cut_outputs(on)
 
     @property
     def motor_test_pwm(self) -> list[int] | None:

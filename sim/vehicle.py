@@ -47,6 +47,8 @@ class SimVehicle:
         self.wind = Wind(config.wind, config.seed)
         self._wind_ned = self.wind.velocity_ned
         self._speed_scale: tuple[float, ...] = HEALTHY
+        self._thrust_scale: tuple[float, ...] = HEALTHY
+        self._outputs_cut = False
         self.conditions_version = 0  # bumped whenever the wind or the motors' health changes
         self.state: PhysicsState = initial_state(yaw_rad, n_m, e_m)
         self.battery = BatteryState(0.0, 0.0, self.airframe.battery_cells * 4.2)
@@ -159,7 +161,18 @@ class SimVehicle:
     def set_motor_thrust_scale(self, thrust_scale: tuple) -> None:
         """Each motor's share of the thrust it is asked for (1 healthy, 0.7 weak, 0 failed): its
         speed reaches sqrt of that share of the command, thrust going with speed squared."""
-        self._speed_scale = tuple(math.sqrt(min(max(x, 0.0), 1.0)) for x in thrust_scale)
+        self._thrust_scale = tuple(thrust_scale)
+        self._rescale()
+
+    def cut_outputs(self, cut: bool) -> None:
+        """Every motor's signal cut (an autopilot's safety switch on): no motor turns while cut,
+        each is as its thrust scale says again after."""
+        self._outputs_cut = cut
+        self._rescale()
+
+    def _rescale(self) -> None:
+        shares = (0.0,) * len(self._thrust_scale) if self._outputs_cut else self._thrust_scale
+        self._speed_scale = tuple(math.sqrt(min(max(x, 0.0), 1.0)) for x in shares)
         self.conditions_version += 1
 
     @property

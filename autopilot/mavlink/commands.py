@@ -20,6 +20,7 @@ from ..c_casts import as_int16, as_uint16, as_uint32
 from .camera_commands import HANDLERS as CAMERA_HANDLERS
 from .command_locations import is_location, target_ned
 from .do_item_commands import HANDLERS as DO_ITEM_HANDLERS
+from .housekeeping_commands import HANDLERS as HOUSEKEEPING_HANDLERS
 from .payload_commands import HANDLERS as PAYLOAD_HANDLERS
 from .external_nav_messages import origin_taken
 from .preflight import HANDLERS as PREFLIGHT_HANDLERS
@@ -414,7 +415,8 @@ HANDLERS = {
     **PREFLIGHT_HANDLERS,  # reboot, storage, calibrations, banner (preflight.py)
     **DO_ITEM_HANDLERS,  # fence switch, mission current and tags, ROI (do_item_commands.py)
     **CAMERA_HANDLERS,  # CAM1: pictures, intervals, distance triggering (camera_commands.py)
-    **PAYLOAD_HANDLERS,  # the parachute, the sprayer and the gripper (payload_commands.py)
+    **PAYLOAD_HANDLERS,  # the parachute, the sprayer, the gripper, the motor test (payload_commands.py)
+    **HOUSEKEEPING_HANDLERS,  # link, board and calibration odds and ends (housekeeping_commands.py)
     **{command: no_such_device for command in (
         mav.MAV_CMD_DO_MOUNT_CONFIGURE, mav.MAV_CMD_DO_MOUNT_CONTROL, mav.MAV_CMD_DO_GIMBAL_MANAGER_PITCHYAW,
         mav.MAV_CMD_DO_GIMBAL_MANAGER_CONFIGURE, mav.MAV_CMD_SET_CAMERA_FOCUS,

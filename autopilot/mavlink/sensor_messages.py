@@ -140,6 +140,8 @@ def motor_pwm(v: SensorView) -> list[int]:
     MOT_SPIN_MIN..MOT_SPIN_MAX of the MOT_PWM_MIN..MOT_PWM_MAX range; MOT_PWM_MIN disarmed, and for
     a motor commanded to stop (armed with the motors shut down: the arming delay, emergency stop,
     THROW waiting); MOT_SPIN_ARM at ground idle."""
+    if v.safety_on:  # SITL's safety switch writes 0 us to every motor output
+        return [0] * 4
     test = v.motor_test_pwm
     if test is not None:  # a motor test writes the outputs itself
         return test

@@ -95,6 +95,11 @@ def _emergency_stopped(v: PrearmView) -> str | None:
     return "Motors Emergency Stopped" if v.motors_emergency_stopped else None
 
 
+def _safety_switch(v: PrearmView) -> str | None:
+    """AP_Arming::hardware_safety_check: the safety switch, turned on by DO_SET_SAFETY_SWITCH_STATE."""
+    return "Hardware safety switch" if v.safety_on else None
+
+
 def _internal_errors(v: PrearmView) -> str | None:
     return v.internal_error_prearm_text()
 
@@ -167,7 +172,7 @@ def _terrain_data(v: PrearmView) -> str | None:
 
 # In ArduCopter's order; a check gives its words, a list of them, or None when it passes.
 PREARM_CHECKS: tuple[Callable[[PrearmView], str | list[str] | None], ...] = (
-    _starting_up, _adsb_threat, _object_avoidance, _throttle_below_failsafe, _internal_errors, _need_position, _visual_odometry, _ekf_sources, _gps_glitching, _leaning, _battery_low,
+    _starting_up, _adsb_threat, _object_avoidance, _throttle_below_failsafe, _safety_switch, _internal_errors, _need_position, _visual_odometry, _ekf_sources, _gps_glitching, _leaning, _battery_low,
     _rangefinder, _parachute, _proximity, _terrain_data, _emergency_stopped)
 
 
