@@ -1,6 +1,6 @@
 """The mission's "do" items sent as commands (COMMAND_LONG / COMMAND_INT): the fence switch, the
-mission's current item and its tags, the region of interest. Joined into the command table
-(commands.HANDLERS) as **HANDLERS."""
+mission's current item and its tags, the region of interest (DO_SET_ROI_SYSID, a gimbal's only:
+mount_commands.py). Joined into the command table (commands.HANDLERS) as **HANDLERS."""
 from __future__ import annotations
 
 import math
@@ -66,7 +66,7 @@ def do_set_roi(s, c) -> Result:
     if not v.has_position():
         return Result.ACCEPTED
     n, e, _ = v.ned_of(c.p5, c.p6, v.origin.alt_m)
-    target = target_ned(s, c)
+    target = target_ned(s, c)  # for its height above home, in the command's frame (a gimbal's pitch)
     return v.set_roi((n, e, 0.0 if target is None else v.height_ref_d - target[2]))
 
 

@@ -104,8 +104,10 @@ class Mount:
         return float(as_int16(p.get(f"MNT1_{axis}_MIN", 0))), float(as_int16(p.get(f"MNT1_{axis}_MAX", 0)))
 
     def _vector(self, name: str) -> tuple[float, float, float]:
+        """MNT1_RETRACT_* or MNT1_NEUTRAL_*: roll, pitch, yaw [rad]."""
         p = self.params
-        return tuple(math.radians(p.get(f"MNT1_{name}_{axis}", 0.0)) for axis in "XYZ")  # type: ignore[return-value]
+        roll, pitch, yaw = (math.radians(p.get(f"MNT1_{name}_{axis}", 0.0)) for axis in "XYZ")
+        return roll, pitch, yaw
 
     def _axis(self, function: int, axis: str) -> bool:
         low, high = self._limits(axis)

@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING
 
 from ...c_casts import as_uint8
 from ...payload.mount import F_NEUTRAL, F_RETRACT, F_YAW_LOCK, NEUTRAL, RETRACT
+from ..guided_yaw import FIXED, SLEW_YAW_DEFAULT_CDEG_S
 from . import AutoItem
 
 if TYPE_CHECKING:
@@ -29,7 +30,7 @@ class MountItem(AutoItem):
         mount = ctx.mount
         if item.command == DO_MOUNT_CONTROL:
             if mount.fitted and not mount.has_pan_control() and math.isfinite(item.p3):
-                auto.turn(ctx, math.radians(abs(item.p3)), 0.0, 1 if item.p3 >= 0 else -1, True)
+                _turn_by(auto, ctx, item.p3)
             if mount.fitted:
                 mount.set_angle_target(item.p2, item.p1, item.p3, False)
             return True
@@ -50,3 +51,13 @@ class MountItem(AutoItem):
         else:
             return False
         return True
+
+
+def _turn_by(auto: Auto, ctx: ModeContext, offset_deg: float) -> None:
+    """AutoYaw::set_yaw_angle_offset_deg: the heading AUTO steers to, turned by this much for the
+    leg (the turn slewed at ATC_SLEW_YAW, as CONDITION_YAW's)."""
+    heading = auto.heading
+    heading.angle = auto.heading_target(ctx)
+    heading.kind = FIXED
+    slew_max = math.radians(ctx.params.get("ATC_SLEW_YAW", SLEW_YAW_DEFAULT_CDEG_S) / 100.0)
+    heading.set_fixed(heading.angle, math.radians(abs(offset_deg)), 0.0, 1 if offset_deg >= 0 else -1, True, slew_max)

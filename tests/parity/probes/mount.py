@@ -8,8 +8,9 @@ servo         MNT1_TYPE 1 with tilt on output 9 (SERVOn_FUNCTION 7), pan on 10 (
               mode, RC targeting with no RC input: the middle of each range), GIMBAL_MANAGER_INFORMATION
               and _STATUS, the GIMBAL_DEVICE_ATTITUDE_STATUS stream's rate; then each command and
               message in turn, good and bad: its answer, the reported attitude (roll, pitch, yaw
-              [deg]) and flags half a second later, the three outputs' PWMs; a pitch rate held
-              for a second; who controls the gimbal (DO_GIMBAL_MANAGER_CONFIGURE) and the
+              [deg]) and flags half a second later, the three outputs' PWMs; how soon it gets
+              there (the first attitude sent after a 45 degree move); a pitch rate held for a
+              second; who controls the gimbal (DO_GIMBAL_MANAGER_CONFIGURE) and the
               GIMBAL_MANAGER_STATUS it volunteers.
 roi_flying    the servo gimbal, hovering in GUIDED at 10 m facing north: DO_SET_ROI_LOCATION 40 m
               east of home on the ground (the gimbal pans to it; does the vehicle turn?), the
@@ -21,6 +22,10 @@ mission       the servo gimbal in AUTO, legs north at 10 m: DO_MOUNT_CONTROL, DO
               DO_SET_ROI_LOCATION (a point 30 m east on the ground) and DO_SET_ROI_NONE before each leg:
               the gimbal's pitch and yaw, its flags and the vehicle's heading hovering at the end of
               each leg; then GUIDED (leaving AUTO puts the gimbal back in its default mode).
+tilt_mission  tilt alone in AUTO: DO_MOUNT_CONTROL with yaw 90 (ArduCopter turns the vehicle by it,
+              and the waypoint that starts next takes the heading back: measured, no turn) and
+              DO_SET_ROI_LOCATION (the vehicle faces it, the gimbal tilts to it): heading and pitch
+              hovering at the end of each leg.
 """
 from __future__ import annotations
 
@@ -39,7 +44,7 @@ SERVO_BOOT = {"MNT1_TYPE": 1, f"SERVO{TILT}_FUNCTION": 7, f"SERVO{PAN}_FUNCTION"
 TILT_BOOT = {"MNT1_TYPE": 1, f"SERVO{TILT}_FUNCTION": 7}
 # MAVLink 2 messages the client's dialect module does not name
 MSG_MANAGER_INFORMATION, MSG_MANAGER_STATUS, MSG_DEVICE_INFORMATION = 280, 281, 283
-MSG_DEVICE_ATTITUDE_STATUS, MSG_AUTOPILOT_STATE_FOR_GIMBAL = 285, 286
+MSG_DEVICE_ATTITUDE_STATUS, MSG_AUTOPILOT_STATE_FOR_GIMBAL, MSG_MOUNT_STATUS = 285, 286, 158
 CMD_PITCHYAW, CMD_MANAGER_CONFIGURE = 1000, 1001  # MAV_CMD_DO_GIMBAL_MANAGER_PITCHYAW, _CONFIGURE
 FLAG_RETRACT, FLAG_NEUTRAL, FLAG_YAW_LOCK = 1, 2, 16  # GIMBAL_MANAGER_FLAGS
 NAN = float("nan")
@@ -134,7 +139,7 @@ def servo(c: Client, trace: Trace) -> None:
         *(round(math.degrees(getattr(info, f)), 1) for f in ("roll_min", "roll_max", "pitch_min", "pitch_max",
                                                              "yaw_min", "yaw_max"))]))
     _manager_status(c, trace, "manager_status")
-    for name, msg_id in (("device_information", MSG_DEVICE_INFORMATION),
+    for name, msg_id in (("device_information", MSG_DEVICE_INFORMATION), ("mount_status", MSG_MOUNT_STATUS),
                          ("device_attitude_status", MSG_DEVICE_ATTITUDE_STATUS),
                          ("autopilot_state_for_gimbal", MSG_AUTOPILOT_STATE_FOR_GIMBAL)):
         result, replies = _request(c, msg_id)
@@ -171,6 +176,12 @@ def servo(c: Client, trace: Trace) -> None:
     _step(c, trace, "pitchyaw_half", CMD_PITCHYAW, -45, NAN, NAN, NAN, 0, 0, 0)
     _step(c, trace, "pitchyaw_all_nan", CMD_PITCHYAW, NAN, NAN, NAN, NAN, FLAG_YAW_LOCK, 0, 0)
     _step(c, trace, "pitchyaw_zero", CMD_PITCHYAW, 0, 0, NAN, NAN, 0, 0, 0)
+    # instant or slewed: the first attitude sent at least 60 ms after a command from -45 to 0 pitch
+    _step(c, trace, "slew_from", CMD_PITCHYAW, -45, 0, NAN, NAN, 0, 0, 0)
+    c.command(CMD_PITCHYAW, 0, 0, NAN, NAN, 0, 0, 0)
+    asked = c.now_ms
+    c.wait(lambda: c.last["GIMBAL_DEVICE_ATTITUDE_STATUS"].time_boot_ms >= asked + 60, 2.0, what="an attitude after")
+    trace.fact("slew.first_pitch", _euler_deg(c.last["GIMBAL_DEVICE_ATTITUDE_STATUS"].q)[1], ANGLE)
     # a rate: pitch 10 deg/s down for a second, then held
     trace.fact("rate.result", c.command(CMD_PITCHYAW, NAN, NAN, -10, 0, 0, 0, 0))
     c.fresh("GIMBAL_DEVICE_ATTITUDE_STATUS")
@@ -326,8 +337,39 @@ def mission(c: Client, trace: Trace) -> None:
     trace.fact("guided.attitude", _euler_deg(c.last["GIMBAL_DEVICE_ATTITUDE_STATUS"].q)[1:], ROI_ANGLE)
 
 
+def tilt_mission(c: Client, trace: Trace) -> None:
+    c.command(mav.MAV_CMD_SET_MESSAGE_INTERVAL, mav.MAVLINK_MSG_ID_GLOBAL_POSITION_INT, 100_000)
+    c.wait(lambda: "GLOBAL_POSITION_INT" in c.last, 10, what="position")
+    geo = Geometry(c.last["GLOBAL_POSITION_INT"].lat, c.last["GLOBAL_POSITION_INT"].lon)
+    wp, hold = mav.MAV_CMD_NAV_WAYPOINT, (8, 0, 0, 0)
+    items = [item(mav.MAV_CMD_NAV_TAKEOFF, geo, alt=10),  # 1
+             item(mav.MAV_CMD_DO_MOUNT_CONTROL, geo, (-30, 0, 90, 0), alt=2),  # 2
+             item(wp, geo, hold, at=(20.0, 0.0), alt=10),  # 3
+             item(mav.MAV_CMD_DO_SET_ROI_LOCATION, geo, at=(0.0, -20.0), alt=0),  # 4
+             item(wp, geo, hold, at=(30.0, 0.0), alt=10),  # 5
+             item(mav.MAV_CMD_NAV_LAND, geo)]
+    trace.fact("upload", upload(c, items))
+    c.set_mode(GUIDED)
+    c.command(mav.MAV_CMD_COMPONENT_ARM_DISARM, 1)
+    c.try_wait(lambda: c.armed, 10)
+    trace.fact("start", c.command(mav.MAV_CMD_MISSION_START))
+    for seq, (north, east) in ((3, (20.0, 0.0)), (5, (30.0, 0.0))):
+        def hovering_there() -> bool:
+            g = c.last["GLOBAL_POSITION_INT"]
+            n, e = geo.ne(g.lat, g.lon)
+            return (c.last["MISSION_CURRENT"].seq == seq and math.hypot(n - north, e - east) < 0.5
+                    and math.hypot(g.vx, g.vy) < 30)
+        c.wait(lambda: "MISSION_CURRENT" in c.last and hovering_there(), 90, what=f"hovering at item {seq}")
+        c.idle(3.0)
+        c.fresh("GIMBAL_DEVICE_ATTITUDE_STATUS")
+        trace.fact(f"wp{seq}.attitude", _euler_deg(c.last["GIMBAL_DEVICE_ATTITUDE_STATUS"].q)[1:], ROI_ANGLE)
+        trace.fact(f"wp{seq}.flags", c.last["GIMBAL_DEVICE_ATTITUDE_STATUS"].flags)
+        trace.fact(f"wp{seq}.heading", _heading_deg(c), HEADING)
+
+
 PROBES = {"no_mount": (no_mount, None), "servo": (servo, SERVO_BOOT), "roi_flying": (roi_flying, SERVO_BOOT),
-          "tilt_only": (tilt_only, TILT_BOOT), "mission": (mission, SERVO_BOOT)}
+          "tilt_only": (tilt_only, TILT_BOOT), "mission": (mission, SERVO_BOOT),
+          "tilt_mission": (tilt_mission, TILT_BOOT)}
 
 
 def run(target) -> dict[str, Trace]:
