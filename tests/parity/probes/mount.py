@@ -296,10 +296,38 @@ def tilt_only(c: Client, trace: Trace) -> None:
     _flying(c, trace, False)
 
 
-def mission(c: Client, trace: Trace) -> None:
+def _geometry(c: Client) -> Geometry:
     c.command(mav.MAV_CMD_SET_MESSAGE_INTERVAL, mav.MAVLINK_MSG_ID_GLOBAL_POSITION_INT, 100_000)
     c.wait(lambda: "GLOBAL_POSITION_INT" in c.last, 10, what="position")
-    geo = Geometry(c.last["GLOBAL_POSITION_INT"].lat, c.last["GLOBAL_POSITION_INT"].lon)
+    return Geometry(c.last["GLOBAL_POSITION_INT"].lat, c.last["GLOBAL_POSITION_INT"].lon)
+
+
+def _fly(c: Client, trace: Trace, geo: Geometry, items: list, stops: tuple, settle_s: float) -> None:
+    """Upload and fly `items`; at each stop (seq, (north, east)), hovering there with that waypoint
+    current (the do items before it run as it becomes current), `settle_s` later: the gimbal's
+    pitch, yaw and flags and the vehicle's heading."""
+    trace.fact("upload", upload(c, items))
+    c.set_mode(GUIDED)
+    c.command(mav.MAV_CMD_COMPONENT_ARM_DISARM, 1)
+    c.try_wait(lambda: c.armed, 10)
+    trace.fact("start", c.command(mav.MAV_CMD_MISSION_START))
+    for seq, (north, east) in stops:
+        def hovering_there() -> bool:
+            g = c.last["GLOBAL_POSITION_INT"]
+            n, e = geo.ne(g.lat, g.lon)
+            return (c.last["MISSION_CURRENT"].seq == seq and math.hypot(n - north, e - east) < 0.5
+                    and math.hypot(g.vx, g.vy) < 30)
+        c.wait(lambda: "MISSION_CURRENT" in c.last and hovering_there(), 90, what=f"hovering at item {seq}")
+        c.idle(settle_s)
+        c.fresh("GIMBAL_DEVICE_ATTITUDE_STATUS")
+        status = c.last["GIMBAL_DEVICE_ATTITUDE_STATUS"]
+        trace.fact(f"wp{seq}.attitude", _euler_deg(status.q)[1:], ROI_ANGLE)
+        trace.fact(f"wp{seq}.flags", status.flags)
+        trace.fact(f"wp{seq}.heading", _heading_deg(c), HEADING)
+
+
+def mission(c: Client, trace: Trace) -> None:
+    geo = _geometry(c)
     wp, hold = mav.MAV_CMD_NAV_WAYPOINT, (6, 0, 0, 0)  # each waypoint held 6 s: the gimbal read in the hover
     items = [item(mav.MAV_CMD_NAV_TAKEOFF, geo, alt=10),  # 1
              item(mav.MAV_CMD_DO_MOUNT_CONTROL, geo, (-40, 0, 30, 0), alt=2),  # 2
@@ -311,25 +339,7 @@ def mission(c: Client, trace: Trace) -> None:
              item(mav.MAV_CMD_DO_SET_ROI_NONE, geo),  # 8
              item(wp, geo, hold, at=(60.0, 0.0), alt=10),  # 9
              item(mav.MAV_CMD_NAV_LAND, geo)]
-    trace.fact("upload", upload(c, items))
-    c.set_mode(GUIDED)
-    c.command(mav.MAV_CMD_COMPONENT_ARM_DISARM, 1)
-    c.try_wait(lambda: c.armed, 10)
-    trace.fact("start", c.command(mav.MAV_CMD_MISSION_START))
-    # the do items before waypoint N run as it becomes current; read the gimbal once it hovers there
-    for seq, (north, east) in ((3, (20.0, 0.0)), (5, (40.0, 0.0)), (7, (50.0, 0.0)), (9, (60.0, 0.0))):
-        def hovering_there() -> bool:
-            g = c.last["GLOBAL_POSITION_INT"]
-            n, e = geo.ne(g.lat, g.lon)
-            return (c.last["MISSION_CURRENT"].seq == seq and math.hypot(n - north, e - east) < 0.5
-                    and math.hypot(g.vx, g.vy) < 30)
-        c.wait(lambda: "MISSION_CURRENT" in c.last and hovering_there(), 90, what=f"hovering at item {seq}")
-        c.idle(1.0)
-        c.fresh("GIMBAL_DEVICE_ATTITUDE_STATUS")
-        status = c.last["GIMBAL_DEVICE_ATTITUDE_STATUS"]
-        trace.fact(f"wp{seq}.attitude", _euler_deg(status.q)[1:], ROI_ANGLE)
-        trace.fact(f"wp{seq}.flags", status.flags)
-        trace.fact(f"wp{seq}.heading", _heading_deg(c), HEADING)
+    _fly(c, trace, geo, items, ((3, (20.0, 0.0)), (5, (40.0, 0.0)), (7, (50.0, 0.0)), (9, (60.0, 0.0))), 1.0)
     c.set_mode(GUIDED)  # out of AUTO: the gimbal back to its default mode
     c.idle(1.0)
     c.fresh("GIMBAL_DEVICE_ATTITUDE_STATUS")
@@ -338,9 +348,7 @@ def mission(c: Client, trace: Trace) -> None:
 
 
 def tilt_mission(c: Client, trace: Trace) -> None:
-    c.command(mav.MAV_CMD_SET_MESSAGE_INTERVAL, mav.MAVLINK_MSG_ID_GLOBAL_POSITION_INT, 100_000)
-    c.wait(lambda: "GLOBAL_POSITION_INT" in c.last, 10, what="position")
-    geo = Geometry(c.last["GLOBAL_POSITION_INT"].lat, c.last["GLOBAL_POSITION_INT"].lon)
+    geo = _geometry(c)
     wp, hold = mav.MAV_CMD_NAV_WAYPOINT, (8, 0, 0, 0)
     items = [item(mav.MAV_CMD_NAV_TAKEOFF, geo, alt=10),  # 1
              item(mav.MAV_CMD_DO_MOUNT_CONTROL, geo, (-30, 0, 90, 0), alt=2),  # 2
@@ -348,23 +356,7 @@ def tilt_mission(c: Client, trace: Trace) -> None:
              item(mav.MAV_CMD_DO_SET_ROI_LOCATION, geo, at=(0.0, -20.0), alt=0),  # 4
              item(wp, geo, hold, at=(30.0, 0.0), alt=10),  # 5
              item(mav.MAV_CMD_NAV_LAND, geo)]
-    trace.fact("upload", upload(c, items))
-    c.set_mode(GUIDED)
-    c.command(mav.MAV_CMD_COMPONENT_ARM_DISARM, 1)
-    c.try_wait(lambda: c.armed, 10)
-    trace.fact("start", c.command(mav.MAV_CMD_MISSION_START))
-    for seq, (north, east) in ((3, (20.0, 0.0)), (5, (30.0, 0.0))):
-        def hovering_there() -> bool:
-            g = c.last["GLOBAL_POSITION_INT"]
-            n, e = geo.ne(g.lat, g.lon)
-            return (c.last["MISSION_CURRENT"].seq == seq and math.hypot(n - north, e - east) < 0.5
-                    and math.hypot(g.vx, g.vy) < 30)
-        c.wait(lambda: "MISSION_CURRENT" in c.last and hovering_there(), 90, what=f"hovering at item {seq}")
-        c.idle(3.0)
-        c.fresh("GIMBAL_DEVICE_ATTITUDE_STATUS")
-        trace.fact(f"wp{seq}.attitude", _euler_deg(c.last["GIMBAL_DEVICE_ATTITUDE_STATUS"].q)[1:], ROI_ANGLE)
-        trace.fact(f"wp{seq}.flags", c.last["GIMBAL_DEVICE_ATTITUDE_STATUS"].flags)
-        trace.fact(f"wp{seq}.heading", _heading_deg(c), HEADING)
+    _fly(c, trace, geo, items, ((3, (20.0, 0.0)), (5, (30.0, 0.0))), 3.0)
 
 
 PROBES = {"no_mount": (no_mount, None), "servo": (servo, SERVO_BOOT), "roi_flying": (roi_flying, SERVO_BOOT),
