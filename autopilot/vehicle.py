@@ -655,7 +655,13 @@ class Vehicle:
     def position_heard(self, system_id: int, lat_e7: int, lon_e7: int, alt_mm: int, vx_cms: int, vy_cms: int,
                        vz_cms: int) -> None:
         """Another system's GLOBAL_POSITION_INT: with DEV_OPTIONS bit 0 (ADSBMavlinkProcessing) an
-        obstacle for avoidance, as ArduCopter takes it."""
+        obstacle for avoidance, as ArduCopter takes it; where the gimbal's system is (mode 5)."""
+        mount = self.mount
+        if mount.fitted and system_id == mount.target_sysid and self.origin_known() \
+                and -900_000_000 <= lat_e7 <= 900_000_000 and -1_800_000_000 <= lon_e7 <= 1_800_000_000:
+            _, _, d = self.ned_of(lat_e7 * 1e-7, lon_e7 * 1e-7, alt_mm / 1000.0)
+            n, e, _ = self.ned_of(lat_e7 * 1e-7, lon_e7 * 1e-7, self.origin.alt_m)
+            mount.sysid_point = (n, e, self.height_ref_d - d)
         if system_id != self.system_id and int(self.params["DEV_OPTIONS"]) & 1:
             self.avoidance.position_heard(int(self.time_s * 1000), system_id, Loc(lat_e7, lon_e7, int(alt_mm * 0.1)),
                                           (vx_cms * 0.01, vy_cms * 0.01, vz_cms * 0.01))

@@ -12,7 +12,8 @@ Modes (MAV_MOUNT_MODE): 0 retract and 1 neutral hold MNT1_RETRACT_* / MNT1_NEUTR
 2 MAVLink targeting holds what a command or message set; 3 RC targeting follows the MOUNT1_*
 RC channels, here none (Firefly's RC has no mount functions), so the middle of each range (the
 default mode: a gimbal at boot tilts to the middle of -90..20, -35 degrees); 4 a point (the ROI);
-5 another system (never heard here: the target stays); 6 home.
+5 another system, where its GLOBAL_POSITION_INT last put it (until one is heard the target stays);
+6 home.
 
 Output angles are put out as ArduPilot's SRV_Channels::move_servo does: decidegrees as an int16
 over MNT1_*_MIN..MAX (x10) onto SERVOn_MIN..MAX (reversed with SERVOn_REVERSED), whole us.
@@ -89,6 +90,7 @@ class Mount:
         self.yaw_lock = False  # RC targeting's yaw frame
         self.roi: tuple[float, float, float] | None = None  # (north, east, up above home) [m]
         self.target_sysid = 0
+        self.sysid_point: tuple[float, float, float] | None = None  # where target_sysid said it is (as roi)
         self.control = (0, 0)  # the system and component in control (DO_GIMBAL_MANAGER_CONFIGURE)
         self.output = (0.0, 0.0, 0.0)  # roll, pitch, yaw put out (body-frame) [rad]
         self.next_update_s = 0.0
@@ -222,7 +224,9 @@ class Mount:
         elif mode == HOME_LOCATION:
             if home is not None:
                 self._look_at(here, home)
-        # SYSID_TARGET: no other system's position is heard here, so the target stays
+        elif mode == SYSID_TARGET:
+            if self.sysid_point is not None and self.target_sysid:
+                self._look_at(here, self.sysid_point)
         if self.is_rate:
             self._follow_rate(yaw)
         if mode not in (RETRACT, NEUTRAL):

@@ -10,8 +10,9 @@ servo         MNT1_TYPE 1 with tilt on output 9 (SERVOn_FUNCTION 7), pan on 10 (
               message in turn, good and bad: its answer, the reported attitude (roll, pitch, yaw
               [deg]) and flags half a second later, the three outputs' PWMs; how soon it gets
               there (the first attitude sent after a 45 degree move); a pitch rate held for a
-              second; who controls the gimbal (DO_GIMBAL_MANAGER_CONFIGURE) and the
-              GIMBAL_MANAGER_STATUS it volunteers.
+              second; DO_SET_ROI_SYSID with another system's GLOBAL_POSITION_INT heard; who
+              controls the gimbal (DO_GIMBAL_MANAGER_CONFIGURE) and the GIMBAL_MANAGER_STATUS it
+              volunteers.
 roi_flying    the servo gimbal, hovering in GUIDED at 10 m facing north: DO_SET_ROI_LOCATION 40 m
               east of home on the ground (the gimbal pans to it; does the vehicle turn?), the
               gimbal's attitude and the vehicle's heading after 6 s; DO_SET_ROI_NONE; DO_MOUNT_CONTROL
@@ -48,6 +49,8 @@ MSG_DEVICE_ATTITUDE_STATUS, MSG_AUTOPILOT_STATE_FOR_GIMBAL, MSG_MOUNT_STATUS = 2
 CMD_PITCHYAW, CMD_MANAGER_CONFIGURE = 1000, 1001  # MAV_CMD_DO_GIMBAL_MANAGER_PITCHYAW, _CONFIGURE
 FLAG_RETRACT, FLAG_NEUTRAL, FLAG_YAW_LOCK = 1, 2, 16  # GIMBAL_MANAGER_FLAGS
 NAN = float("nan")
+HOME_LAT, HOME_LON, HOME_ALT_M = -35.363261, 149.165230, 584.0  # targets.HOME
+OTHER_SYSID = 9  # another vehicle the gimbal is pointed at
 ANGLE = Tol(abs=2.0, why="the servo gimbal takes the vehicle's lean off roll and pitch (on the ground each "
                          "airframe sits within a few tenths of a degree of level), and an earth-frame yaw is "
                          "reported in the body frame: ArduCopter's SITL sits at 358-2 degrees, Firefly's at 0")
@@ -217,6 +220,17 @@ def servo(c: Client, trace: Trace) -> None:
     _step(c, trace, "roi_none", mav.MAV_CMD_DO_SET_ROI_NONE)
     _step(c, trace, "roi_sysid", mav.MAV_CMD_DO_SET_ROI_SYSID, 7)
     _step(c, trace, "roi_sysid_nan", mav.MAV_CMD_DO_SET_ROI_SYSID, NAN)
+    # another system's GLOBAL_POSITION_INT, 30 m east of home and 10 m above it: pointed at once it is the one
+    other = mav.MAVLink(c.conn, srcSystem=OTHER_SYSID, srcComponent=1)
+    lat, lon = round(HOME_LAT * 1e7), round((HOME_LON + 30.0 / (111319.49 * math.cos(math.radians(HOME_LAT)))) * 1e7)
+
+    def tell_position() -> None:
+        other.global_position_int_send(c.now_ms, lat, lon, round((HOME_ALT_M + 10.0) * 1000), 10_000, 0, 0, 0, 0)
+    tell_position()
+    _gimbal(c, trace, "other_system_unnamed")
+    trace.fact("roi_sysid_other.result", c.command(mav.MAV_CMD_DO_SET_ROI_SYSID, OTHER_SYSID))
+    tell_position()
+    _gimbal(c, trace, "roi_sysid_other")
     # who controls the gimbal: param 1 / 2 the system / component (-2 the sender, -3 the sender leaves)
     _manager_configure(c, trace, "manager_self", -2, -2, 0)
     _manager_configure(c, trace, "manager_other", 5, 6, 0)
