@@ -65,7 +65,7 @@ from .safety.thrust_loss import ThrustLossCheck
 from .path_planning.planner import PathPlanner
 from .payload.camera import Camera
 from .payload.gripper import Gripper
-from .payload.mount import Mount, take_roi
+from .payload.mount import Mount, read_rc, take_roi
 from .payload.parachute import Parachute
 from .payload.sitl_gripper import SitlGripper
 from .payload.sitl_parachute import SitlParachute
@@ -1198,12 +1198,14 @@ class Vehicle:
             self.internal_error(exc, f"{self.mode.name} tick")
 
     def _mount_tick(self, now: float) -> None:
-        """The gimbal's 50 Hz update (payload/mount.py), from where the vehicle is above home."""
+        """The gimbal's 50 Hz update (payload/mount.py), from where the vehicle is above home and
+        its RC channels."""
         b = self.estimate.body
         ref_d = self.height_ref_d
         here = (b.n_m, b.e_m, ref_d - b.d_m) if self.has_position() else None
         home = self.home_ned
-        self.mount.update(now, self.attitude, here, None if home is None else (home[0], home[1], 0.0))
+        self.mount.update(now, self.attitude, here, None if home is None else (home[0], home[1], 0.0),
+                          read_rc(self.params, self.rc.channel_us))
 
     def _parachute_tick(self, now: float) -> None:
         """The parachute's output, and its release on a sink rate (payload/parachute.py)."""

@@ -9,9 +9,12 @@ attitude reported (the angles put out, which is all a servo gimbal can tell) is 
 the next update.
 
 Modes (MAV_MOUNT_MODE): 0 retract and 1 neutral hold MNT1_RETRACT_* / MNT1_NEUTRAL_* as they are;
-2 MAVLink targeting holds what a command or message set; 3 RC targeting follows the MOUNT1_*
-RC channels, here none (Firefly's RC has no mount functions), so the middle of each range (the
-default mode: a gimbal at boot tilts to the middle of -90..20, -35 degrees); 4 a point (the ROI);
+2 MAVLink targeting holds what a command or message set; 3 RC targeting follows the channels
+whose RCn_OPTION is 212 (roll), 213 (pitch), 214 (yaw): the stick across each range, or with
+MNT1_RC_RATE a rate of up to that many deg/s; an axis with no channel sits in the middle of its
+range (the default mode: with none, a gimbal at boot tilts to -35 degrees, the middle of
+-90..20). A channel moved by more than its dead zone (10 us at least) takes the gimbal back to
+RC targeting from any mode but retract; 4 a point (the ROI);
 5 another system, where its GLOBAL_POSITION_INT last put it (until one is heard the target stays);
 6 home.
 
@@ -23,9 +26,11 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import NamedTuple
 
 from ..c_casts import as_int16, as_uint8
 from ..params import ParamStore
+from ..rc.channels import Calibration, stick
 from .outputs import outputs_of
 
 SERVO, BRUSHLESS_PWM = 1, 7  # MNT1_TYPE
@@ -58,6 +63,31 @@ class _Limits:
             self.on_nan()
             return (low + high) / 2
         return _clamp(v, low, high)
+
+
+RC_OPTIONS = (212, 213, 214)  # RCn_OPTION: MOUNT1_ROLL, MOUNT1_PITCH, MOUNT1_YAW
+CHANNELS = 16
+
+
+class RcInput(NamedTuple):
+    """The mount's channels (roll, pitch, yaw): PWM (0: no channel), stick (-1..1) and dead zone."""
+    pwm: tuple[int, int, int] = (0, 0, 0)
+    stick: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    dead_zone: tuple[int, int, int] = (10, 10, 10)
+
+
+def read_rc(params: ParamStore, channel_us: Callable[[int], int]) -> RcInput:
+    """The first channel with each mount option, as ArduPilot's find_channel_for_option finds it."""
+    pwm, sticks, zones = [0, 0, 0], [0.0, 0.0, 0.0], [10, 10, 10]
+    for axis, option in enumerate(RC_OPTIONS):
+        channel = next((n for n in range(1, CHANNELS + 1) if int(params.get(f"RC{n}_OPTION", 0)) == option), None)
+        if channel is None:
+            continue
+        pwm[axis] = channel_us(channel)
+        cal = Calibration.of(params, channel)
+        zones[axis] = max(cal.dead_zone_us, 10)
+        sticks[axis] = stick(pwm[axis], cal) if pwm[axis] > 0 else 0.0
+    return RcInput((pwm[0], pwm[1], pwm[2]), (sticks[0], sticks[1], sticks[2]), (zones[0], zones[1], zones[2]))
 
 
 @dataclass
@@ -95,6 +125,7 @@ class Mount:
         self.output = (0.0, 0.0, 0.0)  # roll, pitch, yaw put out (body-frame) [rad]
         self.next_update_s = 0.0
         self._warned_s = -math.inf
+        self._last_rc: tuple[int, int, int] | None = None  # the channels when last in RC targeting (or retract)
         if self.fitted:
             self.target_sysid = int(params.get("MNT1_SYSID_DFLT", 0))
             self.set_mode(int(params.get("MNT1_DEFLT_MODE", RC_TARGETING)))
@@ -206,10 +237,11 @@ class Mount:
 
     # ----- the 50 Hz update -----------------------------------------------------------------
     def update(self, now_s: float, attitude, here: tuple[float, float, float] | None,
-               home: tuple[float, float, float] | None) -> None:
+               home: tuple[float, float, float] | None, rc: RcInput = RcInput()) -> None:
         """`attitude` the vehicle's (roll, pitch, yaw) [rad]; `here` and `home` (north, east, up
-        above home) [m], None when unknown."""
+        above home) [m], None when unknown; `rc` the mount's channels (read_rc)."""
         self.next_update_s = now_s + UPDATE_S
+        self._rc_moved(rc)
         yaw = attitude[2]
         mode = self.mode
         if mode in (RETRACT, NEUTRAL):
@@ -217,7 +249,7 @@ class Mount:
             self.angle = Target(*self.output, yaw_ef=False)
             self.is_rate = False
         elif mode == RC_TARGETING:
-            self._rc_target()
+            self._rc_target(rc)
         elif mode == GPS_POINT:
             if self.roi is not None:
                 self._look_at(here, self.roi)
@@ -237,15 +269,29 @@ class Mount:
             low, high = self._limits(axis)
             self._move(function, as_int16(math.degrees(value) * 10), as_int16(low * 10), as_int16(high * 10))
 
-    def _rc_target(self) -> None:
-        """No RC channel steers the mount: every input is 0, the middle of each range (with
-        MNT1_RC_RATE, a rate of 0)."""
-        if int(self.params.get("MNT1_RC_RATE", 0)) > 0:
-            self.rate = Target(yaw_ef=self.yaw_lock)
+    def _rc_moved(self, rc: RcInput) -> None:
+        """AP_Mount_Backend::set_rctargeting_on_rcinput_change."""
+        if self._last_rc is None:
+            self._last_rc = rc.pwm
+        if self.mode not in (RC_TARGETING, RETRACT) and any(
+                abs(last - now) > zone for last, now, zone in zip(self._last_rc, rc.pwm, rc.dead_zone)):
+            self.set_mode(RC_TARGETING)
+        if self.mode in (RC_TARGETING, RETRACT):
+            self._last_rc = rc.pwm
+
+    def _rc_target(self, rc: RcInput) -> None:
+        """The sticks across each range (yaw locked: -180..180 earth-frame), or with MNT1_RC_RATE
+        rates of up to that [deg/s]."""
+        roll_in, pitch_in, yaw_in = rc.stick
+        rate_max = as_int16(self.params.get("MNT1_RC_RATE", 0))
+        if rate_max > 0:
+            r = math.radians(rate_max)
+            self.rate = Target(roll_in * r, pitch_in * r, yaw_in * r, self.yaw_lock)
             self.is_rate = True
             return
-        mid = [math.radians((low + high) / 2) for low, high in (self._limits(a) for a in ("ROLL", "PITCH", "YAW"))]
-        self.angle = Target(mid[0], mid[1], 0.0 if self.yaw_lock else mid[2], self.yaw_lock)
+        roll, pitch, yaw = (math.radians((v + 1.0) * 0.5 * (high - low) + low)
+                            for v, (low, high) in zip(rc.stick, (self._limits(a) for a in ("ROLL", "PITCH", "YAW"))))
+        self.angle = Target(roll, pitch, yaw_in * math.pi if self.yaw_lock else yaw, self.yaw_lock)
         self.is_rate = False
 
     def _look_at(self, here, point) -> None:

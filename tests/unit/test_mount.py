@@ -9,6 +9,7 @@ import pytest
 
 from firefly.autopilot.mavlink.dialect import mavlink as mav
 from firefly.autopilot.mavlink.mount_commands import gimbal_manager_set_attitude, gimbal_manager_set_pitchyaw
+from firefly.autopilot.payload.mount import read_rc
 from firefly.autopilot.results import Result
 
 from ._session_link import Link
@@ -175,3 +176,19 @@ def test_a_manager_pitchyaw_message_points_it():
     gimbal_manager_set_attitude(link.session, m)
     settle(link)
     assert euler_deg(link.vehicle) == pytest.approx([0.0, -25.0, 0.0], abs=0.5)
+
+
+def test_rc_targeting_follows_the_sticks_and_a_moved_stick_takes_the_gimbal_back():
+    """Channel 9 pitch (RCn_OPTION 213), 10 yaw (214), as measured: 1800 / 1200 on 1100..1900 put
+    the gimbal at 6.2 degrees pitch and -135 yaw; MAVLink targeting holds until a stick moves."""
+    v = ready_vehicle({**SERVO_GIMBAL, "RC9_OPTION": 213, "RC10_OPTION": 214})
+    mount, pwm = v.mount, {9: 1800, 10: 1200}
+    rc = read_rc(v.params, lambda n: pwm.get(n, 0))
+    mount.update(v.time_s, (0.0, 0.0, 0.0), None, None, rc)
+    assert euler_deg(v) == pytest.approx([0.0, 6.2, -135.0], abs=0.1)
+    mount.set_angle_target(0.0, -60.0, 0.0, False)
+    mount.update(v.time_s, (0.0, 0.0, 0.0), None, None, rc)
+    assert euler_deg(v)[1] == pytest.approx(-60.0, abs=0.1)
+    pwm[9] = 1300
+    mount.update(v.time_s, (0.0, 0.0, 0.0), None, None, read_rc(v.params, lambda n: pwm.get(n, 0)))
+    assert euler_deg(v)[1] == pytest.approx(-62.5, abs=0.1)

@@ -27,6 +27,10 @@ tilt_mission  tilt alone in AUTO: DO_MOUNT_CONTROL with yaw 90 (ArduCopter turns
               and the waypoint that starts next takes the heading back: measured, no turn) and
               DO_SET_ROI_LOCATION (the vehicle faces it, the gimbal tilts to it): heading and pitch
               hovering at the end of each leg.
+rc_targeting  the servo gimbal with channel 9 its pitch (RCn_OPTION 213) and 10 its yaw (214), moved
+              by RC_CHANNELS_OVERRIDE: the attitude at the receiver's own PWMs and at 1800 / 1200;
+              DO_MOUNT_CONTROL held while the sticks stay, given back to RC targeting once one
+              moves; MNT1_RC_RATE 30: the pitch rate at 1800.
 """
 from __future__ import annotations
 
@@ -373,9 +377,44 @@ def tilt_mission(c: Client, trace: Trace) -> None:
     _fly(c, trace, geo, items, ((3, (20.0, 0.0)), (5, (30.0, 0.0))), 3.0)
 
 
+RC_BOOT = {**SERVO_BOOT, "RC9_OPTION": 213, "RC10_OPTION": 214}
+LEAVE = 65535  # RC_CHANNELS_OVERRIDE: channels 1-8 left as they are
+
+
+def _sticks(c: Client, pitch_pwm: int, yaw_pwm: int, hold_s: float) -> None:
+    """Channels 9 and 10 overridden for `hold_s`, resent every 0.2 s (overrides time out)."""
+    end = c.now_ms + hold_s * 1000
+    while c.now_ms < end:
+        c.conn.mav.rc_channels_override_send(1, 1, *([LEAVE] * 8), pitch_pwm, yaw_pwm)
+        c.idle(0.2)
+
+
+def rc_targeting(c: Client, trace: Trace) -> None:
+    c.command(mav.MAV_CMD_SET_MESSAGE_INTERVAL, mav.MAVLINK_MSG_ID_SERVO_OUTPUT_RAW, 100_000)
+    c.fresh("RC_CHANNELS")
+    trace.fact("receiver_pwm", [c.last["RC_CHANNELS"].chan9_raw, c.last["RC_CHANNELS"].chan10_raw])
+    _gimbal(c, trace, "receiver", settle_s=0.1)
+    _sticks(c, 1800, 1200, 1.0)
+    _gimbal(c, trace, "sticks", settle_s=0.0)
+    trace.fact("control.result", c.command(mav.MAV_CMD_DO_MOUNT_CONTROL, -60, 0, 0, 0, 0, 0, 2))
+    _sticks(c, 1800, 1200, 1.0)
+    _gimbal(c, trace, "control_held", settle_s=0.0)
+    _sticks(c, 1300, 1200, 1.0)
+    _gimbal(c, trace, "stick_moved", settle_s=0.0)
+    trace.fact("rate_set", c.set_param("MNT1_RC_RATE", 30))
+    _sticks(c, 1500, 1500, 0.5)
+    c.fresh("GIMBAL_DEVICE_ATTITUDE_STATUS")
+    t0, p0 = c.now_ms, _euler_deg(c.last["GIMBAL_DEVICE_ATTITUDE_STATUS"].q)[1]
+    _sticks(c, 1800, 1500, 1.0)
+    c.fresh("GIMBAL_DEVICE_ATTITUDE_STATUS")
+    t1, p1 = c.now_ms, _euler_deg(c.last["GIMBAL_DEVICE_ATTITUDE_STATUS"].q)[1]
+    trace.fact("rate.deg_s", (p1 - p0) * 1000.0 / max(t1 - t0, 1), Tol(abs=3.0, why="18 deg/s read off two 10 Hz "
+                                                                                 "samples a second apart"))
+
+
 PROBES = {"no_mount": (no_mount, None), "servo": (servo, SERVO_BOOT), "roi_flying": (roi_flying, SERVO_BOOT),
           "tilt_only": (tilt_only, TILT_BOOT), "mission": (mission, SERVO_BOOT),
-          "tilt_mission": (tilt_mission, TILT_BOOT)}
+          "tilt_mission": (tilt_mission, TILT_BOOT), "rc_targeting": (rc_targeting, RC_BOOT)}
 
 
 def run(target) -> dict[str, Trace]:
