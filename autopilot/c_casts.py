@@ -21,6 +21,19 @@ def as_uint32(value: float) -> int:
     return int(value) & 0xFFFFFFFF
 
 
+def as_int32(value: float) -> int:
+    """Its integer part, as a signed 32-bit number (a value an int32 cannot hold, NaN included,
+    becomes 0)."""
+    if not (math.isfinite(value) and -2**31 <= value < 2**31):
+        return 0
+    return int(value)
+
+
+def as_uint8(value: float) -> int:
+    """As as_uint16, modulo 2^8: x86 takes the low byte of the int32 (NaN: 0)."""
+    return as_uint16(value) & 0xFF
+
+
 def as_int16(value: float) -> int:
     """As as_uint16, read as a signed 16-bit number."""
     unsigned = as_uint16(value)

@@ -260,6 +260,27 @@ PARAM_TABLE: tuple[ParamSpec, ...] = (
     _i8("GRIP_REGRAB", 0, 0, 255, "served, unread (an EPM's regrab interval) [s]"),
     replace(_i("GRIP_CAN_ID", 0, 0, 255, "served, unread (a DroneCAN hardpoint)"), mav_type=MAV_PARAM_TYPE_INT16),
     _f("GRIP_AUTOCLOSE", 0, 0, 255, "a released gripper grabs again this long after [s], 0 = never"),
+    # The camera mount (AP_Mount, payload/mount.py): ArduCopter shows MNT1_* but the type once MNT1_TYPE
+    # is set and the vehicle rebooted; types and ranges as its parameter documentation gives them
+    _i8("MNT1_TYPE", 0, 0, 14, "made at boot: 1 a servo gimbal it steadies, 7 a brushless gimbal on PWM; 0 none"),
+    _i8("MNT1_DEFLT_MODE", 3, 0, 6, "the mode at boot and after an ROI is cleared (MAV_MOUNT_MODE; 3 RC targeting)"),
+    *(replace(_i(f"MNT1_{name}", default, low, high, doc), mav_type=MAV_PARAM_TYPE_INT16)
+      for name, default, low, high, doc in (
+          ("RC_RATE", 0, 0, 90, "RC targeting: a rate at full stick [deg/s]; 0 = angles"),
+          ("ROLL_MIN", -30, -180, 180, "roll at the output's minimum [deg]"),
+          ("ROLL_MAX", 30, -180, 180, "roll at its maximum [deg]"),
+          ("PITCH_MIN", -90, -90, 90, "pitch at the output's minimum [deg]"),
+          ("PITCH_MAX", 20, -90, 90, "pitch at its maximum [deg]"),
+          ("YAW_MIN", -180, -180, 180, "pan at the output's minimum [deg]"),
+          ("YAW_MAX", 180, -180, 180, "pan at its maximum [deg]"))),
+    *(_f(f"MNT1_{name}_{axis}", 0, -180, 180, f"{what} {axis_name} [deg]")
+      for name, what in (("RETRACT", "retracted (mode 0):"), ("NEUTRAL", "neutral (mode 1):"))
+      for axis, axis_name in (("X", "roll"), ("Y", "pitch"), ("Z", "yaw"))),
+    _f("MNT1_LEAD_RLL", 0, 0, 0.2, "served; the servo gimbal's roll lead [s] (not modelled)"),
+    _f("MNT1_LEAD_PTCH", 0, 0, 0.2, "served; the servo gimbal's pitch lead [s] (not modelled)"),
+    _i8("MNT1_SYSID_DFLT", 0, doc="the system mode 5 points at, from boot"),
+    replace(_i("MNT1_DEVID", 0, -2**31, 2**31 - 1, "served; a driver's device id"), mav_type=MAV_PARAM_TYPE_INT32),
+    _i8("MNT1_OPTIONS", 0, 0, 3, "bit 0: RC targeting keeps the last target's yaw lock; bit 1 (RC failsafe) unread"),
     # The rangefinder (AP_RangeFinder, rangefinder.py): ArduCopter shows RNGFND1_* but the type once
     # RNGFND1_TYPE is set and the vehicle rebooted, with these types and defaults (measured). No
     # documented range: an int8's, or a float's.

@@ -112,6 +112,13 @@ FIREFLY_ONLY: dict[str, str] = {
              "recorded with it 0); Firefly serves it always, so that it can be set before enabling"
        for name in ("GRIP_TYPE", "GRIP_GRAB", "GRIP_RELEASE", "GRIP_NEUTRAL", "GRIP_REGRAB", "GRIP_CAN_ID",
                     "GRIP_AUTOCLOSE")},
+    **{name: "the camera mount's (AP_Mount): ArduCopter serves it once MNT1_TYPE is set and the vehicle rebooted "
+             "(the reference's set was recorded with MNT1_TYPE 0); Firefly serves it always, so that it can be "
+             "set before the mount is"
+       for name in ("MNT1_DEFLT_MODE", "MNT1_RC_RATE", "MNT1_ROLL_MIN", "MNT1_ROLL_MAX", "MNT1_PITCH_MIN",
+                    "MNT1_PITCH_MAX", "MNT1_YAW_MIN", "MNT1_YAW_MAX", "MNT1_RETRACT_X", "MNT1_RETRACT_Y",
+                    "MNT1_RETRACT_Z", "MNT1_NEUTRAL_X", "MNT1_NEUTRAL_Y", "MNT1_NEUTRAL_Z", "MNT1_LEAD_RLL",
+                    "MNT1_LEAD_PTCH", "MNT1_SYSID_DFLT", "MNT1_DEVID", "MNT1_OPTIONS")},
 }
 
 _OLD_NAME = "ArduPilot 4.5's name of {}, which scenarios and scripts written for 4.5 set"

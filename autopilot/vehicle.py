@@ -67,6 +67,7 @@ from .safety.thrust_loss import ThrustLossCheck
 from .path_planning.planner import PathPlanner
 from .payload.camera import Camera
 from .payload.gripper import Gripper
+from .payload.mount import Mount, read_rc, take_roi
 from .payload.parachute import Parachute
 from .payload.sitl_gripper import SitlGripper
 from .payload.sitl_parachute import SitlParachute
@@ -174,6 +175,8 @@ class Vehicle:
         # CAM1 (AP_Camera): pictures on command, by interval and by distance; drives those outputs
         self.camera = Camera(self, self.params, self.servo_relay.pwm, self.servo_relay.relays)
         self.camera_status = self.camera.status
+        # MNT1 (AP_Mount): a servo gimbal, made at boot from MNT1_TYPE, on the pan / tilt / roll outputs
+        self.mount = Mount(self.params, self.servo_relay.pwm, self.constraining_nan)
         # The parachute (CHUTE_*), the sprayer (SPRAY_*) and the gripper (GRIP_*), driving those
         # outputs too; SITL's simulated parachute (SIM_PARA_*) fires on its output and opens the
         # sim's canopy, its simulated gripper (SIM_GRPS_*) takes up a load and lets it go
@@ -724,7 +727,13 @@ class Vehicle:
     def position_heard(self, system_id: int, lat_e7: int, lon_e7: int, alt_mm: int, vx_cms: int, vy_cms: int,
                        vz_cms: int) -> None:
         """Another system's GLOBAL_POSITION_INT: with DEV_OPTIONS bit 0 (ADSBMavlinkProcessing) an
-        obstacle for avoidance, as ArduCopter takes it."""
+        obstacle for avoidance, as ArduCopter takes it; where the gimbal's system is (mode 5)."""
+        mount = self.mount
+        if mount.fitted and system_id == mount.target_sysid and self.origin_known() \
+                and -900_000_000 <= lat_e7 <= 900_000_000 and -1_800_000_000 <= lon_e7 <= 1_800_000_000:
+            _, _, d = self.ned_of(lat_e7 * 1e-7, lon_e7 * 1e-7, alt_mm / 1000.0)
+            n, e, _ = self.ned_of(lat_e7 * 1e-7, lon_e7 * 1e-7, self.origin.alt_m)
+            mount.sysid_point = (n, e, self.height_ref_d - d)
         if system_id != self.system_id and int(self.params["DEV_OPTIONS"]) & 1:
             self.avoidance.position_heard(int(self.time_s * 1000), system_id, Loc(lat_e7, lon_e7, int(alt_mm * 0.1)),
                                           (vx_cms * 0.01, vy_cms * 0.01, vz_cms * 0.01))
@@ -1051,10 +1060,16 @@ class Vehicle:
         self.mode.turn(self.ctx, math.radians(angle_deg), rate, direction, relative)
         return Result.ACCEPTED
 
-    def set_roi(self, roi_ne: tuple[float, float] | None) -> Result:
-        """DO_SET_ROI and its kin as commands: the point (north, east) to face, None to clear.
-        ArduCopter accepts it in every mode and state; the modes whose heading follows one act."""
-        self.mode.set_roi(self.ctx, roi_ne)
+    def turn_by(self, offset_deg: float) -> None:
+        """ArduCopter's AutoYaw::set_yaw_angle_offset_deg: the heading turned by this much, in the
+        modes that steer it (DO_MOUNT_CONTROL's yaw for a gimbal that cannot pan)."""
+        self.mode.turn(self.ctx, math.radians(abs(offset_deg)), 0.0, 1 if offset_deg >= 0 else -1, True)
+
+    def set_roi(self, roi: tuple[float, float, float] | None) -> Result:
+        """DO_SET_ROI and its kin as commands: the point (north, east, up above home) to look at,
+        None to clear. ArduCopter accepts it in every mode and state: a gimbal that pans looks,
+        else the modes whose heading follows one turn the vehicle (payload/mount.py's take_roi)."""
+        take_roi(self.mount, partial(self.mode.set_roi, self.ctx), roi)
         return Result.ACCEPTED
 
     def fence_enable(self, action: int, fences: int) -> Result:
@@ -1207,6 +1222,8 @@ class Vehicle:
                 self.camera.update()
             if self.motor_test.running:
                 self._motor_test_tick(now)
+            if self.mount.fitted and now >= self.mount.next_update_s - 1e-9:
+                self._mount_tick(now)
             if self.parachute.enabled:
                 self._parachute_tick(now)
             if self.sprayer.running and now >= self.sprayer.next_update_s - 1e-9:
@@ -1260,6 +1277,16 @@ class Vehicle:
                     self._display_prearm(now)
         except Exception as exc:  # noqa: BLE001 - a bug is an internal error, never an exit
             self.internal_error(exc, f"{self.mode.name} tick")
+
+    def _mount_tick(self, now: float) -> None:
+        """The gimbal's 50 Hz update (payload/mount.py), from where the vehicle is above home and
+        its RC channels."""
+        b = self.estimate.body
+        ref_d = self.height_ref_d
+        here = (b.n_m, b.e_m, ref_d - b.d_m) if self.has_position() else None
+        home = self.home_ned
+        self.mount.update(now, self.attitude, here, None if home is None else (home[0], home[1], 0.0),
+                          read_rc(self.params, self.rc.channel_us))
 
     def _parachute_tick(self, now: float) -> None:
         """The parachute's output, and its release on a sink rate (payload/parachute.py)."""

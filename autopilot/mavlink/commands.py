@@ -21,6 +21,8 @@ from .camera_commands import HANDLERS as CAMERA_HANDLERS
 from .command_locations import is_location, target_ned
 from .do_item_commands import HANDLERS as DO_ITEM_HANDLERS
 from .housekeeping_commands import HANDLERS as HOUSEKEEPING_HANDLERS
+from .mount_commands import HANDLERS as MOUNT_HANDLERS
+from .mount_messages import REQUESTABLE as MOUNT_REQUESTABLE
 from .payload_commands import HANDLERS as PAYLOAD_HANDLERS
 from .external_nav_messages import origin_taken
 from .preflight import HANDLERS as PREFLIGHT_HANDLERS
@@ -265,8 +267,8 @@ def run_prearm_checks(s, c: Command) -> Result:
 
 
 def no_such_device(s, c: Command) -> Result:
-    """FAILED, as ArduCopter SITL answers for a device it has none of: a mount or gimbal, a
-    camera, a winch, an SD card to format."""
+    """FAILED, as ArduCopter SITL answers for a device it has none of: a camera's focus or
+    video, a winch, an SD card to format."""
     return Result.FAILED
 
 
@@ -291,7 +293,7 @@ def request_message(s, c: Command) -> Result:
         return Result.DENIED
     msg = s.build(msg_id)
     if msg is None:
-        return Result.FAILED
+        return Result.ACCEPTED if msg_id in MOUNT_REQUESTABLE else Result.FAILED
     s.queue(msg)
     return Result.ACCEPTED
 
@@ -417,9 +419,9 @@ HANDLERS = {
     **CAMERA_HANDLERS,  # CAM1: pictures, intervals, distance triggering (camera_commands.py)
     **PAYLOAD_HANDLERS,  # the parachute, the sprayer, the gripper, the motor test (payload_commands.py)
     **HOUSEKEEPING_HANDLERS,  # link, board and calibration odds and ends (housekeeping_commands.py)
+    **MOUNT_HANDLERS,  # MNT1: the gimbal's commands, DO_SET_ROI_SYSID (mount_commands.py)
     **{command: no_such_device for command in (
-        mav.MAV_CMD_DO_MOUNT_CONFIGURE, mav.MAV_CMD_DO_MOUNT_CONTROL, mav.MAV_CMD_DO_GIMBAL_MANAGER_PITCHYAW,
-        mav.MAV_CMD_DO_GIMBAL_MANAGER_CONFIGURE, mav.MAV_CMD_SET_CAMERA_FOCUS,
+        mav.MAV_CMD_SET_CAMERA_FOCUS,
         mav.MAV_CMD_VIDEO_START_CAPTURE, mav.MAV_CMD_VIDEO_STOP_CAPTURE,
         mav.MAV_CMD_DO_WINCH, mav.MAV_CMD_STORAGE_FORMAT)},
     mav.MAV_CMD_DO_ADSB_OUT_IDENT: adsb_out_ident,

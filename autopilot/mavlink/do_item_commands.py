@@ -1,13 +1,13 @@
 """The mission's "do" items sent as commands (COMMAND_LONG / COMMAND_INT): the fence switch, the
-mission's current item and its tags, the region of interest. Joined into the command table
-(commands.HANDLERS) as **HANDLERS."""
+mission's current item and its tags, the region of interest (DO_SET_ROI_SYSID, a gimbal's only:
+mount_commands.py). Joined into the command table (commands.HANDLERS) as **HANDLERS."""
 from __future__ import annotations
 
 import math
 
 from ..c_casts import as_uint16
 from ..results import Result
-from .command_locations import is_location
+from .command_locations import is_location, target_ned
 from .dialect import mavlink as mav
 
 UINT16_MAX = 0xFFFF
@@ -66,17 +66,12 @@ def do_set_roi(s, c) -> Result:
     if not v.has_position():
         return Result.ACCEPTED
     n, e, _ = v.ned_of(c.p5, c.p6, v.origin.alt_m)
-    return v.set_roi((n, e))
+    target = target_ned(s, c)  # for its height above home, in the command's frame (a gimbal's pitch)
+    return v.set_roi((n, e, 0.0 if target is None else v.height_ref_d - target[2]))
 
 
 def do_set_roi_none(s, c) -> Result:
     return s.vehicle.set_roi(None)
-
-
-def do_set_roi_sysid(s, c) -> Result:
-    """Points a gimbal at a system: with none fitted, accepted and nothing moves (ArduCopter's
-    mount takes the id whatever it is)."""
-    return Result.ACCEPTED
 
 
 def _uint32(value: float) -> int | None:
@@ -94,5 +89,4 @@ HANDLERS = {
     mav.MAV_CMD_DO_SET_ROI_LOCATION: do_set_roi,
     mav.MAV_CMD_DO_SET_ROI: do_set_roi,
     mav.MAV_CMD_DO_SET_ROI_NONE: do_set_roi_none,
-    mav.MAV_CMD_DO_SET_ROI_SYSID: do_set_roi_sysid,
 }

@@ -20,6 +20,7 @@ from .commands import Command, CommandService
 from .dialect import mavlink as mav
 from .fast_pack import FastCodec
 from .external_nav_messages import EXTERNAL_NAV_HANDLERS
+from .mount_commands import MESSAGE_HANDLERS as MOUNT_MESSAGE_HANDLERS
 from .ftp import FtpServer
 from .follow_messages import on_follow_target, on_global_position_int
 from .guided_setpoints import handle_attitude_target, handle_global_int, handle_local_ned
@@ -123,7 +124,8 @@ class Session:
             # The request older ground stations send before REQUEST_MESSAGE existed.
             "AUTOPILOT_VERSION_REQUEST": lambda m, now: self.queue(self.build(mav.MAVLINK_MSG_ID_AUTOPILOT_VERSION)),
         }
-        for name, handle in EXTERNAL_NAV_HANDLERS.items():  # a companion's poses and the EKF origin
+        # a companion's poses and the EKF origin; a gimbal manager's attitudes
+        for name, handle in {**EXTERNAL_NAV_HANDLERS, **MOUNT_MESSAGE_HANDLERS}.items():
             self._handlers[name] = partial(_with_session, handle, self)
 
     # ----- output helpers used by the services ------------------------------------------------
@@ -427,5 +429,6 @@ class Session:
 
 
 def _with_session(handle, session, msg, now) -> None:
-    """A table handler (external_nav_messages.py) in the session's (message, now) shape."""
+    """A table handler (external_nav_messages.py, mount_commands.py) in the session's (message,
+    now) shape."""
     handle(session, msg)

@@ -16,6 +16,7 @@ from .encoding import time_boot_ms as _ms
 from .encoding import u16
 from .adsb_messages import BUILDERS as ADSB_BUILDERS
 from .camera_messages import BUILDERS as CAMERA_BUILDERS
+from .mount_messages import BUILDERS as MOUNT_BUILDERS
 from .rangefinder_messages import BUILDERS as RANGEFINDER_BUILDERS
 from .sensor_messages import BUILDERS as SENSOR_BUILDERS
 from .terrain import BUILDERS as TERRAIN_BUILDERS
@@ -305,6 +306,7 @@ BUILDERS: dict[int, Builder] = {
     **SENSOR_BUILDERS,
     **TERRAIN_BUILDERS,
     **CAMERA_BUILDERS,
+    **MOUNT_BUILDERS,
     **RANGEFINDER_BUILDERS,
     **ADSB_BUILDERS,
 }
@@ -330,7 +332,8 @@ _STREAM_GROUP_NAMES = {
     mav.MAV_DATA_STREAM_EXTRA3: ("MAV1_EXTRA3", ("AHRS", "WIND", "RANGEFINDER", "DISTANCE_SENSOR",
                                                "SYSTEM_TIME", "TERRAIN_REPORT",
                                                "TERRAIN_REQUEST", "BATTERY_STATUS", "EKF_STATUS_REPORT",
-                                               "VIBRATION", "EXTENDED_SYS_STATE")),
+                                               "VIBRATION", "EXTENDED_SYS_STATE",
+                                               "GIMBAL_DEVICE_ATTITUDE_STATUS")),
     # ArduPilot's ADSB stream has no REQUEST_DATA_STREAM id of its own: only MAV_DATA_STREAM_ALL
     # (0) and MAV1_ADSB reach it, so its key here is one no request names.
     ADSB_STREAM: ("MAV1_ADSB", ("ADSB_VEHICLE",)),

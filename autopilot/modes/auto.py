@@ -135,6 +135,7 @@ class Auto(Mode):
             here = ctx.position_global()  # where a resume's rewind measures back from
             mission.exit_e7 = (here.lat_deg * 1e7, here.lon_deg * 1e7)
             mission.stop()
+        ctx.mount.set_mode_to_default()  # as ArduCopter's ModeAuto::exit
 
     def destination(self) -> tuple[float, float, float | None] | None:
         """The item's point, or the corner of the path round the fence flown to it."""

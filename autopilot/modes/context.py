@@ -19,6 +19,7 @@ if TYPE_CHECKING:
     from ..mission.progress import MissionProgress
     from ..params import ParamStore
     from ..payload.camera import Camera
+    from ..payload.mount import Mount
     from ..payload.gripper import Gripper
     from ..payload.parachute import Parachute
     from ..payload.sprayer import Sprayer
@@ -59,6 +60,7 @@ class ModeContext:
         follow_target            follow_target.py: the lead FOLLOW flies after (views.FollowTargetView):
                                  update(now, own position), the point to fly to, the lead's heading
         camera                   payload/camera.py: CAM1, as the mission's camera items drive it
+        mount                    payload/mount.py: MNT1, as the mission's mount and ROI items drive it
         parachute, sprayer, gripper payload/parachute.py, sprayer.py, gripper.py: as the
                                  mission's DO_PARACHUTE, DO_SPRAYER and DO_GRIPPER drive them
         set_speed(m_s)           as DO_CHANGE_SPEED
@@ -83,7 +85,7 @@ class ModeContext:
         destination_within_fence(n, e, d) a GUIDED destination (local NED) inside every enabled fence
     """
     __slots__ = ("_v", "_estimate", "_arming", "_land", "_sim", "params", "mission_progress", "return_path", "path_planner",
-                 "follow_target", "camera", "parachute", "sprayer", "gripper", "notify", "disarm", "set_speed",
+                 "follow_target", "camera", "mount", "parachute", "sprayer", "gripper", "notify", "disarm", "set_speed",
                  "set_home", "fence_enable_item",
                  "set_servo", "repeat_servo", "set_relay", "repeat_relay", "ned_of", "position_global", "set_mode",
                  "hover_thrust_share", "restart_position_control", "use_gains", "precland_landing",
@@ -94,6 +96,7 @@ class ModeContext:
     path_planner: PathPlanner
     follow_target: FollowTargetView
     camera: Camera
+    mount: Mount
     parachute: Parachute
     sprayer: Sprayer
     gripper: Gripper
@@ -129,6 +132,7 @@ class ModeContext:
         self.path_planner = vehicle.path_planner
         self.follow_target = vehicle.follow_target
         self.camera = vehicle.camera
+        self.mount = vehicle.mount
         self.parachute = vehicle.parachute
         self.sprayer = vehicle.sprayer
         self.gripper = vehicle.gripper

@@ -53,7 +53,7 @@ def test_the_command_turns_guided_to_the_point_and_none_clears_it():
     start = heading_deg(v)
     n, e = v.body.n_m, v.body.e_m
     target = math.radians(start + 90.0)
-    assert v.set_roi((n + 50 * math.cos(target), e + 50 * math.sin(target))) == Result.ACCEPTED
+    assert v.set_roi((n + 50 * math.cos(target), e + 50 * math.sin(target), 0.0)) == Result.ACCEPTED
     v.run_until(v.time_s + 6.0)
     assert abs((heading_deg(v) - start - 90.0 + 180.0) % 360.0 - 180.0) < 10.0
     assert v.set_roi(None) == Result.ACCEPTED
@@ -66,6 +66,6 @@ def test_modes_that_steer_no_heading_accept_the_command_and_keep_theirs():
     v = hovering_vehicle()
     assert v.set_mode(5) == Result.ACCEPTED  # LOITER: the pilot's heading
     start = heading_deg(v)
-    assert v.set_roi((v.body.n_m, v.body.e_m + 50.0)) == Result.ACCEPTED
+    assert v.set_roi((v.body.n_m, v.body.e_m + 50.0, 0.0)) == Result.ACCEPTED
     v.run_until(v.time_s + 4.0)
     assert abs((heading_deg(v) - start + 180.0) % 360.0 - 180.0) < 5.0

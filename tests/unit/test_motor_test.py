@@ -82,7 +82,7 @@ def test_the_rotor_speed_of_a_pwm_is_the_inverse_of_the_reported_output():
     speeds = [omega_of_pwm(pwm, *args) for pwm in range(1000, 2001, 25)]
     assert speeds == sorted(speeds)
     for pwm in (1300, 1500, 1800):  # the output mapping reads a command at that speed as that PWM
-        flying = SimpleNamespace(motor_test_pwm=None, params=p, armed=True, omega_idle_rad_s=v.omega_idle_rad_s,
+        flying = SimpleNamespace(safety_on=False, motor_test_pwm=None, params=p, armed=True, omega_idle_rad_s=v.omega_idle_rad_s,
                                  omega_max_rad_s=v.omega_max_rad_s, motor_commands=(omega_of_pwm(pwm, *args),) * 4)
         assert abs(motor_pwm(flying)[0] - pwm) <= 1
 

@@ -60,6 +60,7 @@ from .fence_enable import FenceEnable  # noqa: E402
 from .guided_limits import DoGuidedLimits  # noqa: E402
 from .loiter_to_alt import LoiterToAlt  # noqa: E402
 from .loiter_turns import LoiterTurns  # noqa: E402
+from .mount import MountItem  # noqa: E402
 from .nav_attitude_time import NavAttitudeTime  # noqa: E402
 from .nav_delay import NavDelay  # noqa: E402
 from .nav_guided_enable import NavGuidedEnable  # noqa: E402
@@ -85,6 +86,7 @@ ITEMS: dict[int, type[AutoItem]] = {
     201: SetRoi,  # DO_SET_ROI
     202: CameraItem,  # DO_DIGICAM_CONFIGURE
     203: CameraItem,  # DO_DIGICAM_CONTROL
+    205: MountItem,  # DO_MOUNT_CONTROL
     206: CameraItem,  # DO_SET_CAM_TRIGG_DIST
     207: FenceEnable,  # DO_FENCE_ENABLE
     208: PayloadItem,  # DO_PARACHUTE
@@ -92,6 +94,7 @@ ITEMS: dict[int, type[AutoItem]] = {
     216: PayloadItem,  # DO_SPRAYER
     222: DoGuidedLimits,  # DO_GUIDED_LIMITS
     534: CameraItem,  # SET_CAMERA_SOURCE
+    1000: MountItem,  # DO_GIMBAL_MANAGER_PITCHYAW
     2000: CameraItem,  # IMAGE_START_CAPTURE
     2001: CameraItem,  # IMAGE_STOP_CAPTURE
     42702: NavScriptTime,  # NAV_SCRIPT_TIME

@@ -2,7 +2,7 @@
 covers one kind of ArduCopter's surface (surface/score.py), one probe per entry."""
 from . import (adsb, autotune, avoid, camera, commands, flight, flip, follow, ftp, guided, mavsdk_client, mission_companion,
                mission_doitems, mission_navgeo, mission_plans, mission_resume, mission_terrain, mission_wpyaw,
-               mission_navtime, missions, modes, nav_flight,
+               mission_navtime, missions, modes, mount, nav_flight,
                offboard, params, payload_outputs, pilot, precland, rangefinder, refusals, startup, surface_commands,
                surface_messages, surface_mission,
                surface_modes, surface_sim_faults, takeoff, telemetry, throw, wind, proximity, extnav, prearm, oa,
@@ -13,4 +13,4 @@ AREAS = {m.AREA: m for m in (commands, modes, telemetry, flight, missions, mavsd
                              surface_sim_faults, flip, nav_flight, guided, offboard, pilot, follow, autotune, throw,
                              mission_navgeo, mission_doitems, mission_navtime, mission_companion, mission_resume,
                              mission_plans, camera, mission_wpyaw, mission_terrain, takeoff, wind, rangefinder, adsb, precland, avoid, proximity, extnav,
-                             prearm, oa, payload_outputs, motor_test, relays, misc_commands)}
+                             prearm, oa, payload_outputs, motor_test, relays, misc_commands, mount)}
