@@ -91,6 +91,19 @@ def true_temperature(world: FireWorld, n: float, e: float, height_m: float, t_s:
     return total
 
 
+def temperature_field(world: FireWorld, n: np.ndarray, e: np.ndarray, height_m: float, t_s: float) -> np.ndarray:
+    """true_temperature at many points (n, e) at once, all at one height above ground: what an imager
+    sees (sim/thermal_camera.py). The same model, vectorised; height_m is one figure for all points."""
+    h = max(height_m, 0.0)
+    to = math.radians(world.wind_to_deg)
+    total = np.full(np.broadcast_shapes(np.shape(n), np.shape(e)), world.ambient_c, dtype=float)
+    for fire in world.fires:
+        fn, fe = fire.n_m + world.wind_tilt * h * math.cos(to), fire.e_m + world.wind_tilt * h * math.sin(to)
+        r2 = (n - fn) ** 2 + (e - fe) ** 2
+        total += fire.strength_at(t_s) * kernel_value(world.kernel, r2, height_m, world.plume_sigma_m)
+    return total
+
+
 @dataclass
 class TemperatureSensor:
     """Noisy readings with occasional outliers, from its own seeded stream."""

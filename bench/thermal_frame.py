@@ -1,0 +1,82 @@
+"""thermal_frame: the thermal camera (sim/thermal_camera.py) over the default scenario's fire.
+
+Renders one frame looking straight down from 30 m above the fire, and the same with the scenario's
+fire under a 5 m/s west wind (the plume, rising at 2 m/s, leans east); prints the cost per frame
+(median, min and max of several timed runs of many frames) and the footprint; saves a false-colour
+PNG (docs/thermal_frame.png). Nothing is asserted. Run from the repository root:
+    python bench/thermal_frame.py [--runs 5] [--frames 200] [--png docs/thermal_frame.png]
+"""
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import time
+from pathlib import Path
+
+import numpy as np
+
+from firefly.sim.scenario import load_scenario
+from firefly.sim.thermal_camera import ThermalCameraSpec, footprint_corners, pose_from_attitude, render
+from report import summary  # bench/report.py, beside this script
+
+ROOT = Path(__file__).resolve().parents[1]
+HEIGHT_M = 30.0
+
+
+def cost_ms(world, spec, pose, runs: int, frames: int) -> dict:
+    rng = np.random.default_rng(0)
+    render(world, spec, pose, rng)  # warm: the rays are cached per spec
+    per_frame = []
+    for _ in range(runs):
+        t0 = time.perf_counter()
+        for _ in range(frames):
+            render(world, spec, pose, rng)
+        per_frame.append((time.perf_counter() - t0) / frames * 1e3)
+    return summary(per_frame)
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--runs", type=int, default=5)
+    ap.add_argument("--frames", type=int, default=200)
+    ap.add_argument("--png", type=Path, default=ROOT / "docs" / "thermal_frame.png")
+    args = ap.parse_args()
+
+    world = load_scenario(ROOT / "scenarios" / "default.toml").world
+    fire = world.fires[0]
+    windy = dataclasses.replace(world, plume_rise_m_s=2.0, wind_tilt=5.0 / 2.0, wind_to_deg=90.0)
+    spec = ThermalCameraSpec()
+    pose = pose_from_attitude(fire.n_m, fire.e_m, HEIGHT_M)
+
+    cost = cost_ms(world, spec, pose, args.runs, args.frames)
+    corners = footprint_corners(spec, pose)
+    width, height = corners[1, 1] - corners[0, 1], corners[0, 0] - corners[3, 0]
+    print(f"render {spec.width_px}x{spec.height_px}: {cost['median']:.2f} ms per frame "
+          f"({cost['min']:.2f}-{cost['max']:.2f}, {args.runs} runs of {args.frames} frames)")
+    print(f"footprint at {HEIGHT_M:g} m: {width:.2f} m east-west x {height:.2f} m north-south, "
+          f"{width / spec.width_px * 100:.1f} cm per pixel")
+
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    frames = [(world, "default scenario, no wind"), (windy, "west wind 5 m/s, plume rise 2 m/s")]
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.4), constrained_layout=True)
+    extent = (corners[0, 1], corners[1, 1], corners[3, 0], corners[0, 0])  # west, east, south, north
+    for ax, (w, title) in zip(axes, frames):
+        image = render(w, spec, pose, np.random.default_rng(1))
+        shown = ax.imshow(image, cmap="inferno", extent=extent, origin="upper")
+        ax.plot(fire.e_m, fire.n_m, "c+", markersize=12, label="fire")
+        ax.set_title(f"{title}\npeak {image.max():.1f} C", fontsize=10)
+        ax.set_xlabel("east [m]")
+        ax.set_ylabel("north [m]")
+        ax.legend(loc="lower left", fontsize=8)
+        fig.colorbar(shown, ax=ax, label="temperature [deg C]")
+    fig.suptitle(f"Thermal camera ({spec.width_px}x{spec.height_px}, {spec.hfov_deg:g} deg), "
+                 f"nadir from {HEIGHT_M:g} m over the fire", fontsize=11)
+    args.png.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(args.png, dpi=90)
+    print(f"wrote {args.png}")
+
+
+if __name__ == "__main__":
+    main()
