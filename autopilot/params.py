@@ -83,6 +83,7 @@ PARAM_TABLE: tuple[ParamSpec, ...] = (
     _f("PSC_VELXY_P", 2.0, 0.1, 6.0, "horizontal velocity error to acceleration [1/s]"),
     _f("PSC_VELXY_I", 1.0, 0.02, 1.0, "horizontal velocity integrator"),
     _f("PSC_VELXY_D", 0.5, 0.0, 1.0, "horizontal velocity derivative"),
+    _f("PSC_VELXY_FLTD", 5.0, 0.0, 100.0, "its filter [Hz] on a shaped trajectory's error, 0 = none"),
     _f("PSC_VELXY_IMAX", 1000, 0, 4500, "horizontal integrator limit [cm/s/s]"),
     _f("PSC_POSZ_P", 1.0, 1.0, 3.0, "vertical position error to climb rate [1/s]"),
     _f("PSC_VELZ_P", 5.0, 1.0, 8.0, "climb rate error to acceleration [1/s]"),

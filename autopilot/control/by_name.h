@@ -49,7 +49,7 @@ static const Named GAINS[] = {
     {"attitude", "angle_p_yaw", offsetof(Cascade, attitude.angle_p[2])},
     ATTITUDE(rp_rate_max), ATTITUDE(yaw_rate_max),
     POSITION(pos_xy_p), POSITION(pos_z_p), POSITION(accel_xy_max), POSITION(lean_max),
-    POSITION(speed_up), POSITION(speed_dn), POSITION(accel_z_max),
+    POSITION(speed_up), POSITION(speed_dn), POSITION(accel_z_max), POSITION(vel_fltd_hz),
     PID_GAINS("rate_roll", attitude.rate[0]), PID_GAINS("rate_pitch", attitude.rate[1]),
     PID_GAINS("rate_yaw", attitude.rate[2]), PID_GAINS("vel_n", position.vel_n),
     PID_GAINS("vel_e", position.vel_e), PID_GAINS("vel_d", position.vel_d),

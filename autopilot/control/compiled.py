@@ -112,7 +112,7 @@ class CompiledCascade(CascadeSetup):
         return {"attitude": {"angle_p_roll": roll, "angle_p_pitch": pitch, "angle_p_yaw": yaw,
                              **numbers(a, ("rp_rate_max", "yaw_rate_max"))},
                 "position": numbers(p, ("pos_xy_p", "pos_z_p", "accel_xy_max", "lean_max", "speed_up",
-                                        "speed_dn", "accel_z_max")),
+                                        "speed_dn", "accel_z_max", "vel_fltd_hz")),
                 "rate_roll": numbers(rate_roll, PID_GAINS), "rate_pitch": numbers(rate_pitch, PID_GAINS),
                 "rate_yaw": numbers(rate_yaw, PID_GAINS), "vel_n": numbers(p.vel_pid_n, PID_GAINS),
                 "vel_e": numbers(p.vel_pid_e, PID_GAINS), "vel_d": numbers(p.vel_pid_d, PID_GAINS)}

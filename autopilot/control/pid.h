@@ -18,6 +18,16 @@ static void pid_reset(Pid *pid)
     pid->d_filtered = 0.0;
 }
 
+static void pid_set_d_on_error(Pid *pid, double on_error, double d_filter_hz)
+{
+    pid->d_filter_hz = d_filter_hz;
+    if (on_error != pid->d_on_error) {
+        pid->d_on_error = on_error;
+        pid->has_last = 0;
+        pid->d_filtered = 0.0;
+    }
+}
+
 static double pid_update(Pid *pid, double target, double measurement, double dt)
 {
     double error = target - measurement, d_term;

@@ -21,6 +21,15 @@ class Pid:
         self._last_measurement = None
         self._d_filtered = 0.0
 
+    def set_d_on_error(self, on_error: float, d_filter_hz: float) -> None:
+        """D on the error (1.0) or on the measurement (0.0), filtered at d_filter_hz; a switch
+        forgets the D history, whose last input was of the other kind (the integrator is kept)."""
+        self.d_filter_hz = d_filter_hz
+        if on_error != self.d_on_error:
+            self.d_on_error = on_error
+            self._last_measurement = None
+            self._d_filtered = 0.0
+
     def update(self, target: float, measurement: float, dt: float) -> float:
         error = target - measurement
         d_input = -measurement if self.d_on_error == 0.0 else error

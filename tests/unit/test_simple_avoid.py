@@ -148,7 +148,7 @@ def test_a_guided_velocity_toward_a_polygon_edge_stops_at_the_margin():
         v.guided_velocity(3.0, 0.0, 0.0)
         v.run_until(v.time_s + 1.0)
         north = max(north, v.body.n_m)
-    assert 27.0 < north < 28.6 and not v.failsafes.fence.breaches
+    assert 27.0 < north < 29.0 and not v.failsafes.fence.breaches  # ArduCopter: 28.9 (parity avoid)
 
 
 def test_loiter_holding_inside_the_circle_margin_backs_out_to_it():
