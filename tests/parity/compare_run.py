@@ -17,7 +17,9 @@ DIFFERENCES = Path(__file__).parent / "differences.toml"
 
 
 def known_differences() -> list[dict]:
-    """[[difference]] entries: `checks` (glob patterns over area/probe/fact) and `why`."""
+    """[[difference]] entries: `checks` (glob patterns over area/probe/fact) and `why`; with
+    `sometimes = true`, a difference seen in some runs only (its why says how often), which is
+    not stale when a run matches."""
     doc = tomllib.loads(DIFFERENCES.read_text())
     entries = doc.get("difference", [])
     for i, entry in enumerate(entries):
@@ -65,7 +67,7 @@ def judge(area: str, checks: list[Check], differences: list[dict],
             if not check.ok and any(fnmatch.fnmatchcase(cid, p) for p in patterns):
                 result.explained[cid] = entry["why"]
                 used = True
-        if not used:
+        if not used and not entry.get("sometimes", False):  # ("sometimes": it differs in some runs only)
             result.stale.extend(patterns)
     return result
 

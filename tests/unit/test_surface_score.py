@@ -28,3 +28,10 @@ def test_each_entry_is_judged_by_all_its_checks_and_unprobed_ones_count_as_gaps(
 def test_a_mismatch_in_an_entry_not_listed_is_a_regression():
     result = judge("params", [check("list/A", False), check("list/B", False)], [], gaps={"parameters": {"B"}})
     assert [c.name for c in result.unexplained] == ["list/A"]
+
+
+def test_a_listed_difference_that_matches_is_stale_unless_it_differs_sometimes():
+    matching = [check("list/A", True)]
+    assert judge("params", matching, [{"checks": ["params/list/A"], "why": "gone"}]).stale == ["params/list/A"]
+    sometimes = {"checks": ["params/list/A"], "why": "differs in one run of four", "sometimes": True}
+    assert judge("params", matching, [sometimes]).stale == []

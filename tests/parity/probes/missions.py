@@ -266,7 +266,7 @@ def completed_then_auto(s: Steps) -> None:
 def set_current(s: Steps) -> None:
     """MISSION_SET_CURRENT disarmed, flying in GUIDED, in AUTO; seq 0, out of range, a DO item."""
     s.set_param("MIS_RESTART", 0)
-    s.upload([takeoff(), s.wp(10, 0), change_speed(3), s.wp(10, 10), s.wp(0, 10), rtl()])
+    s.upload([takeoff(), s.wp(10, 0), change_speed(3), s.wp(10, 30), s.wp(0, 30), rtl()])
     s.set_mode(STABILIZE)
     for seq in (4, 9, 3, 0):
         s.set_current(seq)
@@ -280,8 +280,9 @@ def set_current(s: Steps) -> None:
     s.wait_current(4)
     s.set_current(0)
     s.wait_current(2)
-    # Out of range while flying the 10 m leg to item 4, seconds from its end, so that what the
-    # window sees does not hang on when the previous waypoint happened to be reached.
+    # Out of range while flying the 30 m leg to item 4 at 3 m/s, seconds from either end (the
+    # windows before close on 1 Hz heartbeats: up to 4 s after the leg began), so that what the
+    # window sees hangs neither on when the previous waypoint was reached nor on the next one.
     s.wait_current(4)
     s.set_current(9)
     s.drain(1)
