@@ -76,7 +76,12 @@ def build_parser() -> argparse.ArgumentParser:
     ev.add_argument("--start", choices=("corner", "centre", "spread"), default="corner",
                     help="where the vehicle starts (spread: a team's vehicles one per corner)")
     ev.add_argument("--kernel", choices=("R", "G"), default=None, help="override the scenario's kernel")
+    ev.add_argument("--sensor", choices=("point", "camera"), default="point",
+                    help="point: the downward temperature sensor alone (default); camera: a thermal frame "
+                         "(nadir, 160x120, 57 deg) besides every reading, and planners that score the frame's footprint")
     ev.add_argument("--noise", type=non_negative, default=None, help="override the sensor noise [K]")
+    ev.add_argument("--survey-alt", type=positive, default=None, metavar="M",
+                    help="override the scenario's survey height [m] (the episodes start and search there)")
     ev.add_argument("--threshold", type=fraction, default=0.99, help="3x3 belief mass that declares (default 0.99)")
     ev.add_argument("--confirm", type=non_negative, default=10.0, metavar="M",
                     help="declare only after a reading within M metres of the cell's centre (default 10)")

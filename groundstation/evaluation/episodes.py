@@ -33,14 +33,17 @@ import numpy as np
 
 from firefly.sim.airframe import Airframe
 from firefly.sim.fire import Fire, FireWorld, TemperatureSensor
+from firefly.sim.thermal_camera import ThermalCameraSpec, footprint, footprint_corners, pose_from_attitude, render
 
 from ..strategy.belief import Geometry
 from ..strategy.controller import SearchConfig, SearchController
+from ..strategy.frame import reduce_frame
 from ..strategy.policies import Policy
 from ..strategy.stopping import Declaration
 from ..truth import fires_found, judge_all
 
 STARTS = ("corner", "centre")
+SENSORS = ("point", "camera")
 HOVER_SAMPLES = 5  # steady samples hovering at the start, before the first leg (the flight hovers there too)
 # Vertical speeds of a climb or descent to a target at another height (ArduCopter's WPNAV_SPEED_UP
 # and WPNAV_SPEED_DN defaults, m/s)
@@ -61,11 +64,14 @@ class EpisodeConfig(SearchConfig):
     lean_noise: float = LEAN_NOISE
     fires: int = 1                   # fires drawn per episode (each uniform, strength uniform)
     fire_spacing_m: float | None = None  # set: the second fire this far from the first, as strong
+    sensor: str = "point"            # "camera": a thermal frame (nadir, level) besides every reading
 
     def __post_init__(self):
         super().__post_init__()
         if self.start not in STARTS:
             raise ValueError(f"start must be one of {', '.join(STARTS)}, got {self.start!r}")
+        if self.sensor not in SENSORS:
+            raise ValueError(f"sensor must be one of {', '.join(SENSORS)}, got {self.sensor!r}")
         if int(self.fires) != self.fires or self.fires < 1:
             raise ValueError(f"fires must be a positive whole number, got {self.fires!r}")
         if self.fire_spacing_m is not None and not (self.fire_spacing_m > 0 and self.fires == 2):
@@ -98,6 +104,11 @@ class EpisodeResult:
     ms_max: float
     declarations: list = dataclasses.field(default_factory=list)  # every declared (n, e): several fires
     first_find_m: float | None = None  # path flown when the first fire was found (None: none was)
+    time_s: float = 0.0                # flight time to the declaration (survey speed, climbs)
+    sensor: str = "point"
+    frames: int = 0                    # thermal frames taken (sensor "camera")
+    frame_ms_mean: float = 0.0         # ... and the time one costs the search: its reduction and its
+    frame_ms_max: float = 0.0          # likelihood into the belief (not the render, the world's part)
 
     def to_dict(self) -> dict:
         return dataclasses.asdict(self)
@@ -165,6 +176,9 @@ def run_episode(world: FireWorld, seed: int, index: int, policy: Policy,
     sensor = TemperatureSensor(ep_world, seed=(seed * 1_000_003 + index) & 0xFFFFFFFF)
     alt = geometry.survey_alt_m
     pos = start_position(geometry, config.start)
+    camera = Camera(ep_world, seed, index) if config.sensor == "camera" else None
+    if camera is not None:  # before the controller resets the policy
+        policy.footprint_m = camera.footprint_m(geometry.survey_alt_m)
     controller = SearchController(geometry, policy, config, pos, policy_rng(seed, index), time.perf_counter,
                                   wind_ne_m_s=config.wind_ne_m_s)
     lean = steady_lean(config, np.random.default_rng(_mix(seed, index, 3)))
@@ -180,6 +194,8 @@ def run_episode(world: FireWorld, seed: int, index: int, policy: Policy,
             controller.observe_lean(velocity, lean(velocity))
         z = sensor.read(pos[0], pos[1], alt, t)
         controller.observe(pos[0], pos[1], z, alt)
+        if camera is not None:
+            camera.look(controller, pos, alt, t)
         readings += 1
         if trace is not None:
             trace.append((pos[0], pos[1], z))
@@ -226,4 +242,33 @@ def run_episode(world: FireWorld, seed: int, index: int, policy: Policy,
         forced=move.forced, false_declaration=bool(wrong),
         mass=move.mass, readings=readings, decisions=controller.decisions,
         ms_mean=float(np.mean(ms)) if ms else 0.0, ms_max=float(np.max(ms)) if ms else 0.0,
-        declarations=[tuple(p) for p in declared], first_find_m=controller.first_find_path_m)
+        declarations=[tuple(p) for p in declared], first_find_m=controller.first_find_path_m,
+        time_s=t, sensor=config.sensor, frames=len(camera.ms) if camera else 0,
+        frame_ms_mean=float(np.mean(camera.ms)) if camera and camera.ms else 0.0,
+        frame_ms_max=float(np.max(camera.ms)) if camera and camera.ms else 0.0)
+
+
+class Camera:
+    """The thermal camera of an episode (sim/thermal_camera.py): a frame straight down, the vehicle
+    level at yaw 0, rendered from the episode's world with its own seeded noise, reduced and given to
+    the controller. `ms`: what each frame cost the search (the reduction and the likelihood)."""
+
+    def __init__(self, world: FireWorld, seed: int, index: int):
+        self.world = world
+        self.spec = ThermalCameraSpec()
+        self.rng = np.random.default_rng(_mix(seed, index, 4))
+        self.ms: list[float] = []
+
+    def footprint_m(self, alt_m: float) -> tuple[float, float]:
+        """The ground rectangle (north, east) [m] a frame from alt_m covers."""
+        corners = footprint_corners(self.spec, pose_from_attitude(0.0, 0.0, alt_m))
+        return float(np.ptp(corners[:, 0])), float(np.ptp(corners[:, 1]))
+
+    def look(self, controller: SearchController, pos, alt: float, t: float) -> None:
+        pose = pose_from_attitude(pos[0], pos[1], alt)
+        image = render(self.world, self.spec, pose, self.rng, t)
+        north, east = footprint(self.spec, pose)
+        t0 = time.perf_counter()
+        frame = reduce_frame(image, north, east, footprint_corners(self.spec, pose), self.spec.emission_height_m)
+        controller.observe_frame(frame)
+        self.ms.append(1000.0 * (time.perf_counter() - t0))

@@ -43,8 +43,8 @@ def parse_policies(text: str, team: bool = False) -> list[str]:
     return names
 
 
-def override_world(world, kernel: str | None, noise: float | None):
-    changes = {}
+def override_world(world, kernel: str | None, noise: float | None, survey_alt_m: float | None = None):
+    changes: dict[str, object] = {} if survey_alt_m is None else {"survey_alt_m": survey_alt_m}
     if kernel is not None:
         changes["kernel"] = kernel
     if noise is not None:
@@ -224,12 +224,18 @@ def evaluate(args) -> int:
                             "--told-wind; it cannot be flown taking the air as calm")
     if args.flight is not None and args.flight > args.episodes:
         raise EvaluateError(f"--flight {args.flight}: at most --episodes ({args.episodes}) episodes can be flown")
+    if args.flight is not None and args.survey_alt is not None:
+        raise EvaluateError("--survey-alt: flown episodes survey at the scenario's height")
+    if args.flight is not None and args.sensor != "point":
+        raise EvaluateError("--sensor camera: flown episodes carry the point sensor only; decide them without --flight")
     vehicles = args.vehicles
     team = (vehicles, args.start) if vehicles > 1 else None
     if team is None and args.start == "spread":
         raise EvaluateError("--start spread: one vehicle per corner needs --vehicles above 1")
     if team is not None and args.start == "centre":
         raise EvaluateError("--start centre: a team starts at the corner or spread over the corners")
+    if team is not None and args.sensor != "point":
+        raise EvaluateError("--sensor camera: team episodes carry the point sensor only")
     if team is not None and (args.fires > 1 or (args.max_fires or 1) > 1):
         raise EvaluateError("--fires/--max-fires: a team searches for one fire")
     policies = parse_policies(args.policies or (DEFAULT_TEAM_POLICIES if team else DEFAULT_POLICIES), team is not None)
@@ -241,7 +247,7 @@ def evaluate(args) -> int:
     except ScenarioError as exc:
         raise EvaluateError(str(exc)) from None
     try:
-        world = override_world(scenario.world, args.kernel, args.noise)
+        world = override_world(scenario.world, args.kernel, args.noise, args.survey_alt)
     except ValueError as exc:
         raise EvaluateError(str(exc)) from None
     seed = scenario.seed if args.seed is None else args.seed
@@ -252,7 +258,7 @@ def evaluate(args) -> int:
                                wind_ne_m_s=told_wind(args, scenario), air_ne_m_s=scenario.sim.wind.velocity_ned()[:2],
                                fires=args.fires, max_fires=(args.max_fires or 1) if team else args.max_fires,
                                fire_spacing_m=args.fire_spacing, further_prior=args.further_prior,
-                               clear_threshold=args.clear)
+                               clear_threshold=args.clear, sensor=args.sensor)
         episode_world(world, seed, 0, config)  # a world that cannot be drawn fails here, in one line
     except ValueError as exc:
         raise EvaluateError(f"--fire-spacing/--fires: {exc}" if args.fire_spacing else str(exc)) from None
@@ -262,8 +268,8 @@ def evaluate(args) -> int:
     results = run(world, policies, args.episodes, seed, config, jobs, progress, team)
     progress.close()
     summary = {name: summarize(rows) for name, rows in results.items()}
-    title = (f"{args.scenario.name}: kernel {world.kernel}, noise {world.noise_k:g} K, "
-             + (f"{vehicles} vehicles, " if team else "") + f"{args.start} start, "
+    title = (f"{args.scenario.name}: kernel {world.kernel}, noise {world.noise_k:g} K, survey at {world.survey_alt_m:g} m, "
+             + (f"{vehicles} vehicles, " if team else "") + f"{args.sensor} sensor, {args.start} start, "
              f"{args.episodes} episodes, seed {seed}" + (f", {args.fires} fires each" if args.fires > 1 else "")
              + (f" {args.fire_spacing:g} m apart" if args.fire_spacing else "")
              + (", not told how many fires" if config.max_fires is None

@@ -73,6 +73,10 @@ flat priors, projected out per hypothesis like the ambient; cells within EXCLUDE
 fire get no prior mass. With null_prior > 0 one more hypothesis, kernel zero everywhere, says there
 is no further fire; p_fire is the probability there is one (docs/strategy.md, "Several fires").
 
+Thermal frames (frame.py, issue 32): a downward camera's frame is independent of the point readings
+given the fire, so its log likelihood per hypothesis is summed apart (frame_ev, add_frame) and added
+to the readings' evidence wherever the posterior is formed; a rebuild adds every frame again.
+
 The belief knows only what the strategy may know: the area, the cell size, the kernel, the plume
 sigma and the sensor noise (Geometry). It never sees the true fire, ambient or strength.
 Every update and query is vectorised: O(cells x subcells^2).
@@ -460,6 +464,8 @@ class Belief:
         self.z_ref = 0.0
         self.sums = Sums(hyps, 3 * len(self.known))  # per hypothesis: the (weighted) readings' sums
         self.log_ev = np.zeros(hyps)             # ... and the log evidence once filtering
+        self.frame_ev = np.zeros(hyps)           # the thermal frames' log likelihoods (add_frame), summed
+        self.frames = 0
         self._burn_in: list[tuple] = []          # the first readings' terms (Sums.parts)
         self.closest_r2 = np.full(self.centres_n.size, np.inf)  # per cell: nearest reading, squared [m^2]
         self._cache = None
@@ -527,6 +533,17 @@ class Belief:
         else:
             self._filter(parts, k)
         np.minimum(self.closest_r2, (self.centres_n - n) ** 2 + (self.centres_e - e) ** 2, out=self.closest_r2)
+        self._cache = None
+
+    def add_frame(self, log_likelihood: np.ndarray, frame) -> None:
+        """A thermal frame's evidence (frame.py: its log likelihood per hypothesis, the null's
+        last); the cells whose centre it saw count as looked at from right above (closest_r2).
+        Independent of the point readings given the fire, so the two multiply."""
+        if log_likelihood.shape != self.frame_ev.shape or not np.all(np.isfinite(log_likelihood)):
+            raise ValueError("a frame's log likelihood needs one finite value per hypothesis")
+        self.frame_ev += log_likelihood
+        self.frames += 1
+        self.closest_r2[frame.contains(self.centres_n, self.centres_e)] = 0.0
         self._cache = None
 
     def update_together(self, readings: list[tuple]) -> None:
@@ -724,6 +741,8 @@ class Belief:
                 fit = Fit.of(*self.sums.as_tuple(), evidence=False)
                 # before the burn-in ends all readings are in with weight 1: its cases, exactly
                 log_ev = self._log_total(self._burn_in_cases()[0]) if self.n < BURN_IN else self.log_ev
+            if self.frames:
+                log_ev = log_ev + self.frame_ev
             cell_ev = log_ev[:cell_hyps] + np.repeat(self.cell_log_prior, self.per_cell)
             top = cell_ev.max()
             sub = np.exp(cell_ev - top).reshape(cells, self.per_cell)

@@ -73,6 +73,7 @@ from typing import Callable, Iterator
 import numpy as np
 
 from .belief import PLUME_RISE_M_S, Belief, Geometry
+from .frame import FrameObservation, frame_log_likelihood
 from .policies import Policy
 from .refine import FINAL_REACH_CELLS, REACH_CELLS, fit_hot_spots
 from .stopping import Declaration, StoppingRule
@@ -114,6 +115,7 @@ PLAIN_UPDATES = 10
 # times fewer readings (with three leans a chunk of 25 took up to 490 ms), and as its fits cost as
 # much more, a step works one of them.
 REFERENCE_HYPOTHESES = 14_400
+FRAME_CHUNK = 10  # thermal frames a rebuild's chunk adds (a frame's likelihood: about 1 ms per 14,400 hypotheses)
 
 
 @dataclass(frozen=True)
@@ -195,6 +197,7 @@ class SearchController:
         self.several = config.max_fires != 1
         self.found: list[tuple[Declaration, tuple]] = []  # several fires: (declaration, hot spot) of each find
         self.readings: list[tuple] = []  # every observation, to rebuild the belief from
+        self.frames: list = []  # every thermal frame (frame.FrameObservation), ditto
         self.belief = self._belief(())
         self.rule = StoppingRule(config.threshold, 1, config.confirm_m, config.clear_threshold)
         self.timer = timer
@@ -241,6 +244,14 @@ class SearchController:
         if not self._need_decision and self.policy.wants_replan(self._since_decision):
             self._need_decision = True
 
+    def observe_frame(self, frame: FrameObservation) -> None:
+        """One thermal frame (frame.py), besides the point reading taken with it: its evidence
+        joins the belief. Ignored once declared."""
+        if self.declared is not None:
+            return
+        self.belief.add_frame(frame_log_likelihood(self.belief, frame), frame)
+        self.frames.append(frame)
+
     def observe_lean(self, velocity_ne: tuple[float, float], lean_ne: tuple[float, float]) -> None:
         """One sample of steady flight for the wind estimate: the velocity over ground [m/s] and
         the lean (wind_estimate.lean_of_attitude). Ignored when the search was told the wind."""
@@ -277,7 +288,8 @@ class SearchController:
 
     def _fed(self, belief: Belief) -> Iterator[None]:
         """Give a new `belief` every reading, yielding between chunks: those there are now at once
-        (Belief.absorbing), then those that came in meanwhile, a chunk at a time."""
+        (Belief.absorbing), then those that came in meanwhile, a chunk at a time; then every thermal
+        frame, FRAME_CHUNK a chunk, until it has all of both."""
         readings = list(self.readings)
         known = len(belief.known) > 0
         rows = max(1, min(JOB_ROWS, JOB_ROWS * REFERENCE_HYPOTHESES // belief.hyp_n.size)) if known else PLAIN_UPDATES
@@ -292,6 +304,19 @@ class SearchController:
                 for n, e, z, height_m in self.readings[fed:upto]:
                     belief.update(n, e, z, height_m)
             fed = upto
+        framed = 0
+        while framed < len(self.frames) or fed < len(self.readings):
+            yield  # (the chunk before was one of its own)
+            for frame in self.frames[framed:framed + FRAME_CHUNK]:
+                belief.add_frame(frame_log_likelihood(belief, frame), frame)
+            framed = min(len(self.frames), framed + FRAME_CHUNK)
+            if fed < len(self.readings):  # taken meanwhile: a few
+                if known:
+                    belief.update_together(self.readings[fed:])
+                else:
+                    for n, e, z, height_m in self.readings[fed:]:
+                        belief.update(n, e, z, height_m)
+                fed = len(self.readings)
 
     def _work(self, chunks: int) -> None:
         """Work through `chunks` chunks of the jobs, oldest first: a step's thinking is bounded by

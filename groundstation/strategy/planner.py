@@ -66,6 +66,8 @@ class PlannerConfig:
     keep_target: float = 1.3              # keep the previous waypoint unless the best scores this much more
     block_elements: int = 100_000          # candidates x samples x cells per vectorised block
     max_cells: int = 1600                 # more cells in the support are pooled into blocks (see coarse_support)
+    footprint_m: tuple | None = None      # a thermal camera's ground rectangle (north, east) [m]: each
+                                          # candidate also scores what a frame there tells (frame_gains)
 
 
 class Planner:
@@ -131,7 +133,38 @@ class Planner:
             z = mean[rows, draw] + np.sqrt(var[rows, draw]) * xi  # (B, M) predicted readings
             h_after = belief.entropy_after(blk[:, 0], blk[:, 1], z, None, cells, mean, var, logp)
             out[k0:k0 + step] = h_now - (weight * h_after).sum(axis=1) / weight.sum(axis=1)
-        return np.maximum(out, 0.0)
+        out = np.maximum(out, 0.0)
+        if self.config.footprint_m is not None:
+            out += self.frame_gains(belief, points)
+        return out
+
+    def frame_gains(self, belief: Belief, points: np.ndarray) -> np.ndarray:
+        """Expected entropy drop [nats] of one thermal frame at each point: with probability m (the
+        mass of the cells whose centre the frame sees) it shows the fire, whose cell it then pins
+        down (entropy about 0); else those cells are ruled out and the rest renormalised:
+            gain = H - (1 - m) H_rest,  H_rest = (H + sum_in p log p) / (1 - m) + log(1 - m),
+        the sums over the cells in view read off integral images, O(cells + candidates)."""
+        size, c = belief.size, belief.cell_m
+        p = belief.p.reshape(size, size)
+        plogp = p * belief.log_p.reshape(size, size)
+        h_now = float(-plogp.sum())
+        integral = np.zeros((2, size + 1, size + 1))
+        integral[0, 1:, 1:] = p.cumsum(0).cumsum(1)
+        integral[1, 1:, 1:] = plogp.cumsum(0).cumsum(1)
+        extent = self.config.footprint_m or (0.0, 0.0)
+        half_n, half_e = 0.5 * extent[0], 0.5 * extent[1]
+        # cells whose centre (k + 0.5) c lies within [x - half, x + half]: k from lo to hi - 1
+        lo_n = np.clip(np.ceil((points[:, 0] - half_n) / c - 0.5), 0, size).astype(int)
+        hi_n = np.clip(np.floor((points[:, 0] + half_n) / c - 0.5) + 1, 0, size).astype(int)
+        lo_e = np.clip(np.ceil((points[:, 1] - half_e) / c - 0.5), 0, size).astype(int)
+        hi_e = np.clip(np.floor((points[:, 1] + half_e) / c - 0.5) + 1, 0, size).astype(int)
+        hi_n, hi_e = np.maximum(hi_n, lo_n), np.maximum(hi_e, lo_e)
+        sums = integral[:, hi_n, hi_e] - integral[:, lo_n, hi_e] - integral[:, hi_n, lo_e] + integral[:, lo_n, lo_e]
+        m, plogp_in = np.clip(sums[0], 0.0, 1.0), sums[1]
+        rest = 1.0 - m
+        with np.errstate(divide="ignore", invalid="ignore"):
+            h_rest = np.where(rest > 1e-12, (h_now + plogp_in) / rest + np.log(np.maximum(rest, 1e-300)), 0.0)
+        return np.maximum(h_now - rest * h_rest, 0.0)
 
     def _draws(self, p: np.ndarray, mean: np.ndarray, u: np.ndarray):
         """Per candidate (row of mean), M cells drawn by systematic resampling of the proposal

@@ -23,6 +23,7 @@ All policies except zigzag declare by the same stopping rule on the same belief.
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -37,6 +38,9 @@ class Policy:
     name = "policy"
     uses_stopping_rule = True
     replan_every: int | None = None
+    # a thermal camera's ground rectangle (north, east) [m], set before reset(): the planners then
+    # also score what a frame at each candidate would tell (planner.py, frame_gains)
+    footprint_m: tuple | None = None
 
     def reset(self, geometry: Geometry, start, rng: np.random.Generator) -> None:
         self.geometry = geometry
@@ -70,7 +74,7 @@ class PlannerPolicy(Policy):
 
     def reset(self, geometry, start, rng):
         super().reset(geometry, start, rng)
-        self.planner = Planner(geometry, self.config, rng)
+        self.planner = Planner(geometry, dataclasses.replace(self.config, footprint_m=self.footprint_m), rng)
 
     def next_waypoint(self, belief, position):
         return self.planner.choose(belief, position)
@@ -158,7 +162,7 @@ class Lawnmower(Policy):
         self.switched = False
         self.switch_pending = False
         self.replan_every = None
-        self.planner = Planner(geometry, self.config, rng)
+        self.planner = Planner(geometry, dataclasses.replace(self.config, footprint_m=self.footprint_m), rng)
 
     def observe(self, n, e, z):
         if not self.switched and len(self.readings) >= self.min_readings:
