@@ -28,8 +28,9 @@ def cells(campaign: Campaign, records: dict[str, dict]) -> list[dict]:
                     "errors": sorted({r["error"] for r in mine if r["status"] == "failed"})[:3]}
             if decided:
                 cell["decided"] = summarize(decided)
-                if "time_s" in decided[0]:  # team episodes: time to declaration and the team's distance
+                if "time_s" in decided[0]:  # time to declaration (one vehicle's episodes have it too now)
                     cell["decided"]["time_mean_s"] = float(np.mean([r["time_s"] for r in decided]))
+                if "team_path_m" in decided[0]:  # team episodes: the team's distance
                     cell["decided"]["team_path_mean_m"] = float(np.mean([r["team_path_m"] for r in decided]))
             if flown:
                 cell["flown"] = flown_episodes.summarize(flown)
@@ -51,7 +52,7 @@ def markdown(campaign: Campaign, summary: list[dict], done: int, total: int) -> 
              f"{campaign.speedup:g}. {done} of {total} tasks recorded. Success: every declared cell within one "
              "cell of a fire. Path in metres (a team's: its slowest vehicle's); ms: decision time per decision.", "",
              "| condition | policy | episodes | failed | success | mean path | median | p90 | false decl. | ms/decision "
-             "| team: time to declaration s | team: distance m "
+             "| time to declaration s | team: distance m "
              "| flown | flown success | flown mean path | decided mean path, same episodes |",
              "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
     for c in summary:
