@@ -51,9 +51,14 @@ class Steps:
         if self.name is None:
             return
         # The state at the window's end from messages sent after it (MISSION_CURRENT streams at
-        # 10 Hz, HEARTBEAT at 1 Hz): what the vehicle is, not what it was a moment ago.
+        # 10 Hz, HEARTBEAT at 1 Hz): what the vehicle is, not what it was a moment ago. The
+        # MISSION_CURRENT after the heartbeat gives the two-beat rule below its second beat: an
+        # item started just before the window closed (a waypoint's MISSION_ITEM_REACHED ends a
+        # wait, its successor's first beat follows) otherwise counted here or in the next window
+        # by where the 1 Hz heartbeat happened to fall, on either vehicle.
         self.c.fresh("MISSION_CURRENT", exact=True)
         self.c.fresh_heartbeat(exact=True)
+        self.c.fresh("MISSION_CURRENT", exact=True)
         log = list(self.c.log)
         self.c.log.clear()
         texts = [m.text for _, m in log if m.get_type() == "STATUSTEXT" and m.text.startswith(MISSION_TEXTS)]
