@@ -51,8 +51,7 @@ class MotorTest:
         self.started_ms = _ms(now_s)
         # MIN(timeout, 600) in float, times 1000, into a uint32 (NaN compares false: 600 wins)
         capped = timeout_s if timeout_s < TIMEOUT_MAX_S else TIMEOUT_MAX_S
-        self.timeout_ms = as_uint32(float32(float32(capped) * 1000.0)) if not math.isnan(timeout_s) else \
-            int(TIMEOUT_MAX_S * 1000)
+        self.timeout_ms = as_uint32(float32(float32(capped) * 1000.0))
         self.seq = seq & 0xFF
         self.count = (count & 0xFF) or 1
         self.throttle = Throttle(kind & 0xFF, float32(value))

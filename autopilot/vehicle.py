@@ -478,9 +478,11 @@ class Vehicle:
     @property
     def motor_test_pwm(self) -> list[int] | None:
         """Outputs 1-4 while a motor test runs, else None."""
-        return self.motor_test.outputs(self._pwm_range()[0]) if self.motor_test.running else None
+        return self.motor_test.outputs(self.pwm_range[0]) if self.motor_test.running else None
 
-    def _pwm_range(self) -> tuple[int, int]:
+    @property
+    def pwm_range(self) -> tuple[int, int]:
+        """MOT_PWM_MIN..MOT_PWM_MAX as the motor library takes them (integers; 0 is 1000..2000)."""
         p = self.params
         return int(p["MOT_PWM_MIN"] or 1000), int(p["MOT_PWM_MAX"] or 2000)
 
@@ -490,8 +492,8 @@ class Vehicle:
         if self.arming.armed and now < self.arming.interlock_at_s:  # no motor interlock in the arming delay
             self.notify("Motor Test: cancelled")
             test.stop()
-        elif test.update(now, self._pwm_range(), self.rc.radio_in[2]):
-            low, high = self._pwm_range()
+        elif test.update(now, self.pwm_range, self.rc.radio_in[2]):
+            low, high = self.pwm_range
             p = self.params
             outputs = test.outputs(low)
             self._motor_test_omega = tuple(  # type: ignore[assignment]

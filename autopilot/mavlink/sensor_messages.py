@@ -146,15 +146,15 @@ def motor_pwm(v: SensorView) -> list[int]:
     if test is not None:  # a motor test writes the outputs itself
         return test
     params = v.params
-    low, high = params["MOT_PWM_MIN"] or 1000.0, params["MOT_PWM_MAX"] or 2000.0
+    low, high = v.pwm_range
     if not v.armed:
-        return [int(low)] * 4
+        return [low] * 4
     expo, spin_min, spin_max = params["MOT_THST_EXPO"], params["MOT_SPIN_MIN"], params["MOT_SPIN_MAX"]
     out = []
     idle = v.omega_idle_rad_s
     for omega in in_output_order(v.motor_commands):
         if omega <= 0.0:
-            out.append(int(low))
+            out.append(low)
             continue
         if omega == idle:  # at ground idle: ArduCopter's MOT_SPIN_ARM, reached MOT_SPOOL_TIME after the arming delay
             spool = params["MOT_SPOOL_TIME"]

@@ -76,13 +76,13 @@ def test_a_nan_or_negative_timeout_runs_on_and_a_second_start_keeps_the_first_mo
 def test_the_rotor_speed_of_a_pwm_is_the_inverse_of_the_reported_output():
     v = ready_vehicle()
     p = v.params
-    args = (1000, 2000, p["MOT_SPIN_MIN"], p["MOT_SPIN_MAX"], p["MOT_THST_EXPO"], v.omega_idle_rad_s, v.omega_max_rad_s)
+    args = (*v.pwm_range, p["MOT_SPIN_MIN"], p["MOT_SPIN_MAX"], p["MOT_THST_EXPO"], v.omega_idle_rad_s, v.omega_max_rad_s)
     assert omega_of_pwm(1000, *args) == 0.0 and omega_of_pwm(2000, *args) == v.omega_max_rad_s
     assert 0.0 < omega_of_pwm(1050, *args) < v.omega_idle_rad_s
     speeds = [omega_of_pwm(pwm, *args) for pwm in range(1000, 2001, 25)]
     assert speeds == sorted(speeds)
     for pwm in (1300, 1500, 1800):  # the output mapping reads a command at that speed as that PWM
-        flying = SimpleNamespace(safety_on=False, motor_test_pwm=None, params=p, armed=True, omega_idle_rad_s=v.omega_idle_rad_s,
+        flying = SimpleNamespace(safety_on=False, motor_test_pwm=None, params=p, pwm_range=v.pwm_range, armed=True, omega_idle_rad_s=v.omega_idle_rad_s,
                                  omega_max_rad_s=v.omega_max_rad_s, motor_commands=(omega_of_pwm(pwm, *args),) * 4)
         assert abs(motor_pwm(flying)[0] - pwm) <= 1
 
