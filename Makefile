@@ -58,7 +58,7 @@ clean:
 	rm -rf $(VENV) build *.egg-info .pytest_cache autopilot/control/_cascade*.so
 
 bench: install
-	$(PY) bench/run.py
+	REF_DIR=$(REF_DIR) $(PY) bench/run.py
 
 # A million hostile datagrams through the sans-IO link layer and session (CI runs 20,000); then a
 # million steps of the state-space walk: every start-up stage, mode, flight phase, failsafe and

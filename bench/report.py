@@ -162,8 +162,31 @@ def flight_rows(r: dict) -> list[str]:
     return rows
 
 
+def ground_station_lead(g: dict | None) -> list[str]:
+    """The user's case first: a ground station asking for every stream, against ArduCopter."""
+    if not g:
+        return []
+    hz = g["request_hz"]
+    lines = ["## Under a ground station's load", "",
+             f"One client sending a GCS HEARTBEAT every second and asking for every stream at {hz} Hz "
+             "(MAVProxy's request), reading time_boot_ms from raw frames; sim seconds per wall second, "
+             "runs alternating vehicle by vehicle in one `make bench` (bench/ground_station.py).", "",
+             "| vehicle | sim s per wall s |", "|---|---|"]
+    if "arducopter_all_streams" in g:
+        a = g["arducopter_all_streams"]
+        lines.append(f"| ArduCopter SITL (`--speedup {a['speedup']}`), all streams at {hz} Hz | {fmt(a, 'x', 0)} |")
+    lines += [f"| Firefly (`--speedup inf`), all streams at {hz} Hz | {fmt(g['firefly_all_streams'], 'x', 0)} |",
+              f"| Firefly, default streams, no request | {fmt(g['firefly_no_request'], 'x', 0)} |"]
+    if "ratio" in g:
+        lines += ["", f"**Firefly / ArduCopter with every stream asked for: {g['ratio']:.1f}×** (medians)."]
+    else:
+        lines += ["", "ArduCopter was not measured in this run (set REF_DIR to build-arducopter-sitl's OUT_DIR)."]
+    return lines + ["", "## Every figure", ""]
+
+
 def write_markdown(r: dict, path: Path) -> None:
-    lines = header(r) + ["| figure | value |", "|---|---|"] + control_rows(r["step_response"]) + speed_rows(r)
+    lines = header(r) + ground_station_lead(r.get("ground_station")) + ["| figure | value |", "|---|---|"] \
+        + control_rows(r["step_response"]) + speed_rows(r)
     sw = r.get("swarm")
     if sw and sw.get("swarm_max_realtime"):
         lines += swarm_rows(sw)

@@ -389,7 +389,7 @@ def main() -> int:
     ap.add_argument("--runs", type=int, default=5)
     ap.add_argument("--reference-runs", type=int, default=None, help="runs of the speedup-1 flight (default --runs)")
     ap.add_argument("--ladder", default="10,20,50,100,200,500,inf")
-    ap.add_argument("--skip", default="", help="comma list of: rtf,telemetry,dataflash,startup,plugin,campaign,mavsdk,mission,swarm")
+    ap.add_argument("--skip", default="", help="comma list of: rtf,gcs,telemetry,dataflash,startup,plugin,campaign,mavsdk,mission,swarm")
     ap.add_argument("--swarm", default="50,100,150,200,250",
                     help="vehicle counts tried, in order (MAVLink system ids stop at 255)")
     ap.add_argument("--batch", default="1,10,100,1000", help="vehicle counts of the batched step cost")
@@ -417,6 +417,11 @@ def main() -> int:
             print("step cost ...", flush=True)
             results["step_cost_us"] = single(args.runs)
             results["step_cost_batched_us"] = batched([int(n) for n in args.batch.split(",")], args.runs)
+        save(results)
+    if "gcs" not in skip:
+        from ground_station import measure as ground_station_load
+        print("a ground station's load: all streams at 4 Hz, Firefly and (REF_DIR) ArduCopter ...", flush=True)
+        results["ground_station"] = ground_station_load(args.runs, progress=progress)
         save(results)
     if "telemetry" not in skip:
         from telemetry import message_cost_us, rtf_with_client

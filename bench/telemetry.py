@@ -38,28 +38,41 @@ def frames_stamps(datagram: bytes) -> list[int]:
     return out
 
 
-def rtf_with_client_run(window_s: float, params: dict | None = None) -> float:
-    """One run; with `params`, the vehicle starts with those parameter values (its saved file)."""
+def rtf_with_client_run(window_s: float, params: dict | None = None, request_hz: int = 0) -> float:
+    """One run; with `params`, the vehicle starts with those parameter values (its saved file);
+    with `request_hz`, the client asks for every stream at that rate (as MAVProxy does)."""
     import json
+    state = ROOT / "bench" / "tmp" / "telemetry"
+    if params is not None:
+        (state / "instance-0").mkdir(parents=True, exist_ok=True)
+        (state / "instance-0" / "params.json").write_text(json.dumps(params))
+
+    def firefly(port: int) -> subprocess.Popen:
+        return subprocess.Popen([sys.executable, "-m", "firefly.autopilot", "--speedup", "inf",
+                                 "--listen", "udp:127.0.0.1:0", "--out", f"udp:127.0.0.1:{port}", "--quiet",
+                                 *(() if params is not None else ("--wipe",)), "--state-dir", str(state)], cwd=ROOT)
+    return client_rtf(firefly, window_s, request_hz)
+
+
+def client_rtf(launch, window_s: float, request_hz: int = 0, settle_s: float = 0.0) -> float:
+    """Sim seconds per wall second a ground station sees: `launch(port)` starts a vehicle sending
+    to the client's port; the client answers with a GCS HEARTBEAT every wall second (and, with
+    `request_hz`, REQUEST_DATA_STREAM for all streams at that rate, repeated with each heartbeat
+    as a ground station keeps asking). The window opens `settle_s` after the first stamp."""
     from pymavlink.dialects.v20 import ardupilotmega as mavlink
     client = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
     client.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 1 << 22)
     client.bind(("127.0.0.1", 0))
     client.settimeout(0.5)
-    port = client.getsockname()[1]
     gcs = mavlink.MAVLink(None, srcSystem=255, srcComponent=190)
-    heartbeat = gcs.heartbeat_encode(6, 8, 0, 0, 0).pack(gcs)
-    state = ROOT / "bench" / "tmp" / "telemetry"
-    if params is not None:
-        (state / "instance-0").mkdir(parents=True, exist_ok=True)
-        (state / "instance-0" / "params.json").write_text(json.dumps(params))
-    proc = subprocess.Popen([sys.executable, "-m", "firefly.autopilot", "--speedup", "inf", "--listen", "udp:127.0.0.1:0",
-                             "--out", f"udp:127.0.0.1:{port}", "--quiet", *(() if params is not None else ("--wipe",)),
-                             "--state-dir", str(state)], cwd=ROOT)
+    hello = gcs.heartbeat_encode(6, 8, 0, 0, 0).pack(gcs)
+    if request_hz:
+        hello += gcs.request_data_stream_encode(1, 1, mavlink.MAV_DATA_STREAM_ALL, request_hz, 1).pack(gcs)
+    proc = launch(client.getsockname()[1])
     try:
-        first = last = None
+        first = last = opened = None
         sent_s = 0.0
-        deadline = time.monotonic() + 30.0
+        deadline = time.monotonic() + 60.0
         while time.monotonic() < deadline:
             try:
                 datagram, sender = client.recvfrom(65535)
@@ -67,10 +80,15 @@ def rtf_with_client_run(window_s: float, params: dict | None = None) -> float:
                 continue
             now = time.monotonic()
             if now - sent_s >= 1.0:
-                client.sendto(heartbeat, sender)
+                client.sendto(hello, sender)
                 sent_s = now
             stamps = frames_stamps(datagram)
             if not stamps:
+                continue
+            if opened is None:
+                opened = now + settle_s
+                deadline = opened + window_s + 30.0
+            if now < opened:
                 continue
             if first is None:
                 first = (now, max(stamps))
@@ -81,7 +99,11 @@ def rtf_with_client_run(window_s: float, params: dict | None = None) -> float:
         return (last[1] - first[1]) / 1000.0 / (last[0] - first[0])
     finally:
         proc.terminate()
-        proc.wait()
+        try:
+            proc.wait(5)
+        except subprocess.TimeoutExpired:
+            proc.kill()
+            proc.wait()
         client.close()
 
 
