@@ -1,8 +1,8 @@
 """`autopilot`: start a simulated ArduCopter-compatible vehicle and serve MAVLink over TCP and UDP.
 
-Ports follow ArduPilot SITL's instance convention: instance N is system id N+1, serves TCP
-5760+10N (SERIAL0, as ArduPilot SITL does), listens on UDP 5760+10N and sends to 14550+10N and
-14540+10N (what MAVProxy's default outputs give SITL users). --serialN adds ports as ArduPilot
+Ports follow ArduPilot SITL's instance convention: instance N is system id N+1 (N % 255 + 1 past
+254: fleet.py), serves TCP 5760+10N (SERIAL0, as ArduPilot SITL does), listens on UDP 5760+10N and
+sends to 14550+10N and 14540+10N (what MAVProxy's default outputs give SITL users). --serialN adds ports as ArduPilot
 SITL's option of that name does. A default port another process holds is not an error: the
 vehicle takes the next free one in steps of 10 and says so.
 """
@@ -16,6 +16,8 @@ import signal
 import sys
 import time
 from pathlib import Path
+
+from .fleet import MAX_INSTANCE, PART_SIZE, parse_fleet, start_parts, stop_parts, system_id_of
 
 
 class CliError(Exception):
@@ -86,7 +88,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--speedup", default="1", help="sim seconds per wall second; 'inf' runs flat out")
     p.add_argument("--instance", type=int, default=0, help="instance number N: system id N+1, ports +10N")
     p.add_argument("--count", type=int, default=1,
-                   help="vehicles in this process: instances N..N+count-1, one UDP port each, on a 5 m grid")
+                   help="vehicles: instances N..N+count-1, one UDP port each, on a 5 m grid; past 255 a "
+                        "process per 255 (system ids repeat from 1 in each)")
+    p.add_argument("--fleet", default=None, type=fleet_part, help=argparse.SUPPRESS)  # a fleet's part: FIRST,TOTAL
     p.add_argument("--home", default=None, metavar="LAT,LON,ALT[,YAW]", help="home location (AMSL metres, degrees)")
     p.add_argument("--seed", type=int, default=None, help="seed for sensor noise (overrides the scenario)")
     p.add_argument("--scenario", default=None, metavar="FILE", help="scenario TOML file")
@@ -118,7 +122,6 @@ def build_parser() -> argparse.ArgumentParser:
     return p
 
 
-MAX_SYSTEM_ID = 255
 GRID_SPACING_M = 5.0  # vehicles of one process start this far apart, on a square grid
 
 
@@ -127,11 +130,15 @@ def build(args) -> list:
     from ..startup import StartupTimeline
     from .scenario import Scenario, load_scenario, parse_home
 
-    if not 0 <= args.instance <= 200:
-        raise CliError(f"--instance: must be 0..200, got {args.instance}")
-    if not 1 <= args.count <= MAX_SYSTEM_ID - args.instance:  # system ids instance+1 .. instance+count
-        raise CliError(f"--count: must be 1..{MAX_SYSTEM_ID - args.instance} with --instance {args.instance} "
-                       f"(MAVLink system ids end at {MAX_SYSTEM_ID}), got {args.count}")
+    if not hasattr(args, "fleet_total"):  # which vehicles of the fleet this process runs
+        args.fleet_first, args.fleet_total = args.fleet or (0, args.count)
+        if args.fleet is None:  # the fleet's first part (fleet.py), or all of a fleet of up to 255
+            args.count = min(args.count, PART_SIZE)
+    if not 0 <= args.instance <= MAX_INSTANCE:
+        raise CliError(f"--instance: must be 0..{MAX_INSTANCE}, got {args.instance}")
+    if not 1 <= args.fleet_total <= MAX_INSTANCE + 1 - args.instance:  # every port below 65536
+        raise CliError(f"--count: must be 1..{MAX_INSTANCE + 1 - args.instance} with --instance {args.instance}, "
+                       f"got {args.fleet_total}")
     scenario = load_scenario(Path(args.scenario)) if args.scenario else Scenario()
     if args.home:
         scenario.home, scenario.home_yaw_deg = parse_home(args.home)
@@ -159,7 +166,7 @@ def build(args) -> list:
     epoch_us = int(time.time() * 1e6)
     built = []
     try:
-        for k in range(args.count):
+        for k in range(args.fleet_first, args.fleet_first + args.count):  # k: the vehicle's place in the fleet
             built.append(build_vehicle(args, scenario, k, outs, listen, epoch_us))
     except CliError:
         for node, _ in built:
@@ -206,14 +213,14 @@ def build_vehicle(args, scenario, k: int, outs, listen, epoch_us: int):
     tlog = state_log = None
     if args.tlog:
         from ..io.tlog import TlogWriter
-        tlog = open_output(TlogWriter, args.tlog, "--tlog", f".{n}.tlog", args.count, endpoint)
+        tlog = open_output(TlogWriter, args.tlog, "--tlog", f".{n}.tlog", args.fleet_total, endpoint)
     if args.state_log:
         from ..io.state_log import open_state_log
-        state_log = open_output(open_state_log, args.state_log, "--state-log", f".{n}.csv", args.count, endpoint)
+        state_log = open_output(open_state_log, args.state_log, "--state-log", f".{n}.csv", args.fleet_total, endpoint)
     link = Link(session.codec, session.signing, LinkFaults(vehicle.params, vehicle.config.sim.seed))
     bind_link(link, vehicle, session)
     reboot_startup = scenario.startup or StartupTimeline()
-    router = Router(n + 1, vehicle.lists_traffic)
+    router = Router(system_id_of(n), vehicle.lists_traffic)
     node = Node(vehicle, session, endpoint, link, router, tlog, state_log, recorder, log_files,
                 power_on=functools.partial(power_on, wipe=False, startup=reboot_startup))
     return node, vehicle_outs
@@ -246,21 +253,21 @@ def assemble(args, scenario, k: int, state_dir: Path, board_id: str, *, epoch_us
     for store_file in (params.file, mission.file):
         store_file.min_interval_s, store_file.clock = SAVE_EVERY_S, time.monotonic  # the link clock
     rate = scenario.sim.physics_rate_hz
-    cols = math.ceil(math.sqrt(args.count))
+    cols = math.ceil(math.sqrt(args.fleet_total))
     sim = dataclasses.replace(scenario.sim, seed=scenario.seed + k)
     config = VehicleConfig(home=scenario.home, home_yaw_deg=scenario.home_yaw_deg, sim=sim,
                            offset_ne_m=(GRID_SPACING_M * (k // cols), GRID_SPACING_M * (k % cols)),
-                           rates=LoopRates(rate, min(400, rate), 100), system_id=n + 1,
+                           rates=LoopRates(rate, min(400, rate), 100), system_id=system_id_of(n),
                            epoch_unix_us=epoch_us, faults=scenario.faults, startup=startup,
                            board_id=board_id, powered_on_at_s=powered_on_at_s)
     vehicle = Vehicle(config, params, mission)
     params.report("SIM_SPEEDUP", reported_speedup(parse_speedup(args.speedup)))
     vehicle.internal_errors.report = lambda text, n=n: print(
-        f"autopilot: system {n + 1}: internal error: {text}", file=sys.stderr, flush=True)
+        f"autopilot: system {system_id_of(n)}: internal error: {text}", file=sys.stderr, flush=True)
     if scenario.script and not powered_on_at_s:  # a scenario's script runs once, from the first boot
         from .script import Script
         vehicle.script = Script(scenario.script)
-    session = Session(vehicle, new_codec(n + 1))
+    session = Session(vehicle, new_codec(system_id_of(n)))
     attach_state(session.signing, state_dir / "signing.json", scenario.signing_key, wipe)
     recorder, log_files = attach_dataflash(vehicle, session, state_dir / "logs")
     return vehicle, session, recorder, log_files
@@ -363,7 +370,7 @@ def open_ports(args, k: int, offset: int, listen, outs):
             port.close()
         raise
     ports = Ports(udp, servers, clients)
-    ports.notes = [f"autopilot: system {k + args.instance + 1}: {note}" for note in notes]  # said once all is built
+    ports.notes = [f"autopilot: system {system_id_of(k + args.instance)}: {note}" for note in notes]  # said once all is built
     return ports
 
 
@@ -379,6 +386,9 @@ def main(argv=None) -> int:
     except (CliError, ScenarioError) as exc:
         print(f"autopilot: error: {exc}", file=sys.stderr)
         return 2
+    # The rest of a fleet, once this part has built (a bad option or scenario is said once, here)
+    parts = start_parts(sys.argv[1:] if argv is None else list(argv), args.fleet_total, args.stats) \
+        if args.fleet is None and args.fleet_total > PART_SIZE else []
     from ..io.runner import Runner
     nodes = [node for node, _ in built]
     runner = Runner(nodes, speedup)
@@ -395,9 +405,10 @@ def main(argv=None) -> int:
             tcp = "".join(f"tcp:{h}:{p}, " for h, p in node.endpoint.tcp_addresses)
             print(f"Firefly autopilot: system {node.vehicle.system_id}, {tcp}udp:{host}:{port}, "
                   f"out {' '.join(f'{h}:{p}' for h, p in outs)}, speedup {args.speedup}{signed}", flush=True)
-        if len(built) > 10:
-            print(f"... and {len(built) - 10} more vehicles", flush=True)
-    escaped, wall0 = None, time.monotonic()
+        if args.fleet_total > 10:
+            more = f" in {len(parts)} more processes" if parts else ""
+            print(f"... and {args.fleet_total - 10} more vehicles{more}", flush=True)
+    escaped, wall0, code = None, time.monotonic(), 0
     try:
         runner.run(args.duration)
     except KeyboardInterrupt:
@@ -423,11 +434,19 @@ def main(argv=None) -> int:
                 node.state_log.close()
             if node.log_files is not None:
                 node.log_files.stop()
-    return 0
+        code = stop_parts(parts)
+    return 2 if code else 0
 
 
 PARENT_POLL_S = 0.5
 SAVE_EVERY_S = 0.5  # a store writes its file at most this often (link time); the rest at exit
+
+
+def fleet_part(text: str) -> tuple[int, int]:
+    try:
+        return parse_fleet(text)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
 
 
 def param_setting(text: str) -> tuple[str, float]:

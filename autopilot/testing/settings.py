@@ -11,7 +11,7 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
-MAX_COUNT = 50  # vehicles one test may ask for (the autopilot itself takes up to 255)
+MAX_COUNT = 1000  # vehicles one test may ask for (past 255, the autopilot runs a process per 255)
 MAX_AIRBORNE_M = 500.0
 
 

@@ -11,6 +11,7 @@ import time
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from ..cli.fleet import system_id_of
 from ..params import INVERSE_OLD_NAMES, served_equivalent
 from .control import ControlLink
 from .errors import FireflyError
@@ -68,7 +69,7 @@ class FireflyVehicle:
     def __init__(self, run, index: int, ports: dict, state_log: Path, tlog: Path):
         self.run = run
         self.index = index
-        self.system_id = index + 1
+        self.system_id = system_id_of(index)  # from 1 again past 255: each part of a fleet its own network
         self.ports = ports  # {"mavsdk": port, "mavlink": port, "control": port}
         self.state_log_path = state_log
         self.tlog_path = tlog

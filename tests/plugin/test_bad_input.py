@@ -34,7 +34,7 @@ def test_positional_argument(firefly): pass
 MARKER_ERRORS = {
     "test_unknown_key": "unknown key 'spedup'",
     "test_negative_speedup": "(speedup=...): expected a positive number or 'inf', got -1",
-    "test_no_vehicles": "(count=...): expected an integer in 1..50, got 0",
+    "test_no_vehicles": "(count=...): expected an integer in 1..1000, got 0",
     "test_a_fault_that_is_not_sim": "(faults=...): WPNAV_SPEED is not a SIM_* parameter",
     "test_positional_argument": "takes keywords only",
 }

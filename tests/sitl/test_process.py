@@ -28,9 +28,11 @@ def run_cli(*args, timeout=30):
     (("--out", "udp:127.0.0.1:99999"), "port"),
     (("--no-such-flag",), "--no-such-flag"),
     (("--instance", "-1"), "--instance"),
-    (("--count", "256"), "system ids end at 255"),
+    (("--count", "5001"), "--count"),
+    (("--instance", "5000"), "--instance"),
     (("--stats", "/proc/no-such-dir/stats.json"), "--stats"),
-    (("--instance", "10", "--count", "250"), "1..245"),
+    (("--instance", "4990", "--count", "11"), "1..10"),
+    (("--fleet", "3,2"), "--fleet"),
 ])
 def test_bad_flags_get_one_line_not_a_traceback(args, mentions):
     result = run_cli(*args, "--duration", "0.1")
