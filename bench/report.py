@@ -113,9 +113,9 @@ def batched_table(b: dict) -> list[str]:
 
 
 def swarm_rows(sw: dict) -> list[str]:
-    rows = [f"| swarm_max_realtime (vehicles in one `autopilot --count N` process at 1x, default telemetry each, "
+    rows = [f"| swarm_max_realtime (vehicles of one `autopilot --count N` at 1x, default telemetry each, "
             f"sim time within 2 % of wall over {sw['window_s']:g} s; counts tried "
-            f"{', '.join(str(t['count']) for t in sw['trials'])}; none above 250, as MAVLink system ids end at 255) | "
+            f"{', '.join(str(t['count']) for t in sw['trials'])}; past 255, a process per 255: the first vehicle and the last watched) | "
             f"{sw['swarm_max_realtime']} |"]
     for t in sw["trials"]:
         if "cpu_per_vehicle_core" not in t:

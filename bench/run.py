@@ -259,67 +259,119 @@ def mavsdk_flights(runs: int, ladder: list[str], reference_runs: int) -> dict:
 
 
 # ----- many vehicles in one process at speedup 1 ------------------------------------------------------
-def _proc_cpu_s(pid: int) -> float:
+def _children(pid: int) -> list[int]:
+    try:
+        return [int(c) for c in Path(f"/proc/{pid}/task/{pid}/children").read_text().split()]
+    except OSError:
+        return []
+
+
+def _tree_sum(pid: int, own) -> float:
+    """own(pid) summed over process `pid` and the processes it started (a fleet's parts)."""
+    total = own(pid)
+    for child in _children(pid):
+        try:
+            total += _tree_sum(child, own)
+        except OSError:  # gone meanwhile
+            pass
+    return total
+
+
+def _own_cpu_s(pid: int) -> float:
     fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
     return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
 
 
-def _proc_rss_mb(pid: int) -> float:
+def _own_rss_mb(pid: int) -> float:
     for line in Path(f"/proc/{pid}/status").read_text().splitlines():
         if line.startswith("VmRSS:"):
             return int(line.split()[1]) / 1024.0
     return math.nan
 
 
+def _proc_cpu_s(pid: int) -> float:
+    return _tree_sum(pid, _own_cpu_s)
+
+
+def _proc_rss_mb(pid: int) -> float:
+    return _tree_sum(pid, _own_rss_mb)
+
+
 def swarm_trial(count: int, window_s: float, segments: int = 6) -> dict:
-    """Run `autopilot --count N` at 1x; sim time of vehicle 1 (SYSTEM_TIME) against wall time over
-    the window, and over each of its `segments` equal parts (for median, min and max)."""
+    """Run `autopilot --count N` at 1x; sim time against wall time over the window, and over each
+    of its `segments` equal parts (for median, min and max), from SYSTEM_TIME of the first vehicle
+    and of the last (past 255 vehicles the fleet runs in several processes, fleet.py: the slower
+    of the two counts)."""
     from pymavlink import mavutil
     from firefly.autopilot.testing.run import free_port_bases
     # Every vehicle's own listening and --out ports (each base + 10k), all free and apart: with
     # ephemeral listening ports, one vehicle's --out could be another's socket, and the two
     # would talk to each other.
     listen, port = free_port_bases(2, count)
-    conn = mavutil.mavlink_connection(f"udpin:127.0.0.1:{port}", source_system=255)
+    watched = sorted({0, count - 1})
+    conns = [mavutil.mavlink_connection(f"udpin:127.0.0.1:{port + 10 * k}", source_system=255) for k in watched]
     proc = subprocess.Popen([sys.executable, "-m", "firefly.autopilot", "--count", str(count), "--speedup", "1",
                              "--listen", f"udp:127.0.0.1:{listen}", "--out", f"udp:127.0.0.1:{port}", "--quiet",
-                             "--wipe", "--state-dir", str(ROOT / "bench" / "tmp" / "swarm")], cwd=ROOT)
-    try:
-        def sample():
-            """(wall time at receipt, sim ms it carries, process CPU s) of the next SYSTEM_TIME."""
-            msg = conn.recv_match(type="SYSTEM_TIME", blocking=True, timeout=10)
-            return (time.monotonic(), msg.time_boot_ms, _proc_cpu_s(proc.pid)) if msg else None
-        if sample() is None:
-            return {"count": count, "ok": False, "why": "no telemetry"}
-        warm_until = time.monotonic() + 5.0
-        while time.monotonic() < warm_until:
-            sample()
-        points = [sample()]
-        if points[0] is None:
-            return {"count": count, "ok": False, "why": "telemetry stopped"}
-        for k in range(1, segments + 1):
-            due = points[0][0] + window_s * k / segments
-            while (point := sample()) is not None and point[0] < due:
-                pass
-            if point is None:
-                return {"count": count, "ok": False, "why": "telemetry stopped"}
-            points.append(point)
+                             "--serial0", "none", "--wipe", "--state-dir", str(ROOT / "bench" / "tmp" / "swarm")],
+                            cwd=ROOT)
+    import threading
+    tracks: list[list[tuple[float, int]]] = [[] for _ in conns]  # (wall time at receipt, sim ms), per watched vehicle
+    stop = threading.Event()
 
-        def ratio(a, b):
-            return (b[1] - a[1]) / 1000.0 / (b[0] - a[0])
+    def listen_to(conn, track):
+        # one reader per vehicle: a socket read only now and then would hand over stale stamps
+        while not stop.is_set():
+            msg = conn.recv_match(type="SYSTEM_TIME", blocking=True, timeout=0.5)
+            if msg is not None:
+                track.append((time.monotonic(), msg.time_boot_ms))
+    readers = [threading.Thread(target=listen_to, args=pair, daemon=True) for pair in zip(conns, tracks)]
+    for reader in readers:
+        reader.start()
+    try:
+        deadline = time.monotonic() + 300  # a fleet of 1,000 takes a while to build
+        while not all(tracks) and time.monotonic() < deadline and proc.poll() is None:
+            time.sleep(0.1)
+        if not all(tracks):
+            return {"count": count, "ok": False, "why": "no telemetry"}
+        time.sleep(5.0)  # warm up
+        t0 = time.monotonic()
+        cpu_marks = [(t0, _proc_cpu_s(proc.pid))]
+        for k in range(1, segments + 1):
+            time.sleep(max(0.0, t0 + window_s * k / segments - time.monotonic()))
+            cpu_marks.append((time.monotonic(), _proc_cpu_s(proc.pid)))
+        last_mark = cpu_marks[-1][0]
+        deadline = time.monotonic() + 60.0
+        while time.monotonic() < deadline and not all(track[-1][0] >= last_mark for track in tracks):
+            time.sleep(0.1)  # a stamp after the last mark (SYSTEM_TIME comes once a vehicle second)
+
+        def at(track, wall):
+            """The first stamp received at or after `wall`."""
+            return next(((w, ms) for w, ms in track if w >= wall), None)
+        bounds = [[at(track, wall) for wall, _ in cpu_marks] for track in tracks]
+        if any(None in b for b in bounds):
+            return {"count": count, "ok": False, "why": "telemetry stopped"}
+
+        def ratio(a, b):  # the same stamp at both ends: none came within the segment, far behind
+            return (b[1] - a[1]) / 1000.0 / (b[0] - a[0]) if b[0] > a[0] else 0.0
 
         def cpu(a, b):
-            return (b[2] - a[2]) / (b[0] - a[0])
-        pairs = list(zip(points, points[1:]))
-        whole = ratio(points[0], points[-1])
-        return {"count": count, "ratio": whole, "ok": abs(whole - 1.0) <= 0.02, "segment_s": window_s / segments,
-                "ratio_segments": summary([ratio(a, b) for a, b in pairs]),
-                "cpu_core_fraction": cpu(points[0], points[-1]),
-                "cpu_segments": summary([cpu(a, b) for a, b in pairs]), "rss_mb": _proc_rss_mb(proc.pid)}
+            return (b[1] - a[1]) / (b[0] - a[0])
+        wholes = [ratio(b[0], b[-1]) for b in bounds]
+        points = bounds[max(range(len(bounds)), key=lambda i: abs(wholes[i] - 1.0))]  # the one further from 1x
+        return {"count": count, "ratio": wholes[bounds.index(points)], "ok": all(abs(r - 1.0) <= 0.02 for r in wholes),
+                "ratio_watched": wholes, "segment_s": window_s / segments,
+                "ratio_segments": summary([ratio(a, b) for a, b in zip(points, points[1:])]),
+                "cpu_core_fraction": cpu(cpu_marks[0], cpu_marks[-1]),
+                "cpu_segments": summary([cpu(a, b) for a, b in zip(cpu_marks, cpu_marks[1:])]),
+                "rss_mb": _proc_rss_mb(proc.pid)}
     finally:
+        stop.set()
+        for reader in readers:
+            reader.join()
         proc.terminate()
         proc.wait()
-        conn.close()
+        for conn in conns:
+            conn.close()
 
 
 def swarm(counts: list[int], window_s: float) -> dict:
@@ -390,8 +442,8 @@ def main() -> int:
     ap.add_argument("--reference-runs", type=int, default=None, help="runs of the speedup-1 flight (default --runs)")
     ap.add_argument("--ladder", default="10,20,50,100,200,500,inf")
     ap.add_argument("--skip", default="", help="comma list of: rtf,gcs,telemetry,dataflash,startup,plugin,campaign,mavsdk,mission,swarm")
-    ap.add_argument("--swarm", default="50,100,150,200,250",
-                    help="vehicle counts tried, in order (MAVLink system ids stop at 255)")
+    ap.add_argument("--swarm", default="50,100,150,200,250,500,750,1000",
+                    help="vehicle counts tried, in order (past 255, a process per 255: autopilot/cli/fleet.py)")
     ap.add_argument("--batch", default="1,10,100,1000", help="vehicle counts of the batched step cost")
     ap.add_argument("--swarm-window", type=float, default=60.0, help="seconds each count is held")
     args = ap.parse_args()
