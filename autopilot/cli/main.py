@@ -281,7 +281,9 @@ def attach_thermal_camera(vehicle, session, spec, directory: Path, kept: dict) -
     copy on disk outlive a reboot of the autopilot, as a separate camera's do."""
     from ..io.thermal_stills import ThermalStills
     from ..mavlink.camera_component import CameraComponent
+    from ..payload.camera import MAVLINK_CAMV2
     from ..payload.thermal_camera import ThermalCamera, look_of
+    from ..results import Severity
     camera = kept.get("thermal_camera")
     if camera is None:
         camera = kept["thermal_camera"] = ThermalCamera(spec, vehicle.config.sim.world, look=lambda: look_of(vehicle),
@@ -290,7 +292,11 @@ def attach_thermal_camera(vehicle, session, spec, directory: Path, kept: dict) -
         camera.on_still, camera.on_format = disk.write, disk.clear
     camera.look, camera.now = (lambda: look_of(vehicle)), (lambda: vehicle.time_s)
     camera.stop()  # the sim's clock starts again at a reboot
-    session.camera_component = CameraComponent(camera, session.codec, gimbal_device_id=1 if vehicle.mount.fitted else 0)
+    component = session.camera_component = CameraComponent(camera, session.codec,
+                                                           gimbal_device_id=1 if vehicle.mount.fitted else 0)
+    if vehicle.camera.kind == MAVLINK_CAMV2:  # the autopilot's CAM1 drives it (payload/camera.py)
+        vehicle.camera.mavlink_camera = component
+        vehicle.notify(component.announcement, Severity.INFO)
 
 
 # What SIM_SPEEDUP reads when the vehicle runs flat out (--speedup inf): ArduPilot's SITL keeps

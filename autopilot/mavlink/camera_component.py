@@ -72,13 +72,30 @@ class CameraComponent:
         return self.codec.heartbeat_encode(mav.MAV_TYPE_CAMERA, mav.MAV_AUTOPILOT_INVALID, 0, 0,
                                            mav.MAV_STATE_ACTIVE)
 
-    def information(self):
+    def information_fields(self) -> tuple:
+        """CAMERA_INFORMATION's fields after time_boot_ms (the autopilot's CAM1_TYPE 6 copies them)."""
         spec = self.camera.spec
-        return self.codec.camera_information_encode(
-            self._ms(), list(VENDOR.ljust(32, b"\0")), list(MODEL.ljust(32, b"\0")), 0,
-            spec.focal_px * PIXEL_PITCH_MM, spec.width_px * PIXEL_PITCH_MM, spec.height_px * PIXEL_PITCH_MM,
-            spec.width_px, spec.height_px, 0, mav.CAMERA_CAP_FLAGS_CAPTURE_IMAGE, 0, b"",
-            self.gimbal_device_id, 0)
+        return (list(VENDOR.ljust(32, b"\0")), list(MODEL.ljust(32, b"\0")), 0,
+                spec.focal_px * PIXEL_PITCH_MM, spec.width_px * PIXEL_PITCH_MM, spec.height_px * PIXEL_PITCH_MM,
+                spec.width_px, spec.height_px, 0, mav.CAMERA_CAP_FLAGS_CAPTURE_IMAGE, 0, b"",
+                self.gimbal_device_id, 0)
+
+    def information(self):
+        return self.codec.camera_information_encode(self._ms(), *self.information_fields())
+
+    @property
+    def announcement(self) -> str:
+        """What ArduPilot's CAM1_TYPE 6 says when it gets the camera's CAMERA_INFORMATION."""
+        return f"Camera: {VENDOR.decode()} {MODEL.decode()} fw:0.0.0.0"
+
+    def trigger(self, sequence: int) -> bool:
+        """The autopilot's CAM1_TYPE 6 takes a picture: the IMAGE_START_CAPTURE it sends (one still,
+        param 4 its next image number) handled as from the autopilot's component; the ACK goes back
+        to the autopilot, which does not read it. True: sent (as ArduPilot's trigger_pic)."""
+        system = self.codec.srcSystem
+        self._command(Command(mav.MAV_CMD_IMAGE_START_CAPTURE, 0.0, 0.0, 1.0, float(sequence), 0.0, 0.0, 0.0,
+                              mav.MAV_FRAME_GLOBAL, False, 0, (system, mav.MAV_COMP_ID_AUTOPILOT1)))
+        return True
 
     def settings(self):
         return self.codec.camera_settings_encode(self._ms(), mav.CAMERA_MODE_IMAGE, math.nan, math.nan)

@@ -143,3 +143,23 @@ def test_pymavlink_downloads_a_radiometric_still_of_the_fire(autopilot_factory, 
     # the fire is under the vehicle: near the image's centre (20 m up: 14 cm a pixel)
     assert abs(peak[0] - 60) < 15 and abs(peak[1] - 80) < 15, peak
     assert geotag.lat_deg == pytest.approx(captured.lat * 1e-7, abs=1e-6)
+
+
+def test_cam1_type_6_drives_the_thermal_camera_from_the_autopilot(autopilot_factory):
+    """As ArduCopter's AP_Camera with CAM1_TYPE 6: the autopilot's own picture command goes to the
+    camera; the autopilot reports CAMERA_FEEDBACK and the camera its CAMERA_IMAGE_CAPTURED."""
+    ap = autopilot_factory(extra=("--thermal-camera", "--param", "CAM1_TYPE=6"))
+    gcs = Gcs(ap.pymavlink_url, timeout=15)
+    try:
+        assert gcs.conn.target_component == 1
+        assert gcs.command(mav.MAV_CMD_DO_DIGICAM_CONTROL, 0, 0, 0, 0, 1) == mav.MAV_RESULT_ACCEPTED
+        got: dict = {}
+        while len(got) < 2:  # both, in whichever order they come
+            msg = gcs.recv(["CAMERA_FEEDBACK", "CAMERA_IMAGE_CAPTURED"], 5)
+            assert msg is not None, f"only {sorted(got)}"
+            got.setdefault(msg.get_type(), msg)
+        feedback, captured = got["CAMERA_FEEDBACK"], got["CAMERA_IMAGE_CAPTURED"]
+        assert feedback is not None and feedback.img_idx == 1 and feedback.get_srcComponent() == 1
+        assert captured is not None and captured.get_srcComponent() == CAMERA and captured.image_index == 0
+    finally:
+        gcs.close()

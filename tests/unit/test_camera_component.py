@@ -29,7 +29,8 @@ class Clock:
 def look_at(clock: Clock) -> Look:
     pose = pose_from_attitude(0.0, 0.0, 20.0)
     return Look(pose, Geotag(-35.0, 149.0, 604.0, 0.0, 0.0, 0.0, -90.0, 0.0, 1.8e9 + clock.t), -350000000,
-                1490000000, 604000, 20000, quaternion_of(pose.rotation), int(clock.t * 1000), int((1.8e9 + clock.t) * 1e6))
+                1490000000, 604000, 20000, quaternion_of(pose.rotation), int(clock.t * 1000),
+                int((1.8e9 + clock.t) * 1e6))
 
 
 @pytest.fixture
@@ -234,3 +235,51 @@ def test_the_card_is_read_by_ftp_and_cannot_be_written(rig):
     assert ftp(component, seq, 1)[0] == 128  # TerminateSession
     assert ftp(component, seq + 2, 6, data=b"DCIM/x.tif")[0] == 129  # CreateFile: NAK
     assert ftp(component, seq + 4, 4, data=b"DCIM/IR_0009.tif")[0] == 129  # no such still
+
+
+# ----- ArduCopter's CAM1_TYPE 6 (AP_Camera_MAVLinkCamV2) driving the camera --------------------------
+def camv2_vehicle(tmp_path, fitted: bool = True):
+    from firefly.autopilot.cli.main import attach_thermal_camera
+    from firefly.autopilot.mavlink.session import Session
+    from firefly.autopilot.params import ParamStore
+    from firefly.autopilot.vehicle import Vehicle, VehicleConfig
+    store = ParamStore()
+    store.set("CAM1_TYPE", 6)
+    v = Vehicle(VehicleConfig(), store)
+    session = Session(v, new_codec(SYSTEM))
+    if fitted:
+        attach_thermal_camera(v, session, ThermalCameraSpec(), tmp_path / "thermal", {})
+    v.run_until(0.5)
+    return v, session
+
+
+def autopilot_command(v, number: int, *params) -> int:
+    from firefly.autopilot.mavlink.camera_commands import HANDLERS
+    from firefly.autopilot.mavlink.commands import Command
+    p = (list(params) + [0.0] * 7)[:7]
+    session = type("Session", (), {"vehicle": v})()
+    return HANDLERS[number](session, Command(number, *p, mav.MAV_FRAME_GLOBAL, False, 0, (255, 190)))
+
+
+def test_cam1_type_6_takes_each_picture_with_the_thermal_camera(tmp_path):
+    v, session = camv2_vehicle(tmp_path)
+    texts = [text for _, text in v.drain_events()]
+    assert "Camera: Firefly Thermal 160 (Lepton 3.5 class) fw:0.0.0.0" in texts
+    outputs = list(v.servo_pwm)
+    assert autopilot_command(v, mav.MAV_CMD_DO_DIGICAM_CONTROL, 0, 0, 0, 0, 1) == mav.MAV_RESULT_ACCEPTED
+    assert list(v.servo_pwm) == outputs  # no shutter output: the camera takes it
+    camera = session.camera_component.camera
+    assert [s.name for s in camera.stills] == ["IR_0000.tif"] and v.camera.feedback.image_index == 1
+    assert (tmp_path / "thermal" / "IR_0000.tif").read_bytes() == camera.stills[0].data  # its copy on disk
+    sent = wire(session.poll(v.time_s))
+    kinds = {(m.get_type(), m.get_srcComponent()) for m in sent}
+    assert {("CAMERA_FEEDBACK", 1), ("CAMERA_IMAGE_CAPTURED", mav.MAV_COMP_ID_CAMERA)} <= kinds
+    info = wire([session.build(mav.MAVLINK_MSG_ID_CAMERA_INFORMATION)])[0]  # the autopilot's copy
+    assert info.get_srcComponent() == 1 and (info.resolution_h, info.resolution_v) == (160, 120)
+
+
+def test_cam1_type_6_without_the_camera_takes_no_picture(tmp_path):
+    v, session = camv2_vehicle(tmp_path, fitted=False)
+    assert autopilot_command(v, mav.MAV_CMD_IMAGE_START_CAPTURE, 0, 0, 1) == mav.MAV_RESULT_FAILED
+    assert v.camera.feedback is None
+    assert session.build(mav.MAVLINK_MSG_ID_CAMERA_INFORMATION) is None  # as ArduPilot: none until found
