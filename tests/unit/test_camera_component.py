@@ -283,3 +283,19 @@ def test_cam1_type_6_without_the_camera_takes_no_picture(tmp_path):
     assert autopilot_command(v, mav.MAV_CMD_IMAGE_START_CAPTURE, 0, 0, 1) == mav.MAV_RESULT_FAILED
     assert v.camera.feedback is None
     assert session.build(mav.MAVLINK_MSG_ID_CAMERA_INFORMATION) is None  # as ArduPilot: none until found
+
+
+def test_any_command_gets_exactly_one_ack_and_never_raises(rig):
+    """Every command the camera knows, with parameters from the awkward corners (NaN, inf, huge,
+    negative, fractional): one COMMAND_ACK each, for that command, whatever else follows."""
+    from firefly.autopilot.mavlink.camera_component import COMMANDS
+    rng = np.random.default_rng(5)
+    corners = [0.0, 1.0, -1.0, 0.5, 2.0, 259.0, 263.0, 1e9, -1e9, math.nan, math.inf, -math.inf, 3.4e38]
+    clock, _, component = rig
+    for trial in range(400):
+        command = int(rng.choice(list(COMMANDS) + [0, 65535]))
+        params = [float(rng.choice(corners)) for _ in range(7)]
+        got = ask(component, command, *params)
+        assert [m.command for m in acks(got)] == [command], (command, params)
+        clock.t += 0.05
+        wire(component.poll(clock.t))
