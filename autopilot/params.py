@@ -217,7 +217,8 @@ PARAM_TABLE: tuple[ParamSpec, ...] = (
                                                             ("H", 90, 90, 360, 360))
       for spec in (_f(f"FOLL_ACCEL_{axis}", accel, 0, accel_high), _f(f"FOLL_JERK_{axis}", jerk, 0, jerk_high))),
     # The camera (AP_Camera, payload/camera.py): ArduCopter shows CAM1_* but the type once CAM1_TYPE is set
-    _i("CAM1_TYPE", 0, 0, 8, "0 none, 1 a servo output (SERVOn_FUNCTION 10), 2 a relay (RELAYn_FUNCTION 4); read at boot"),
+    _i("CAM1_TYPE", 0, 0, 8, "0 none, 1 a servo output (SERVOn_FUNCTION 10), 2 a relay (RELAYn_FUNCTION 4), "
+                              "6 a MAVLink camera v2 (the thermal camera, component 100); read at boot"),
     _f("CAM1_DURATION", 0.1, 0, 5, "seconds the shutter is held"),
     _i("CAM1_SERVO_ON", 1300, 1000, 2000, "trigger output while the shutter is held [us]"),
     _i("CAM1_SERVO_OFF", 1100, 1000, 2000, "trigger output otherwise [us]"),

@@ -1,6 +1,7 @@
 """Scenario files (TOML): the world a run takes place in — home, airframe, wind, sensor noise,
-physics rate, seed, the recovery parachute's canopy, and the fire world — read the same way by
-the autopilot and the companion.
+physics rate, seed, the recovery parachute's canopy, the fire world, and the thermal camera
+the vehicle carries, if any ([thermal_camera], ThermalCameraSpec's fields; the table present
+fits one) — read the same way by the autopilot and the companion.
 
 The tables that only the vehicle acts on ([script], [signing], [faults]) are kept as written in
 `vehicle_tables`; the autopilot checks them (autopilot/cli/scenario.py). Every mistake is reported
@@ -18,6 +19,7 @@ from .fire import FireWorld, world_from_tables
 from .geo import GeoPoint
 from .parachute import Canopy
 from .sensors import NoiseConfig
+from .thermal_camera import ThermalCameraSpec
 from .traffic import tracks_from_tables
 from .vehicle import SimConfig
 from .wind import SteadyWind
@@ -37,6 +39,7 @@ class Scenario:
     sim: SimConfig = dataclasses.field(default_factory=SimConfig)
     world: FireWorld = dataclasses.field(default_factory=FireWorld)
     vehicle_tables: dict = dataclasses.field(default_factory=dict)  # VEHICLE_TABLES as written
+    thermal_camera: ThermalCameraSpec | None = None  # [thermal_camera]: the camera fitted; None: none
 
 
 def number(where: str, value, integer: bool = False):
@@ -103,7 +106,8 @@ def load_scenario(path: Path) -> Scenario:
     return scenario_from_dict(read_toml(path), str(path))
 
 
-WORLD_TABLES = ("seed", "home", "airframe", "wind", "noise", "sim", "world", "fire", "traffic", "parachute")
+WORLD_TABLES = ("seed", "home", "airframe", "wind", "noise", "sim", "world", "fire", "traffic", "parachute",
+                "thermal_camera")
 VEHICLE_TABLES = ("script", "signing", "faults", "startup", "params")  # what the vehicle acts on: checked by the autopilot
 KNOWN_TABLES = WORLD_TABLES + VEHICLE_TABLES
 
@@ -118,7 +122,7 @@ def scenario_from_dict(data: dict, name: str = "scenario") -> Scenario:
     sc = Scenario()
     if "seed" in data:
         sc.seed = number(f"{name}: seed", data["seed"], integer=True)
-    for key in ("home", "airframe", "wind", "noise", "sim", "parachute"):
+    for key in ("home", "airframe", "wind", "noise", "sim", "parachute", "thermal_camera"):
         if key in data and not isinstance(data[key], dict):
             raise ScenarioError(f"{name}: [{key}] must be a table")
     home = data.get("home", {})
@@ -136,6 +140,8 @@ def scenario_from_dict(data: dict, name: str = "scenario") -> Scenario:
     wind = _table_to(SteadyWind, data.get("wind", {}), f"{name}: [wind]")
     noise = _table_to(NoiseConfig, data.get("noise", {}), f"{name}: [noise]")
     canopy = _table_to(Canopy, data.get("parachute", {}), f"{name}: [parachute]")
+    if "thermal_camera" in data:
+        sc.thermal_camera = _table_to(ThermalCameraSpec, data["thermal_camera"], f"{name}: [thermal_camera]")
     sim_table = data.get("sim", {})
     unknown = set(sim_table) - {"physics_rate_hz"}
     if unknown:

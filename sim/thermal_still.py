@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import dataclasses
 import datetime
+import io
 import json
 import math
 from dataclasses import dataclass
@@ -42,8 +43,9 @@ class Geotag:
                 raise ValueError(f"geotag {f.name} must be a finite number, got {value!r}")
 
 
-def save_radiometric(path: str | Path, image: np.ndarray, geotag: Geotag) -> None:
-    """Write `image` (2-D temperatures, deg C) as a float32 TIFF carrying `geotag`."""
+def save_radiometric(path: str | Path | io.BytesIO, image: np.ndarray, geotag: Geotag) -> None:
+    """Write `image` (2-D temperatures, deg C) as a float32 TIFF carrying `geotag`, to a file or
+    an in-memory buffer."""
     data = np.asarray(image, dtype=np.float32)
     if data.ndim != 2:
         raise ValueError(f"a radiometric still is one 2-D image, got shape {data.shape}")
@@ -53,7 +55,14 @@ def save_radiometric(path: str | Path, image: np.ndarray, geotag: Geotag) -> Non
                      datetime=taken.strftime("%Y:%m:%d %H:%M:%S"), software="firefly thermal camera")
 
 
-def load_radiometric(path: str | Path) -> tuple[np.ndarray, Geotag]:
+def radiometric_bytes(image: np.ndarray, geotag: Geotag) -> bytes:
+    """The TIFF save_radiometric writes, as bytes (what a camera keeps on its card and serves)."""
+    buffer = io.BytesIO()
+    save_radiometric(buffer, image, geotag)
+    return buffer.getvalue()
+
+
+def load_radiometric(path: str | Path | io.BytesIO) -> tuple[np.ndarray, Geotag]:
     """The image (float32, deg C) and geotag of a still save_radiometric wrote."""
     with tifffile.TiffFile(path) as tif:
         page = tif.pages[0]

@@ -99,6 +99,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--startup", choices=("instant", "realistic"), default=None,
                    help="instant: armable at once (default); realistic: boot as ArduCopter does, "
                         "about 42 s of vehicle time before a mode that needs a position can arm")
+    p.add_argument("--thermal-camera", action="store_true",
+                   help="fit the thermal camera (MAVLink component 100) with its default spec, unless the "
+                        "scenario's [thermal_camera] gives one")
     p.add_argument("--wipe", action="store_true", help="reset saved parameters to defaults (like SITL -w)")
     p.add_argument("--param", action="append", default=[], type=param_setting, metavar="NAME=VALUE",
                    help="set and save a parameter before the vehicle boots, as a ground station's set and a "
@@ -144,6 +147,9 @@ def build(args) -> list:
         scenario.home, scenario.home_yaw_deg = parse_home(args.home)
     if args.seed is not None:
         scenario.seed = args.seed
+    if getattr(args, "thermal_camera", False) and scenario.thermal_camera is None:
+        from firefly.sim.thermal_camera import ThermalCameraSpec
+        scenario.thermal_camera = ThermalCameraSpec()
     if args.signing_key:
         scenario.signing_key = signing_key_option(args.signing_key)
     if args.startup == "instant":
@@ -207,7 +213,7 @@ def build_vehicle(args, scenario, k: int, outs, listen, epoch_us: int):
     # What a reboot builds again from the saved state (io/reboot.py): the same vehicle, not wiped,
     # booting as ArduCopter boots (startup.py), its clock and the world starting again.
     power_on = functools.partial(assemble, args, scenario, k, state_root / f"instance-{n}",
-                                 board_id_for(read_machine_id(), n))
+                                 board_id_for(read_machine_id(), n), kept={})
     vehicle, session, recorder, log_files = power_on(epoch_us=epoch_us, wipe=args.wipe, startup=scenario.startup)
     endpoint = open_ports(args, k, offset, listen, vehicle_outs)
     tlog = state_log = None
@@ -227,9 +233,10 @@ def build_vehicle(args, scenario, k: int, outs, listen, epoch_us: int):
 
 
 def assemble(args, scenario, k: int, state_dir: Path, board_id: str, *, epoch_us: int, wipe: bool,
-             startup, powered_on_at_s: float = 0.0):
+             startup, powered_on_at_s: float = 0.0, kept: dict | None = None):
     """Vehicle k's vehicle, MAVLink session and dataflash log (recorder, files), from its saved
-    state in `state_dir` (or wiped): at start, and again at each reboot (io/reboot.py)."""
+    state in `state_dir` (or wiped): at start, and again at each reboot (io/reboot.py). `kept`
+    holds what outlives a reboot of the autopilot (the thermal camera, a device of its own)."""
     import dataclasses
 
     from ..io.signing_keys import attach_state
@@ -270,7 +277,33 @@ def assemble(args, scenario, k: int, state_dir: Path, board_id: str, *, epoch_us
     session = Session(vehicle, new_codec(system_id_of(n)))
     attach_state(session.signing, state_dir / "signing.json", scenario.signing_key, wipe)
     recorder, log_files = attach_dataflash(vehicle, session, state_dir / "logs")
+    if scenario.thermal_camera is not None:
+        attach_thermal_camera(vehicle, session, scenario.thermal_camera, state_dir / "thermal",
+                              {} if kept is None else kept)
     return vehicle, session, recorder, log_files
+
+
+def attach_thermal_camera(vehicle, session, spec, directory: Path, kept: dict) -> None:
+    """The thermal camera (payload/thermal_camera.py) and its MAVLink component; its card and its
+    copy on disk outlive a reboot of the autopilot, as a separate camera's do."""
+    from ..io.thermal_stills import ThermalStills
+    from ..mavlink.camera_component import CameraComponent
+    from ..payload.camera import MAVLINK_CAMV2
+    from ..payload.thermal_camera import ThermalCamera, look_of
+    from ..results import Severity
+    camera = kept.get("thermal_camera")
+    if camera is None:
+        camera = kept["thermal_camera"] = ThermalCamera(spec, vehicle.config.sim.world, look=lambda: look_of(vehicle),
+                                                        now=lambda: vehicle.time_s, seed=vehicle.config.sim.seed)
+        disk = ThermalStills(directory)
+        camera.on_still, camera.on_format = disk.write, disk.clear
+    camera.look, camera.now = (lambda: look_of(vehicle)), (lambda: vehicle.time_s)
+    camera.stop()  # the sim's clock starts again at a reboot
+    component = session.camera_component = CameraComponent(camera, session.codec,
+                                                           gimbal_device_id=1 if vehicle.mount.fitted else 0)
+    if vehicle.camera.kind == MAVLINK_CAMV2:  # the autopilot's CAM1 drives it (payload/camera.py)
+        vehicle.camera.mavlink_camera = component
+        vehicle.notify(component.announcement, Severity.INFO)
 
 
 # What SIM_SPEEDUP reads when the vehicle runs flat out (--speedup inf): ArduPilot's SITL keeps

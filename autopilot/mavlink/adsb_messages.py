@@ -6,6 +6,7 @@ from __future__ import annotations
 from ..adsb.threats import Collision
 from ..adsb.traffic_list import AdsbReport
 from ..views import TelemetryView
+from .component_frames import FromComponent
 from .encoding import time_boot_ms
 from .dialect import mavlink as mav
 
@@ -22,24 +23,10 @@ def adsb_vehicle(v: TelemetryView, codec):
     return None if r is None else _encode(codec, r)
 
 
-class FromTransceiver:
+class FromTransceiver(FromComponent):
     """An ADSB_VEHICLE of SITL's transceiver forwarded as it came: from the vehicle's system, the
     ADS-B component (156), in a numbering of its own."""
     COMPONENT = 156  # MAV_COMP_ID_ADSB
-
-    def __init__(self, message, seq: int):
-        self._message, self._seq = message, seq
-
-    def pack(self, codec, force_mavlink1: bool = False) -> bytes:
-        component, seq = codec.srcComponent, codec.seq
-        codec.srcComponent, codec.seq = self.COMPONENT, self._seq
-        try:
-            return self._message.pack(codec, force_mavlink1)
-        finally:  # the link counts every frame it packs: one back, so the vehicle's own numbering has no gap
-            codec.srcComponent, codec.seq = component, (seq - 1) & 0xFF
-
-    def __getattr__(self, name):  # get_type() and the fields, as the message's
-        return getattr(self._message, name)
 
 
 def forwarded(codec, reports: list[AdsbReport], first_seq: int) -> list[FromTransceiver]:

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import math
 
+from ..payload.camera import MAVLINK_CAMV2
 from ..views import TelemetryView
 from .dialect import mavlink as mav
 from .encoding import time_boot_ms
@@ -37,8 +38,13 @@ def camera_feedback(v: TelemetryView, codec):
 
 
 def camera_information(v: TelemetryView, codec):
-    if not v.camera_status().present:
+    s = v.camera_status()
+    if not s.present:
         return None
+    if s.kind == MAVLINK_CAMV2:  # the camera's own, as AP_Camera_MAVLinkCamV2 keeps it; none before it is found
+        if s.mavlink_camera is None:
+            return None
+        return codec.camera_information_encode(time_boot_ms(v), *s.mavlink_camera.information_fields())
     return codec.camera_information_encode(time_boot_ms(v), NO_NAME, NO_NAME, 0, 0.0, 0.0, 0.0, 0, 0, 0, 0, 0, b"")
 
 

@@ -74,6 +74,9 @@ class Session:
         # vehicle's boot (autopilot/io/reboot.py); 0 at a first start.
         self.silent_until_s = 0.0
         self.accel_calibrated_s = 0.0  # vehicle time of the last level or accelerometer calibration (preflight.py)
+        # The thermal camera's own component (camera_component.py), when the scenario fits one:
+        # what is addressed to its component id is its, not the autopilot's
+        self.camera_component = None
         self._handlers = {
             "HEARTBEAT": self._on_heartbeat,
             "COMMAND_LONG": lambda m, now: self._on_command(Command.from_long(m), now),
@@ -182,6 +185,13 @@ class Session:
         if not self._for_me(msg):
             self.counters["ignored_other_system"] += 1
             return []
+        camera = self.camera_component
+        if camera is not None and getattr(msg, "target_component", None) == camera.COMPONENT:
+            try:
+                return camera.receive(msg, self.link_s)
+            except Exception as exc:  # noqa: BLE001 - a bug must not stop the vehicle loop
+                self.handler_failed(f"camera {msg.get_type()}", exc)
+                return []
         follow_feed = FOLLOW_FEEDS.get(msg.get_type())
         if follow_feed is not None:  # another system's position: FOLLOW's lead, whoever sends it, heard
             try:                     # before MAV_OPTIONS' enforcement, as ArduPilot's AP_Follow is
@@ -369,6 +379,7 @@ class Session:
                 and not self.missions.uploads and not self.params.streaming and not self._stores_waiting
                 and not self.vehicle.mission_progress.has_reached and not self.vehicle.camera.feedback_due
                 and not self.logs.activity
+                and (self.camera_component is None or not self.camera_component.due(now_s))
                 and (last is None or link_s - last <= self.vehicle.params["FS_GCS_TIMEOUT"]))
 
     def poll(self, now_s: float, link_s: float | None = None) -> list:
@@ -419,6 +430,11 @@ class Session:
                 out.extend(msg)
             elif msg is not None:
                 out.append(msg)
+        if self.camera_component is not None:  # its heartbeat and the stills taken: to every link
+            try:
+                out.extend(self.camera_component.poll(now_s))
+            except Exception as exc:  # noqa: BLE001 - a bug must not stop the vehicle loop
+                self.handler_failed("camera poll", exc)
         if vehicle.events:
             for severity, text in vehicle.drain_events():
                 out.extend(self.texts.encode(severity, text))

@@ -1,5 +1,12 @@
 """The autopilot's own camera driver, as ArduPilot's AP_Camera runs CAM1 (CAM1_TYPE 1: a servo
-output, 2: a relay) for the commands and mission items that reach it.
+output, 2: a relay, 6: a MAVLink camera v2) for the commands and mission items that reach it.
+
+CAM1_TYPE 6 (AP_Camera_MAVLinkCamV2) drives the thermal camera, a component of the vehicle's own
+system (mavlink/camera_component.py), when one is fitted: each picture is an IMAGE_START_CAPTURE
+for one still sent to it (with the next image number as its sequence), and the picture is counted,
+reported and logged here as any other. ArduPilot looks for the camera's heartbeat for 60 s after
+boot and asks it for CAMERA_INFORMATION until it answers; the camera of this process is there from
+boot, so it is found at once. Without it, no picture is taken (a command asking for one FAILS).
 
 A picture (take_picture) is refused while CAM1_INTRVAL_MIN has not passed since the last one (it
 is then taken as soon as it has: pending) and while the shutter is still held from the last one.
@@ -24,12 +31,12 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from typing import NamedTuple
+from typing import Any, NamedTuple
 
 from ..params import ParamStore
 from ..views import CameraView
 
-NONE, SERVO, RELAY = 0, 1, 2  # CAM1_TYPE
+NONE, SERVO, RELAY, MAVLINK_CAMV2 = 0, 1, 2, 6  # CAM1_TYPE
 TRIGGER_FUNCTION = 10  # SERVOn_FUNCTION: camera trigger (SRV_Channel k_cam_trigger)
 RELAY_CAMERA_FUNCTION = 4  # RELAYn_FUNCTION: camera
 UPDATE_S = 0.02  # AP_Camera::update's rate, 50 Hz
@@ -60,6 +67,8 @@ class CameraStatus(NamedTuple):
     interval_s: float  # an interval capture's, 0 if none
     capturing: bool  # an interval capture with pictures still to take
     feedback: Feedback | None
+    mavlink_camera: Any = None  # CAM1_TYPE 6: the camera found (its CAMERA_INFORMATION is sent for it)
+    kind: int = NONE  # CAM1_TYPE as read at boot
 
 
 class Camera:
@@ -72,7 +81,10 @@ class Camera:
             # stored) becomes a servo camera when an output is the camera trigger, and is saved
             params.set("CAM1_TYPE", SERVO)
         self.kind = int(params["CAM1_TYPE"])
-        self.present = self.kind in (SERVO, RELAY)
+        self.present = self.kind in (SERVO, RELAY, MAVLINK_CAMV2)
+        # CAM1_TYPE 6: the MAVLink camera it drives (a CameraComponent, set when the thermal camera
+        # is fitted), or None: no camera found
+        self.mavlink_camera = None
         self._servo_pwm, self._relays = servo_pwm, relays  # the outputs it drives (servo_relay.py's)
         self.image_index = 0
         self.feedback: Feedback | None = None  # the last picture's
@@ -96,7 +108,8 @@ class Camera:
             self._shutter(False)
 
     def status(self) -> CameraStatus:
-        return CameraStatus(self.present, self.image_index, self.interval_s, self.remaining > 0, self.feedback)
+        return CameraStatus(self.present, self.image_index, self.interval_s, self.remaining > 0, self.feedback,
+                            self.mavlink_camera, self.kind)
 
     # ----- what commands and mission items ask ---------------------------------------------------
     def take_picture(self) -> bool:
@@ -111,8 +124,12 @@ class Camera:
         self._pending = False
         if self._hold > 0:  # the shutter is still held from the last picture
             return False
-        self._shutter(True)
-        self._hold = min(int(self.params["CAM1_DURATION"] * UPDATES_PER_S), 65535)
+        if self.kind == MAVLINK_CAMV2:  # the camera takes it: no shutter output to hold
+            if self.mavlink_camera is None or not self.mavlink_camera.trigger(self.image_index + 1):
+                return False
+        else:
+            self._shutter(True)
+            self._hold = min(int(self.params["CAM1_DURATION"] * UPDATES_PER_S), 65535)
         self.image_index = (self.image_index + 1) & 0xFFFF  # ArduPilot's count is a uint16
         self._last_picture_s = now
         b = v.body
@@ -232,7 +249,7 @@ class Camera:
         if self.kind == SERVO:
             self._trigger_outputs = tuple(i for i in range(CHANNELS)
                                           if get(f"SERVO{i + 1}_FUNCTION", 0) == TRIGGER_FUNCTION)
-        else:
+        elif self.kind == RELAY:
             self._trigger_outputs = tuple(i for i in range(RELAYS)
                                           if get(f"RELAY{i + 1}_FUNCTION", 0) == RELAY_CAMERA_FUNCTION)
 
@@ -244,7 +261,7 @@ class Camera:
             pwm = int(params["CAM1_SERVO_ON" if open_ else "CAM1_SERVO_OFF"])
             for i in self._trigger_outputs:
                 self._servo_pwm[i] = pwm
-        else:
+        elif self.kind == RELAY:
             on = params["CAM1_RELAY_ON"] != 0
             for i in self._trigger_outputs:
                 self._relays[i] = on if open_ else not on

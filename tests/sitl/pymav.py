@@ -16,9 +16,13 @@ class Gcs:
     def __init__(self, url: str, timeout: float = 10.0):
         self.conn = mavutil.mavlink_connection(url, source_system=255, source_component=190,
                                                dialect="ardupilotmega")
-        hb = self.conn.recv_match(type="HEARTBEAT", blocking=True, timeout=timeout)
-        if hb is None:
-            raise AssertionError("no HEARTBEAT from the autopilot")
+        deadline = time.monotonic() + timeout
+        while True:  # the autopilot's: not another component of its system (a thermal camera's)
+            hb = self.conn.recv_match(type="HEARTBEAT", blocking=True, timeout=max(0.0, deadline - time.monotonic()))
+            if hb is None:
+                raise AssertionError("no HEARTBEAT from the autopilot")
+            if hb.autopilot != mav.MAV_AUTOPILOT_INVALID:
+                break
         self.heartbeat = hb
         self.conn.target_system = hb.get_srcSystem()
         self.conn.target_component = hb.get_srcComponent()

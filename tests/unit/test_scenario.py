@@ -300,3 +300,24 @@ def test_a_plume_leaned_both_ways_is_refused():
 def test_every_shipped_scenario_loads(path):
     sc = load_scenario(path)  # the autopilot's reading, which includes the world's
     sc.world.validate()
+
+
+def test_a_thermal_camera_table_fits_one_and_bad_values_are_named():
+    from firefly.autopilot.cli.scenario import scenario_from_dict
+    assert scenario_from_dict({}).thermal_camera is None
+    spec = scenario_from_dict({"thermal_camera": {"hfov_deg": 45.0}}).thermal_camera
+    assert spec is not None and spec.hfov_deg == 45.0 and spec.width_px == 160
+    for table, key in (({"width_px": 0}, "width_px"), ({"hfov_deg": 200.0}, "hfov_deg"),
+                       ({"width_px": 1.5}, "width_px"), ({"lens": 1}, "lens"), ({"netd_k": math.nan}, "netd_k")):
+        with pytest.raises(ScenarioError) as err:
+            scenario_from_dict(table and {"thermal_camera": table}, "s.toml")
+        text = str(err.value)
+        assert "\n" not in text and "[thermal_camera]" in text and key in text, text
+
+
+def test_the_thermal_camera_option_fits_the_default_camera(tmp_path, no_sockets):
+    node, _ = build("--thermal-camera", "--state-dir", str(tmp_path))
+    component = node.session.camera_component
+    assert component is not None and component.camera.spec.width_px == 160
+    node, _ = build("--state-dir", str(tmp_path))
+    assert node.session.camera_component is None  # off unless asked for
