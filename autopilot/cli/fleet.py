@@ -17,14 +17,13 @@ import subprocess
 import sys
 from pathlib import Path
 
-PART_SIZE = 255  # vehicles per process: one MAVLink network's system ids
+from ..instances import PART_SIZE, system_id_of
+
+__all__ = ["MAX_INSTANCE", "PART_SIZE", "parse_fleet", "part_stats_path", "parts", "start_parts", "stop_parts",
+           "system_id_of"]
 # The highest instance: its ports (14540 + 10N for the second default --out, 5760 + 10N) must
 # exist, and 5000 vehicles is far past what two cores fly at 1x.
 MAX_INSTANCE = 4999
-
-
-def system_id_of(instance: int) -> int:
-    return instance % PART_SIZE + 1
 
 
 def parts(total: int) -> list[tuple[int, int]]:

@@ -11,7 +11,7 @@ import time
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from ..cli.fleet import system_id_of
+from ..instances import system_id_of
 from ..params import INVERSE_OLD_NAMES, served_equivalent
 from .control import ControlLink
 from .errors import FireflyError

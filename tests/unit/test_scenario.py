@@ -236,7 +236,7 @@ def test_scenario_home_and_seed_override(no_sockets, tmp_path):
     assert node.vehicle.config.home_yaw_deg == 90.0
 
 
-@pytest.mark.parametrize("argv", [("--instance", "201"), ("--scenario", "/nonexistent/x.toml"),
+@pytest.mark.parametrize("argv", [("--instance", "5000"), ("--scenario", "/nonexistent/x.toml"),
                                   ("--home", "0,0"), ("--out", "nowhere")])
 def test_build_errors_are_cli_or_scenario_errors(no_sockets, tmp_path, argv):
     from firefly.autopilot.cli.scenario import ScenarioError as SE
