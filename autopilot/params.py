@@ -261,6 +261,13 @@ PARAM_TABLE: tuple[ParamSpec, ...] = (
     _i8("GRIP_REGRAB", 0, 0, 255, "served, unread (an EPM's regrab interval) [s]"),
     replace(_i("GRIP_CAN_ID", 0, 0, 255, "served, unread (a DroneCAN hardpoint)"), mav_type=MAV_PARAM_TYPE_INT16),
     _f("GRIP_AUTOCLOSE", 0, 0, 255, "a released gripper grabs again this long after [s], 0 = never"),
+    # The winch (AP_Winch, payload/winch.py): ArduCopter shows WINCH_* but WINCH_TYPE once it is set;
+    # the type is read at boot, the rest as the winch runs
+    _i8("WINCH_TYPE", 0, 0, 2, "made at boot: 1 a PWM winch (SERVOn_FUNCTION 88); 0 none, 2 Daiwa (never healthy)"),
+    _f("WINCH_RATE_MAX", 1.0, 0, 10, "the fastest the line runs either way, and the output's full scale [m/s]"),
+    _f("WINCH_POS_P", 1.0, 0.01, 10, "length control: the rate asked per metre short of the target [1/s]"),
+    replace(_i("WINCH_OPTIONS", 7, -32768, 32767, "bit 0 relaxed at boot, 1 say each length asked, 2 (Daiwa) retry if stuck"),
+            mav_type=MAV_PARAM_TYPE_INT16),
     # The camera mount (AP_Mount, payload/mount.py): ArduCopter shows MNT1_* but the type once MNT1_TYPE
     # is set and the vehicle rebooted; types and ranges as its parameter documentation gives them
     _i8("MNT1_TYPE", 0, 0, 14, "made at boot: 1 a servo gimbal it steadies, 7 a brushless gimbal on PWM; 0 none"),
