@@ -509,6 +509,7 @@ class ParamStore:
     def __init__(self, path: Path | None = None, wipe: bool = False):
         self.path = path
         self._values = dict(DEFAULTS)
+        self._defaults = dict(DEFAULTS)  # DEFAULTS, with what the vehicle's code moved (set_default)
         # Values still in use whose saved copy PREFLIGHT_STORAGE erased: left out of the file
         # until they are set again, so that the next boot starts from the defaults (as ArduPilot's
         # AP_Param::erase_all leaves the values in RAM and writes only those set after it).
@@ -587,13 +588,24 @@ class ParamStore:
             callback(name, value)
         return value
 
+    def set_default(self, name: str, value: float) -> None:
+        """As AP_Param's set_default, for this run: a parameter still at its default takes the new
+        one (not saved: at the next boot it is back unless the code moves it again); one set
+        keeps its value."""
+        name = STORED_AS[name]
+        if self._values[name] == self._defaults[name] and self._values[name] != value:
+            self._values[name] = float(value)
+            for callback in self._listeners:
+                callback(name, float(value))
+        self._defaults[name] = float(value)
+
     def save_all(self) -> None:
         self._save()
 
     def erase_saved(self) -> bool:
         """Forget every saved value (the values in use stay until the next boot); whether the
         file took it."""
-        self._erased = {n for n, v in self._values.items() if v != DEFAULTS[n]}
+        self._erased = {n for n, v in self._values.items() if v != self._defaults[n]}
         return self._save()
 
     def report(self, name: str, value: float) -> None:
@@ -613,5 +625,6 @@ class ParamStore:
         """Persist (persist.JsonFile: a refused save is counted, the value still takes effect in
         flight: the vehicle must not stop or half-apply a change for it)."""
         erased = self._erased
+        defaults = self._defaults
         return self.file.save(lambda: {n: v for n, v in self._values.items()
-                                       if v != DEFAULTS[n] and is_saved(n) and n not in erased})
+                                       if v != defaults[n] and is_saved(n) and n not in erased})

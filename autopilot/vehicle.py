@@ -188,7 +188,7 @@ class Vehicle:
         self.sitl_parachute = SitlParachute(self.params, self.servo_relay.pwm, self.notify, self.sim.deploy_canopy)
         self.gripper = Gripper(self.params, self.servo_relay.pwm, self.notify)
         # The winch (WINCH_*): made at boot from WINCH_TYPE, its line reckoned from the rate it asks
-        self.winch = Winch(self.params, self.servo_relay.pwm, self.notify, self.constraining_nan)
+        self.winch = Winch(self.params, self.servo_relay.pwm, self.notify, self.constraining_nan, self._winch_stick)
         self.winch_prearm_failure = self.winch.prearm_failure
         self.motor_test = MotorTest()
         self._motor_test_omega = (0.0, 0.0, 0.0, 0.0)
@@ -363,6 +363,10 @@ class Vehicle:
     def rc_channels_us(self) -> list[int]:
         """Every channel [us] as the radio last read it (RC_CHANNELS)."""
         return self.rc.radio_in
+
+    def _winch_stick(self) -> tuple[list[int], bool]:
+        """The channels as the radio last read them, and whether it is to be trusted (the winch's stick)."""
+        return self.rc.radio_in, self.failsafes.radio_input_valid
 
     def rc_throttle_us(self) -> int | None:
         """The throttle channel [us] if a frame or an override came within the last failsafe

@@ -16,6 +16,13 @@ There is no sensor: the line is the autopilot's own estimate, the rate asked (no
 integrated over each update, as AP_Winch_PWM assumes the winch runs exactly as asked. ArduCopter's
 SITL has no winch in its simulation either: nothing hangs below the vehicle.
 
+A channel with RCn_OPTION 45 (WinchControl; the first such) is the pilot's: its dead zone defaults
+to 30 us once the winch is made (RCn_DZ reads 30 unless set), and a move of more than the dead
+zone from where the stick was last read hands the winch to it: the rate is then the stick's
+share of its travel beyond the dead zone times WINCH_RATE_MAX, until a command takes over (and
+the stick moves past the dead zone again). With the radio lost the stick's rate is 0. A channel
+given back to a receiver that sends nothing reads 0 us: past the dead zone, full speed in.
+
 WINCH_OPTIONS (default 7): bit 0 starts it relaxed (otherwise at rate 0), bit 1 says each length
 asked ("Winch: lowering  2.0m to  2.0m"); bit 2 is the Daiwa's. Rates are held to
 +-max(WINCH_RATE_MAX, 0) when asked; a NaN rate or target makes a rate of 0 (ArduPilot's
@@ -37,15 +44,20 @@ UPDATE_S = 0.02  # AP_Winch::update's 50 Hz
 SCALED_MAX = 1000.0  # the angle output's range (SRV_Channels::set_angle(k_winch, 1000))
 SPIN_FREELY_ON_STARTUP, VERBOSE = 1, 2  # WINCH_OPTIONS bits
 RELAXED, POSITION, RATE, RATE_FROM_RC = 0, 1, 2, 3  # AP_Winch's ControlMode
+WINCH_CONTROL = 45  # RCn_OPTION: the winch's stick
+STICK_DEAD_ZONE_US = 30  # the default AP_Winch gives that channel's RCn_DZ
+CHANNELS = 16
 
 
 class Winch:
     def __init__(self, params: ParamStore, servo_pwm: list[int], notify: Callable[[str, int], None],
-                 constraining_nan: Callable[[], None]):
+                 constraining_nan: Callable[[], None], radio: Callable[[], tuple[list[int], bool]]):
         self.params = params
         self._servo_pwm = servo_pwm  # the outputs it drives (servo_relay.py's)
         self._notify = notify
         self._constraining_nan = constraining_nan  # ArduPilot's internal error for a NaN held to a range
+        self._radio = radio  # (every channel's PWM as last read, whether the radio is to be trusted)
+        self._stick_was_us: int | None = None  # the stick where last read (AP_Winch's previous_radio_in)
         self.kind = int(params["WINCH_TYPE"]) if int(params["WINCH_TYPE"]) in (PWM_TYPE, DAIWA_TYPE) else 0
         self.mode = RELAXED
         self.length_desired_m = 0.0
@@ -55,6 +67,9 @@ class Winch:
         self._updated_ms: int | None = None
         self.next_update_s = 0.0
         if self.kind:
+            stick = self._stick_channel()
+            if stick is not None:
+                params.set_default(f"RC{stick}_DZ", STICK_DEAD_ZONE_US)
             if self._option(SPIN_FREELY_ON_STARTUP):
                 self.relax()
             else:
@@ -107,11 +122,35 @@ class Winch:
         self.rate_desired_m_s = float32(self._constrain(rate_m_s, -top, top))
         self.mode = RATE
 
+    # ----- the pilot's stick (AP_Winch_Backend::read_pilot_desired_rate) -----------------------
+    def _stick_channel(self) -> int | None:
+        return next((n for n in range(1, CHANNELS + 1) if int(self.params.get(f"RC{n}_OPTION", 0)) == WINCH_CONTROL),
+                    None)
+
+    def _read_stick(self) -> None:
+        n = self._stick_channel()
+        if n is None:
+            return
+        channels, valid = self._radio()
+        if not valid and self.mode == RATE_FROM_RC:
+            self.rate_desired_m_s = 0.0
+            return
+        pwm = int(channels[n - 1])
+        if self._stick_was_us is None:
+            self._stick_was_us = pwm
+        dead_zone = int(self.params[f"RC{n}_DZ"])
+        if self.mode != RATE_FROM_RC and abs(pwm - self._stick_was_us) > dead_zone:
+            self.mode = RATE_FROM_RC
+        if self.mode == RATE_FROM_RC:
+            self.rate_desired_m_s = float32(_stick_share(self.params, n, pwm, dead_zone) * self._rate_max())
+            self._stick_was_us = pwm
+
     # ----- the 50 Hz update ------------------------------------------------------------------
     def update(self, now_s: float) -> None:
         self.next_update_s = now_s + UPDATE_S
         if not self.fitted or not self.healthy:
             return
+        self._read_stick()
         now_ms = int(now_s * 1000.0 + 1e-6)
         dt = 0.0 if self._updated_ms is None else (now_ms - self._updated_ms) * 0.001
         if dt > 1.0:
@@ -135,6 +174,21 @@ class Winch:
         for output in outputs:
             self._servo_pwm[output - 1] = _angle_pwm(self.params, output, scaled)
         self.line_m = float32(self.line_m + self.rate_desired_m_s * dt)
+
+
+def _stick_share(params: ParamStore, n: int, pwm: int, dead_zone: int) -> float:
+    """RC_Channel::norm_input_dz: the stick's share (-1..1) of its travel beyond the dead zone
+    around RCn_TRIM, the other way round when RCn_REVERSED."""
+    trim, low, high = (int(params[f"RC{n}_{name}"]) for name in ("TRIM", "MIN", "MAX"))
+    sign = -1 if params.get(f"RC{n}_REVERSED", 0) else 1
+    below, above = trim - dead_zone, trim + dead_zone
+    if pwm < below and below > low:
+        share = sign * (pwm - below) / (below - low)
+    elif pwm > above and high > above:
+        share = sign * (pwm - above) / (high - above)
+    else:
+        share = 0.0
+    return min(max(share, -1.0), 1.0)
 
 
 def _interpolate(out_low: float, out_high: float, value: float, low: float, high: float) -> float:

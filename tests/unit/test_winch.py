@@ -25,13 +25,23 @@ PWM_WINCH = {"WINCH_TYPE": 1, "SERVO9_FUNCTION": 88}
 RELAX, LENGTH, RATE = 0, 1, 2
 
 
-def winch_alone(**params) -> tuple[Winch, list[int], list[str]]:
+class Radio:
+    """Every channel's PWM and whether the radio is to be trusted, as the vehicle gives them."""
+
+    def __init__(self):
+        self.channels, self.valid = [0] * 16, True
+
+    def __call__(self) -> tuple[list[int], bool]:
+        return self.channels, self.valid
+
+
+def winch_alone(radio: Radio | None = None, **params) -> tuple[Winch, list[int], list[str]]:
     store = ParamStore()
     for name, value in {**PWM_WINCH, **params}.items():
         store.set(name, value)
     pwm = [0] * 16
     said: list[str] = []
-    return Winch(store, pwm, lambda text, severity: said.append(text), lambda: None), pwm, said
+    return Winch(store, pwm, lambda text, severity: said.append(text), lambda: None, radio or Radio()), pwm, said
 
 
 def run(winch: Winch, from_s: float, seconds: float) -> float:
@@ -155,10 +165,54 @@ def test_the_mission_item_runs_the_winch_as_it_starts():
     v = hovering_vehicle(10.0)
     v.params.set("SERVO9_FUNCTION", 88)
     v.params.set("WINCH_TYPE", 1)
-    v.winch = v.ctx.winch = Winch(v.params, v.servo_pwm, v.notify, v.constraining_nan)  # as if made at boot
+    v.winch = v.ctx.winch = Winch(v.params, v.servo_pwm, v.notify, v.constraining_nan,  # as if made at boot
+                                  lambda: (v.rc.radio_in, True))
     v.mission.replace(0, [wp_at(v, 0, 0), MissionItem(42600, REL, 1, RATE, 0, 0.5), wp_at(v, 0, 0),
                           MissionItem(17, REL)])
     v.set_mode(3)
     assert fly_until(v, lambda x: x.winch.rate_desired_m_s == 0.5, 20.0)
     v.run_until(v.time_s + 1.0)
     assert v.servo_pwm[8] == 1700
+
+
+def test_a_stick_on_winch_control_runs_it_past_its_dead_zone_until_a_command_takes_over():
+    """Measured with RC9_OPTION 45: RC9_DZ reads 30; 1800 us lowers at 0.73 m/s (1791 us out), 1200
+    raises at 0.73; a command holds until the stick moves more than 30 us; a channel given back
+    to a silent receiver (0 us) winds in flat out."""
+    radio = Radio()
+    winch, pwm, _ = winch_alone(radio, RC9_OPTION=45)
+    assert winch.params["RC9_DZ"] == 30
+    t = run(winch, 0.0, 0.5)
+    assert (winch.mode, pwm[8]) == (0, 0)  # the stick at 0 where first read: not moved
+    radio.channels[8] = 1800
+    t = run(winch, t, 1.0)
+    assert (round(winch.rate_desired_m_s, 3), pwm[8]) == (0.73, 1791)
+    radio.channels[8] = 1200
+    t = run(winch, t, 1.0)
+    assert (round(winch.rate_desired_m_s, 3), pwm[8]) == (-0.73, 1209)
+    winch.set_rate(0.2)
+    radio.channels[8] = 1220
+    t = run(winch, t, 1.0)
+    assert (winch.rate_desired_m_s, pwm[8]) == (pytest.approx(0.2), 1580)
+    radio.channels[8] = 1700
+    t = run(winch, t, 1.0)
+    assert round(winch.rate_desired_m_s, 3) == 0.459
+    radio.valid = False
+    run(winch, t, 0.1)
+    assert winch.rate_desired_m_s == 0.0
+
+
+def test_the_sticks_dead_zone_default_is_not_saved_and_a_set_one_stands(tmp_path):
+    path = tmp_path / "params.json"
+    store = ParamStore(path)
+    store.set("RC9_OPTION", 45)
+    store.set("WINCH_TYPE", 1)
+    Winch(store, [0] * 16, lambda text, severity: None, lambda: None, Radio())
+    assert store["RC9_DZ"] == 30
+    store.save_all()
+    assert ParamStore(path)["RC9_DZ"] == 0  # back to ArduPilot's own default at the next boot
+    store.set("RC9_DZ", 12)
+    assert ParamStore(path)["RC9_DZ"] == 12
+    store.set("RC9_DZ", 30)  # set to the moved default: not saved, as ArduPilot saves no default
+    Winch(ParamStore(path), [0] * 16, lambda text, severity: None, lambda: None, Radio())
+    assert ParamStore(path)["RC9_DZ"] == 0

@@ -16,10 +16,14 @@ pwm        WINCH_TYPE 1 at boot, output 9 the winch (SERVO9_FUNCTION 88): WINCH_
            winch number); COMMAND_INT; the aux switch.
 mission    the same winch in AUTO: DO_WINCH rate 0.5 m/s, a 4 s loiter, DO_WINCH relax: what is said
            and reached, the line and output after, the item as downloaded.
+rc         the same winch with channel 9 its stick (RC9_OPTION 45), moved by override: the dead zone
+           AP_Winch gives it, the rate from the stick, a DO_WINCH taking over until the stick
+           moves past the dead zone again, the channel given back.
 """
 from __future__ import annotations
 
 import math
+import re
 
 from ..client import Client, mav
 from ..facts import Tol, Trace
@@ -267,6 +271,48 @@ def mission(c: Client, trace: Trace) -> None:
     c.set_mode(GUIDED)
 
 
+def _ch9(c: Client, pwm: int) -> None:
+    """RC_CHANNELS_OVERRIDE of channel 9 alone (its extension field: 0 leaves a channel, 65534 gives
+    it back to the receiver); held, as RC_OVERRIDE_TIME is -1 here."""
+    c.conn.mav.rc_channels_override_send(1, 1, *([65535] * 8), pwm, *([0] * 9))
+
+
+def rc(c: Client, trace: Trace) -> None:
+    c.command(mav.MAV_CMD_SET_MESSAGE_INTERVAL, mav.MAVLINK_MSG_ID_SERVO_OUTPUT_RAW, 100_000, sim_s=ANSWER_S)
+    trace.fact("param.RC9_DZ", _param(c, "RC9_DZ"))
+    c.fresh("RC_CHANNELS", ANSWER_S)
+    trace.fact("rest.ch9", c.last["RC_CHANNELS"].chan9_raw)
+    trace.fact("rest.speed", _status(c)["speed"])
+    trace.fact("rest.output", _output(c))
+
+    def stick(name: str, pwm: int, output_tol: Tol | None = None) -> None:
+        before = len(c.texts)  # (counted, not timed: a text read in the same instant belongs before)
+        _ch9(c, pwm)
+        c.idle(1.5)
+        trace.fact(f"{name}.said", said([text for _, _, text in c.texts[before:]]))
+        trace.fact(f"{name}.speed", _status(c)["speed"], SPEED)
+        trace.fact(f"{name}.output", _output(c), output_tol)
+    stick("stick1800", 1800)
+    stick("stick1500", 1500)
+    stick("stick1200", 1200)
+    trace.fact("command_rate.result", _winch(c, 1, RATE, 0, 0.2))
+    c.idle(1.0)
+    trace.fact("command_rate.speed", _status(c)["speed"], SPEED)
+    stick("stick1220_within_dz", 1220)
+    stick("stick1700", 1700)
+    t0 = c.now_ms
+    trace.fact("command_length.result", _winch(c, 1, LENGTH, 0.5, 0))
+    c.try_wait(lambda: any(text.startswith("Winch:") for text in c.texts_since(t0)), 2.0)
+    # (the target is the line out then plus 0.5 m: where the stick's runs, timed by each vehicle, left it)
+    trace.fact("command_length.said", [re.sub(r"\d+\.\d", "#", text) for text in said(c.texts_since(t0))])
+    # (length control closing in: the rate and the output fall with the time since the command)
+    stick("stick1690_within_dz", 1690, Tol(abs=35, why="the output follows the length controller's rate, "
+                                                       "400 us per m/s: within SPEED's 0.08 m/s"))
+    stick("released", 65534)
+    c.fresh("RC_CHANNELS", ANSWER_S)
+    trace.fact("released.ch9", c.last["RC_CHANNELS"].chan9_raw)
+
+
 def _download_item(c: Client, seq: int) -> list | None:
     """MISSION_REQUEST_INT of one item after the count: (command, frame, p1..p4)."""
     got: list = []
@@ -283,7 +329,8 @@ def _download_item(c: Client, seq: int) -> list | None:
     return got[0] if got else None
 
 
-PROBES = {"none": (none, None), "pwm": (pwm, PWM_BOOT), "mission": (mission, PWM_BOOT)}
+PROBES = {"none": (none, None), "pwm": (pwm, PWM_BOOT), "mission": (mission, PWM_BOOT),
+          "rc": (rc, {**PWM_BOOT, "RC9_OPTION": 45, "RC_OVERRIDE_TIME": -1})}
 
 
 def run(target, only: tuple[str, ...] = ()) -> dict[str, Trace]:
