@@ -1,7 +1,8 @@
 """The winch, as ArduCopter runs AP_Winch with its PWM backend (WINCH_TYPE 1), measured on its SITL.
 
-The winch is made at boot from WINCH_TYPE (1 PWM; 2, Daiwa's serial winch, is made too but never
-healthy: it has no serial port in SITL and is not modelled further). Made, it takes DO_WINCH: relax
+The winch is made at boot from WINCH_TYPE (1 PWM; 2, Daiwa's serial winch, is made too and takes
+commands, but is not modelled: here it is never healthy, as it would be with no winch talking on
+its serial port; not measured on ArduCopter). Made, it takes DO_WINCH: relax
 (no output), release a length relative to the line out now (position control), or run at a rate
 (rate control, +ve lowers the line). It is healthy while some output has SERVOn_FUNCTION 88; then
 its 50 Hz update drives that output:
