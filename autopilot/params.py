@@ -262,6 +262,13 @@ PARAM_TABLE: tuple[ParamSpec, ...] = (
     _i8("GRIP_REGRAB", 0, 0, 255, "served, unread (an EPM's regrab interval) [s]"),
     replace(_i("GRIP_CAN_ID", 0, 0, 255, "served, unread (a DroneCAN hardpoint)"), mav_type=MAV_PARAM_TYPE_INT16),
     _f("GRIP_AUTOCLOSE", 0, 0, 255, "a released gripper grabs again this long after [s], 0 = never"),
+    # The winch (AP_Winch, payload/winch.py): ArduCopter shows WINCH_* but WINCH_TYPE once it is set;
+    # the type is read at boot, the rest as the winch runs
+    _i8("WINCH_TYPE", 0, 0, 2, "made at boot: 1 a PWM winch (SERVOn_FUNCTION 88); 0 none, 2 Daiwa (never healthy)"),
+    _f("WINCH_RATE_MAX", 1.0, 0, 10, "the fastest the line runs either way, and the output's full scale [m/s]"),
+    _f("WINCH_POS_P", 1.0, 0.01, 10, "length control: the rate asked per metre short of the target [1/s]"),
+    replace(_i("WINCH_OPTIONS", 7, -32768, 32767, "bit 0 relaxed at boot, 1 say each length asked, 2 (Daiwa) retry if stuck"),
+            mav_type=MAV_PARAM_TYPE_INT16),
     # The camera mount (AP_Mount, payload/mount.py): ArduCopter shows MNT1_* but the type once MNT1_TYPE
     # is set and the vehicle rebooted; types and ranges as its parameter documentation gives them
     _i8("MNT1_TYPE", 0, 0, 14, "made at boot: 1 a servo gimbal it steadies, 7 a brushless gimbal on PWM; 0 none"),
@@ -503,6 +510,7 @@ class ParamStore:
     def __init__(self, path: Path | None = None, wipe: bool = False):
         self.path = path
         self._values = dict(DEFAULTS)
+        self._defaults = dict(DEFAULTS)  # DEFAULTS, with what the vehicle's code moved (set_default)
         # Values still in use whose saved copy PREFLIGHT_STORAGE erased: left out of the file
         # until they are set again, so that the next boot starts from the defaults (as ArduPilot's
         # AP_Param::erase_all leaves the values in RAM and writes only those set after it).
@@ -581,13 +589,24 @@ class ParamStore:
             callback(name, value)
         return value
 
+    def set_default(self, name: str, value: float) -> None:
+        """As AP_Param's set_default, for this run: a parameter still at its default takes the new
+        one (not saved: at the next boot it is back unless the code moves it again); one set
+        keeps its value."""
+        name = STORED_AS[name]
+        if self._values[name] == self._defaults[name] and self._values[name] != value:
+            self._values[name] = float(value)
+            for callback in self._listeners:
+                callback(name, float(value))
+        self._defaults[name] = float(value)
+
     def save_all(self) -> None:
         self._save()
 
     def erase_saved(self) -> bool:
         """Forget every saved value (the values in use stay until the next boot); whether the
         file took it."""
-        self._erased = {n for n, v in self._values.items() if v != DEFAULTS[n]}
+        self._erased = {n for n, v in self._values.items() if v != self._defaults[n]}
         return self._save()
 
     def report(self, name: str, value: float) -> None:
@@ -607,5 +626,6 @@ class ParamStore:
         """Persist (persist.JsonFile: a refused save is counted, the value still takes effect in
         flight: the vehicle must not stop or half-apply a change for it)."""
         erased = self._erased
+        defaults = self._defaults
         return self.file.save(lambda: {n: v for n, v in self._values.items()
-                                       if v != DEFAULTS[n] and is_saved(n) and n not in erased})
+                                       if v != defaults[n] and is_saved(n) and n not in erased})

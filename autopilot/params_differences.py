@@ -112,6 +112,9 @@ FIREFLY_ONLY: dict[str, str] = {
              "recorded with it 0); Firefly serves it always, so that it can be set before enabling"
        for name in ("GRIP_TYPE", "GRIP_GRAB", "GRIP_RELEASE", "GRIP_NEUTRAL", "GRIP_REGRAB", "GRIP_CAN_ID",
                     "GRIP_AUTOCLOSE")},
+    **{name: "the winch's (AP_Winch): ArduCopter serves it once WINCH_TYPE is set (the reference's set was "
+             "recorded with it 0); Firefly serves it always, so that it can be set before enabling"
+       for name in ("WINCH_RATE_MAX", "WINCH_POS_P", "WINCH_OPTIONS")},
     **{name: "the camera mount's (AP_Mount): ArduCopter serves it once MNT1_TYPE is set and the vehicle rebooted "
              "(the reference's set was recorded with MNT1_TYPE 0); Firefly serves it always, so that it can be "
              "set before the mount is"

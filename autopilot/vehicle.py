@@ -72,6 +72,7 @@ from .payload.parachute import Parachute
 from .payload.sitl_gripper import SitlGripper
 from .payload.sitl_parachute import SitlParachute
 from .payload.sprayer import Sprayer
+from .payload.winch import Winch
 from .precland import BODY_FRD, LOCAL_FRD, PrecLand, line_of_sight
 from .precland import MAVLINK as PRECLAND_MAVLINK
 from .precland import SITL as PRECLAND_SITL
@@ -186,6 +187,9 @@ class Vehicle:
         self.sprayer = Sprayer(self.params, self.servo_relay.pwm)
         self.sitl_parachute = SitlParachute(self.params, self.servo_relay.pwm, self.notify, self.sim.deploy_canopy)
         self.gripper = Gripper(self.params, self.servo_relay.pwm, self.notify)
+        # The winch (WINCH_*): made at boot from WINCH_TYPE, its line reckoned from the rate it asks
+        self.winch = Winch(self.params, self.servo_relay.pwm, self.notify, self.constraining_nan, self._winch_stick)
+        self.winch_prearm_failure = self.winch.prearm_failure
         self.motor_test = MotorTest()
         self._motor_test_omega = (0.0, 0.0, 0.0, 0.0)
         self.safety_on = False  # the safety switch (SITL boots with it off: BRD_SAFETY_DEFLT 0)
@@ -360,6 +364,10 @@ class Vehicle:
         """Every channel [us] as the radio last read it (RC_CHANNELS)."""
         return self.rc.radio_in
 
+    def _winch_stick(self) -> tuple[list[int], bool]:
+        """The channels as the radio last read them, and whether it is to be trusted (the winch's stick)."""
+        return self.rc.radio_in, self.failsafes.radio_input_valid
+
     def rc_throttle_us(self) -> int | None:
         """The throttle channel [us] if a frame or an override came within the last failsafe
         check, else None (the radio is silent)."""
@@ -441,6 +449,22 @@ class Vehicle:
             self.gripper.release(self.time_s)
         else:
             self.gripper.grab(self.time_s)
+        return Result.ACCEPTED
+
+    def winch_action(self, action: int, length_m: float, rate_m_s: float) -> Result:
+        """DO_WINCH: FAILED without a winch made at boot (and WINCH_TYPE still set); 0 relaxes it,
+        1 lets out a length (negative: winds it in), 2 runs it at a rate; anything else FAILED."""
+        winch = self.winch
+        if not winch.fitted:
+            return Result.FAILED
+        if action == 0:
+            winch.relax()
+        elif action == 1:
+            winch.release_length(length_m)
+        elif action == 2:
+            winch.set_rate(rate_m_s)
+        else:
+            return Result.FAILED
         return Result.ACCEPTED
 
     def start_motor_test(self, seq: int, kind: int, value: float, timeout_s: float, count: int) -> Result:
@@ -1237,6 +1261,8 @@ class Vehicle:
                 self.gripper.update(now)
             if self.sitl_gripper.ready:
                 self.sitl_gripper.update(now, -self.sim.state.body.d_m)
+            if self.winch.kind and now >= self.winch.next_update_s - 1e-9:
+                self.winch.update(now)
             armed, detector = self.arming.armed, self.land_detector
             if armed or not detector.landed:  # disarmed on the ground neither check has anything to do
                 body = estimate.body

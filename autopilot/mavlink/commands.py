@@ -23,6 +23,7 @@ from .do_item_commands import HANDLERS as DO_ITEM_HANDLERS
 from .housekeeping_commands import HANDLERS as HOUSEKEEPING_HANDLERS
 from .mount_commands import HANDLERS as MOUNT_HANDLERS
 from .mount_messages import REQUESTABLE as MOUNT_REQUESTABLE
+from .winch_messages import REQUESTABLE as WINCH_REQUESTABLE
 from .payload_commands import HANDLERS as PAYLOAD_HANDLERS
 from .external_nav_messages import origin_taken
 from .preflight import HANDLERS as PREFLIGHT_HANDLERS
@@ -268,7 +269,7 @@ def run_prearm_checks(s, c: Command) -> Result:
 
 def no_such_device(s, c: Command) -> Result:
     """FAILED, as ArduCopter SITL answers for a device it has none of: a camera's focus or
-    video, a winch, an SD card to format."""
+    video, an SD card to format."""
     return Result.FAILED
 
 
@@ -293,7 +294,7 @@ def request_message(s, c: Command) -> Result:
         return Result.DENIED
     msg = s.build(msg_id)
     if msg is None:
-        return Result.ACCEPTED if msg_id in MOUNT_REQUESTABLE else Result.FAILED
+        return Result.ACCEPTED if msg_id in MOUNT_REQUESTABLE | WINCH_REQUESTABLE else Result.FAILED
     s.queue(msg)
     return Result.ACCEPTED
 
@@ -417,13 +418,13 @@ HANDLERS = {
     **PREFLIGHT_HANDLERS,  # reboot, storage, calibrations, banner (preflight.py)
     **DO_ITEM_HANDLERS,  # fence switch, mission current and tags, ROI (do_item_commands.py)
     **CAMERA_HANDLERS,  # CAM1: pictures, intervals, distance triggering (camera_commands.py)
-    **PAYLOAD_HANDLERS,  # the parachute, the sprayer, the gripper, the motor test (payload_commands.py)
+    **PAYLOAD_HANDLERS,  # parachute, sprayer, gripper, winch, motor test (payload_commands.py)
     **HOUSEKEEPING_HANDLERS,  # link, board and calibration odds and ends (housekeeping_commands.py)
     **MOUNT_HANDLERS,  # MNT1: the gimbal's commands, DO_SET_ROI_SYSID (mount_commands.py)
     **{command: no_such_device for command in (
         mav.MAV_CMD_SET_CAMERA_FOCUS,
         mav.MAV_CMD_VIDEO_START_CAPTURE, mav.MAV_CMD_VIDEO_STOP_CAPTURE,
-        mav.MAV_CMD_DO_WINCH, mav.MAV_CMD_STORAGE_FORMAT)},
+        mav.MAV_CMD_STORAGE_FORMAT)},
     mav.MAV_CMD_DO_ADSB_OUT_IDENT: adsb_out_ident,
 }
 

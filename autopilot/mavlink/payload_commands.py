@@ -1,8 +1,8 @@
 """The payload's commands (COMMAND_LONG / COMMAND_INT), as ArduCopter answers them (measured):
-DO_PARACHUTE, DO_SPRAYER, DO_GRIPPER and DO_MOTOR_TEST. Joined into the command table (commands.HANDLERS) as **HANDLERS."""
+DO_PARACHUTE, DO_SPRAYER, DO_GRIPPER, DO_WINCH and DO_MOTOR_TEST. Joined into the command table (commands.HANDLERS) as **HANDLERS."""
 from __future__ import annotations
 
-from ..c_casts import as_uint16, param5_int
+from ..c_casts import as_uint8, as_uint16, param5_int
 from ..results import Result
 from .dialect import mavlink as mav
 
@@ -16,6 +16,12 @@ def do_parachute(s, c) -> Result:
 def do_gripper(s, c) -> Result:
     """Param 1 the gripper (one: ignored), param 2 the action cut to a uint8: 0 release, 1 grab."""
     return s.vehicle.gripper_action(as_uint16(c.p2) & 0xFF)
+
+
+def do_winch(s, c) -> Result:
+    """Param 1 the winch (one: ignored), 2 the action cut to a uint8 (0 relax, 1 length, 2 rate),
+    3 the length to let out [m], 4 the rate [m/s] (payload/winch.py)."""
+    return s.vehicle.winch_action(as_uint8(c.p2), c.p3, c.p4)
 
 
 def do_sprayer(s, c) -> Result:
@@ -39,4 +45,5 @@ HANDLERS = {
     mav.MAV_CMD_DO_PARACHUTE: do_parachute,
     mav.MAV_CMD_DO_SPRAYER: do_sprayer,
     mav.MAV_CMD_DO_GRIPPER: do_gripper,
+    mav.MAV_CMD_DO_WINCH: do_winch,
 }

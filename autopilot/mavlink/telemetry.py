@@ -20,6 +20,7 @@ from .mount_messages import BUILDERS as MOUNT_BUILDERS
 from .rangefinder_messages import BUILDERS as RANGEFINDER_BUILDERS
 from .sensor_messages import BUILDERS as SENSOR_BUILDERS
 from .terrain import BUILDERS as TERRAIN_BUILDERS
+from .winch_messages import BUILDERS as WINCH_BUILDERS
 from .terrain import REQUEST_MIN_INTERVAL_S
 
 LANDED_STATE = {"ON_GROUND": mav.MAV_LANDED_STATE_ON_GROUND, "IN_AIR": mav.MAV_LANDED_STATE_IN_AIR,
@@ -309,6 +310,7 @@ BUILDERS: dict[int, Builder] = {
     **MOUNT_BUILDERS,
     **RANGEFINDER_BUILDERS,
     **ADSB_BUILDERS,
+    **WINCH_BUILDERS,
 }
 
 # ArduPilot's stream groups (REQUEST_DATA_STREAM ids), the MAV1_ parameter that sets each rate,
@@ -326,7 +328,7 @@ _STREAM_GROUP_NAMES = {
     mav.MAV_DATA_STREAM_RC_CHANNELS: ("MAV1_RC_CHAN", ("SERVO_OUTPUT_RAW", "RC_CHANNELS")),
     # ATTITUDE_QUATERNION is Firefly's addition to EXTRA1 (ArduCopter sends it only when asked).
     mav.MAV_DATA_STREAM_EXTRA1: ("MAV1_EXTRA1", ("ATTITUDE", "ATTITUDE_QUATERNION", "SIMSTATE", "AHRS2",
-                                               "ESC_TELEMETRY_1_TO_4")),
+                                               "ESC_TELEMETRY_1_TO_4", "WINCH_STATUS")),
     mav.MAV_DATA_STREAM_EXTRA2: ("MAV1_EXTRA2", ("VFR_HUD",)),
     # EXTENDED_SYS_STATE is Firefly's addition to EXTRA3 (ArduCopter sends it only when asked).
     mav.MAV_DATA_STREAM_EXTRA3: ("MAV1_EXTRA3", ("AHRS", "WIND", "RANGEFINDER", "DISTANCE_SENSOR",

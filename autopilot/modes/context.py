@@ -23,6 +23,7 @@ if TYPE_CHECKING:
     from ..payload.gripper import Gripper
     from ..payload.parachute import Parachute
     from ..payload.sprayer import Sprayer
+    from ..payload.winch import Winch
     from ..pilot import PilotInput
     from .return_path import ReturnPath
     from ..path_planning.planner import PathPlanner
@@ -61,8 +62,9 @@ class ModeContext:
                                  update(now, own position), the point to fly to, the lead's heading
         camera                   payload/camera.py: CAM1, as the mission's camera items drive it
         mount                    payload/mount.py: MNT1, as the mission's mount and ROI items drive it
-        parachute, sprayer, gripper payload/parachute.py, sprayer.py, gripper.py: as the
-                                 mission's DO_PARACHUTE, DO_SPRAYER and DO_GRIPPER drive them
+        parachute, sprayer, gripper, winch payload/parachute.py, sprayer.py, gripper.py, winch.py:
+                                 as the mission's DO_PARACHUTE, DO_SPRAYER, DO_GRIPPER and DO_WINCH
+                                 drive them
         set_speed(m_s)           as DO_CHANGE_SPEED
         set_home(ned or None)    as DO_SET_HOME (None = here)
         fence_enable_item(action) as the mission's DO_FENCE_ENABLE (0 off, 1 on, 2 the floor off)
@@ -85,7 +87,7 @@ class ModeContext:
         destination_within_fence(n, e, d) a GUIDED destination (local NED) inside every enabled fence
     """
     __slots__ = ("_v", "_estimate", "_arming", "_land", "_sim", "params", "mission_progress", "return_path", "path_planner",
-                 "follow_target", "camera", "mount", "parachute", "sprayer", "gripper", "notify", "disarm", "set_speed",
+                 "follow_target", "camera", "mount", "parachute", "sprayer", "gripper", "winch", "notify", "disarm", "set_speed",
                  "set_home", "fence_enable_item",
                  "set_servo", "repeat_servo", "set_relay", "repeat_relay", "ned_of", "position_global", "set_mode",
                  "hover_thrust_share", "restart_position_control", "use_gains", "precland_landing",
@@ -100,6 +102,7 @@ class ModeContext:
     parachute: Parachute
     sprayer: Sprayer
     gripper: Gripper
+    winch: Winch
     notify: Notify
     disarm: Callable[[str], Result]
     set_speed: Callable[[float], Result]
@@ -136,6 +139,7 @@ class ModeContext:
         self.parachute = vehicle.parachute
         self.sprayer = vehicle.sprayer
         self.gripper = vehicle.gripper
+        self.winch = vehicle.winch
         self.notify = vehicle.notify
         self.disarm = vehicle.disarm
         self.set_speed = vehicle.set_speed

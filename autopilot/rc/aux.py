@@ -12,11 +12,14 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Protocol
+from typing import TYPE_CHECKING, Protocol
 
 from ..modes.numbers import ModeNumber
 from ..results import Result, Severity
 from .channels import HIGH, LOW, MIDDLE
+
+if TYPE_CHECKING:
+    from ..payload.winch import Winch
 
 POSITION_NAMES = ("LOW", "MIDDLE", "HIGH")
 
@@ -37,6 +40,8 @@ class AuxHost(Protocol):
     def rangefinder_switch(self, position: int) -> None: ...
     def avoid_adsb_switch(self, position: int) -> None: ...
     def source_set_switch(self, position: int) -> None: ...
+    @property
+    def winch(self) -> Winch: ...
 
 
 @dataclass(frozen=True)
@@ -104,6 +109,14 @@ def _zigzag(which: str) -> Callable[[AuxHost, int], None]:
     return run
 
 
+def _winch_enable(v: AuxHost, position: int) -> None:
+    """HIGH holds the winch at rate 0 (rate control, the output at trim); LOW and MIDDLE relax it."""
+    if position == HIGH:
+        v.winch.set_rate(0.0)
+    else:
+        v.winch.relax()
+
+
 M = ModeNumber
 AUX_FUNCTIONS: dict[int, AuxFunction] = {f.number: f for f in (
     AuxFunction(2, "FLIP", _flip),
@@ -119,6 +132,9 @@ AUX_FUNCTIONS: dict[int, AuxFunction] = {f.number: f for f in (
     AuxFunction(33, "BRAKE", _mode(M.BRAKE)),
     AuxFunction(37, "THROW", _mode(M.THROW)),
     AuxFunction(42, "SMART_RTL", _mode(M.SMART_RTL)),
+    AuxFunction(44, "WINCH_ENABLE", _winch_enable, announce="WinchEnable"),
+    # WinchControl: the channel's stick runs the winch (AP_Winch reads it); Firefly does not (yet)
+    AuxFunction(45, "WINCH_CONTROL", _nothing, announce="WinchControl"),
     AuxFunction(52, "ACRO", _mode(M.ACRO)),
     AuxFunction(55, "GUIDED", _mode(M.GUIDED)),
     AuxFunction(56, "LOITER", _mode(M.LOITER)),
@@ -141,10 +157,10 @@ AUX_FUNCTIONS: dict[int, AuxFunction] = {f.number: f for f in (
     AuxFunction(178, "FLIGHTMODE_PAUSE", _pause),
 )}
 # Functions ArduCopter runs for hardware and features Firefly's vehicle does not have (camera,
-# relays, gripper, winch, mount, simple modes, ...): known, accepted, nothing moves. Those whose
+# relays, gripper, mount, simple modes, ...): known, accepted, nothing moves. Those whose
 # missing device ArduCopter reports as a failure are FAILED_WITHOUT_DEVICE.
 NOTHING_HERE = (3, 5, 9, 11, 13, 14, 15, 19, 21, 22, 23, 24, 25, 26, 27, 28, 29, 30, 32, 34, 35, 36, 39,
-                40, 44, 45, 46, 47, 48, 49, 58, 62, 65, 66, 67, 75, 76, 78, 79, 80, 84, 85, 100, 101,
+                40, 46, 47, 48, 49, 58, 62, 65, 66, 67, 75, 76, 78, 79, 80, 84, 85, 100, 101,
                 102, 103, 104, 105, 106, 109, 110, 111, 112, 113, 152, 154, 158, 159, 160, 162, 163,
                 164, 171, 172, 177, 180, 182, *range(212, 220), *range(300, 316))
 FAILED_WITHOUT_DEVICE = (166, 167, 168, 169, 174, 175)  # camera functions: no camera

@@ -161,6 +161,12 @@ def _object_avoidance(v: PrearmView) -> str | None:
     return v.path_planner_prearm_failure()
 
 
+def _winch(v: PrearmView) -> str | None:
+    """AP_Arming_Copter::winch_checks: with WINCH_TYPE set, the winch made at boot must have its
+    output (SERVOn_FUNCTION 88); set since boot, there is none: unhealthy too."""
+    return v.winch_prearm_failure()
+
+
 def _terrain_data(v: PrearmView) -> str | None:
     """A mission at heights above terrain needs the terrain database (AP_Arming::terrain_checks);
     Firefly has none, as ArduCopter SITL has none until a ground station serves its tiles
@@ -172,7 +178,7 @@ def _terrain_data(v: PrearmView) -> str | None:
 
 # In ArduCopter's order; a check gives its words, a list of them, or None when it passes.
 PREARM_CHECKS: tuple[Callable[[PrearmView], str | list[str] | None], ...] = (
-    _starting_up, _adsb_threat, _object_avoidance, _throttle_below_failsafe, _safety_switch, _internal_errors, _need_position, _visual_odometry, _ekf_sources, _gps_glitching, _leaning, _battery_low,
+    _starting_up, _adsb_threat, _object_avoidance, _winch, _throttle_below_failsafe, _safety_switch, _internal_errors, _need_position, _visual_odometry, _ekf_sources, _gps_glitching, _leaning, _battery_low,
     _rangefinder, _parachute, _proximity, _terrain_data, _emergency_stopped)
 
 

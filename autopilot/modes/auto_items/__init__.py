@@ -97,6 +97,7 @@ ITEMS: dict[int, type[AutoItem]] = {
     1000: MountItem,  # DO_GIMBAL_MANAGER_PITCHYAW
     2000: CameraItem,  # IMAGE_START_CAPTURE
     2001: CameraItem,  # IMAGE_STOP_CAPTURE
+    42600: PayloadItem,  # DO_WINCH
     42702: NavScriptTime,  # NAV_SCRIPT_TIME
     42703: NavAttitudeTime,  # NAV_ATTITUDE_TIME
 }

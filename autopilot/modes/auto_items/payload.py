@@ -4,14 +4,17 @@ DO_PARACHUTE (param 1: 0 disable, 1 enable, 2 release) releases at once, with no
 the command's release makes (landed, CHUTE_ALT_MIN: measured, a mission's release at 8 m with
 CHUTE_ALT_MIN 10 disarms and releases); DO_SPRAYER (param 1: 1 on, anything else off);
 DO_GRIPPER (param 2: 0 release, 1 grab; param 1, the gripper, ignored) acts and then says
-"Gripper Released" / "Gripper Grabbed", gripper or none. Parameters are cut to AP_Mission's
-integer fields.
+"Gripper Released" / "Gripper Grabbed", gripper or none. DO_WINCH (param 2 the action: 0 relax,
+1 let out param 3 metres, 2 run at param 4 m/s; param 1, the winch, ignored) is ArduCopter's own
+AUTO's, done as it starts: it acts whether or not a winch was made, silently (a length with no
+winch does nothing, a rate or relax is remembered). Parameters are cut to AP_Mission's integer
+fields.
 """
 from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from ...c_casts import as_uint16
+from ...c_casts import as_uint8, as_uint16
 from ...results import Severity
 from . import AutoItem
 
@@ -20,7 +23,7 @@ if TYPE_CHECKING:
     from ..auto import Auto
     from ..context import ModeContext
 
-DO_GRIPPER, DO_PARACHUTE, DO_SPRAYER = 211, 208, 216
+DO_GRIPPER, DO_PARACHUTE, DO_SPRAYER, DO_WINCH = 211, 208, 216, 42600
 DISABLE, ENABLE, RELEASE = 0, 1, 2  # DO_PARACHUTE's param 1 (PARACHUTE_ACTION)
 GRIPPER_RELEASE, GRIPPER_GRAB = 0, 1  # DO_GRIPPER's param 2 (GRIPPER_ACTIONS)
 
@@ -29,6 +32,9 @@ class PayloadItem(AutoItem):
     def start(self, auto: Auto, ctx: ModeContext, index: int, item: MissionItem) -> bool:
         if item.command == DO_GRIPPER:
             _gripper(ctx, as_uint16(item.p2))
+            return True
+        if item.command == DO_WINCH:
+            _winch(ctx, as_uint8(item.p2), item.p3, item.p4)
             return True
         action = as_uint16(item.p1)
         if item.command == DO_SPRAYER:
@@ -47,3 +53,12 @@ def _gripper(ctx: ModeContext, action: int) -> None:
     elif action == GRIPPER_GRAB:
         ctx.gripper.grab(ctx.time_s)
         ctx.notify("Gripper Grabbed", Severity.INFO)
+
+
+def _winch(ctx: ModeContext, action: int, length_m: float, rate_m_s: float) -> None:
+    if action == 0:
+        ctx.winch.relax()
+    elif action == 1:
+        ctx.winch.release_length(length_m)
+    elif action == 2:
+        ctx.winch.set_rate(rate_m_s)

@@ -25,8 +25,8 @@ PARAMS = b"@PARAM/param.pck"
 VALUE = Tol(abs=1e-6, rel=1e-6, why="float32 in the file")
 FILE_SIZE = Tol(rel=0.15, why="each vehicle packs its own values, and Firefly serves its own parameters and "
                                "the groups ArduCopter hides until enabled (PLND_, MNT1_, FOLL_, RNGFND1_, ADSB_, "
-                               "CAM1_, AVD_, VISO_, OA_, CHUTE_, GRIP_, SPRAY_: params_differences.FIREFLY_ONLY), "
-                               "146 more: 17,940 bytes against 16,188")
+                               "CAM1_, AVD_, VISO_, OA_, CHUTE_, GRIP_, SPRAY_, WINCH_: params_differences.FIREFLY_ONLY), "
+                               "149 more: 17,976 bytes against 16,188")
 # Parameters a ground station's first screens read, whose defaults Firefly keeps as ArduCopter's.
 SAMPLE = ("ARMING_CHECK", "WPNAV_SPEED", "WPNAV_RADIUS", "RTL_ALT", "LAND_SPEED", "FLTMODE1",
           "FS_GCS_ENABLE", "BATT_MONITOR", "SERIAL1_PROTOCOL", "PSC_POSXY_P", "ATC_RAT_RLL_P",
