@@ -9,7 +9,8 @@ flight   FLOW_TYPE 10 and SIM_FLOW_ENABLE 1 at power-on: the parameters' default
          GUIDED; then FLOWHOLD with the sticks centred by override: the drift over HOLD_S and the
          height; then the pitch stick forward for STICK_S: the speed and distance it makes; then
          released: how far and how long it takes to stop; then a 3 m/s wind: how far it pushes and
-         the drift after; then SIM_FLOW_ENABLE 0 in flight: the mode, the bits, the message.
+         the drift after; then SIM_FLOW_ENABLE 0 in flight: the mode, the bits, the message, and
+         FLOWHOLD asked for again from ALT_HOLD.
 Numbers carry tolerances: the flow is noisy (SIM_FLOW_RND) and the airframes and controllers differ.
 """
 from __future__ import annotations
@@ -20,7 +21,7 @@ from ..client import Client, ProbeTimeout, mav
 from ..facts import Tol, Trace
 from .booting import each_on_a_fresh_vehicle
 from .pilot import MID, Sticks
-from .states import GUIDED, reach_flying
+from .states import ALT_HOLD, GUIDED, reach_flying
 
 AREA = "flow"
 FLOWHOLD = 22
@@ -254,6 +255,9 @@ def flight(c: Client, trace: Trace) -> None:
         trace.fact("sensor_off.optical_flow_sent", _sent(c, "OPTICAL_FLOW"))
         c.fresh_heartbeat()
         trace.fact("sensor_off.mode", c.mode)
+        # left for ALT_HOLD, FLOWHOLD is refused in flight without its sensor
+        c.set_mode(ALT_HOLD)
+        _flowhold_answer(c, trace, "sensor_off", ALT_HOLD)
 
 
 PROBES = {"absent": absent, "no_sim": no_sim, "flight": flight}
