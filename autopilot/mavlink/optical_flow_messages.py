@@ -20,8 +20,11 @@ INT16_MAX = 32767
 
 
 def _int16(x: float) -> int:
-    """C's float-to-int16 cast of a rate: towards zero, held to the field."""
-    return max(-INT16_MAX - 1, min(INT16_MAX, int(x))) if x == x else 0
+    """C's float-to-int16 cast of a rate: towards zero, held to the field (a rate no camera gives,
+    NaN or infinite, must not stop the message)."""
+    if x != x:
+        return 0
+    return int(max(-INT16_MAX - 1.0, min(float(INT16_MAX), x)))
 
 
 def optical_flow(v: TelemetryView, codec):

@@ -116,6 +116,8 @@ class FlowHold(Mode):
         p, now = ctx.params, ctx.time_s
         flow_max = p["FHLD_FLOW_MAX"]
         raw = (_clamp(flow.flow_x - flow.body_x, flow_max), _clamp(flow.flow_y - flow.body_y, flow_max))
+        if not (math.isfinite(raw[0]) and math.isfinite(raw[1])):  # no number: kept out of the filters,
+            raw = self._flow_filt                                   # as AC_PI_2D keeps it out of its own
         a = _alpha(dt, p["FHLD_FILT_HZ"])
         self._flow_filt = (self._flow_filt[0] + (raw[0] - self._flow_filt[0]) * a,
                            self._flow_filt[1] + (raw[1] - self._flow_filt[1]) * a)
@@ -190,6 +192,8 @@ class FlowHold(Mode):
         dv_bf = _rotate((vel[0] - self._vel_at_flow[0], vel[1] - self._vel_at_flow[1]), -yaw)
         dv_rate = (-dv_bf[1], dv_bf[0])
         rate = (flow.flow_x - flow.body_x, flow.flow_y - flow.body_y)
+        if not (math.isfinite(rate[0]) and math.isfinite(rate[1])):
+            return  # a sample with no number teaches nothing
         gap = flow.updated_s - self._last_flow_s
         self._vel_at_flow = vel
         if gap > STALE_FLOW_S:

@@ -110,6 +110,11 @@ def test_flowhold_needs_a_healthy_sensor_and_optical_flow_goes_out_while_it_is()
     assert _bits(v) == [True, True, False]
 
 
+def test_the_pixel_fields_are_the_rates_truncated_into_an_int16():
+    cast = optical_flow_messages._int16
+    assert [cast(x) for x in (0.9, -0.9, 1.7, -1.7, 1e9, -math.inf, math.nan)] == [0, 0, 1, -1, 32767, -32768, 0]
+
+
 def test_flow_type_set_while_running_makes_no_driver():
     v = ready_vehicle()
     assert _bits(v) == [False, False, False]
@@ -147,6 +152,20 @@ def test_flowhold_holds_against_the_wind_where_alt_hold_drifts():
     assert drifts[ModeNumber.FLOWHOLD] < 3.0
     assert v.mode_named_float is not None and v.mode_named_float[0] == b"HEST"
     assert 3.0 < v.mode_named_float[1] < 5.0  # the height it learnt, about the real 4 m
+
+
+def test_flowhold_flies_on_through_samples_that_are_no_number():
+    v = _hovering_in(ModeNumber.FLOWHOLD, 0.0)
+    v.run_until(v.time_s + 4.0)
+    flow = v.optical_flow
+    for bad in (math.nan, math.inf):
+        flow.reading = flow.reading._replace(flow_x=bad, flow_y=-bad, updated_s=v.time_s)
+        v.run_until(v.time_s + 0.05)
+        assert all(math.isfinite(angle) for angle in v.setpoint.lean)  # the lean the mode asks for
+    v.run_until(v.time_s + 3.0)
+    assert v.mode_number == ModeNumber.FLOWHOLD and abs(altitude(v) - 4.0) < 0.5
+    assert math.isfinite(v.body.n_m) and math.hypot(v.body.vn_m_s, v.body.ve_m_s) < 0.5
+    assert math.isfinite(v.mode_named_float[1])
 
 
 def test_a_flowhold_stick_moves_the_vehicle_and_it_brakes_on_release():
