@@ -3,7 +3,8 @@
 absent   default parameters (FLOW_TYPE 0): FLOWHOLD's answer, SYS_STATUS's optical-flow bits, whether
          OPTICAL_FLOW comes; then FLOW_TYPE 10 set while running (no driver until a reboot): the same.
 no_sim   FLOW_TYPE 10 at power-on with SIM_FLOW_ENABLE 0 (a driver with nothing to read): the same;
-         then SIM_FLOW_ENABLE 1 (the sensor wakes, no reboot): the same, FLOWHOLD now accepted.
+         then SIM_FLOW_ENABLE 1 (the sensor wakes, no reboot): the same, FLOWHOLD now accepted;
+         then the EXTRA3 stream stopped and started again: whether OPTICAL_FLOW stops and comes back.
 flight   FLOW_TYPE 10 and SIM_FLOW_ENABLE 1 at power-on: the parameters' defaults; OPTICAL_FLOW on
          the ground (its fields, its rate at a requested 10 Hz), hovering at HOVER_M and flying north at SPEED_M_S in
          GUIDED; then FLOWHOLD with the sticks centred by override: the drift over HOLD_S and the
@@ -114,6 +115,11 @@ def absent(c: Client, trace: Trace) -> None:
 
 def no_sim(c: Client, trace: Trace) -> None:
     _before_and_after(c, trace, "sim_on", "SIM_FLOW_ENABLE")
+    # which stream carries it: EXTRA3 stopped, then started again
+    for name, hz in (("extra3_off", 0), ("extra3_on", 5)):
+        c.conn.mav.request_data_stream_send(1, 1, mav.MAV_DATA_STREAM_EXTRA3, hz, 1 if hz else 0)
+        c.idle(1.0)
+        trace.fact(f"{name}.optical_flow_sent", _sent(c, "OPTICAL_FLOW"))
 
 
 def _samples(c: Client, count: int = SAMPLES, keep_going=None) -> list:
