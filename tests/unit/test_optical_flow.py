@@ -179,3 +179,19 @@ def test_a_flowhold_stick_moves_the_vehicle_and_it_brakes_on_release():
     v.run_until(v.time_s + 5.0)
     assert math.hypot(v.body.vn_m_s, v.body.ve_m_s) < 0.3
     assert 0.0 < v.body.n_m - n1 < 4.0
+
+
+def test_the_log_holds_the_flow_samples_while_the_sensor_is_healthy(tmp_path):
+    from firefly.autopilot.dataflash.recorder import Recorder
+
+    from .test_dataflash import MemorySink, read_log, run
+    v = ready_vehicle({"FLOW_TYPE": 10})
+    sink = MemorySink()
+    rec = Recorder(v, sink)
+    assert v.arm() == Result.ACCEPTED
+    run(v, rec, 1.0)  # SIM_FLOW_ENABLE 0: never healthy, nothing logged
+    v.params.set("SIM_FLOW_ENABLE", 1)
+    run(v, rec, 2.0)
+    records = read_log(tmp_path, sink.logs[0])["OF"]
+    assert 18 <= len(records) <= 21  # 10 Hz, from the first sample
+    assert all(r.Qual == 51 and abs(r.flowX) <= 0.06 and abs(r.bodyX) < 0.01 for r in records)
