@@ -193,6 +193,12 @@ PARAM_TABLE: tuple[ParamSpec, ...] = (
     _f("SIM_PLD_DIST_LMT", 10, 5, 100, "nor farther than this sideways (type 0), in its cone (1), away (2) [m]"),
     _i("SIM_PLD_TYPE", 0, 0, 2, "0 cylinder, 1 cone, 2 sphere"),
     _i("SIM_PLD_OPTIONS", 0, 0, 1, "bit 0: the beacon gives its distance (no rangefinder needed)"),
+    # SITL's optical flow camera (sim/optical_flow.py), as SIM_FLOW_*
+    _i8("SIM_FLOW_ENABLE", 0, 0, 1, "1: the camera makes samples (read by FLOW_TYPE 10's driver)"),
+    _i("SIM_FLOW_RATE", 10, 0, 800, "samples a second [Hz]"),
+    _i8("SIM_FLOW_DELAY", 0, 0, 20, "the sample handed out is this many samples old"),
+    _f("SIM_FLOW_RND", 0.05, 0, 1, "uniform noise within +- this on each flow rate [rad/s]"),
+    *(_f(f"SIM_FLOW_POS_{axis}", 0, -5, 5, f"the camera's {axis} offset on the body [m]") for axis in "XYZ"),
     # SITL's parachute (payload/sitl_parachute.py), as SIM_PARA_*: fires once its pin reaches 1250 us
     _i8("SIM_PARA_ENABLE", 0, 0, 1, "1: a simulated parachute is fitted"),
     _i8("SIM_PARA_PIN", -1, -1, 16, "the output (1-16) that fires it; -1 none"),
@@ -309,6 +315,27 @@ PARAM_TABLE: tuple[ParamSpec, ...] = (
     *(_f(f"RNGFND1_POS_{axis}", 0.0, -5, 5, "served; where it sits on the body [m] (SITL's beam starts at the centre)")
       for axis in "XYZ"),
     _i8("RNGFND1_ORIENT", 25, doc="the way it faces: 25 down (RANGEFINDER, the laser-position bit)"),
+    _i8("FLOW_TYPE", 0, doc="0 none, 10 SITL's camera; the driver made at boot, the sensor enabled while set"),
+    # FLOWHOLD's (modes/flowhold.py), with ArduCopter's names and defaults
+    _f("FHLD_XY_P", 0.2, 0.1, 6.0, "the flow controller's P gain [ANGLE_MAX per m/s]"),
+    _f("FHLD_XY_I", 0.3, 0.02, 1.0, "its I gain"),
+    _f("FHLD_XY_IMAX", 3000, 0, 4500, "its integrator's limit"),
+    _f("FHLD_XY_FILT_HZ", 5, 0, 100, "its input filter [Hz]"),
+    _f("FHLD_FLOW_MAX", 0.6, 0.1, 2.5, "each flow rate clamped to this [rad/s]"),
+    _f("FHLD_FILT_HZ", 5, 1, 100, "the flow's own filter [Hz]"),
+    _i8("FHLD_QUAL_MIN", 10, 0, 127, "below this (filtered) quality FLOWHOLD flies as ALT_HOLD"),
+    _i8("FHLD_BRAKE_RATE", 8, 1, 30, "the braking on release [deg/s]"),
+    # The optical flow sensor (AP_OpticalFlow, optical_flow.py): ArduCopter shows FLOW_* but the type once
+    # FLOW_TYPE is set (measured: these defaults); the scalers and the yaw act on the SITL driver's flow
+    replace(_i("FLOW_FXSCALER", 0, -800, 800, "the x flow's scale correction [parts per thousand]"),
+            mav_type=MAV_PARAM_TYPE_INT16),
+    replace(_i("FLOW_FYSCALER", 0, -800, 800, "the y flow's scale correction [parts per thousand]"),
+            mav_type=MAV_PARAM_TYPE_INT16),
+    replace(_i("FLOW_ORIENT_YAW", 0, -17999, 18000, "the sensor's yaw on the body [cdeg]: the flow turned by it"),
+            mav_type=MAV_PARAM_TYPE_INT16),
+    *(_f(f"FLOW_POS_{axis}", 0, -5, 5, f"served; the sensor's {axis} offset on the body [m] (the EKF's)")
+      for axis in "XYZ"),
+    _i8("FLOW_ADDR", 0, 0, 127, "served; a bus address"),
     # The path planner round the fence (AP_OAPathPlanner, path_planning/): ArduCopter shows OA_* once
     # OA_TYPE is set (no reboot needed to see them, one to plan), with these types and defaults
     # (measured). The OA_DB_* are the obstacle database of BendyRuler, not modelled: served only.

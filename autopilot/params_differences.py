@@ -83,6 +83,11 @@ FIREFLY_ONLY: dict[str, str] = {
        for name in ("RNGFND1_PIN", "RNGFND1_SCALING", "RNGFND1_OFFSET", "RNGFND1_FUNCTION", "RNGFND1_MIN",
                     "RNGFND1_MAX", "RNGFND1_STOP_PIN", "RNGFND1_RMETRIC", "RNGFND1_PWRRNG", "RNGFND1_GNDCLR",
                     "RNGFND1_ADDR", "RNGFND1_POS_X", "RNGFND1_POS_Y", "RNGFND1_POS_Z", "RNGFND1_ORIENT")},
+    **{name: "the optical flow sensor's (AP_OpticalFlow): ArduCopter serves it once FLOW_TYPE is set (the "
+             "reference's set was recorded with FLOW_TYPE 0); Firefly serves it always, so that it can be set "
+             "before the sensor is"
+       for name in ("FLOW_FXSCALER", "FLOW_FYSCALER", "FLOW_ORIENT_YAW", "FLOW_POS_X", "FLOW_POS_Y", "FLOW_POS_Z",
+                    "FLOW_ADDR")},
     **{name: "ADS-B's (AP_ADSB, AP_Avoidance): ArduCopter serves it once ADSB_TYPE / AVD_ENABLE is set (the "
              "reference's set was recorded with both 0); Firefly serves it always, so that it can be set before "
              "enabling"

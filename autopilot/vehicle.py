@@ -79,6 +79,7 @@ from .precland import SITL as PRECLAND_SITL
 from .rangefinder import UPDATE_S as RANGEFINDER_UPDATE_S
 from .rangefinder import RangeStatus
 from .rangefinder import Rangefinder
+from .optical_flow import OpticalFlow
 from .servo_relay import ServoRelayEvents
 from .views import ReadThrough, Vector3
 
@@ -200,6 +201,8 @@ class Vehicle:
         self.rangefinder = Rangefinder(self.params)
         self.rangefinder_reading = self.rangefinder.reading
         self.rangefinder_prearm_failure = self.rangefinder.prearm_failure
+        # The optical flow sensor (AP_OpticalFlow): SITL's camera when FLOW_TYPE is 10 at boot
+        self.optical_flow = OpticalFlow(self.params)
         # Precision landing (AC_PrecLand): PLND_TYPE's sensor made at boot, steering LAND to a target
         self.precland = PrecLand(self.params)
         self.proximity = Proximity(self.params)
@@ -313,6 +316,8 @@ class Vehicle:
     mode_number: ReadThrough[int] = property(attrgetter("mode.number"))
     mode_name: ReadThrough[str] = property(attrgetter("mode.name"))
     mode_requires_position: ReadThrough[bool] = property(attrgetter("mode.requires_position"))
+    mode_named_float: ReadThrough[tuple[bytes, float] | None] = property(
+        attrgetter("mode.named_float"), doc="A value the mode reports by name (FLOWHOLD's HEST).")
     mode_allows_arming: ReadThrough[bool] = property(attrgetter("mode.allows_arming"))
     mode_manual_throttle: ReadThrough[bool] = property(attrgetter("mode.manual_throttle"))
     # ... the failsafes, the internal errors and the mission store
@@ -998,6 +1003,8 @@ class Vehicle:
         ready = self._needs_met(new)
         if reason is None and not ready and self.armed:
             reason = "requires home"
+        if reason is None and ready and new.requires_flow and not self.optical_flow.healthy(self.time_s):
+            reason = "init failed"  # ArduCopter's FLOWHOLD init(): the sensor enabled and healthy
         if reason is None and ready:
             reason = new.enter(self.ctx)
         if reason is not None:
@@ -1226,6 +1233,8 @@ class Vehicle:
             estimate.track_barometer()
             if self._rangefinder_every and self.sim.steps % self._rangefinder_every == 0:
                 self.rangefinder.update(now, self.sim.read_sonar())
+            if self.optical_flow.kind:
+                self.optical_flow.update(now, self.sim.read_flow())
             if self.precland.kind:
                 self._precland_tick(now)
             rc = self.rc

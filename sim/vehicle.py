@@ -17,6 +17,7 @@ from .slung_load import SlungLoad, carried
 from .physics import PhysicsState, initial_state, make_fast_step
 from .rotors import HEALTHY, shaft_power_per_thrust_1p5
 from .precland import Beacon
+from .optical_flow import FlowCamera, FlowSample
 from .rangefinder import SonarBeam
 from .traffic import Aircraft, Track, TrafficSim
 from .sensors import Barometer, Gps, Gyro, NoiseConfig, RcReceiver
@@ -57,6 +58,7 @@ class SimVehicle:
         self.rc = RcReceiver()
         self.gyro = Gyro(config.seed, config.noise)
         self.sonar = SonarBeam(config.seed)
+        self.flow_camera = FlowCamera(config.seed)  # SITL's optical flow (SIM_FLOW_*), off until enabled
         self.beacon: Beacon | None = None  # SITL's precision-landing beacon (SIM_PLD_*), when on
         self.traffic = TrafficSim(config.seed, config.traffic)  # other aircraft (SIM_ADSB_*, [[traffic]])
         self.thermometer = TemperatureSensor(config.world, config.seed)
@@ -208,6 +210,10 @@ class SimVehicle:
     def read_sonar(self) -> float:
         """The downward rangefinder's beam over the flat ground [m] (inf: it misses the ground)."""
         return self.sonar.range_m(self.state.body)
+
+    def read_flow(self) -> FlowSample | None:
+        """The optical flow camera's new sample over the flat ground, when one is due (SIM_FLOW_RATE)."""
+        return self.flow_camera.read(self.time_s, self.state.body)
 
     @property
     def battery_remaining(self) -> float:

@@ -142,5 +142,11 @@ def rcin(v: StreamedView, b: BodyState) -> tuple:
     return (*chans, *[0] * (RC_CHANNELS - len(chans)))
 
 
+def optical_flow(v: StreamedView, b: BodyState) -> tuple:
+    """OF: the flow sensor's last sample as AP_OpticalFlow logs it, its quality, flow and body rates."""
+    r = v.optical_flow.reading
+    return r.quality, r.flow_x, r.flow_y, r.body_x, r.body_y
+
+
 def rcou(v: StreamedView, b: BodyState) -> tuple:
     return (*motor_pwm(v), *[0] * (RC_CHANNELS - 4))

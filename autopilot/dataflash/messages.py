@@ -6,7 +6,8 @@ for the flight data, how often it is logged, under which LOG_BITMASK bit, and it
 Rates are ArduCopter's with its default LOG_BITMASK: its 10 Hz logging loop writes ATT, RATE,
 POS, CTUN, BAT, RCIN, RCOU and the position controller's PSCN/PSCE/PSCD (these only while a mode
 flies the position controller); its 25 Hz loop writes each IMU; each GPS sample (5 Hz) a GPS
-record; each barometer logs at 10 Hz.
+record; each barometer logs at 10 Hz; the optical flow sensor's OF at its 10 Hz samples (SIM_FLOW_RATE's
+default: Firefly logs it at 10 Hz whatever the rate) while it is healthy.
 """
 from __future__ import annotations
 
@@ -21,7 +22,7 @@ from .encoding import FMT, LogFormat
 
 # LOG_BITMASK bits (ArduCopter defines.h)
 ATTITUDE_FAST, ATTITUDE_MED, GPS, PM, CTUN, NTUN, RCIN, IMU = (1 << b for b in range(8))
-CMD, CURRENT, RCOUT = 1 << 8, 1 << 9, 1 << 10
+CMD, CURRENT, RCOUT, OPTFLOW = 1 << 8, 1 << 9, 1 << 10, 1 << 11
 CAMERA = 1 << 15
 ALWAYS = 0  # logged whatever the bitmask
 
@@ -66,6 +67,10 @@ def _position_controlled(v: StreamedView) -> bool:
     return v.controls_position()
 
 
+def _flow_healthy(v: StreamedView) -> bool:
+    return v.optical_flow.healthy(v.time_s)
+
+
 TEN_HZ, TWENTY_FIVE_HZ, FIVE_HZ = 0.1, 0.04, 0.2
 
 MESSAGES: dict[str, LogMessage] = {m.format.name: m for m in (
@@ -106,6 +111,8 @@ MESSAGES: dict[str, LogMessage] = {m.format.name: m for m in (
          Periodic(TEN_HZ, NTUN, fd.pscd, _position_controlled)),
     _row(60, "RCIN", "QHHHHHHHHHHHHHH", "TimeUS," + ",".join(f"C{i}" for i in range(1, 15)),
          "s" + "Y" * 14, "F" + "-" * 14, Periodic(TEN_HZ, RCIN, fd.rcin)),
+    _row(180, "OF", "QBffff", "TimeUS,Qual,flowX,flowY,bodyX,bodyY", "s-EEEE", "F-0000",
+         Periodic(TEN_HZ, OPTFLOW, fd.optical_flow, _flow_healthy)),
     _row(62, "RCOU", "QHHHHHHHHHHHHHH", "TimeUS," + ",".join(f"C{i}" for i in range(1, 15)),
          "s" + "Y" * 14, "F" + "-" * 14, Periodic(TEN_HZ, RCOUT, fd.rcou)),
 )}

@@ -3,7 +3,8 @@
 The parameters are the interface (PARAM_SET at run time, a scenario's [faults] table at start,
 its [script] "param" steps at a sim time); sim/ only sees numbers: motor thrust shares, the GPS's
 switch, satellites and offset in metres, the barometer's drift rate, the wind, the battery's
-resting voltage, the RC receiver's failure, a push (SIM_SHOVE_*), the rangefinder's noise.
+resting voltage, the RC receiver's failure, a push (SIM_SHOVE_*), the rangefinder's noise, the
+optical flow camera (SIM_FLOW_*).
 SIM_LINK_* act on the MAVLink link, not on the sim (faults/link.py); SIM_ADSB_*'s aircraft are
 flown by the vehicle's ADS-B update (vehicle.py, adsb/sitl_transceiver.py).
 """
@@ -12,6 +13,7 @@ from __future__ import annotations
 from firefly.sim.wind import SteadyWind
 
 from firefly.sim.geo import ned_from_global
+from firefly.sim.optical_flow import SensorSettings
 from firefly.sim.precland import Beacon, quantised_e7
 
 
@@ -75,6 +77,12 @@ class Faults:
     def _sonar(self) -> None:
         self.sim.sonar.noise_m = max(0.0, self.params["SIM_SONAR_RND"])
 
+    def _flow(self) -> None:
+        p = self.params
+        self.sim.flow_camera.settings = SensorSettings(
+            bool(p["SIM_FLOW_ENABLE"]), p["SIM_FLOW_RATE"], int(p["SIM_FLOW_DELAY"]), max(0.0, p["SIM_FLOW_RND"]),
+            (p["SIM_FLOW_POS_X"], p["SIM_FLOW_POS_Y"], p["SIM_FLOW_POS_Z"]))
+
     def _precland_beacon(self) -> None:
         """SIM_PLD_*: SITL's beacon, placed as SITL places it (float32 degrees); off, the sim keeps
         the one it had (SITL stops updating it: its last word stands)."""
@@ -110,6 +118,7 @@ APPLY = {
     "SIM_RC_FAIL": Faults._rc,
     "SIM_SHOVE_TIME": Faults._shove,
     "SIM_SONAR_RND": Faults._sonar,
+    **{f"SIM_FLOW_{name}": Faults._flow for name in ("ENABLE", "RATE", "DELAY", "RND", "POS_X", "POS_Y", "POS_Z")},
     **{f"SIM_PLD_{name}": Faults._precland_beacon
        for name in ("ENABLE", "LAT", "LON", "HEIGHT", "ALT_LMT", "DIST_LMT", "TYPE")},
 }

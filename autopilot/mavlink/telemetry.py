@@ -17,6 +17,7 @@ from .encoding import u16
 from .adsb_messages import BUILDERS as ADSB_BUILDERS
 from .camera_messages import BUILDERS as CAMERA_BUILDERS
 from .mount_messages import BUILDERS as MOUNT_BUILDERS
+from .optical_flow_messages import BUILDERS as OPTICAL_FLOW_BUILDERS
 from .rangefinder_messages import BUILDERS as RANGEFINDER_BUILDERS
 from .sensor_messages import BUILDERS as SENSOR_BUILDERS
 from .terrain import BUILDERS as TERRAIN_BUILDERS
@@ -42,6 +43,8 @@ ALWAYS_ON = (mav.MAV_SYS_STATUS_SENSOR_RC_RECEIVER | mav.MAV_SYS_STATUS_TERRAIN
 CONTROL = mav.MAV_SYS_STATUS_SENSOR_Z_ALTITUDE_CONTROL | mav.MAV_SYS_STATUS_SENSOR_XY_POSITION_CONTROL
 RANGEFINDER = mav.MAV_SYS_STATUS_SENSOR_LASER_POSITION
 VISION = mav.MAV_SYS_STATUS_SENSOR_VISION_POSITION
+FLOW = mav.MAV_SYS_STATUS_SENSOR_OPTICAL_FLOW
+
 
 def heartbeat(v: TelemetryView, codec):
     base = mav.MAV_MODE_FLAG_CUSTOM_MODE_ENABLED | mav.MAV_MODE_FLAG_STABILIZE_ENABLED \
@@ -117,6 +120,12 @@ def sys_status(v: TelemetryView, codec):
         enabled |= mav.MAV_SYS_STATUS_SENSOR_PROXIMITY
         if not prox.good:
             healthy &= ~mav.MAV_SYS_STATUS_SENSOR_PROXIMITY
+    flow = v.optical_flow
+    if flow.enabled:  # as ArduCopter: FLOW_TYPE set (live), healthy while samples come
+        present |= FLOW
+        enabled |= FLOW
+        if flow.healthy(v.time_s):
+            healthy |= FLOW
     ext = v.external_nav
     if ext.kind:  # as ArduCopter: visual odometry is present and enabled, healthy with data
         present |= VISION
@@ -255,7 +264,11 @@ TEMPERATURE_NAME = b"GND_TEMP"  # downward radiometer reading, degrees C; time_b
 
 def ground_temperature(v: TelemetryView, codec):
     t_s, value = v.temperature
-    return codec.named_value_float_encode(int(t_s * 1000.0) & 0xFFFFFFFF, TEMPERATURE_NAME, value)
+    own = codec.named_value_float_encode(int(t_s * 1000.0) & 0xFFFFFFFF, TEMPERATURE_NAME, value)
+    named = v.mode_named_float  # FLOWHOLD's height estimate "HEST", as ArduCopter sends it
+    if named is None:
+        return own
+    return [own, codec.named_value_float_encode(_ms(v), named[0], named[1])]
 
 
 EKF_GOOD = (mav.EKF_ATTITUDE | mav.EKF_VELOCITY_HORIZ | mav.EKF_VELOCITY_VERT | mav.EKF_POS_HORIZ_REL
@@ -309,6 +322,7 @@ BUILDERS: dict[int, Builder] = {
     **CAMERA_BUILDERS,
     **MOUNT_BUILDERS,
     **RANGEFINDER_BUILDERS,
+    **OPTICAL_FLOW_BUILDERS,
     **ADSB_BUILDERS,
     **WINCH_BUILDERS,
 }
@@ -333,7 +347,7 @@ _STREAM_GROUP_NAMES = {
     # EXTENDED_SYS_STATE is Firefly's addition to EXTRA3 (ArduCopter sends it only when asked).
     mav.MAV_DATA_STREAM_EXTRA3: ("MAV1_EXTRA3", ("AHRS", "WIND", "RANGEFINDER", "DISTANCE_SENSOR",
                                                "SYSTEM_TIME", "TERRAIN_REPORT",
-                                               "TERRAIN_REQUEST", "BATTERY_STATUS", "EKF_STATUS_REPORT",
+                                               "TERRAIN_REQUEST", "BATTERY_STATUS", "OPTICAL_FLOW", "EKF_STATUS_REPORT",
                                                "VIBRATION", "EXTENDED_SYS_STATE",
                                                "GIMBAL_DEVICE_ATTITUDE_STATUS")),
     # ArduPilot's ADSB stream has no REQUEST_DATA_STREAM id of its own: only MAV_DATA_STREAM_ALL

@@ -87,7 +87,8 @@ class Mode:
     Declared capabilities, read by the vehicle: requires_position (refused without a 3D fix),
     requires_home (measures from home: refused armed without it; entered disarmed, it waits, its
     enter() deferred until home is set, as ArduCopter lets a disarmed vehicle choose it), allows_arming, has_user_takeoff (NAV_TAKEOFF while armed on the ground: the mode implements
-    user_takeoff), manual_throttle (the pilot's throttle stick is the thrust). Ground-station
+    user_takeoff), manual_throttle (the pilot's throttle stick is the thrust), requires_flow (refused
+    without a healthy optical flow sensor). Ground-station
     targets (goto, velocity, heading) are refused unless the mode flies them (GUIDED).
     """
     number: ModeNumber  # set by each mode; its name is the table's
@@ -114,6 +115,12 @@ class Mode:
     # ArduCopter's crash checks watch it (crash_check_enabled: all but ACRO and FLIP): a parachute
     # releases itself on a sink rate only in these
     checks_for_crashes = True
+    # Needs the optical flow sensor enabled and healthy to be entered (FLOWHOLD): the vehicle refuses
+    # it otherwise, as ArduCopter's init() does ("init failed")
+    requires_flow = False
+    # A value the mode reports by name (NAMED_VALUE_FLOAT), as ArduCopter's FLOWHOLD its height
+    # estimate "HEST": (name, value), or None
+    named_float: tuple[bytes, float] | None = None
 
     def __init_subclass__(cls, **kwargs: object) -> None:
         super().__init_subclass__(**kwargs)

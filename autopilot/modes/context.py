@@ -17,6 +17,7 @@ if TYPE_CHECKING:
     from firefly.sim.rigid_body import BodyState
 
     from ..mission.progress import MissionProgress
+    from ..optical_flow import FlowReading
     from ..params import ParamStore
     from ..payload.camera import Camera
     from ..payload.mount import Mount
@@ -46,6 +47,8 @@ class ModeContext:
         origin_alt_m  altitude of the local frame's origin above sea level
         ned_of(lat, lon, alt_amsl) -> (n, e, d) in the local frame
         position_global() where the vehicle is (GeoPoint: degrees, metres above sea level)
+        armed_at_s    when the vehicle last armed (sim seconds)
+        optical_flow  the flow sensor's last sample (optical_flow.FlowReading); optical_flow_healthy()
         accel_body    what the accelerometer reads (FRD, m/s^2): 1 g up at rest, 0 in free fall
         mode_number   the vehicle's mode: while a mode's enter() runs, the one it would take over from
         hover_thrust_share the airframe's weight over its full thrust
@@ -179,11 +182,16 @@ class ModeContext:
     origin_alt_m: ReadThrough[float] = property(attrgetter("_v.origin.alt_m"))
     accel_body: ReadThrough[Vector3] = property(attrgetter("_estimate.accel_body"))
     mode_number: ReadThrough[int] = property(attrgetter("_v.mode_number"))
+    armed_at_s: ReadThrough[float] = property(attrgetter("_arming.armed_at_s"))  # when last armed
+    optical_flow: ReadThrough[FlowReading] = property(attrgetter("_v.optical_flow.reading"))  # its last sample
     precland_kind: ReadThrough[int] = property(attrgetter("_v.precland.kind"))  # PLND_TYPE's sensor, 0 none
     enabled_fences: ReadThrough[int] = property(attrgetter("_v.fence.enabled_fences"))  # AC_FENCE_TYPE_* bits on
 
     def unix_time_us(self) -> int:
         return self._v.unix_time_us()
+
+    def optical_flow_healthy(self) -> bool:
+        return self._v.optical_flow.healthy(self._sim.time_s)
 
     def has_position(self) -> bool:
         return self._estimate.has_position()

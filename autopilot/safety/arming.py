@@ -283,10 +283,12 @@ class Arming:
         self.armed_yaw = 0.0
         # Sim time the arming delay ends: the motors may spin from then on (ArduCopter's interlock)
         self.interlock_at_s = 0.0
+        self.armed_at_s = 0.0  # sim time of the last arming (ArduCopter's arm_time_ms)
 
     def arm(self, yaw: float = 0.0, now_s: float = 0.0) -> None:
         self.armed = True
         self.armed_yaw = yaw
+        self.armed_at_s = now_s
         self.interlock_at_s = now_s + ARMING_DELAY_S
         self.changes += 1
 
