@@ -98,8 +98,10 @@ def test_terrain_request_goes_out_no_more_often_than_every_two_seconds():
 
 
 def test_every_streamed_message_has_a_builder_and_builds():
-    # the rangefinder's are sent with one, the gimbal's with a mount
-    v = hovering_vehicle(5.0, boot_params={"RNGFND1_TYPE": 100, "ADSB_TYPE": 1, "MNT1_TYPE": 1})
+    # the rangefinder's are sent with one, the gimbal's with a mount, the winch's and the optical
+    # flow's with theirs
+    v = hovering_vehicle(5.0, boot_params={"RNGFND1_TYPE": 100, "ADSB_TYPE": 1, "MNT1_TYPE": 1, "WINCH_TYPE": 1,
+                                           "SERVO9_FUNCTION": 88, "FLOW_TYPE": 10, "SIM_FLOW_ENABLE": 1})
     near = v.adsb_location()  # ADSB_VEHICLE is sent with traffic listed
     v.adsb_vehicle(AdsbReport(1, near.lat_e7, near.lon_e7, 0, 1000, 0, 0, 0, b"T", 1, 1, 0x1FF, 1200))
     # Hovering after a takeoff GUIDED has no waypoint: ArduCopter sends no position target then.

@@ -64,9 +64,11 @@ def _names_for_annotations() -> dict:
     from firefly.sim.battery import BatteryState
     from firefly.sim.rigid_body import BodyState
     from firefly.sim.sensors import GpsReading, RcReceiver
+    from firefly.autopilot.optical_flow import FlowReading
     from firefly.autopilot.pilot import PilotInput
     return {"ReadThrough": views.ReadThrough, "Vector3": views.Vector3, "BatteryState": BatteryState,
-            "BodyState": BodyState, "GpsReading": GpsReading, "PilotInput": PilotInput, "RcReceiver": RcReceiver}
+            "BodyState": BodyState, "GpsReading": GpsReading, "PilotInput": PilotInput, "RcReceiver": RcReceiver,
+            "FlowReading": FlowReading}
 
 
 def conforms(value, hint) -> bool:
