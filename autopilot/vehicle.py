@@ -169,6 +169,7 @@ class Vehicle:
         self.cascade = make_cascade(self.sim, self.params, config.rates, config.compiled)
         self._gains: Params = self.params  # what the controllers are configured from
         self.params.on_change(self._param_changed)
+        self._hear_positions()
         # The parameter and mission files with a write waiting for its interval (persist.JsonFile):
         # the session polls them while this is not empty.
         self.stores_waiting: set = set()
@@ -755,6 +756,17 @@ class Vehicle:
         """An ADSB_VEHICLE from any link: traffic for the receiver's list (adsb/traffic_list.py)."""
         self.traffic.receive(report, int(self.time_s * 1000))
 
+    def _hear_positions(self) -> None:
+        p = self.params
+        self._follows_or_avoids = bool(p["FOLL_ENABLE"]) or bool(int(p["DEV_OPTIONS"]) & 1)
+
+    def hears_positions(self) -> bool:
+        """Whether another system's GLOBAL_POSITION_INT can matter here: FOLLOW (FOLL_ENABLE),
+        avoidance of MAVLink positions (DEV_OPTIONS bit 0), a gimbal pointed at a system. The
+        vehicles of one process hear each other (io/shared_air.py): asked first, a swarm of N
+        costs N² of these instead of N² message reads."""
+        return self._follows_or_avoids or self.mount.target_sysid != 0
+
     def position_heard(self, system_id: int, lat_e7: int, lon_e7: int, alt_mm: int, vx_cms: int, vy_cms: int,
                        vz_cms: int) -> None:
         """Another system's GLOBAL_POSITION_INT: with DEV_OPTIONS bit 0 (ADSBMavlinkProcessing) an
@@ -939,6 +951,8 @@ class Vehicle:
             self._want_adsb()
         elif name.startswith("EK3_SRC"):
             self._estimate_jumps(self.estimate.follow_sources)
+        elif name in ("FOLL_ENABLE", "DEV_OPTIONS"):
+            self._hear_positions()
 
     # ----- commands: arming ------------------------------------------------------------------
     def arm(self, force: bool = False) -> Result:

@@ -213,7 +213,7 @@ class Session:
     def overhear(self, msg, system_id: int, now_s: float) -> None:
         """A message another vehicle of this process sent (io/shared_air.py), from `system_id`:
         taken only as the vehicle takes any system's position (FOLLOW's lead); no answer."""
-        if now_s < self.silent_until_s:
+        if now_s < self.silent_until_s or not self.vehicle.hears_positions():
             return
         try:
             on_global_position_int(self.vehicle, msg, now_s, system_id)
