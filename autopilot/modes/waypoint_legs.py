@@ -152,6 +152,10 @@ class WaypointLegs:
         avoidance = self.avoidance
         if avoidance is not None:
             avoidance.steer(ctx, nav)
+            if avoidance.bendy:  # BendyRuler's point, for the position controller itself
+                avoidance.fly_bendy(ctx, nav, sp, dt)
+                sp.yaw = self.auto_yaw.facing(ctx, sp.vel_ne[0], sp.vel_ne[1])
+                return False
         reached = nav.update(dt, (b.n_m, b.e_m, b.d_m), (b.vn_m_s, b.ve_m_s, b.vd_m_s))
         if avoidance is not None and avoidance.state != NOT_REQUIRED:
             reached = False

@@ -1,18 +1,24 @@
-"""ArduCopter's object-avoidance path planner (AP_OAPathPlanner with its Dijkstra planner), as the
-waypoint legs consult it: given where the vehicle is and the leg's destination (and the next
-one), it answers whether avoidance is needed and, if so, the corner to fly to now.
+"""ArduCopter's object-avoidance path planner (AP_OAPathPlanner with its Dijkstra and BendyRuler
+planners), as the waypoint legs consult it: given where the vehicle is and the leg's destination
+(and the next one), it answers whether avoidance is needed and, if so, the point to fly to now.
 
-The planner is made at boot for the OA_TYPE then (2 Dijkstra; 3, Dijkstra with BendyRuler, plans
-as 2 here: BendyRuler's proximity obstacles are not modelled; 1, BendyRuler alone, not at all: the
-legs fly as with OA_TYPE 0). OA_TYPE set later is refused at arming ("Dijkstra OA requires reboot") and plans nothing, while
-OA_TYPE 0 stops it at once. ArduCopter plans on a thread of its own about once a second, for the
-request the legs last made; the legs act on an answer only when it was planned for their present
-destination. Until then the answer is "processing" (the legs stop where they can, unless
-OA_OPTIONS allows fast waypoints), and a planner silent for 3 s is an error. Here the planner runs
-on sim time at every PLAN_EVERY_S a request finds due, so it answers 0-1 s after a new
-destination, as ArduCopter's thread does.
+The planners are made at boot for the OA_TYPE then: 1 BendyRuler (bendy_ruler.py), 2 Dijkstra
+(dijkstra.py), 3 both: BendyRuler for proximity obstacles, Dijkstra round the fence. The obstacle
+database of proximity obstacles is not modelled, so OA_TYPE 3 plans as 2 (as ArduCopter's does
+with no proximity sensor). OA_TYPE set later is refused at arming ("Dijkstra OA requires reboot")
+and plans nothing, while OA_TYPE 0 stops it at once. ArduCopter plans on a thread of its own about
+once a second, for the request the legs last made; the legs act on an answer only when it was
+planned for their present destination. Until then the answer is "processing" (the legs stop where
+they can, unless OA_OPTIONS allows fast waypoints), and a planner silent for 3 s is an error. Here
+the planner runs on sim time at every PLAN_EVERY_S a request finds due, so it answers 0-1 s after
+a new destination, as ArduCopter's thread does.
 
-Each plan (AP_OADijkstra::update): no avoidance without a polygon fence enabled that holds an
+BendyRuler answers at each plan a point ahead to fly to (the legs hand it to the position
+controller, not the waypoint navigator), or that no avoidance is needed; it never says why, and
+never stops the vehicle, and the way on to the next destination is never known clear (the legs
+stop at each destination).
+
+Each Dijkstra plan (AP_OADijkstra::update): no avoidance without a polygon fence enabled that holds an
 inclusion or exclusion polygon or an exclusion circle. The fence's corners and what they see are
 built once per fence with the OA_MARGIN_MAX of then (fence changes rebuild it; the margin alone
 does not); the shortest path is found once per destination, from where the vehicle is then, and
@@ -31,6 +37,7 @@ from typing import TYPE_CHECKING
 from ..results import Severity
 from ..safety.fence_shapes import Shape
 from ..safety.fence_switch import POLYGON, FenceSwitch
+from .bendy_ruler import BendyRuler, FenceView, Settings
 from .dijkstra import FenceGraph, PlanError
 
 if TYPE_CHECKING:
@@ -58,12 +65,14 @@ SAME_PLACE_M = 0.01  # ArduCopter's Locations are equal within 1e-7 degree
 class Answer:
     """A plan for a request: its state and, when SUCCESS, the leg to fly (origin, destination and
     the point after it, the request's destination past the last corner); dest_to_next_clear: the
-    way from the request's destination to its next one crosses no fence."""
+    way from the request's destination to its next one crosses no fence; bendy: BendyRuler's
+    answer (a point for the position controller, not a leg)."""
     state: str
     origin: Vec2 | None = None
     destination: Vec2 | None = None
     next_destination: Vec2 | None = None
     dest_to_next_clear: bool = True
+    bendy: bool = False
 
 
 @dataclass(frozen=True)
@@ -71,6 +80,9 @@ class _Request:
     here: Vec2
     destination: Vec2
     next_destination: Vec2 | None
+    velocity: Vec2 = (0.0, 0.0)  # the ground velocity (north, east) [m/s]
+    heading_deg: float = 0.0
+    home: Vec2 = (0.0, 0.0)
 
 
 def _same(a: Vec2 | None, b: Vec2 | None) -> bool:
@@ -157,6 +169,7 @@ class PathPlanner:
         self.kind_at_boot = int(params["OA_TYPE"])
         self._made = NEEDS.get(self.kind_at_boot, set())  # the planners made at boot
         self._dijkstra = Dijkstra(notify)
+        self._bendy = BendyRuler()
         self._answer: tuple[_Request, Answer] | None = None  # the last plan, for the request it was made for
         self._answer_s = -math.inf
         self._tick = -1  # the planning period of the last request
@@ -172,19 +185,19 @@ class PathPlanner:
     def options(self) -> int:
         return int(self._params["OA_OPTIONS"])
 
-    def avoid(self, now_s: float, here: Vec2, destination: Vec2, next_destination: Vec2 | None) -> Answer:
-        """The plan for flying from `here` to `destination` (then on to `next_destination`):
+    def avoid(self, now_s: float, here: Vec2, destination: Vec2, next_destination: Vec2 | None,
+              velocity: Vec2 = (0.0, 0.0), heading_deg: float = 0.0, home: Vec2 = (0.0, 0.0)) -> Answer:
+        """The plan for flying from `here` to `destination` (then on to `next_destination`), the
+        vehicle moving at `velocity` (north, east) facing `heading_deg`, home at `home`:
         AP_OAPathPlanner::mission_avoidance."""
         kind = int(self._params["OA_TYPE"])
         if kind == DISABLED or not self._made:  # (no planner thread was made)
             return Answer(NOT_REQUIRED)
-        if kind == BENDY_RULER and BENDY_RULER in self._made:
-            return Answer(NOT_REQUIRED)  # BendyRuler is not modelled: the legs fly as without a planner
         since_asked = now_s - self._asked_s
         if since_asked > REQUEST_GAP_S:
             self._activated_s = now_s
         self._asked_s = now_s
-        request = _Request(here, destination, next_destination)
+        request = _Request(here, destination, next_destination, velocity, heading_deg, home)
         # A plan every PLAN_EVERY_S, for the request made just before it (one made after a long
         # silence waits for the next, as a request the thread did not see yet)
         tick = math.floor(now_s / PLAN_EVERY_S)
@@ -202,9 +215,24 @@ class PathPlanner:
         if not NEEDS.get(kind, {DISABLED}) <= self._made:
             return  # a planner not made at boot: no answer (a timeout, as ArduCopter's)
         shapes = self._fence_shapes()
+        if kind == BENDY_RULER:
+            self._answer, self._answer_s = (request, self._bendy_plan(request, shapes)), now_s
+            return
         fenced = any(s.kind == "poly" or not s.inclusion for s in shapes)
         if not fenced or not self._fence.enabled_fences & POLYGON:
             answer = Answer(NOT_REQUIRED)
         else:
             answer = self._dijkstra.plan(now_s, request, shapes, float(self._params["OA_MARGIN_MAX"]))
         self._answer, self._answer_s = (request, answer), now_s
+
+    def _bendy_plan(self, request: _Request, shapes: Sequence[Shape]) -> Answer:
+        p = self._params
+        fence = FenceView(tuple(shapes), self._fence.enabled_fences, float(p["FENCE_RADIUS"]),
+                          float(p["FENCE_MARGIN"]), request.home)
+        settings = Settings(float(p["OA_BR_LOOKAHEAD"]), float(p["OA_BR_CONT_RATIO"]), float(p["OA_BR_CONT_ANGLE"]),
+                            float(p["OA_MARGIN_MAX"]))
+        active, point = self._bendy.update(request.here, request.destination, request.velocity, request.heading_deg,
+                                           fence, settings)
+        if not active:
+            return Answer(NOT_REQUIRED, dest_to_next_clear=False)
+        return Answer(SUCCESS, request.here, point, None, dest_to_next_clear=False, bendy=True)

@@ -1,0 +1,149 @@
+"""BendyRuler (OA_TYPE 1, path_planning/bendy_ruler.py): its margins from the fence, its search,
+its answers to the waypoint legs, and legs flown round a fence by AUTO (the figures measured on
+ArduCopter SITL are in the parity area `oa_bendy`)."""
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from firefly.autopilot.mission import MissionItem
+from firefly.autopilot.mission.store import FENCE
+from firefly.autopilot.path_planning.bendy_ruler import (BendyRuler, FenceView, Settings, bearing_deg,
+                                                         polygon_line_distance)
+from firefly.autopilot.path_planning.planner import NOT_REQUIRED, PROCESSING, SUCCESS
+from firefly.autopilot.results import Result
+
+from ._util import altitude, fly_until, ready_vehicle
+from .test_path_planning import EXCLUSION_CIRCLE, REL, circle, item_at, planner, poly, square
+
+POLYGON_AND_CIRCLE = 2 | 4  # FENCE_TYPE bits BendyRuler reads
+DEFAULTS = Settings(lookahead=15.0, ratio=1.5, angle=75.0, margin_max=5.0)
+
+
+def view(*shapes, fences=POLYGON_AND_CIRCLE, radius=300.0, fence_margin=2.0) -> FenceView:
+    return FenceView(tuple(shapes), fences, radius, fence_margin)
+
+
+# ----- margins ---------------------------------------------------------------------------------
+def test_an_exclusion_circle_s_margin_is_the_segment_s_distance_less_radius_and_fence_margin():
+    fence = view(circle(50, 0, 10), fences=4)
+    assert fence.margin((0, 20), (100, 20)) == pytest.approx(20 - 12)
+    assert fence.margin((0, 0), (30, 0)) == pytest.approx(20 - 12)  # the nearer end
+    assert fence.margin((0, 0), (100, 0)) == pytest.approx(-12)  # through the centre
+    assert view(circle(50, 0, 10), fences=2).margin((0, 0), (100, 0)) == 198  # polygon fence off: home circle only
+
+
+def test_the_circle_round_home_counts_the_further_end():
+    fence = view(fences=2, radius=100.0)
+    assert fence.margin((0, 0), (50, 0)) == pytest.approx(100 - 2 - 50)
+    assert fence.margin((0, 0), (120, 0)) == pytest.approx(-22)
+    assert view(fences=0).margin((0, 0), (500, 0)) == math.inf  # nothing to see
+
+
+def test_a_segment_across_a_polygon_is_short_by_its_end_s_depth_past_the_crossing():
+    sq = square(50, 0, 10)  # south edge at north 40 is the closing one (last vertex to first)
+    assert polygon_line_distance(sq, (0, 0), (45, 0)) == pytest.approx(-5)
+    assert polygon_line_distance(sq, (0, 0), (100, 0)) == pytest.approx(-60)  # from the crossing nearest the start
+    # clear of it: the closing edge is skipped, so ending 1 m short of the south edge's middle counts
+    # the distance to its corners and the other edges, not 1 m
+    assert polygon_line_distance(sq, (0, 0), (39, 0)) == pytest.approx(math.hypot(1, 10))
+    assert polygon_line_distance(sq, (50, -30), (50, -12)) == pytest.approx(2)  # the west edge, not skipped
+    fence = view(poly(sq), fences=4)
+    assert fence.margin((50, -30), (50, -12)) == pytest.approx(0)  # less FENCE_MARGIN
+    inclusion = view(poly(square(0, 0, 50), inclusion=True), fences=4)
+    assert inclusion.margin((0, 0), (0, 30)) == pytest.approx(20 - 2)
+    assert inclusion.margin((0, 60), (0, 70)) == pytest.approx(-10 - 2)  # outside: negative
+
+
+def test_bearings_are_rounded_to_centidegrees_as_arducopter_s_locations_give_them():
+    assert bearing_deg((0, 0), (10, 0)) == 0.0
+    assert bearing_deg((0, 0), (0, -10)) == pytest.approx(270.0)
+    assert bearing_deg((0, 0), (100, 1)) == pytest.approx(0.57)  # 0.5729...
+
+
+# ----- the search ------------------------------------------------------------------------------
+def test_a_clear_way_needs_no_avoidance_and_the_look_ahead_grows_from_half():
+    br = BendyRuler()
+    active, point = br.update((0, 0), (100, 0), (0, 0), 0.0, view(), DEFAULTS)
+    assert not active and point == pytest.approx((7.5, 0.0))
+    assert br.current_lookahead == pytest.approx(8.25)
+    for _ in range(20):
+        br.update((0, 0), (100, 0), (0, 0), 0.0, view(), DEFAULTS)
+    assert br.current_lookahead == 15.0  # OA_BR_LOOKAHEAD at most
+
+
+def test_a_circle_on_the_line_is_passed_on_its_left_the_first_side_searched():
+    """Measured (auto_circle_centred): round the west side, at most 27 m off the line."""
+    br, fence = BendyRuler(), view(circle(50, 0, 10))
+    br.current_lookahead = 15.0
+    active, point = br.update((30, 0), (100, 0), (5, 0), 0.0, fence, DEFAULTS)
+    assert active and point[1] < -5.0
+    assert fence.margin((30, 0), point) > 5.0  # step 1 clear by more than OA_MARGIN_MAX
+
+
+def test_no_clear_bearing_flies_the_best_margin_at_a_shortened_reach():
+    br, fence = BendyRuler(), view(circle(0, 0, 30))  # inside an exclusion circle
+    active, point = br.update((0, 0), (100, 0), (0, 0), 0.0, fence, DEFAULTS)
+    assert active and math.dist((0, 0), point) < 7.5
+    assert br.current_lookahead == 7.5  # shrinks, but never below half
+
+
+def test_a_big_turn_is_resisted_unless_the_margin_is_ratio_times_better():
+    br = BendyRuler()
+    fence = view(circle(50, 0, 10))
+    br.current_lookahead = 15.0
+    br.update((30, 0), (100, 0), (5, 0), 0.0, fence, DEFAULTS)  # the first bearing: west of the circle
+    first = br.bearing_prev
+    assert -90.0 < first < 0.0
+    br.bearing_prev = 90.0  # as if it had been heading east: the west bearing turns more than 75
+    active, point = br.update((30, 0), (100, 0), (5, 0), 0.0, fence, DEFAULTS)
+    # the east bearing's margin (a clear 15 m east) is not 1.5 times worse: kept
+    assert active and point == pytest.approx((30.0, 15.0), abs=0.01) and br.bearing_prev == 90.0
+    lenient = Settings(15.0, 1.5, 180.0, 5.0)  # OA_BR_CONT_ANGLE 180: never resisted
+    br.bearing_prev = 90.0
+    active, point = br.update((30, 0), (100, 0), (5, 0), 0.0, fence, lenient)
+    assert point[1] < 0 and br.bearing_prev == pytest.approx(first)
+
+
+# ----- the planner's answers -------------------------------------------------------------------
+def test_oa_type_1_answers_points_for_the_position_controller_and_never_a_clear_way_on():
+    p, _, said = planner([circle(50, 0, 10)], oa_type=1)
+    answers = [p.avoid(k * 0.01, (30.0, 0.0), (100.0, 0.0), (100.0, 40.0), (5.0, 0.0)) for k in range(300)]
+    assert {a.state for a in answers} == {PROCESSING, SUCCESS}
+    last = answers[-1]
+    assert last.bendy and last.destination is not None and last.destination[1] < 0 and not last.dest_to_next_clear
+    p, _, _ = planner([circle(50, 40, 10)], oa_type=1)  # out of the way
+    last = [p.avoid(k * 0.01, (30.0, 0.0), (100.0, 0.0), None) for k in range(300)][-1]
+    assert last.state == NOT_REQUIRED and not last.dest_to_next_clear
+    assert said.texts == []  # BendyRuler says nothing
+
+
+def test_oa_type_3_without_proximity_obstacles_plans_as_dijkstra():
+    p, _, _ = planner([circle(50, 4, 10)], oa_type=3)
+    last = [p.avoid(k * 0.01, (0.0, 0.0), (100.0, 0.0), None) for k in range(300)][-1]
+    assert last.state == SUCCESS and not last.bendy  # measured: the corner (50, -13.3)
+    assert last.destination == pytest.approx((50.0, -13.28), abs=0.05)
+
+
+# ----- flown -----------------------------------------------------------------------------------
+def test_auto_bends_round_an_exclusion_circle_and_reaches_its_waypoint():
+    """Measured (auto_circle): round the west side, 15.7 m off the line at most, 6.2 m from the
+    circle at the closest, the waypoint reached 25.1 s after AUTO was set."""
+    v = ready_vehicle({"OA_TYPE": 1, "FENCE_ENABLE": 1})
+    v.mission.replace(FENCE, [item_at(v, EXCLUSION_CIRCLE, 50, 4, p1=10)])
+    v.mission.replace(0, [MissionItem(22, REL, z=10.0), item_at(v, 16, 100, 0)])
+    v.set_mode(4)
+    assert v.arm() == Result.ACCEPTED
+    assert v.takeoff(10.0) == Result.ACCEPTED
+    assert fly_until(v, lambda x: altitude(x) > 9.8, 20.0)
+    v.set_mode(3)
+    start = v.time_s
+    assert v.mission_start() == Result.ACCEPTED
+    track = []
+    assert fly_until(v, lambda x: track.append((x.body.n_m, x.body.e_m)) or 2 in x.mission_progress.reached, 60.0)
+    closest = min(math.dist(p, (50, 4)) for p in track) - 10
+    assert closest == pytest.approx(6.2, abs=1.0)
+    assert min(e for _, e in track) == pytest.approx(-15.7, abs=1.5)
+    assert v.time_s - start == pytest.approx(25.1, abs=3.0)
+    assert math.dist(track[-1], (100, 0)) < 1.0 and altitude(v) == pytest.approx(10, abs=0.5)
