@@ -56,8 +56,10 @@ PROBES_PARAMS = {
 TRACK = PathTol(abs=3.0, why="the bent path flown: each vehicle's own position controller chasing a target "
                              "BendyRuler moves once a second (its thread's phase is each vehicle's own)")
 CORNER = PathTol(abs=0.5, points=True, why="Dijkstra's corners, the same geometry on both")
-CLOSEST = Tol(abs=1.0, why="how near the track comes to the obstacle: BendyRuler's margin less each vehicle's lag "
-                           "behind a target moved once a second")
+CLOSEST = Tol(abs=1.5, why="how near the track comes to the obstacle: BendyRuler's margin less each vehicle's lag "
+                           "behind a target moved once a second. Firefly passes a circle 0.2-0.9 m nearer: its leg "
+                           "gathers speed a little sooner (1.5 m further on 5 s after the first plan, 15.4 m against "
+                           "13.9 m, measured from ArduCopter's PSCN log), so each plan's bend starts that much nearer")
 LENGTH = Tol(abs=6.0, rel=0.05, why="the path's length: the same bend, each vehicle's own turns")
 OFF_LINE = Tol(abs=2.0, why="the furthest off the line: how far each swings out round the obstacle")
 ARRIVAL = Tol(abs=5.0, rel=0.1, why="the flight time: two position controllers chasing targets moved once a "
