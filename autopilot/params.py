@@ -304,8 +304,8 @@ PARAM_TABLE: tuple[ParamSpec, ...] = (
     # The path planner round the fence (AP_OAPathPlanner, path_planning/): ArduCopter shows OA_* once
     # OA_TYPE is set (no reboot needed to see them, one to plan), with these types and defaults
     # (measured). The OA_DB_* are the obstacle database of proximity obstacles, not modelled: served only.
-    _i8("OA_TYPE", 0, 0, 3, "0 none, 1 BendyRuler (horizontal) and 2 Dijkstra round the fence; 3 Dijkstra with "
-                            "BendyRuler for proximity obstacles (none modelled: as 2); read at boot"),
+    _i8("OA_TYPE", 0, 0, 3, "0 none, 1 BendyRuler and 2 Dijkstra round the fence; 3 Dijkstra with BendyRuler for "
+                            "proximity obstacles (none modelled: as 2); read at boot"),
     _f("OA_MARGIN_MAX", 5.0, 0.1, 100, "the path keeps this far out from the fence's corners [m]"),
     replace(_i("OA_OPTIONS", 1, 0, 32767, "bit 2: fast waypoints (fly on while planning and through the corners)"),
             mav_type=MAV_PARAM_TYPE_INT16),
@@ -317,7 +317,7 @@ PARAM_TABLE: tuple[ParamSpec, ...] = (
     _f("OA_BR_CONT_RATIO", 1.5, 1.1, 2, "BendyRuler turns more than OA_BR_CONT_ANGLE only for this many times the margin"),
     replace(_i("OA_BR_CONT_ANGLE", 75, 20, 180, "BendyRuler resists turning more than this from its bearing [deg]"),
             mav_type=MAV_PARAM_TYPE_INT16),
-    _i8("OA_BR_TYPE", 1, 1, 2, "BendyRuler's search: 1 horizontal (2 vertical: not modelled, searched as 1)"),
+    _i8("OA_BR_TYPE", 1, 1, 2, "BendyRuler's search: 1 horizontal (a bearing), 2 vertical (a climb or descent)"),
     *(_f(f"OA_DB_{name}", default, low, high, "served; the obstacle database's (BendyRuler's)")
       for name, default, low, high in (("BEAM_WIDTH", 5.0, 1, 10), ("RADIUS_MIN", 0.01, 0, 10),
                                        ("DIST_MAX", 0.0, 0, 10), ("ALT_MIN", 0.0, 0, 4))),

@@ -7,11 +7,12 @@ answers:
 - success: the destination is replaced by the planner's corner, its height taken along the leg
   from the origin to the destination, and flown to as a leg of its own (through it to the next
   corner with OA_OPTIONS' fast waypoints);
-- success from BendyRuler: its point, at the height the leg has abreast of the vehicle, goes to
-  the position controller itself (AC_WPNav_OA hands it to input_pos_NEU_cm, not to the waypoint
-  navigator): the target runs to it within WPNAV_SPEED, WPNAV_ACCEL and PSC_JERK_XY, the point
-  moving on at each plan. When BendyRuler is done the navigator starts afresh from where the
-  vehicle can stop (ArduCopter's navigator went unupdated meanwhile);
+- success from BendyRuler: its point, at the height the leg has abreast of the vehicle (the
+  vertical search's own height), goes to the position controller itself (AC_WPNav_OA hands it to
+  input_pos_NEU_cm, not to the waypoint navigator): the target runs to it within the navigator's
+  speeds and accelerations and PSC_JERK_XY / PSC_JERK_Z (position_target.py), the point moving on
+  at each plan. When BendyRuler is done the navigator starts afresh from where the vehicle can
+  stop (ArduCopter's navigator went unupdated meanwhile);
 - processing (a new destination not planned yet) or an error (no path): the vehicle stops where
   it can and holds there; with fast waypoints it flies on while processing.
 The leg counts as reached only when no avoidance is needed any more.
@@ -20,12 +21,12 @@ from __future__ import annotations
 
 import math
 
-from ..control.shaping import advance_2d, shape_pos_vel_accel_2d
 from ..control.wpnav import WaypointNav
 from ..path_planning.planner import ERROR, FAST_WAYPOINTS, NOT_REQUIRED, PROCESSING, SUCCESS, Answer
 from ..views import Vector3
 from .base import Setpoint
 from .context import ModeContext
+from .position_target import PositionTarget
 
 Vec2 = tuple[float, float]
 
@@ -40,11 +41,11 @@ def _height_along(point: Vec2, origin: Vector3, destination: Vector3) -> Vector3
     return point[0], point[1], origin[2] + (destination[2] - origin[2]) * share
 
 
-JERK_DEFAULT_M_S3 = 5.0  # PSC_JERK_XY's default
+JERK_XY_DEFAULT_M_S3 = 5.0  # PSC_JERK_XY's default
 
 
 class LegAvoidance:
-    __slots__ = ("state", "oa_destination", "_origin", "_destination", "_next", "_bendy")
+    __slots__ = ("state", "oa_destination", "_origin", "_destination", "_next", "_bendy", "_bendy_point")
 
     def __init__(self) -> None:
         self.state = NOT_REQUIRED
@@ -53,9 +54,10 @@ class LegAvoidance:
         self._origin: Vector3 = (0.0, 0.0, 0.0)
         self._destination: Vector3 = (0.0, 0.0, 0.0)
         self._next: Vector3 | None = None
-        # BendyRuler's target for the position controller: ((n, e) position, velocity,
-        # acceleration) and the height; None while the navigator flies
-        self._bendy: tuple[tuple[float, float], tuple[float, float], tuple[float, float], float] | None = None
+        # BendyRuler's: the position controller's target and the point (north, east, up) it runs
+        # to; None while the navigator flies
+        self._bendy: PositionTarget | None = None
+        self._bendy_point: tuple[float, float, float] = (0.0, 0.0, 0.0)
 
     def reset(self) -> None:
         """The mode set a new destination: planning starts again from it."""
@@ -80,14 +82,15 @@ class LegAvoidance:
         home = ctx.home_ned
         answer = planner.avoid(ctx.time_s, (b.n_m, b.e_m), (self._destination[0], self._destination[1]), following,
                                (b.vn_m_s, b.ve_m_s), math.degrees(ctx.attitude[2]),
-                               (0.0, 0.0) if home is None else (home[0], home[1]))
+                               (0.0, 0.0, 0.0) if home is None else (home[0], home[1], -home[2]), -b.d_m)
         fast = bool(planner.options & FAST_WAYPOINTS)
         if answer.state == SUCCESS and answer.bendy and answer.destination is not None:
-            self._fly_bendy(nav, answer.destination, (b.n_m, b.e_m))
+            self._fly_bendy(nav, answer, (b.n_m, b.e_m))
             return
-        if self._bendy is not None:  # BendyRuler is done: the navigator takes the target back
-            (pn, pe), (vn, ve), (an, ae), height = self._bendy
-            nav.take_over((pn, pe, height), (vn, ve, 0.0), (an, ae, 0.0),
+        target = self._bendy
+        if target is not None:  # BendyRuler is done: the navigator takes the target back
+            (pn, pe), (vn, ve), (an, ae) = target.pos_ne, target.vel_ne, target.accel_ne
+            nav.take_over((pn, pe, -target.pos_up), (vn, ve, -target.vel_up), (an, ae, -target.accel_up),
                           ((b.n_m, b.e_m, b.d_m), (b.vn_m_s, b.ve_m_s, b.vd_m_s)))
             self._bendy = None
         if answer.state == NOT_REQUIRED:
@@ -103,27 +106,29 @@ class LegAvoidance:
             nav.set_destination(point)
             self.oa_destination, self.state = (point[0], point[1]), answer.state
 
-    def _fly_bendy(self, nav: WaypointNav, point: Vec2, here: Vec2) -> None:
+    def _fly_bendy(self, nav: WaypointNav, answer: Answer, here: Vec2) -> None:
         if self._bendy is None:  # the target goes on from the navigator's
-            p, v, a = nav.pos, nav.vel, nav.accel
-            self._bendy = ((p[0], p[1]), (v[0], v[1]), (a[0], a[1]), p[2])
-        height = _height_along(here, self._origin, self._destination)[2]
-        self._bendy = (*self._bendy[:3], height)
+            (pn, pe, pd), (vn, ve, vd), (an, ae, ad) = nav.pos, nav.vel, nav.accel
+            self._bendy = PositionTarget((pn, pe, -pd), (vn, ve, -vd), (an, ae, -ad))
+        point = answer.destination
+        assert point is not None
+        up = answer.height
+        if up is None:  # the horizontal search: the leg's height abreast of the vehicle
+            up = -_height_along(here, self._origin, self._destination)[2]
+        self._bendy_point = (point[0], point[1], up)
         self.state, self.oa_destination = SUCCESS, point
 
     def fly_bendy(self, ctx: ModeContext, nav: WaypointNav, sp: Setpoint, dt: float) -> None:
         """Move the position controller's target towards BendyRuler's point (input_pos_NEU_cm)
         and put it in the setpoint."""
-        if self._bendy is None or self.oa_destination is None:
+        target = self._bendy
+        if target is None:
             return
-        pos, vel, accel, height = self._bendy
-        lim = nav.limits
-        pos, vel = advance_2d(pos, vel, accel, dt)
-        accel = shape_pos_vel_accel_2d(self.oa_destination, (0.0, 0.0), (0.0, 0.0), pos, vel, accel, lim.accel_xy,
-                                       ctx.params.get("PSC_JERK_XY", JERK_DEFAULT_M_S3), dt, lim.speed_xy)
-        self._bendy = (pos, vel, accel, height)
-        sp.pos_ne, sp.vel_ne, sp.accel_ne = pos, vel, accel
-        sp.pos_d, sp.vel_d = height, 0.0
+        lim, params = nav.limits, ctx.params
+        target.run_to(self._bendy_point, dt, (lim.speed_xy, lim.speed_up, lim.speed_down), lim.accel_xy,
+                      params.get("PSC_JERK_XY", JERK_XY_DEFAULT_M_S3), lim.accel_z, params["PSC_JERK_Z"])
+        sp.pos_ne, sp.vel_ne, sp.accel_ne = target.pos_ne, target.vel_ne, target.accel_ne
+        sp.pos_d, sp.vel_d = -target.pos_up, -target.vel_up
 
     def _fly_corner(self, nav: WaypointNav, answer: Answer, fast: bool) -> None:
         corner = answer.destination

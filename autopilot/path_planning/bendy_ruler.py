@@ -1,7 +1,7 @@
-"""ArduCopter's BendyRuler path planner (OA_TYPE 1, AP_OABendyRuler), horizontal search: once a
-plan, it looks for a bearing to fly on that keeps clear of the fence, and answers the point
-ahead on it to fly to, or that no avoidance is needed (the way straight to the destination is
-clear).
+"""ArduCopter's BendyRuler path planner (OA_TYPE 1, AP_OABendyRuler): once a plan, it looks for a
+bearing (OA_BR_TYPE 1, horizontal) or a climb (2, vertical) to fly that keeps clear of the fence,
+and answers the point to fly to, or that no avoidance is needed (the way straight to the
+destination is clear).
 
 Margins: a segment's margin is how much further from every fence obstacle than FENCE_MARGIN it
 stays (negative: closer, or across it), the least over
@@ -14,8 +14,9 @@ stays (negative: closer, or across it), the least over
   Polygon_closest_distance_line does for the unclosed polygons the fence holds;
 - each exclusion circle: the segment's distance to its centre less (radius + FENCE_MARGIN); each
   inclusion circle (radius + FENCE_MARGIN) less the further end's distance from its centre.
-A segment is clear when its margin is more than OA_MARGIN_MAX. No obstacle at all: an infinite
-margin. The obstacle database (proximity obstacles, OA_DB_*) is not modelled, so with OA_TYPE 3
+The vertical search also keeps below FENCE_ALT_MAX (FENCE_TYPE bit 1): FENCE_ALT_MAX -
+FENCE_MARGIN less the higher end's height above home. A segment is clear when its margin is more
+than OA_MARGIN_MAX. No obstacle at all: an infinite margin. The obstacle database (proximity obstacles, OA_DB_*) is not modelled, so with OA_TYPE 3
 (which asks BendyRuler about proximity obstacles only) it never acts.
 
 The search (search_xy_path): bearings from the one to the destination (rounded to 0.01 degree)
@@ -31,8 +32,15 @@ below 0.2 m/s), or failing any, the bearing of the best margin, flown at the loo
 by a negative margin. The look-ahead (OA_BR_LOOKAHEAD) starts at half and grows by 10 % a clear
 plan (5 % a candidate's), shrinking by 10 % when none, within half and all of it.
 
+The vertical search (search_vertical_path) tries pitches 0 (towards the destination), up, down
+and 180 (away) in that order, each the look-ahead long; the first clear one whose step 2 (from its
+end: level towards the destination, up, down or away) is clear too is taken; failing that the
+first clear one, or failing any the best. Whatever is taken is flown as far as the destination is
+(horizontally) away: straight up by that much, or to the destination itself; only pitch 0 with a
+level step 2 clear needs no avoidance.
+
 Everything is in metres and degrees (bearings from north, clockwise) in the local (north, east)
-frame.
+frame, heights up.
 """
 from __future__ import annotations
 
@@ -43,6 +51,7 @@ from dataclasses import dataclass
 from ..safety.fence_shapes import Shape, closest_point, point_in_polygon, segment_intersection
 
 Vec2 = tuple[float, float]
+Vec3 = tuple[float, float, float]  # north, east, up
 
 BEARING_STEP_DEG = 5  # OA_BENDYRULER_BEARING_INC_XY
 BEARING_SPAN_DEG = 170  # searched either side of the bearing to the destination
@@ -50,7 +59,8 @@ STEP2_BEARINGS_DEG = (0.0, 45.0, -45.0)
 STEP2_MIN_M = 2.0  # OA_BENDYRULER_LOOKAHEAD_STEP2_MIN
 PAST_DESTINATION_M = 2.0  # OA_BENDYRULER_LOOKAHEAD_PAST_DEST
 LOW_SPEED_M_S = 0.2  # below it the heading stands for the ground course
-CIRCLE_FENCE, POLYGON_FENCE = 2, 4  # FENCE_TYPE bits
+ALT_MAX_FENCE, CIRCLE_FENCE, POLYGON_FENCE = 1, 2, 4  # FENCE_TYPE bits
+VERTICAL_PITCHES_DEG = (0.0, 90.0, -90.0, 180.0)  # step 1's in the order searched, and step 2's
 NO_BEARING = math.inf  # no bearing taken before
 
 
@@ -72,6 +82,13 @@ def bearing_deg(a: Vec2, b: Vec2) -> float:
 def offset(p: Vec2, bearing: float, distance: float) -> Vec2:
     rad = math.radians(bearing)
     return p[0] + math.cos(rad) * distance, p[1] + math.sin(rad) * distance
+
+
+def offset_pitched(p: Vec3, bearing: float, pitch: float, distance: float) -> Vec3:
+    """Location::offset_bearing_and_pitch: `distance` along a bearing, pitched up (+) or down."""
+    level = math.cos(math.radians(pitch)) * distance
+    n, e = offset((p[0], p[1]), bearing, level)
+    return n, e, p[2] + math.sin(math.radians(pitch)) * distance
 
 
 def _segment_point(a: Vec2, b: Vec2, p: Vec2) -> float:
@@ -110,6 +127,16 @@ class FenceView:
     radius: float  # FENCE_RADIUS
     fence_margin: float  # FENCE_MARGIN
     home: Vec2 = (0.0, 0.0)
+    alt_max: float = 100.0  # FENCE_ALT_MAX, above home
+    home_up: float = 0.0
+
+    def margin_3d(self, start: Vec3, end: Vec3) -> float:
+        """The vertical search's margin: margin()'s, and below FENCE_ALT_MAX less FENCE_MARGIN."""
+        least = self.margin((start[0], start[1]), (end[0], end[1]))
+        if self.enabled_fences & ALT_MAX_FENCE:
+            highest = max(start[2], end[2]) - self.home_up
+            least = min(least, self.alt_max - self.fence_margin - highest)
+        return least
 
     def margin(self, start: Vec2, end: Vec2) -> float:
         """calc_avoidance_margin: the least margin of the segment from every obstacle (inf: none)."""
@@ -195,6 +222,43 @@ class BendyRuler:
             chosen, reach = best_margin_bearing, max(step1 + min(best_margin, 0.0), 0.0)
             self.current_lookahead = max(lookahead * 0.5, self.current_lookahead * 0.9)
         return True, offset(here, chosen, reach)
+
+    def update_vertical(self, here: Vec3, destination: Vec2, fence: FenceView,
+                        settings: Settings) -> tuple[bool, Vec3]:
+        """search_vertical_path: (avoiding, the point to fly to now, with its height)."""
+        lookahead = max(settings.lookahead, 1.0) if math.isfinite(settings.lookahead) else 1.0
+        self.current_lookahead = min(max(self.current_lookahead, lookahead * 0.5), lookahead)
+        flat = (here[0], here[1])
+        to_dest = bearing_deg(flat, destination)
+        distance = math.dist(flat, destination)
+        step1 = min(self.current_lookahead, distance + PAST_DESTINATION_M)
+        step2 = self.current_lookahead
+        margin_max = settings.margin_max
+        best_pitch, have_best = 0.0, False
+        best_margin, best_margin_pitch = -math.inf, 0.0
+        for pitch in VERTICAL_PITCHES_DEG:
+            test = offset_pitched(here, to_dest, pitch, step1)
+            margin = fence.margin_3d(here, test)
+            if margin > best_margin:
+                best_margin_pitch, best_margin = pitch, margin
+            if margin <= margin_max:
+                continue
+            if not have_best:
+                best_pitch, have_best = pitch, True
+            to_dest2 = to_dest if abs(pitch) == 90.0 else bearing_deg((test[0], test[1]), destination)
+            distance2 = min(max(step2, STEP2_MIN_M), math.dist((test[0], test[1]), destination))
+            for j, pitch2 in enumerate(VERTICAL_PITCHES_DEG):
+                if fence.margin_3d(test, offset_pitched(test, to_dest2, pitch2, distance2)) > margin_max:
+                    # (ArduCopter would stay active for proximity obstacles beside the way on: none here)
+                    self.current_lookahead = min(lookahead, self.current_lookahead * 1.1)
+                    return pitch != 0.0 or j != 0, offset_pitched(here, to_dest, pitch, distance)
+        if have_best:
+            chosen = best_pitch
+            self.current_lookahead = min(lookahead, self.current_lookahead * 1.05)
+        else:
+            chosen = best_margin_pitch
+            self.current_lookahead = max(lookahead * 0.5, self.current_lookahead * 0.9)
+        return True, offset_pitched(here, to_dest, chosen, distance)
 
     def _resist(self, destination: Vec2, here: Vec2, active: bool, bearing: float, step1: float, margin: float,
                 fence: FenceView, settings: Settings) -> float:

@@ -13,8 +13,9 @@ they can, unless OA_OPTIONS allows fast waypoints), and a planner silent for 3 s
 the planner runs on sim time at every PLAN_EVERY_S a request finds due, so it answers 0-1 s after
 a new destination, as ArduCopter's thread does.
 
-BendyRuler answers at each plan a point ahead to fly to (the legs hand it to the position
-controller, not the waypoint navigator), or that no avoidance is needed; it never says why, and
+BendyRuler answers at each plan a point to fly to (the legs hand it to the position controller,
+not the waypoint navigator; with OA_BR_TYPE 2, vertical, a point with its height), or that no
+avoidance is needed; it never says why, and
 never stops the vehicle, and the way on to the next destination is never known clear (the legs
 stop at each destination).
 
@@ -44,12 +45,14 @@ if TYPE_CHECKING:
     from ..params import ParamStore
 
 Vec2 = tuple[float, float]
+Vec3 = tuple[float, float, float]
 NOT_REQUIRED, PROCESSING, ERROR, SUCCESS = "not required", "processing", "error", "success"  # OA_RetState
 DISABLED, BENDY_RULER, DIJKSTRA, DIJKSTRA_BENDY_RULER = 0, 1, 2, 3  # OA_TYPE
 PLANS_FENCES = (DIJKSTRA, DIJKSTRA_BENDY_RULER)
 NEEDS = {BENDY_RULER: {BENDY_RULER}, DIJKSTRA: {DIJKSTRA}, DIJKSTRA_BENDY_RULER: {DIJKSTRA, BENDY_RULER}}
 REBOOT_TEXTS = {BENDY_RULER: "BendyRuler OA requires reboot", DIJKSTRA: "Dijkstra OA requires reboot",
                 DIJKSTRA_BENDY_RULER: "OA requires reboot"}
+VERTICAL = 2  # OA_BR_TYPE (1 horizontal, and anything else)
 FAST_WAYPOINTS = 1 << 2  # OA_OPTIONS: fly on while planning, and through the corners
 # OA_UPDATE_MS is 1 s, but the thread wakes every 20 ms to look: measured, plans 1.00 to 1.04 s
 # apart, 1.02 s on average (so a reason said again "after 5 s" is said every 5.1 s)
@@ -73,6 +76,7 @@ class Answer:
     next_destination: Vec2 | None = None
     dest_to_next_clear: bool = True
     bendy: bool = False
+    height: float | None = None  # vertical BendyRuler's point's height (local frame, up)
 
 
 @dataclass(frozen=True)
@@ -82,7 +86,8 @@ class _Request:
     next_destination: Vec2 | None
     velocity: Vec2 = (0.0, 0.0)  # the ground velocity (north, east) [m/s]
     heading_deg: float = 0.0
-    home: Vec2 = (0.0, 0.0)
+    home: Vec3 = (0.0, 0.0, 0.0)  # north, east, up
+    here_up: float = 0.0
 
 
 def _same(a: Vec2 | None, b: Vec2 | None) -> bool:
@@ -186,10 +191,11 @@ class PathPlanner:
         return int(self._params["OA_OPTIONS"])
 
     def avoid(self, now_s: float, here: Vec2, destination: Vec2, next_destination: Vec2 | None,
-              velocity: Vec2 = (0.0, 0.0), heading_deg: float = 0.0, home: Vec2 = (0.0, 0.0)) -> Answer:
-        """The plan for flying from `here` to `destination` (then on to `next_destination`), the
-        vehicle moving at `velocity` (north, east) facing `heading_deg`, home at `home`:
-        AP_OAPathPlanner::mission_avoidance."""
+              velocity: Vec2 = (0.0, 0.0), heading_deg: float = 0.0, home: Vec3 = (0.0, 0.0, 0.0),
+              here_up: float = 0.0) -> Answer:
+        """The plan for flying from `here` (`here_up` high) to `destination` (then on to
+        `next_destination`), the vehicle moving at `velocity` (north, east) facing `heading_deg`,
+        home at `home` (north, east, up): AP_OAPathPlanner::mission_avoidance."""
         kind = int(self._params["OA_TYPE"])
         if kind == DISABLED or not self._made:  # (no planner thread was made)
             return Answer(NOT_REQUIRED)
@@ -197,7 +203,7 @@ class PathPlanner:
         if since_asked > REQUEST_GAP_S:
             self._activated_s = now_s
         self._asked_s = now_s
-        request = _Request(here, destination, next_destination, velocity, heading_deg, home)
+        request = _Request(here, destination, next_destination, velocity, heading_deg, home, here_up)
         # A plan every PLAN_EVERY_S, for the request made just before it (one made after a long
         # silence waits for the next, as a request the thread did not see yet)
         tick = math.floor(now_s / PLAN_EVERY_S)
@@ -227,12 +233,19 @@ class PathPlanner:
 
     def _bendy_plan(self, request: _Request, shapes: Sequence[Shape]) -> Answer:
         p = self._params
+        home = request.home
         fence = FenceView(tuple(shapes), self._fence.enabled_fences, float(p["FENCE_RADIUS"]),
-                          float(p["FENCE_MARGIN"]), request.home)
+                          float(p["FENCE_MARGIN"]), (home[0], home[1]), float(p["FENCE_ALT_MAX"]), home[2])
         settings = Settings(float(p["OA_BR_LOOKAHEAD"]), float(p["OA_BR_CONT_RATIO"]), float(p["OA_BR_CONT_ANGLE"]),
                             float(p["OA_MARGIN_MAX"]))
-        active, point = self._bendy.update(request.here, request.destination, request.velocity, request.heading_deg,
-                                           fence, settings)
+        height = None
+        if int(p["OA_BR_TYPE"]) == VERTICAL:
+            here = (*request.here, request.here_up)
+            active, (n, e, height) = self._bendy.update_vertical(here, request.destination, fence, settings)
+            point = (n, e)
+        else:
+            active, point = self._bendy.update(request.here, request.destination, request.velocity,
+                                               request.heading_deg, fence, settings)
         if not active:
             return Answer(NOT_REQUIRED, dest_to_next_clear=False)
-        return Answer(SUCCESS, request.here, point, None, dest_to_next_clear=False, bendy=True)
+        return Answer(SUCCESS, request.here, point, None, dest_to_next_clear=False, bendy=True, height=height)

@@ -12,6 +12,7 @@ from firefly.autopilot.mission.store import FENCE
 from firefly.autopilot.path_planning.bendy_ruler import (BendyRuler, FenceView, Settings, bearing_deg,
                                                          polygon_line_distance)
 from firefly.autopilot.path_planning.planner import NOT_REQUIRED, PROCESSING, SUCCESS
+from firefly.autopilot.modes.position_target import PositionTarget, kinematic_limit
 from firefly.autopilot.results import Result
 
 from ._util import altitude, fly_until, ready_vehicle
@@ -147,3 +148,49 @@ def test_auto_bends_round_an_exclusion_circle_and_reaches_its_waypoint():
     assert min(e for _, e in track) == pytest.approx(-15.7, abs=1.5)
     assert v.time_s - start == pytest.approx(25.1, abs=3.0)
     assert math.dist(track[-1], (100, 0)) < 1.0 and altitude(v) == pytest.approx(10, abs=0.5)
+
+
+# ----- the vertical search and the position controller's target --------------------------------
+def test_the_vertical_search_climbs_by_the_distance_still_to_go_when_level_is_blocked():
+    """Measured (auto_circle_vertical): at 20.9 m north and 10 m up, ArduCopter's point was 88.8 m
+    high above the same spot; further out, level on to the destination itself, avoiding (a level
+    step 1 clear, step 2 blocked level but clear up)."""
+    fence = view(circle(50, 4, 10), fences=POLYGON_AND_CIRCLE | 1)
+    br = BendyRuler()
+    br.current_lookahead = 13.3
+    active, point = br.update_vertical((20.9, 0.0, 10.0), (100.0, 0.0), fence, DEFAULTS)
+    assert active and point == pytest.approx((20.9, 0.0, 10.0 + 79.1), abs=0.01)
+    br = BendyRuler()
+    br.current_lookahead = 12.1
+    active, point = br.update_vertical((12.8, 0.0, 10.0), (100.0, 0.0), fence, DEFAULTS)
+    assert active and point == pytest.approx((100.0, 0.0, 10.0), abs=0.01)
+    active, point = BendyRuler().update_vertical((0.0, 0.0, 10.0), (100.0, 0.0), fence, DEFAULTS)
+    assert not active  # level and clear two steps on
+
+
+def test_the_vertical_search_keeps_below_the_ceiling():
+    fence = view(circle(50, 0, 10), fences=1 | 4)
+    assert fence.margin_3d((0, 0, 90), (0, 0, 95)) == pytest.approx(100 - 2 - 95)
+    br = BendyRuler()
+    br.current_lookahead = 15.0
+    active, point = br.update_vertical((30.0, 0.0, 90.0), (100.0, 0.0), fence, DEFAULTS)
+    assert active and point[2] < 90.0  # up is no way out under the ceiling: down
+
+
+def test_a_kinematic_limit_is_the_first_limit_reached_along_the_way():
+    assert kinematic_limit((1, 0, 0), 10, 2.5, 1.5) == 10
+    assert kinematic_limit((0, 0, 1), 10, 2.5, 1.5) == 2.5
+    assert kinematic_limit((0, 0, -3), 10, 2.5, 1.5) == 1.5
+    assert kinematic_limit((1, 0, 1), 10, 2.5, 1.5) == pytest.approx(2.5 * math.sqrt(2))  # the climb binds
+    assert kinematic_limit((10, 0, 1), 10, 2.5, 1.5) == pytest.approx(10 / math.cos(math.atan(0.1)))
+
+
+def test_the_position_target_runs_to_its_point_and_stops_there():
+    target = PositionTarget((0.0, 0.0, 10.0), (5.0, 0.0, 0.0), (0.0, 0.0, 0.0))
+    speeds = []
+    for _ in range(int(20 / 0.0025)):
+        target.run_to((30.0, 0.0, 15.0), 0.0025, (10.0, 2.5, 1.5), 2.5, 5.0, 1.0, 5.0)
+        speeds.append(math.hypot(*target.vel_ne))
+    assert max(speeds) <= 10.0 + 1e-6
+    assert target.pos_ne == pytest.approx((30.0, 0.0), abs=0.05) and target.pos_up == pytest.approx(15.0, abs=0.05)
+    assert math.hypot(*target.vel_ne) < 0.05 and abs(target.vel_up) < 0.05

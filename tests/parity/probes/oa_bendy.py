@@ -50,6 +50,7 @@ PROBES_PARAMS = {
     "auto_circle_centred": {**BOOT, "OA_BR_CONT_ANGLE": 20, "OA_BR_CONT_RATIO": 1.1},
     "rtl_circle": {**BOOT, "FENCE_ACTION": 0},
     "auto_circle_type3": {**BOOT, "OA_TYPE": 3},
+    "auto_circle_vertical": {**BOOT, "OA_BR_TYPE": 2},
     "oa_type1_set_late": None,
 }
 
@@ -128,6 +129,23 @@ def auto_circle_type3(c: Client, trace: Trace) -> None:
     _fly_auto(c, trace, CIRCLE_OBSTACLE, 45.0, corners=True)
 
 
+def auto_circle_vertical(c: Client, trace: Trace) -> None:
+    rec, _, reached, start_ms = fly_mission(c, trace, CIRCLE_OBSTACLE.items(c), [GOAL], 45.0)
+    track = rec.since((start_ms - rec.t0_ms) / 1000.0)
+    trace.fact("heights", _heights_every_second(track), PathTol(abs=3.0, why="the climb BendyRuler asks for, "
+                                                                             "each vehicle's own"))
+    _flight_facts(trace, c, rec, reached, start_ms, 2, CIRCLE_OBSTACLE)
+
+
+def _heights_every_second(track) -> list:
+    out, next_s = [], -math.inf
+    for p in track:
+        if p[0] >= next_s:
+            out.append([round(p[0] - track[0][0]), round(p[3], 1)])
+            next_s = p[0] + 1.0
+    return out
+
+
 def rtl_circle(c: Client, trace: Trace) -> None:
     """Out through the circle in GUIDED, back round it in RTL: the bend, how near, when it landed."""
     track, _, start_ms, landed_ms = fly_back(c, trace, CIRCLE_OBSTACLE, RTL, 90.0)
@@ -145,7 +163,8 @@ def oa_type1_set_late(c: Client, trace: Trace) -> None:
 
 PROBES = {"guided_circle": guided_circle, "auto_circle": auto_circle, "auto_square": auto_square,
           "auto_circle_lookahead": auto_circle_lookahead, "auto_circle_centred": auto_circle_centred,
-          "rtl_circle": rtl_circle, "auto_circle_type3": auto_circle_type3, "oa_type1_set_late": oa_type1_set_late}
+          "rtl_circle": rtl_circle, "auto_circle_type3": auto_circle_type3,
+          "auto_circle_vertical": auto_circle_vertical, "oa_type1_set_late": oa_type1_set_late}
 
 
 def run(target) -> dict[str, Trace]:
