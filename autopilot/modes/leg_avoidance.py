@@ -69,6 +69,15 @@ class LegAvoidance:
         """BendyRuler's point is flown: the position controller, not the navigator, has the target."""
         return self._bendy is not None
 
+    @property
+    def bendy_point(self) -> Vector3 | None:
+        """BendyRuler's point being flown to (local NED), while it flies: what ArduCopter reports
+        as the target (AC_WPNav_OA::get_oa_wp_destination)."""
+        if self._bendy is None:
+            return None
+        n, e, up = self._bendy_point
+        return n, e, -up
+
     def destination(self, nav: WaypointNav) -> Vector3:
         """The destination the mode set (not the corner flown to)."""
         return nav.destination if self.state == NOT_REQUIRED else self._destination

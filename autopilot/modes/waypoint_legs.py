@@ -71,8 +71,11 @@ class WaypointLegs:
     @property
     def destination(self) -> Vector3 | None:
         """The point the current leg flies to (local NED): a corner of the path round the fence
-        while one is flown."""
-        return self.nav.destination if self.nav is not None else None
+        while one is flown, BendyRuler's point while it flies."""
+        if self.nav is None:
+            return None
+        point = self.avoidance.bendy_point if self.avoidance is not None else None
+        return self.nav.destination if point is None else point
 
     @property
     def final_destination(self) -> Vector3 | None:

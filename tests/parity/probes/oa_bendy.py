@@ -56,6 +56,8 @@ PROBES_PARAMS = {
 
 TRACK = PathTol(abs=3.0, why="the bent path flown: each vehicle's own position controller chasing a target "
                              "BendyRuler moves once a second (its thread's phase is each vehicle's own)")
+TARGETS = PathTol(abs=4.0, why="BendyRuler's points, each the look-ahead from where the vehicle was at a plan: "
+                                "the vehicles' own places then (up to 2.5 m apart, see CLOSEST) and plan phases")
 CORNER = PathTol(abs=0.5, points=True, why="Dijkstra's corners, the same geometry on both")
 CLOSEST = Tol(abs=1.5, why="how near the track comes to the obstacle: BendyRuler's margin less each vehicle's lag "
                            "behind a target moved once a second. Firefly passes a circle 0.2-0.9 m nearer: its leg "
@@ -94,6 +96,8 @@ def _fly_auto(c: Client, trace: Trace, obstacle: Obstacle, flight_s: float, corn
     rec, targets, reached, start_ms = fly_mission(c, trace, obstacle.items(c), [GOAL], flight_s)
     if corners:
         trace.fact("corners", targets.corners(GOAL), CORNER)
+    else:
+        trace.fact("targets", _targets_every_second(targets), TARGETS)
     _flight_facts(trace, c, rec, reached, start_ms, 2, obstacle)
 
 
@@ -135,6 +139,17 @@ def auto_circle_vertical(c: Client, trace: Trace) -> None:
     trace.fact("heights", _heights_every_second(track), PathTol(abs=3.0, why="the climb BendyRuler asks for, "
                                                                              "each vehicle's own"))
     _flight_facts(trace, c, rec, reached, start_ms, 2, CIRCLE_OBSTACLE)
+
+
+def _targets_every_second(targets) -> list:
+    """The POSITION_TARGET_GLOBAL_INT positions, one a second from the first (BendyRuler's points
+    while it avoids, the waypoint else)."""
+    out, next_s = [], -math.inf
+    for t, n, e in targets.seen:
+        if t >= next_s:
+            out.append([round(n, 1), round(e, 1)])
+            next_s = t + 1.0
+    return out
 
 
 def _heights_every_second(track) -> list:
