@@ -3,8 +3,11 @@ bearing (OA_BR_TYPE 1, horizontal) or a climb (2, vertical) to fly that keeps cl
 and answers the point to fly to, or that no avoidance is needed (the way straight to the
 destination is clear).
 
-Margins: a segment's margin is how much further from every fence obstacle than FENCE_MARGIN it
-stays (negative: closer, or across it), the least over
+Margins: a segment's margin is how much further from every obstacle it stays (negative: closer,
+or across it), the least over
+- each obstacle of the database (obstacle_database.py): its distance from the segment (in 3D, the
+  horizontal search's at the vehicle's height) less its radius; with OA_TYPE 3 these alone;
+and, further than FENCE_MARGIN:
 - the circle round home (FENCE_TYPE bit 2): FENCE_RADIUS - FENCE_MARGIN less the further end's
   distance from home;
 - with the polygon fence on (FENCE_TYPE bit 4): each polygon's closest distance to the segment
@@ -16,8 +19,7 @@ stays (negative: closer, or across it), the least over
   inclusion circle (radius + FENCE_MARGIN) less the further end's distance from its centre.
 The vertical search also keeps below FENCE_ALT_MAX (FENCE_TYPE bit 1): FENCE_ALT_MAX -
 FENCE_MARGIN less the higher end's height above home. A segment is clear when its margin is more
-than OA_MARGIN_MAX. No obstacle at all: an infinite margin. The obstacle database (proximity obstacles, OA_DB_*) is not modelled, so with OA_TYPE 3
-(which asks BendyRuler about proximity obstacles only) it never acts.
+than OA_MARGIN_MAX. No obstacle at all: an infinite margin.
 
 The search (search_xy_path): bearings from the one to the destination (rounded to 0.01 degree)
 out to 170 degrees either side in 5 degree steps, the left one (-) of each pair first. A bearing
@@ -49,6 +51,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 from ..safety.fence_shapes import Shape, closest_point, point_in_polygon, segment_intersection
+from .obstacle_database import Obstacle
 
 Vec2 = tuple[float, float]
 Vec3 = tuple[float, float, float]  # north, east, up
@@ -102,6 +105,14 @@ def _segments(a1: Vec2, a2: Vec2, b1: Vec2, b2: Vec2) -> float:
                _segment_point(a1, a2, b1), _segment_point(a1, a2, b2))
 
 
+def _segment_point_3d(a: Vec3, b: Vec3, p: Vec3) -> float:
+    d = (b[0] - a[0], b[1] - a[1], b[2] - a[2])
+    span = d[0] * d[0] + d[1] * d[1] + d[2] * d[2]
+    t = 0.0 if span == 0.0 else ((p[0] - a[0]) * d[0] + (p[1] - a[1]) * d[1] + (p[2] - a[2]) * d[2]) / span
+    t = min(max(t, 0.0), 1.0)
+    return math.dist(p, (a[0] + d[0] * t, a[1] + d[1] * t, a[2] + d[2] * t))
+
+
 def polygon_line_distance(vertices: Sequence[Vec2], start: Vec2, end: Vec2) -> float:
     """Polygon_closest_distance_line: minus the distance from `end` to the crossing nearest
     `start` when the segment crosses an edge, else the closest distance to the edges but the
@@ -129,21 +140,35 @@ class FenceView:
     home: Vec2 = (0.0, 0.0)
     alt_max: float = 100.0  # FENCE_ALT_MAX, above home
     home_up: float = 0.0
+    obstacles: Sequence[Obstacle] | None = None  # the obstacle database's (None: no database)
+    up: float = 0.0  # the height of the horizontal search's segments (the vehicle's)
+    proximity_only: bool = False  # the database alone (OA_TYPE 3's BendyRuler while Dijkstra flies)
 
     def margin_3d(self, start: Vec3, end: Vec3) -> float:
         """The vertical search's margin: margin()'s, and below FENCE_ALT_MAX less FENCE_MARGIN."""
-        least = self.margin((start[0], start[1]), (end[0], end[1]))
-        if self.enabled_fences & ALT_MAX_FENCE:
-            highest = max(start[2], end[2]) - self.home_up
-            least = min(least, self.alt_max - self.fence_margin - highest)
-        return least
+        return self._margin(start, end, True)
 
     def margin(self, start: Vec2, end: Vec2) -> float:
         """calc_avoidance_margin: the least margin of the segment from every obstacle (inf: none)."""
-        least = math.inf
+        return self._margin((start[0], start[1], self.up), (end[0], end[1], self.up), False)
+
+    def _database_margin(self, start: Vec3, end: Vec3) -> float:
+        """The segment's distance from each database obstacle less its radius, the least."""
+        if not self.obstacles or start == end:
+            return math.inf
+        return min(_segment_point_3d(start, end, o.pos) - o.radius for o in self.obstacles)
+
+    def _margin(self, start3: Vec3, end3: Vec3, vertical: bool) -> float:
+        least = self._database_margin(start3, end3)
+        if self.proximity_only:
+            return least
+        start, end = (start3[0], start3[1]), (end3[0], end3[1])
         if self.enabled_fences & CIRCLE_FENCE:
             far = max(math.dist(self.home, start), math.dist(self.home, end))
             least = min(least, self.radius - self.fence_margin - far)
+        if vertical and self.enabled_fences & ALT_MAX_FENCE:
+            highest = max(start3[2], end3[2]) - self.home_up
+            least = min(least, self.alt_max - self.fence_margin - highest)
         if not self.enabled_fences & POLYGON_FENCE:
             return least
         for shape in self.shapes:

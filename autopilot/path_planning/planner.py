@@ -3,9 +3,9 @@ planners), as the waypoint legs consult it: given where the vehicle is and the l
 (and the next one), it answers whether avoidance is needed and, if so, the point to fly to now.
 
 The planners are made at boot for the OA_TYPE then: 1 BendyRuler (bendy_ruler.py), 2 Dijkstra
-(dijkstra.py), 3 both: BendyRuler for proximity obstacles, Dijkstra round the fence. The obstacle
-database of proximity obstacles is not modelled, so OA_TYPE 3 plans as 2 (as ArduCopter's does
-with no proximity sensor). OA_TYPE set later is refused at arming ("Dijkstra OA requires reboot")
+(dijkstra.py), 3 both: BendyRuler round the obstacle database's proximity obstacles
+(obstacle_database.py) while any are in the way, then Dijkstra round the fence, its path found
+afresh from there (with no proximity sensor OA_TYPE 3 plans as 2). OA_TYPE set later is refused at arming ("Dijkstra OA requires reboot")
 and plans nothing, while OA_TYPE 0 stops it at once. ArduCopter plans on a thread of its own about
 once a second, for the request the legs last made; the legs act on an answer only when it was
 planned for their present destination. Until then the answer is "processing" (the legs stop where
@@ -40,6 +40,7 @@ from ..safety.fence_shapes import Shape
 from ..safety.fence_switch import POLYGON, FenceSwitch
 from .bendy_ruler import BendyRuler, FenceView, Settings
 from .dijkstra import FenceGraph, PlanError
+from .obstacle_database import ObstacleDatabase
 
 if TYPE_CHECKING:
     from ..params import ParamStore
@@ -152,6 +153,10 @@ class Dijkstra:
             self._index += 1  # the next corner, from the next plan on
         return Answer(SUCCESS, origin, corner, after, self._dest_to_next_clear)
 
+    def recalculate(self) -> None:
+        """The path afresh from where the vehicle is at the next plan (BendyRuler took it aside)."""
+        self._path = None
+
     def _failed(self, now_s: float, reason: str) -> Answer:
         self._path = None
         self._dest_to_next_clear = False
@@ -175,6 +180,11 @@ class PathPlanner:
         self._made = NEEDS.get(self.kind_at_boot, set())  # the planners made at boot
         self._dijkstra = Dijkstra(notify)
         self._bendy = BendyRuler()
+        # The obstacle database, made with the planner thread (OA_TYPE 1-3 at boot)
+        self.database = ObstacleDatabase(params) if self._made else None
+        if self.database is not None and self.database.init_failure is not None:
+            notify(self.database.init_failure, Severity.INFO)
+        self._proximity_only = True  # OA_TYPE 3: BendyRuler looks at the database alone
         self._answer: tuple[_Request, Answer] | None = None  # the last plan, for the request it was made for
         self._answer_s = -math.inf
         self._tick = -1  # the planning period of the last request
@@ -221,9 +231,22 @@ class PathPlanner:
         if not NEEDS.get(kind, {DISABLED}) <= self._made:
             return  # a planner not made at boot: no answer (a timeout, as ArduCopter's)
         shapes = self._fence_shapes()
+        if self.database is not None:
+            self.database.expire(now_s)
         if kind == BENDY_RULER:
-            self._answer, self._answer_s = (request, self._bendy_plan(request, shapes)), now_s
+            self._answer, self._answer_s = (request, self._bendy_plan(request, shapes, False)), now_s
             return
+        if kind == DIJKSTRA_BENDY_RULER:
+            # BendyRuler round what the proximity sensor saw until clear of it, then Dijkstra's
+            # path afresh from where that left the vehicle
+            answer = self._bendy_plan(request, shapes, self._proximity_only)
+            if answer.state == SUCCESS:
+                self._proximity_only = False
+                self._answer, self._answer_s = (request, answer), now_s
+                return
+            if not self._proximity_only:
+                self._dijkstra.recalculate()
+            self._proximity_only = True
         fenced = any(s.kind == "poly" or not s.inclusion for s in shapes)
         if not fenced or not self._fence.enabled_fences & POLYGON:
             answer = Answer(NOT_REQUIRED)
@@ -231,11 +254,13 @@ class PathPlanner:
             answer = self._dijkstra.plan(now_s, request, shapes, float(self._params["OA_MARGIN_MAX"]))
         self._answer, self._answer_s = (request, answer), now_s
 
-    def _bendy_plan(self, request: _Request, shapes: Sequence[Shape]) -> Answer:
+    def _bendy_plan(self, request: _Request, shapes: Sequence[Shape], proximity_only: bool) -> Answer:
         p = self._params
         home = request.home
+        db = self.database
         fence = FenceView(tuple(shapes), self._fence.enabled_fences, float(p["FENCE_RADIUS"]),
-                          float(p["FENCE_MARGIN"]), (home[0], home[1]), float(p["FENCE_ALT_MAX"]), home[2])
+                          float(p["FENCE_MARGIN"]), (home[0], home[1]), float(p["FENCE_ALT_MAX"]), home[2],
+                          db.obstacles if db is not None and db.healthy else None, request.here_up, proximity_only)
         settings = Settings(float(p["OA_BR_LOOKAHEAD"]), float(p["OA_BR_CONT_RATIO"]), float(p["OA_BR_CONT_ANGLE"]),
                             float(p["OA_MARGIN_MAX"]))
         height = None

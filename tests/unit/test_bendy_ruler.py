@@ -11,6 +11,8 @@ from firefly.autopilot.mission import MissionItem
 from firefly.autopilot.mission.store import FENCE
 from firefly.autopilot.path_planning.bendy_ruler import (BendyRuler, FenceView, Settings, bearing_deg,
                                                          polygon_line_distance)
+from firefly.autopilot.params import ParamStore
+from firefly.autopilot.path_planning.obstacle_database import Obstacle, ObstacleDatabase
 from firefly.autopilot.path_planning.planner import NOT_REQUIRED, PROCESSING, SUCCESS
 from firefly.autopilot.modes.position_target import PositionTarget, kinematic_limit
 from firefly.autopilot.results import Result
@@ -194,3 +196,72 @@ def test_the_position_target_runs_to_its_point_and_stops_there():
     assert max(speeds) <= 10.0 + 1e-6
     assert target.pos_ne == pytest.approx((30.0, 0.0), abs=0.05) and target.pos_up == pytest.approx(15.0, abs=0.05)
     assert math.hypot(*target.vel_ne) < 0.05 and abs(target.vel_up) < 0.05
+
+
+# ----- the obstacle database -------------------------------------------------------------------
+def database(**params) -> ObstacleDatabase:
+    store = ParamStore()
+    for name, value in params.items():
+        store.set(name, value)
+    return ObstacleDatabase(store)
+
+
+def test_a_reading_is_a_point_rotated_by_the_attitude_with_a_radius_by_the_beam_width():
+    db = database()
+    db.push(0.0, (10.0, 0.0, 10.0), (0.0, 0.0, math.radians(90)), 0.0, 20.0, (0.0, 0.0, 0.0))
+    (o,) = db.obstacles
+    assert o.pos == pytest.approx((10.0, 20.0, 10.0), abs=1e-9)  # facing east: 20 m east
+    assert o.radius == pytest.approx(20.0 * math.tan(math.radians(5)))  # OA_DB_BEAM_WIDTH 5
+    db.push(0.0, (0.0, 0.0, 10.0), (0.0, math.radians(-30), 0.0), 0.0, 20.0, (0.0, 0.0, 0.0))
+    assert db.obstacles[1].pos == pytest.approx((20 * math.cos(math.radians(30)), 0.0, 0.0), abs=1e-9)  # nose down
+
+
+def test_a_point_near_a_kept_one_refreshes_it_and_old_ones_expire():
+    db = database()
+    here, level, home = (0.0, 0.0, 10.0), (0.0, 0.0, 0.0), (0.0, 0.0, 0.0)
+    db.push(0.0, here, level, 0.0, 20.0, home)
+    db.push(0.3, here, level, 1.0, 20.0, home)  # 0.35 m away, within the radius: the same
+    assert len(db.obstacles) == 1 and db.obstacles[0].time_s == 0.0  # same radius, under 0.5 s: untouched
+    db.push(0.6, here, level, 1.0, 20.0, home)
+    assert db.obstacles[0].time_s == 0.6 and db.obstacles[0].pos == pytest.approx((20.0, 0.0, 10.0))
+    db.push(1.0, here, level, 90.0, 20.0, home)
+    db.expire(10.6)  # OA_DB_EXPIRE 10
+    assert len(db.obstacles) == 2
+    db.expire(10.9)
+    assert [o.pos for o in db.obstacles] == [pytest.approx((0.0, 20.0, 10.0))]
+
+
+def test_the_database_is_limited_and_can_fail_to_be_made():
+    db = database(OA_DB_SIZE=2)
+    for k in range(5):
+        db.push(0.0, (0.0, 0.0, 10.0), (0.0, 0.0, 0.0), 60.0 * k, 20.0, (0.0, 0.0, 0.0))
+    assert len(db.obstacles) == 2
+    failed = database(OA_DB_QUEUE_SIZE=1, OA_DB_SIZE=0)
+    assert not failed.healthy and failed.init_failure == "DB init failed . Sizes queue:1, db:0"
+    low = database(OA_DB_ALT_MIN=2)
+    low.push(0.0, (1.0, 0.0, 1.5), (0.0, 0.0, 0.0), 0.0, 5.0, (0.0, 0.0, 0.0))  # near home, below 2 m
+    far = database(OA_DB_DIST_MAX=5)
+    far.push(0.0, (0.0, 0.0, 10.0), (0.0, 0.0, 0.0), 0.0, 8.0, (0.0, 0.0, 0.0))  # 7.3 m to its edge
+    assert low.obstacles == [] and far.obstacles == []
+
+
+def test_bendy_ruler_keeps_its_margin_from_database_obstacles_in_3d():
+    obstacle = Obstacle((50.0, 2.0, 10.0), 2.0, 0.0)
+    fence = FenceView((), 0, 300.0, 2.0, obstacles=[obstacle], up=10.0)
+    assert fence.margin((30.0, 0.0), (60.0, 0.0)) == pytest.approx(0.0)
+    below = FenceView((), 0, 300.0, 2.0, obstacles=[Obstacle((50.0, 2.0, 0.0), 2.0, 0.0)], up=10.0)
+    assert below.margin((30.0, 0.0), (60.0, 0.0)) == pytest.approx(math.hypot(2, 10) - 2)
+    only = FenceView((circle(50, 0, 10),), 4, 300.0, 2.0, obstacles=[], up=10.0, proximity_only=True)
+    assert only.margin((0.0, 0.0), (100.0, 0.0)) == math.inf  # OA_TYPE 3's: the fence is Dijkstra's
+
+
+def test_oa_type_3_bends_round_proximity_obstacles_then_plans_dijkstra_afresh():
+    p, store, _ = planner([circle(50, 40, 10)], oa_type=3)
+    db = p.database
+    assert db is not None
+    answers = [p.avoid(k * 0.01, (30.0, 0.0), (100.0, 0.0), None) for k in range(300)]
+    assert answers[-1].state == NOT_REQUIRED  # the circle is off the way
+    for k in range(20):
+        db.push(3.0, (30.0, 0.0, 0.0), (0.0, 0.0, 0.0), -3.0 + 0.3 * k, 12.0, (0.0, 0.0, 0.0))
+    answers = [p.avoid(3.0 + k * 0.01, (30.0, 0.0), (100.0, 0.0), None) for k in range(300)]
+    assert answers[-1].state == SUCCESS and answers[-1].bendy

@@ -23,19 +23,29 @@ rtl_circle             GUIDED (position controller) straight through the circle 
                        (FENCE_ACTION 0), then RTL: the return bends round it.
 auto_circle_type3      OA_TYPE 3 (Dijkstra with BendyRuler) with no proximity sensor: BendyRuler
                        sees only proximity obstacles then, so Dijkstra's corners round the fence.
+auto_circle_vertical   OA_BR_TYPE 2: the vertical search, which no climb gets over the circle with.
+auto_pole_proximity    no fence (FENCE_ENABLE 0); a companion (PRX1_TYPE 2) reports a pole of radius
+                       POLE[2] 4 m east of the line by OBSTACLE_DISTANCE (72 sectors of 5 degrees,
+                       body frame, out to 30 m, 10 Hz of vehicle time): BendyRuler bends round the
+                       obstacle database those readings fill (SITL's own lidar, PRX1_TYPE 10, feeds
+                       no database).
 oa_type1_set_late      OA_TYPE set to 1 after boot: arming refused until a reboot.
 """
 from __future__ import annotations
 
 import math
 
-from ..client import Client
+from ..client import Client, mav
 from ..facts import PathTol, Tol, Trace
 from .avoid import Recorder
 from .booting import each_on_a_fresh_vehicle
-from .oa import (ALT_M, CIRCLE, GOAL, SQUARE_OBSTACLE, Obstacle, Reached, _every_second, _fence, _goto, arrival_facts,
-                 fly_back, fly_mission, landing_facts, set_late)
-from .states import RTL, reach_flying
+from .missions import upload
+from .nav_flight import ne_alt
+from ..targets import wait_armable
+from .oa import (ALT_M, CIRCLE, GOAL, SQUARE_OBSTACLE, Obstacle, Reached, Targets, _ask_targets, _every_second, _fence,
+                 _goto, _mission, arrival_facts, fly_back, fly_mission, landing_facts, set_late)
+from .proximity import _streams
+from .states import AUTO, RTL, reach_flying
 
 AREA = "oa_bendy"
 FIREFLY_SPEEDUP = "10"  # as the area `oa`: a loaded machine drops ACKs at 20x
@@ -51,6 +61,7 @@ PROBES_PARAMS = {
     "rtl_circle": {**BOOT, "FENCE_ACTION": 0},
     "auto_circle_type3": {**BOOT, "OA_TYPE": 3},
     "auto_circle_vertical": {**BOOT, "OA_BR_TYPE": 2},
+    "auto_pole_proximity": {"OA_TYPE": 1, "FENCE_ENABLE": 0, "PRX1_TYPE": 2, "AVOID_ENABLE": 0},
     "oa_type1_set_late": None,
 }
 
@@ -161,6 +172,75 @@ def _heights_every_second(track) -> list:
     return out
 
 
+POLE = (50.0, 4.0, 2.0)  # north, east, radius
+POLE_RANGE_CM = (20, 3000)
+POLE_EVERY_MS = 100
+
+
+class PoleCompanion:
+    """A companion computer (component 196) reporting the pole by OBSTACLE_DISTANCE every
+    POLE_EVERY_MS of vehicle time, from the vehicle's last position and heading."""
+
+    def __init__(self, c: Client):
+        self.c, self.sent_ms = c, -POLE_EVERY_MS
+
+    def __call__(self, msg) -> None:
+        c = self.c
+        if c.now_ms - self.sent_ms < POLE_EVERY_MS or "GLOBAL_POSITION_INT" not in c.last or "ATTITUDE" not in c.last \
+                or "HOME_POSITION" not in c.last:
+            return
+        self.sent_ms = c.now_ms
+        n, e, _ = ne_alt(c)
+        heading = c.last["ATTITUDE"].yaw
+        none = POLE_RANGE_CM[1] + 1
+        distances = []
+        for j in range(72):
+            bearing = heading + math.radians(j * 5.0)
+            d = _ray_to_circle((n, e), bearing, POLE)
+            distances.append(none if d is None or d * 100 > POLE_RANGE_CM[1]
+                             else max(round(d * 100), POLE_RANGE_CM[0]))
+        link = c.conn.mav
+        old = link.srcSystem, link.srcComponent
+        link.srcSystem, link.srcComponent = 1, mav.MAV_COMP_ID_OBSTACLE_AVOIDANCE
+        try:
+            link.obstacle_distance_send(c.now_ms * 1000, mav.MAV_DISTANCE_SENSOR_LASER, distances, 5, *POLE_RANGE_CM,
+                                        0.0, 0.0, mav.MAV_FRAME_BODY_FRD)
+        finally:
+            link.srcSystem, link.srcComponent = old
+
+
+def _ray_to_circle(p, bearing: float, circle) -> float | None:
+    """How far along `bearing` [rad] from p the ray meets the circle, or None."""
+    cn, ce, r = circle
+    un, ue = math.cos(bearing), math.sin(bearing)
+    fn, fe = p[0] - cn, p[1] - ce
+    b = fn * un + fe * ue
+    disc = b * b - (fn * fn + fe * fe - r * r)
+    if disc < 0.0:
+        return None
+    t = -b - math.sqrt(disc)
+    return t if t > 0.0 else None
+
+
+def auto_pole_proximity(c: Client, trace: Trace) -> None:
+    """Booted without streams: the companion feeds the sensor before the pre-arm checks can pass."""
+    pole = Obstacle(circle=POLE)
+    companion = PoleCompanion(c)
+    with c.listening(companion):
+        _streams(c)
+        wait_armable(c)
+    trace.fact("mission_upload", upload(c, _mission(c, [GOAL])))
+    rec, targets, reached = Recorder(c), Targets(c), Reached(c)
+    with c.listening(rec), c.listening(targets), c.listening(reached), c.listening(companion):
+        _ask_targets(c)
+        reach_flying(c, ALT_M)
+        start_ms = c.now_ms
+        c.set_mode(AUTO)
+        c.idle(45.0)
+    trace.fact("targets", _targets_every_second(targets), TARGETS)
+    _flight_facts(trace, c, rec, reached, start_ms, 2, pole)
+
+
 def rtl_circle(c: Client, trace: Trace) -> None:
     """Out through the circle in GUIDED, back round it in RTL: the bend, how near, when it landed."""
     track, _, start_ms, landed_ms = fly_back(c, trace, CIRCLE_OBSTACLE, RTL, 90.0)
@@ -179,8 +259,15 @@ def oa_type1_set_late(c: Client, trace: Trace) -> None:
 PROBES = {"guided_circle": guided_circle, "auto_circle": auto_circle, "auto_square": auto_square,
           "auto_circle_lookahead": auto_circle_lookahead, "auto_circle_centred": auto_circle_centred,
           "rtl_circle": rtl_circle, "auto_circle_type3": auto_circle_type3,
-          "auto_circle_vertical": auto_circle_vertical, "oa_type1_set_late": oa_type1_set_late}
+          "auto_circle_vertical": auto_circle_vertical,
+          "auto_pole_proximity": auto_pole_proximity, "oa_type1_set_late": oa_type1_set_late}
 
 
 def run(target) -> dict[str, Trace]:
-    return each_on_a_fresh_vehicle(target, PROBES, PROBES_PARAMS)
+    """Each probe on a fresh vehicle; auto_pole_proximity's booted without waiting to be armable
+    (its proximity sensor has no data until the companion starts)."""
+    fed_later = {"auto_pole_proximity"}
+    traces = each_on_a_fresh_vehicle(target, {k: v for k, v in PROBES.items() if k not in fed_later}, PROBES_PARAMS)
+    traces.update(each_on_a_fresh_vehicle(target, {k: v for k, v in PROBES.items() if k in fed_later}, PROBES_PARAMS,
+                                          streams_hz=None))
+    return traces
