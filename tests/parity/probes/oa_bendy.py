@@ -29,6 +29,8 @@ auto_pole_proximity    no fence (FENCE_ENABLE 0); a companion (PRX1_TYPE 2) repo
                        body frame, out to 30 m, 10 Hz of vehicle time): BendyRuler bends round the
                        obstacle database those readings fill (SITL's own lidar, PRX1_TYPE 10, feeds
                        no database).
+auto_pole_type3        the same with OA_TYPE 3: BendyRuler round the pole, Dijkstra (no fence:
+                       nothing to plan) after.
 oa_type1_set_late      OA_TYPE set to 1 after boot: arming refused until a reboot.
 """
 from __future__ import annotations
@@ -62,6 +64,7 @@ PROBES_PARAMS = {
     "auto_circle_type3": {**BOOT, "OA_TYPE": 3},
     "auto_circle_vertical": {**BOOT, "OA_BR_TYPE": 2},
     "auto_pole_proximity": {"OA_TYPE": 1, "FENCE_ENABLE": 0, "PRX1_TYPE": 2, "AVOID_ENABLE": 0},
+    "auto_pole_type3": {"OA_TYPE": 3, "FENCE_ENABLE": 0, "PRX1_TYPE": 2, "AVOID_ENABLE": 0},
     "oa_type1_set_late": None,
 }
 
@@ -260,13 +263,13 @@ PROBES = {"guided_circle": guided_circle, "auto_circle": auto_circle, "auto_squa
           "auto_circle_lookahead": auto_circle_lookahead, "auto_circle_centred": auto_circle_centred,
           "rtl_circle": rtl_circle, "auto_circle_type3": auto_circle_type3,
           "auto_circle_vertical": auto_circle_vertical,
-          "auto_pole_proximity": auto_pole_proximity, "oa_type1_set_late": oa_type1_set_late}
+          "auto_pole_proximity": auto_pole_proximity, "auto_pole_type3": auto_pole_proximity, "oa_type1_set_late": oa_type1_set_late}
 
 
 def run(target) -> dict[str, Trace]:
     """Each probe on a fresh vehicle; auto_pole_proximity's booted without waiting to be armable
     (its proximity sensor has no data until the companion starts)."""
-    fed_later = {"auto_pole_proximity"}
+    fed_later = {"auto_pole_proximity", "auto_pole_type3"}
     traces = each_on_a_fresh_vehicle(target, {k: v for k, v in PROBES.items() if k not in fed_later}, PROBES_PARAMS)
     traces.update(each_on_a_fresh_vehicle(target, {k: v for k, v in PROBES.items() if k in fed_later}, PROBES_PARAMS,
                                           streams_hz=None))
