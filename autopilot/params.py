@@ -338,18 +338,29 @@ PARAM_TABLE: tuple[ParamSpec, ...] = (
     _i8("FLOW_ADDR", 0, 0, 127, "served; a bus address"),
     # The path planner round the fence (AP_OAPathPlanner, path_planning/): ArduCopter shows OA_* once
     # OA_TYPE is set (no reboot needed to see them, one to plan), with these types and defaults
-    # (measured). The OA_DB_* are the obstacle database of BendyRuler, not modelled: served only.
-    _i8("OA_TYPE", 0, 0, 3, "0 none, 2 Dijkstra round the fence (3 as 2; 1 BendyRuler: not modelled); read at boot"),
+    # (measured). The OA_DB_* are the obstacle database of proximity obstacles (obstacle_database.py).
+    _i8("OA_TYPE", 0, 0, 3, "0 none, 1 BendyRuler round the fence and proximity obstacles, 2 Dijkstra round the "
+                            "fence, 3 Dijkstra with BendyRuler round proximity obstacles; read at boot"),
     _f("OA_MARGIN_MAX", 5.0, 0.1, 100, "the path keeps this far out from the fence's corners [m]"),
     replace(_i("OA_OPTIONS", 1, 0, 32767, "bit 2: fast waypoints (fly on while planning and through the corners)"),
             mav_type=MAV_PARAM_TYPE_INT16),
-    *(replace(_i(f"OA_DB_{name}", default, low, high, "served; the obstacle database's (BendyRuler's)"),
-              mav_type=MAV_PARAM_TYPE_INT16)
-      for name, default, low, high in (("SIZE", 100, 0, 10000), ("EXPIRE", 10, 0, 500), ("QUEUE_SIZE", 80, 1, 200))),
-    _i8("OA_DB_OUTPUT", 1, 0, 3, "served; the obstacle database's (BendyRuler's)"),
-    *(_f(f"OA_DB_{name}", default, low, high, "served; the obstacle database's (BendyRuler's)")
-      for name, default, low, high in (("BEAM_WIDTH", 5.0, 1, 10), ("RADIUS_MIN", 0.01, 0, 10),
-                                       ("DIST_MAX", 0.0, 0, 10), ("ALT_MIN", 0.0, 0, 4))),
+    *(replace(_i(f"OA_DB_{name}", default, low, high, doc), mav_type=MAV_PARAM_TYPE_INT16)
+      for name, default, low, high, doc in (
+          ("SIZE", 100, 0, 10000, "obstacles the database keeps, read at boot (0: none made)"),
+          ("EXPIRE", 10, 0, 500, "an obstacle is forgotten this long after it was last seen (0: never) [s]"),
+          ("QUEUE_SIZE", 80, 1, 200, "readings queued for the database, read at boot (0: none made)"))),
+    _i8("OA_DB_OUTPUT", 1, 0, 3, "served; which obstacles go to the ground station (proximity's never at 1)"),
+    _f("OA_BR_LOOKAHEAD", 15.0, 1, 100, "BendyRuler looks this far ahead for obstacles (at least 1) [m]"),
+    _f("OA_BR_CONT_RATIO", 1.5, 1.1, 2, "BendyRuler turns more than OA_BR_CONT_ANGLE only for this many times the margin"),
+    replace(_i("OA_BR_CONT_ANGLE", 75, 20, 180, "BendyRuler resists turning more than this from its bearing [deg]"),
+            mav_type=MAV_PARAM_TYPE_INT16),
+    _i8("OA_BR_TYPE", 1, 1, 2, "BendyRuler's search: 1 horizontal (a bearing), 2 vertical (a climb or descent)"),
+    *(_f(f"OA_DB_{name}", default, low, high, doc)
+      for name, default, low, high, doc in (
+          ("BEAM_WIDTH", 5.0, 1, 10, "an obstacle's radius is its distance times tan of this (read at boot) [deg]"),
+          ("RADIUS_MIN", 0.01, 0, 10, "an obstacle's radius at least [m]"),
+          ("DIST_MAX", 0.0, 0, 10, "readings whose near edge is further are dropped (0: none) [m]"),
+          ("ALT_MIN", 0.0, 0, 4, "within 3 m of home, no readings below this height (0: any) [m]"))),
     # ADS-B (adsb/): the receiver's list (AP_ADSB) and avoidance (AP_Avoidance). ArduCopter shows
     # the rest of each group once ADSB_TYPE / AVD_ENABLE is set, with these types and defaults
     # (measured); both act without a reboot.

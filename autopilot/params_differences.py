@@ -99,7 +99,8 @@ FIREFLY_ONLY: dict[str, str] = {
     **{name: "the path planner's (AP_OAPathPlanner): ArduCopter serves it once OA_TYPE is set (the reference's "
              "set was recorded with it 0); Firefly serves it always, so that it can be set before enabling"
        for name in ("OA_MARGIN_MAX", "OA_OPTIONS", "OA_DB_SIZE", "OA_DB_EXPIRE", "OA_DB_QUEUE_SIZE",
-                    "OA_DB_OUTPUT", "OA_DB_BEAM_WIDTH", "OA_DB_RADIUS_MIN", "OA_DB_DIST_MAX", "OA_DB_ALT_MIN")},
+                    "OA_DB_OUTPUT", "OA_DB_BEAM_WIDTH", "OA_DB_RADIUS_MIN", "OA_DB_DIST_MAX", "OA_DB_ALT_MIN",
+                    "OA_BR_LOOKAHEAD", "OA_BR_CONT_RATIO", "OA_BR_CONT_ANGLE", "OA_BR_TYPE")},
     **{name: "precision landing's (AC_PrecLand): ArduCopter serves it once PLND_ENABLED is set (the reference's "
              "set was recorded with it 0); Firefly serves it always, so that it can be set before enabling"
        for name in ("PLND_TYPE", "PLND_YAW_ALIGN", "PLND_LAND_OFS_X", "PLND_LAND_OFS_Y", "PLND_EST_TYPE",

@@ -172,11 +172,14 @@ class Proximity:
         return low
 
     def obstacle_distance(self, distances: Sequence[int], increment_deg: float, angle_offset_deg: float,
-                          min_cm: int, max_cm: int, now_s: float) -> None:
-        """A companion's OBSTACLE_DISTANCE (body frame): the nearest reading of each sector."""
+                          min_cm: int, max_cm: int, now_s: float) -> list[tuple[float, float]]:
+        """A companion's OBSTACLE_DISTANCE (body frame): the nearest reading of each sector.
+        Returns the readings taken, (body-frame bearing [deg], distance [m]) each, for the
+        obstacle database."""
+        readings: list[tuple[float, float]] = []
         if self.kind != MAVLINK or not math.isfinite(increment_deg) or increment_deg == 0.0 \
                 or not math.isfinite(angle_offset_deg):
-            return
+            return readings
         count = min(int(360.0 / abs(increment_deg) + 0.5), len(distances))
         self.range_m = (float32(min_cm * float32(0.01)), float32(max_cm * float32(0.01)))
         self._last_message_s = now_s
@@ -189,6 +192,7 @@ class Proximity:
                 continue
             angle = (j * step + offset) % 360.0
             sector, metres = sector_of(angle), float32(cm * float32(0.01))
+            readings.append((angle, metres))
             if sector not in nearest or metres < nearest[sector][1]:
                 nearest[sector] = (angle, metres)
         for sector in range(SECTORS):
@@ -197,6 +201,7 @@ class Proximity:
             else:
                 self._reset(sector)
         self.good = True
+        return readings
 
     def obstacle_3d(self, stamp_ms: int, frame: int, xyz: tuple[float, float, float], min_m: float, max_m: float,
                     now_s: float) -> None:

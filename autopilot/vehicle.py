@@ -606,8 +606,16 @@ class Vehicle:
 
     def obstacle_distance(self, distances, increment_deg: float, angle_offset_deg: float, min_cm: int,
                           max_cm: int) -> None:
-        """A companion's OBSTACLE_DISTANCE: PRX1_TYPE 2's reading (proximity.py)."""
-        self.proximity.obstacle_distance(distances, increment_deg, angle_offset_deg, min_cm, max_cm, self.time_s)
+        """A companion's OBSTACLE_DISTANCE: PRX1_TYPE 2's reading (proximity.py), each reading
+        an obstacle for the path planner's database (path_planning/obstacle_database.py)."""
+        readings = self.proximity.obstacle_distance(distances, increment_deg, angle_offset_deg, min_cm, max_cm,
+                                                    self.time_s)
+        database = self.path_planner.database
+        if readings and database is not None:
+            b, home = self.estimate.body, self.home_ned or (0.0, 0.0, 0.0)
+            here, attitude = (b.n_m, b.e_m, -b.d_m), self.estimate.attitude
+            for bearing_deg, metres in readings:
+                database.push(self.time_s, here, attitude, bearing_deg, metres, (home[0], home[1], -home[2]))
 
     def obstacle_distance_3d(self, stamp_ms: int, frame: int, xyz: tuple[float, float, float], min_m: float,
                              max_m: float) -> None:

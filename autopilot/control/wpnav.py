@@ -123,6 +123,16 @@ class WaypointNav:
             self._next = self.limits.leg(destination, next_destination)
         self.reached = False
 
+    def take_over(self, pos: tuple, vel: tuple, accel: tuple, vehicle: tuple) -> None:
+        """The target was flown by something else (BendyRuler's points, handed to the position
+        controller) and is now at pos, moving at vel: the next destination is flown to from where
+        the vehicle (its position and velocity) can stop, as after an interrupted leg."""
+        self._prev = self._next = None
+        self._this, self._t_this = self.limits.leg(pos, pos), 0.0
+        self.pos, self.vel, self.accel = pos, vel, accel
+        self._vehicle = vehicle
+        self.reached, self._origin_speed = False, 0.0
+
     def set_destination_speed(self, speed: float) -> None:
         """Pass the current destination at `speed` rather than stopping there (ArduCopter's
         set_spline_destination_next: a spline follows); reached when the target gets there."""

@@ -71,8 +71,11 @@ class WaypointLegs:
     @property
     def destination(self) -> Vector3 | None:
         """The point the current leg flies to (local NED): a corner of the path round the fence
-        while one is flown."""
-        return self.nav.destination if self.nav is not None else None
+        while one is flown, BendyRuler's point while it flies."""
+        if self.nav is None:
+            return None
+        point = self.avoidance.bendy_point if self.avoidance is not None else None
+        return self.nav.destination if point is None else point
 
     @property
     def final_destination(self) -> Vector3 | None:
@@ -152,6 +155,10 @@ class WaypointLegs:
         avoidance = self.avoidance
         if avoidance is not None:
             avoidance.steer(ctx, nav)
+            if avoidance.bendy:  # BendyRuler's point, for the position controller itself
+                avoidance.fly_bendy(ctx, nav, sp, dt)
+                sp.yaw = self.auto_yaw.facing(ctx, sp.vel_ne[0], sp.vel_ne[1])
+                return False
         reached = nav.update(dt, (b.n_m, b.e_m, b.d_m), (b.vn_m_s, b.ve_m_s, b.vd_m_s))
         if avoidance is not None and avoidance.state != NOT_REQUIRED:
             reached = False

@@ -1,18 +1,25 @@
-"""ArduCopter's object-avoidance path planner (AP_OAPathPlanner with its Dijkstra planner), as the
-waypoint legs consult it: given where the vehicle is and the leg's destination (and the next
-one), it answers whether avoidance is needed and, if so, the corner to fly to now.
+"""ArduCopter's object-avoidance path planner (AP_OAPathPlanner with its Dijkstra and BendyRuler
+planners), as the waypoint legs consult it: given where the vehicle is and the leg's destination
+(and the next one), it answers whether avoidance is needed and, if so, the point to fly to now.
 
-The planner is made at boot for the OA_TYPE then (2 Dijkstra; 3, Dijkstra with BendyRuler, plans
-as 2 here: BendyRuler's proximity obstacles are not modelled; 1, BendyRuler alone, not at all: the
-legs fly as with OA_TYPE 0). OA_TYPE set later is refused at arming ("Dijkstra OA requires reboot") and plans nothing, while
-OA_TYPE 0 stops it at once. ArduCopter plans on a thread of its own about once a second, for the
-request the legs last made; the legs act on an answer only when it was planned for their present
-destination. Until then the answer is "processing" (the legs stop where they can, unless
-OA_OPTIONS allows fast waypoints), and a planner silent for 3 s is an error. Here the planner runs
-on sim time at every PLAN_EVERY_S a request finds due, so it answers 0-1 s after a new
-destination, as ArduCopter's thread does.
+The planners are made at boot for the OA_TYPE then: 1 BendyRuler (bendy_ruler.py), 2 Dijkstra
+(dijkstra.py), 3 both: BendyRuler round the obstacle database's proximity obstacles
+(obstacle_database.py) while any are in the way, then Dijkstra round the fence, its path found
+afresh from there (with no proximity sensor OA_TYPE 3 plans as 2). OA_TYPE set later is refused at arming ("Dijkstra OA requires reboot")
+and plans nothing, while OA_TYPE 0 stops it at once. ArduCopter plans on a thread of its own about
+once a second, for the request the legs last made; the legs act on an answer only when it was
+planned for their present destination. Until then the answer is "processing" (the legs stop where
+they can, unless OA_OPTIONS allows fast waypoints), and a planner silent for 3 s is an error. Here
+the planner runs on sim time at every PLAN_EVERY_S a request finds due, so it answers 0-1 s after
+a new destination, as ArduCopter's thread does.
 
-Each plan (AP_OADijkstra::update): no avoidance without a polygon fence enabled that holds an
+BendyRuler answers at each plan a point to fly to (the legs hand it to the position controller,
+not the waypoint navigator; with OA_BR_TYPE 2, vertical, a point with its height), or that no
+avoidance is needed; it never says why, and
+never stops the vehicle, and the way on to the next destination is never known clear (the legs
+stop at each destination).
+
+Each Dijkstra plan (AP_OADijkstra::update): no avoidance without a polygon fence enabled that holds an
 inclusion or exclusion polygon or an exclusion circle. The fence's corners and what they see are
 built once per fence with the OA_MARGIN_MAX of then (fence changes rebuild it; the margin alone
 does not); the shortest path is found once per destination, from where the vehicle is then, and
@@ -31,18 +38,22 @@ from typing import TYPE_CHECKING
 from ..results import Severity
 from ..safety.fence_shapes import Shape
 from ..safety.fence_switch import POLYGON, FenceSwitch
+from .bendy_ruler import BendyRuler, FenceView, Settings
 from .dijkstra import FenceGraph, PlanError
+from .obstacle_database import ObstacleDatabase
 
 if TYPE_CHECKING:
     from ..params import ParamStore
 
 Vec2 = tuple[float, float]
+Vec3 = tuple[float, float, float]
 NOT_REQUIRED, PROCESSING, ERROR, SUCCESS = "not required", "processing", "error", "success"  # OA_RetState
 DISABLED, BENDY_RULER, DIJKSTRA, DIJKSTRA_BENDY_RULER = 0, 1, 2, 3  # OA_TYPE
 PLANS_FENCES = (DIJKSTRA, DIJKSTRA_BENDY_RULER)
 NEEDS = {BENDY_RULER: {BENDY_RULER}, DIJKSTRA: {DIJKSTRA}, DIJKSTRA_BENDY_RULER: {DIJKSTRA, BENDY_RULER}}
 REBOOT_TEXTS = {BENDY_RULER: "BendyRuler OA requires reboot", DIJKSTRA: "Dijkstra OA requires reboot",
                 DIJKSTRA_BENDY_RULER: "OA requires reboot"}
+VERTICAL = 2  # OA_BR_TYPE (1 horizontal, and anything else)
 FAST_WAYPOINTS = 1 << 2  # OA_OPTIONS: fly on while planning, and through the corners
 # OA_UPDATE_MS is 1 s, but the thread wakes every 20 ms to look: measured, plans 1.00 to 1.04 s
 # apart, 1.02 s on average (so a reason said again "after 5 s" is said every 5.1 s)
@@ -58,12 +69,15 @@ SAME_PLACE_M = 0.01  # ArduCopter's Locations are equal within 1e-7 degree
 class Answer:
     """A plan for a request: its state and, when SUCCESS, the leg to fly (origin, destination and
     the point after it, the request's destination past the last corner); dest_to_next_clear: the
-    way from the request's destination to its next one crosses no fence."""
+    way from the request's destination to its next one crosses no fence; bendy: BendyRuler's
+    answer (a point for the position controller, not a leg)."""
     state: str
     origin: Vec2 | None = None
     destination: Vec2 | None = None
     next_destination: Vec2 | None = None
     dest_to_next_clear: bool = True
+    bendy: bool = False
+    height: float | None = None  # vertical BendyRuler's point's height (local frame, up)
 
 
 @dataclass(frozen=True)
@@ -71,6 +85,10 @@ class _Request:
     here: Vec2
     destination: Vec2
     next_destination: Vec2 | None
+    velocity: Vec2 = (0.0, 0.0)  # the ground velocity (north, east) [m/s]
+    heading_deg: float = 0.0
+    home: Vec3 = (0.0, 0.0, 0.0)  # north, east, up
+    here_up: float = 0.0
 
 
 def _same(a: Vec2 | None, b: Vec2 | None) -> bool:
@@ -135,6 +153,10 @@ class Dijkstra:
             self._index += 1  # the next corner, from the next plan on
         return Answer(SUCCESS, origin, corner, after, self._dest_to_next_clear)
 
+    def recalculate(self) -> None:
+        """The path afresh from where the vehicle is at the next plan (BendyRuler took it aside)."""
+        self._path = None
+
     def _failed(self, now_s: float, reason: str) -> Answer:
         self._path = None
         self._dest_to_next_clear = False
@@ -157,6 +179,12 @@ class PathPlanner:
         self.kind_at_boot = int(params["OA_TYPE"])
         self._made = NEEDS.get(self.kind_at_boot, set())  # the planners made at boot
         self._dijkstra = Dijkstra(notify)
+        self._bendy = BendyRuler()
+        # The obstacle database, made with the planner thread (OA_TYPE 1-3 at boot)
+        self.database = ObstacleDatabase(params) if self._made else None
+        if self.database is not None and self.database.init_failure is not None:
+            notify(self.database.init_failure, Severity.INFO)
+        self._proximity_only = True  # OA_TYPE 3: BendyRuler looks at the database alone
         self._answer: tuple[_Request, Answer] | None = None  # the last plan, for the request it was made for
         self._answer_s = -math.inf
         self._tick = -1  # the planning period of the last request
@@ -172,19 +200,20 @@ class PathPlanner:
     def options(self) -> int:
         return int(self._params["OA_OPTIONS"])
 
-    def avoid(self, now_s: float, here: Vec2, destination: Vec2, next_destination: Vec2 | None) -> Answer:
-        """The plan for flying from `here` to `destination` (then on to `next_destination`):
-        AP_OAPathPlanner::mission_avoidance."""
+    def avoid(self, now_s: float, here: Vec2, destination: Vec2, next_destination: Vec2 | None,
+              velocity: Vec2 = (0.0, 0.0), heading_deg: float = 0.0, home: Vec3 = (0.0, 0.0, 0.0),
+              here_up: float = 0.0) -> Answer:
+        """The plan for flying from `here` (`here_up` high) to `destination` (then on to
+        `next_destination`), the vehicle moving at `velocity` (north, east) facing `heading_deg`,
+        home at `home` (north, east, up): AP_OAPathPlanner::mission_avoidance."""
         kind = int(self._params["OA_TYPE"])
         if kind == DISABLED or not self._made:  # (no planner thread was made)
             return Answer(NOT_REQUIRED)
-        if kind == BENDY_RULER and BENDY_RULER in self._made:
-            return Answer(NOT_REQUIRED)  # BendyRuler is not modelled: the legs fly as without a planner
         since_asked = now_s - self._asked_s
         if since_asked > REQUEST_GAP_S:
             self._activated_s = now_s
         self._asked_s = now_s
-        request = _Request(here, destination, next_destination)
+        request = _Request(here, destination, next_destination, velocity, heading_deg, home, here_up)
         # A plan every PLAN_EVERY_S, for the request made just before it (one made after a long
         # silence waits for the next, as a request the thread did not see yet)
         tick = math.floor(now_s / PLAN_EVERY_S)
@@ -202,9 +231,46 @@ class PathPlanner:
         if not NEEDS.get(kind, {DISABLED}) <= self._made:
             return  # a planner not made at boot: no answer (a timeout, as ArduCopter's)
         shapes = self._fence_shapes()
+        if self.database is not None:
+            self.database.expire(now_s)
+        if kind == BENDY_RULER:
+            self._answer, self._answer_s = (request, self._bendy_plan(request, shapes, False)), now_s
+            return
+        if kind == DIJKSTRA_BENDY_RULER:
+            # BendyRuler round what the proximity sensor saw until clear of it, then Dijkstra's
+            # path afresh from where that left the vehicle
+            answer = self._bendy_plan(request, shapes, self._proximity_only)
+            if answer.state == SUCCESS:
+                self._proximity_only = False
+                self._answer, self._answer_s = (request, answer), now_s
+                return
+            if not self._proximity_only:
+                self._dijkstra.recalculate()
+            self._proximity_only = True
         fenced = any(s.kind == "poly" or not s.inclusion for s in shapes)
         if not fenced or not self._fence.enabled_fences & POLYGON:
             answer = Answer(NOT_REQUIRED)
         else:
             answer = self._dijkstra.plan(now_s, request, shapes, float(self._params["OA_MARGIN_MAX"]))
         self._answer, self._answer_s = (request, answer), now_s
+
+    def _bendy_plan(self, request: _Request, shapes: Sequence[Shape], proximity_only: bool) -> Answer:
+        p = self._params
+        home = request.home
+        db = self.database
+        fence = FenceView(tuple(shapes), self._fence.enabled_fences, float(p["FENCE_RADIUS"]),
+                          float(p["FENCE_MARGIN"]), (home[0], home[1]), float(p["FENCE_ALT_MAX"]), home[2],
+                          db.obstacles if db is not None and db.healthy else None, request.here_up, proximity_only)
+        settings = Settings(float(p["OA_BR_LOOKAHEAD"]), float(p["OA_BR_CONT_RATIO"]), float(p["OA_BR_CONT_ANGLE"]),
+                            float(p["OA_MARGIN_MAX"]))
+        height = None
+        if int(p["OA_BR_TYPE"]) == VERTICAL:
+            here = (*request.here, request.here_up)
+            active, (n, e, height) = self._bendy.update_vertical(here, request.destination, fence, settings)
+            point = (n, e)
+        else:
+            active, point = self._bendy.update(request.here, request.destination, request.velocity,
+                                               request.heading_deg, fence, settings)
+        if not active:
+            return Answer(NOT_REQUIRED, dest_to_next_clear=False)
+        return Answer(SUCCESS, request.here, point, None, dest_to_next_clear=False, bendy=True, height=height)

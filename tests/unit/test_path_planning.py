@@ -241,8 +241,8 @@ def test_oa_type_is_read_at_boot():
     assert p.prearm_failure() == "BendyRuler OA requires reboot"
     states = [p.avoid(10.0 + k * 0.01, (0.0, 0.0), (100.0, 0.0), None).state for k in range(400)]
     assert states[0] == PROCESSING and states[-1] == ERROR and states.index(ERROR) == pytest.approx(300, abs=2)
-    p, _, _ = planner([poly(square(50, 0, 10))], oa_type=1)  # BendyRuler made at boot: not modelled
-    assert {p.avoid(k * 0.01, (0.0, 0.0), (100.0, 0.0), None).state for k in range(300)} == {NOT_REQUIRED}
+    p, _, _ = planner([poly(square(50, 0, 10))], oa_type=1)  # BendyRuler made at boot: it plans
+    assert {p.avoid(k * 0.01, (30.0, 0.0), (100.0, 0.0), None).state for k in range(300)} == {PROCESSING, SUCCESS}
 
 
 # ----- flown -----------------------------------------------------------------------------------

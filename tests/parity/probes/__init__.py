@@ -5,7 +5,7 @@ from . import (adsb, autotune, avoid, camera, commands, flight, flip, follow, ft
                mission_navtime, missions, modes, mount, nav_flight,
                offboard, params, payload_outputs, pilot, precland, rangefinder, refusals, startup, surface_commands,
                surface_messages, surface_mission,
-               surface_modes, surface_sim_faults, takeoff, telemetry, throw, wind, proximity, extnav, prearm, oa,
+               surface_modes, surface_sim_faults, takeoff, telemetry, throw, wind, proximity, extnav, prearm, oa, oa_bendy,
                motor_test, relays, misc_commands, winch, flow)
 
 AREAS = {m.AREA: m for m in (commands, modes, telemetry, flight, missions, mavsdk_client, params, ftp, startup,
@@ -13,5 +13,5 @@ AREAS = {m.AREA: m for m in (commands, modes, telemetry, flight, missions, mavsd
                              surface_sim_faults, flip, nav_flight, guided, offboard, pilot, follow, autotune, throw,
                              mission_navgeo, mission_doitems, mission_navtime, mission_companion, mission_resume,
                              mission_plans, camera, mission_wpyaw, mission_terrain, takeoff, wind, rangefinder, adsb, precland, avoid, proximity, extnav,
-                             prearm, oa, payload_outputs, motor_test, relays, misc_commands, mount,
+                             prearm, oa, oa_bendy, payload_outputs, motor_test, relays, misc_commands, mount,
                              winch, flow)}

@@ -211,15 +211,22 @@ def _flight_facts(trace: Trace, c: Client, rec: Recorder, targets: Targets, reac
         trace.fact("closest_to_obstacle_m", round(min(obstacle.distance(p[1:3]) for p in track), 1), CLOSEST)
         trace.fact("crossed_fence", any(obstacle.inside(p[1:3]) != inclusion for p in track))
     trace.fact("track", _every_second(track), TRACK)
+    arrival_facts(c, trace, reached, track, start_ms, seq, goal, ARRIVAL)
+    trace.fact("dijkstra_texts", sum(t.startswith("Dijkstra") for t in c.texts_since(start_ms)),
+               Tol(abs=1.0, why="said again every 5 s or so, at each vehicle's planning times"))
+
+
+def arrival_facts(c: Client, trace: Trace, reached: Reached, track: list, start_ms: int, seq: int, goal,
+                  arrival: Tol) -> None:
+    """Whether and when (from start_ms) the item `seq` was reached, how far from `goal` the
+    track ended, and what was said."""
     at = next((ms for s, ms in reached.seen if s == seq and ms >= start_ms), None)
     trace.fact("reached", at is not None)
-    trace.fact("reached_after_s", None if at is None else round((at - start_ms) / 1000.0, 1), ARRIVAL)
+    trace.fact("reached_after_s", None if at is None else round((at - start_ms) / 1000.0, 1), arrival)
     end = track[-1]
     trace.fact("end.distance_to_goal_m", round(math.hypot(end[1] - goal[0], end[2] - goal[1]), 1),
                Tol(abs=1.0, why="arrived, or held short of it"))
     trace.fact("said", said(c.texts_since(start_ms)))
-    trace.fact("dijkstra_texts", sum(t.startswith("Dijkstra") for t in c.texts_since(start_ms)),
-               Tol(abs=1.0, why="said again every 5 s or so, at each vehicle's planning times"))
 
 
 def _every_second(track) -> list:
@@ -251,6 +258,15 @@ def _mission(c: Client, points) -> list:
 
 def _fly_auto(c: Client, trace: Trace, fence: list, points, flight_s: float, obstacle: Obstacle | None,
               inclusion: bool = False) -> None:
+    rec, targets, reached, start_ms = fly_mission(c, trace, fence, points, flight_s)
+    _flight_facts(trace, c, rec, targets, reached, start_ms, len(points) + 1, obstacle, goal=points[-1],
+                  inclusion=inclusion)
+
+
+def fly_mission(c: Client, trace: Trace, fence: list, points, flight_s: float) -> tuple:
+    """`fence` uploaded, a mission of a takeoff and waypoints at `points`, taken off in GUIDED
+    and flown in AUTO for flight_s: (the Recorder, Targets and Reached that listened, and the
+    vehicle ms AUTO was set at)."""
     _fence(c, trace, fence)
     trace.fact("mission_upload", upload(c, _mission(c, points)))
     rec, targets, reached = Recorder(c), Targets(c), Reached(c)
@@ -260,8 +276,7 @@ def _fly_auto(c: Client, trace: Trace, fence: list, points, flight_s: float, obs
         start_ms = c.now_ms
         c.set_mode(AUTO)
         c.idle(flight_s)
-    _flight_facts(trace, c, rec, targets, reached, start_ms, len(points) + 1, obstacle, goal=points[-1],
-                  inclusion=inclusion)
+    return rec, targets, reached, start_ms
 
 
 # ----- the probes -----------------------------------------------------------------------------
@@ -330,7 +345,19 @@ def guided_no_path(c: Client, trace: Trace) -> None:
 def _return_round(c: Client, trace: Trace, mode: int, flight_s: float) -> None:
     """Out through the square in GUIDED, back round it in `mode`: where it turned, how near it
     came, when it landed."""
-    _fence(c, trace, SQUARE_OBSTACLE.items(c))
+    track, targets, start_ms, landed_ms = fly_back(c, trace, SQUARE_OBSTACLE, mode, flight_s)
+    trace.fact("corners", targets.corners((0.0, 0.0)), CORNER)
+    trace.fact("closest_to_obstacle_m", round(min(SQUARE_OBSTACLE.distance(p[1:3]) for p in track), 1), CLOSEST)
+    trace.fact("crossed_fence", any(SQUARE_OBSTACLE.inside(p[1:3]) for p in track))
+    trace.fact("track", _every_second(track), TRACK)
+    landing_facts(c, trace, track, start_ms, landed_ms, "the return's stops at the corners")
+
+
+def fly_back(c: Client, trace: Trace, obstacle: Obstacle, mode: int, flight_s: float) -> tuple:
+    """Out through `obstacle` (uploaded as the fence) in GUIDED to GOAL, then `mode` until
+    disarmed: (the track from the mode change, the targets since, its vehicle ms, the disarm's
+    vehicle ms or None)."""
+    _fence(c, trace, obstacle.items(c))
     rec, targets = Recorder(c), Targets(c)
     with c.listening(rec), c.listening(targets):
         _ask_targets(c)
@@ -342,14 +369,14 @@ def _return_round(c: Client, trace: Trace, mode: int, flight_s: float) -> None:
         c.set_mode(mode)
         c.try_wait(lambda: not c.armed, flight_s)
         landed_ms = c.now_ms if not c.armed else None
-    track = rec.since((start_ms - rec.t0_ms) / 1000.0)
-    trace.fact("corners", targets.corners((0.0, 0.0)), CORNER)
-    trace.fact("closest_to_obstacle_m", round(min(SQUARE_OBSTACLE.distance(p[1:3]) for p in track), 1), CLOSEST)
-    trace.fact("crossed_fence", any(SQUARE_OBSTACLE.inside(p[1:3]) for p in track))
-    trace.fact("track", _every_second(track), TRACK)
+    return rec.since((start_ms - rec.t0_ms) / 1000.0), targets, start_ms, landed_ms
+
+
+def landing_facts(c: Client, trace: Trace, track: list, start_ms: int, landed_ms: int | None, way: str) -> None:
+    """When a return landed (`way`: what shapes it besides each vehicle's climb and descent),
+    where, and what was said."""
     trace.fact("disarmed_after_s", None if landed_ms is None else round((landed_ms - start_ms) / 1000.0, 1),
-               Tol(abs=6.0, rel=0.1, why="the return's stops at the corners and each vehicle's climb, descent and "
-                                         "touchdown (airframes differ)"))
+               Tol(abs=6.0, rel=0.1, why=f"{way} and each vehicle's climb, descent and touchdown (airframes differ)"))
     trace.fact("end.distance_from_home_m", round(math.hypot(track[-1][1], track[-1][2]), 1),
                Tol(abs=1.5, why="where each lands, within the last point's reach"))
     trace.fact("said", said(c.texts_since(start_ms)))
@@ -364,7 +391,12 @@ def smart_rtl_round_square(c: Client, trace: Trace) -> None:
 
 
 def oa_type_set_late(c: Client, trace: Trace) -> None:
-    trace.fact("set", c.set_param("OA_TYPE", 2))
+    set_late(c, trace, 2)
+
+
+def set_late(c: Client, trace: Trace, oa_type: int) -> None:
+    """OA_TYPE set after boot, then an arm: refused until a reboot makes the planner."""
+    trace.fact("set", c.set_param("OA_TYPE", oa_type))
     c.set_mode(GUIDED)
     c.wait(lambda: c.mode == GUIDED, 5, what="GUIDED")
     since = c.now_ms
