@@ -5,6 +5,8 @@ vehicle brighter and warmer in colour than the ground about it; the stream stops
 command. MAVSDK's Camera plugin gets the same stream in its video_stream_info."""
 from __future__ import annotations
 
+import json
+
 import av
 import numpy as np
 import pytest
@@ -83,6 +85,10 @@ def test_pymavlink_finds_the_stream_and_pyav_sees_the_fire(autopilot_factory, tm
         assert gcs.command(mav.MAV_CMD_VIDEO_START_STREAMING, 2) == mav.MAV_RESULT_DENIED  # no stream 2
     finally:
         gcs.close()
+    ap.stop()  # its exit report counts what the video did
+    counters = json.loads((tmp_path / "exit-report-0.json").read_text())["vehicles"][0]["counters"]
+    assert counters["video_frames"] > 15 and counters["video_frames"] == counters["video_rendered"]
+    assert counters["video_encoder_errors"] == counters["video_send_errors"] == 0
 
 
 async def test_mavsdk_video_stream_info(camera_drone):  # noqa: F811 - the fixture imported above

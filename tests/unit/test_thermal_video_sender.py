@@ -5,6 +5,7 @@ goes on, and a clock that starts again (a reboot) begins a new stream."""
 from __future__ import annotations
 
 import io
+import math
 import socket
 
 import av
@@ -83,3 +84,39 @@ def test_a_port_that_refuses_is_counted_and_nothing_raised():
     assert sender.counters["frames"] == 3 and sender.counters["send_errors"] >= 3
     assert sender.counters["datagrams"] == 0
     sender.close()
+
+
+def test_a_vehicle_streams_in_vehicle_time_and_a_reboot_starts_a_new_stream(tmp_path, receiver):
+    """The vehicle as `autopilot --thermal-camera --video-port` builds it, run flat out by the loop:
+    one frame each 1/8.7 s of vehicle time on the wire; a reboot of the autopilot starts a second
+    stream on the new clock once the vehicle speaks again (the frames of its silent boot skipped and
+    counted), and nothing is refused on the way."""
+    from firefly.autopilot.cli.main import build, build_parser
+    from firefly.autopilot.io.runner import Runner
+    from firefly.autopilot.testing.run import free_port_bases
+
+    listen, out = free_port_bases(2, 1)
+    args = build_parser().parse_args([
+        "--thermal-camera", "--video-port", str(receiver.getsockname()[1]), "--quiet", "--wipe",
+        "--listen", f"udp:127.0.0.1:{listen}", "--out", f"udp:127.0.0.1:{out}", "--state-dir", str(tmp_path)])
+    (node, _), = build(args)
+    video = node.session.camera_component.video
+    runner = Runner([node], math.inf)
+    try:
+        runner.run(2.0)
+        first = received(receiver)
+        node.vehicle.reboot_requested = True  # as the command handler leaves it
+        runner.run(4.0)
+        second = received(receiver)
+    finally:
+        node.endpoint.close()
+    assert node.reboots == 1 and node.session.camera_component.video is video  # the camera's, kept
+    times = [t for _, _, t, _ in decoded(first)]
+    assert times == pytest.approx([k / FPS for k in range(len(times))], abs=2e-4) and len(times) == 18  # 0..17
+    after = [t for _, _, t, _ in decoded(second)]
+    booted = round(after[0] * FPS)  # the first frame once the rebooted autopilot speaks (its boot: < 2 s)
+    assert after == pytest.approx([k / FPS for k in range(booted, booted + len(after))], abs=2e-4)
+    assert 0 < after[0] < 2.0 and after[-1] == pytest.approx(math.floor(node.vehicle.time_s * FPS) / FPS, abs=2e-4)
+    assert video.schedule.skipped == booted  # the boot's frames, counted
+    assert video.edge_counters["streams"] == 2 and video.edge_counters["encoder_errors"] == 0
+    assert video.edge_counters["send_errors"] == 0
