@@ -3,7 +3,9 @@
 Renders one frame looking straight down from 30 m above the fire, and the same with the scenario's
 fire under a 5 m/s west wind (the plume, rising at 2 m/s, leans east); prints the cost per frame
 (median, min and max of several timed runs of many frames) and the footprint; saves a false-colour
-PNG (docs/thermal_frame.png). Nothing is asserted. Run from the repository root:
+PNG (docs/thermal_frame.png). Then the live video's cost per frame, step by step as the vehicle
+pays it (payload/thermal_video.py, io/thermal_video.py): render, false colour, H.264 encode and
+MPEG-TS mux, sent by UDP to a port nobody reads. Nothing is asserted. Run from the repository root:
     python bench/thermal_frame.py [--runs 5] [--frames 200] [--png docs/thermal_frame.png]
 """
 from __future__ import annotations
@@ -15,6 +17,9 @@ from pathlib import Path
 
 import numpy as np
 
+from firefly.autopilot.io.thermal_video import VideoSender
+from firefly.autopilot.payload.thermal_palette import colour
+from firefly.autopilot.payload.thermal_video import BIT_RATE
 from firefly.sim.scenario import load_scenario
 from firefly.sim.thermal_camera import ThermalCameraSpec, footprint_corners, pose_from_attitude, render
 from report import summary  # bench/report.py, beside this script
@@ -33,6 +38,41 @@ def cost_ms(world, spec, pose, runs: int, frames: int) -> dict:
             render(world, spec, pose, rng)
         per_frame.append((time.perf_counter() - t0) / frames * 1e3)
     return summary(per_frame)
+
+
+def video_cost_ms(world, spec, pose, runs: int, frames: int) -> dict:
+    """Per frame [ms]: render, colour, encode (and send), and the three together, as the vehicle
+    pays them each 1/fps of vehicle time; the encoder is warmed first (its first frames cost more)."""
+    rng = np.random.default_rng(0)
+    sender = VideoSender(("127.0.0.1", 9), spec.width_px, spec.height_px, spec.frame_rate_hz, BIT_RATE)
+    index = 0
+    for _ in range(20):
+        sender.frame(colour(render(world, spec, pose, rng)), index)
+        index += 1
+    parts: dict[str, list[float]] = {"render": [], "colour": [], "encode": [], "total": []}
+    for _ in range(runs):
+        spent = dict.fromkeys(parts, 0.0)
+        for _ in range(frames):
+            t0 = time.perf_counter()
+            image = render(world, spec, pose, rng)
+            t1 = time.perf_counter()
+            rgb = colour(image)
+            t2 = time.perf_counter()
+            sender.frame(rgb, index)
+            t3 = time.perf_counter()
+            index += 1
+            spent["render"] += t1 - t0
+            spent["colour"] += t2 - t1
+            spent["encode"] += t3 - t2
+            spent["total"] += t3 - t0
+        for name, seconds in spent.items():
+            parts[name].append(seconds / frames * 1e3)
+    sent_kb = sender.counters["datagrams"] * 1316 / 1024
+    sender.close()
+    out = {name: summary(values) for name, values in parts.items()}
+    out["kb_per_frame"] = sent_kb / index
+    out["errors"] = sender.counters["encoder_errors"] + sender.counters["send_errors"]
+    return out
 
 
 def main() -> None:
@@ -55,6 +95,14 @@ def main() -> None:
           f"({cost['min']:.2f}-{cost['max']:.2f}, {args.runs} runs of {args.frames} frames)")
     print(f"footprint at {HEIGHT_M:g} m: {width:.2f} m east-west x {height:.2f} m north-south, "
           f"{width / spec.width_px * 100:.1f} cm per pixel")
+    video = video_cost_ms(world, spec, pose, args.runs, args.frames)
+    print("video per frame: " + ", ".join(
+        f"{name} {video[name]['median']:.2f} ms ({video[name]['min']:.2f}-{video[name]['max']:.2f})"
+        for name in ("render", "colour", "encode", "total"))
+        + f"; {video['kb_per_frame']:.1f} kB sent a frame, {video['errors']} errors")
+    per_s = video["total"]["median"] * spec.frame_rate_hz
+    print(f"  at {spec.frame_rate_hz:g} frames per vehicle second: {per_s:.0f} ms of work per vehicle second "
+          f"(the video alone caps a run at {1000 / per_s:.0f}x real time)")
 
     import matplotlib
     matplotlib.use("Agg")

@@ -1,7 +1,7 @@
 """Scenario files (TOML): the world a run takes place in — home, airframe, wind, sensor noise,
 physics rate, seed, the recovery parachute's canopy, the fire world, and the thermal camera
 the vehicle carries, if any ([thermal_camera], ThermalCameraSpec's fields; the table present
-fits one) — read the same way by the autopilot and the companion.
+fits one; its video_port key says where its video goes) — read the same way by the autopilot and the companion.
 
 The tables that only the vehicle acts on ([script], [signing], [faults]) are kept as written in
 `vehicle_tables`; the autopilot checks them (autopilot/cli/scenario.py). Every mistake is reported
@@ -40,6 +40,9 @@ class Scenario:
     world: FireWorld = dataclasses.field(default_factory=FireWorld)
     vehicle_tables: dict = dataclasses.field(default_factory=dict)  # VEHICLE_TABLES as written
     thermal_camera: ThermalCameraSpec | None = None  # [thermal_camera]: the camera fitted; None: none
+    # [thermal_camera].video_port: the UDP port its live video goes to (+10 per instance); 0: no
+    # video; None: the default (the autopilot's --video-port or 5600)
+    video_port: int | None = None
 
 
 def number(where: str, value, integer: bool = False):
@@ -52,6 +55,13 @@ def number(where: str, value, integer: bool = False):
         finite = False
     if not finite:
         raise ScenarioError(f"{where}: must be finite and of sensible size")
+    return value
+
+
+def video_port(value, where: str) -> int:
+    """A video port as a scenario or the command line gives it: 0 (no video) or 1..65535."""
+    if isinstance(value, bool) or not isinstance(value, int) or not 0 <= value <= 65535:
+        raise ScenarioError(f"{where}: expected a UDP port 1..65535 (0: no video), got {value!r}")
     return value
 
 
@@ -141,7 +151,10 @@ def scenario_from_dict(data: dict, name: str = "scenario") -> Scenario:
     noise = _table_to(NoiseConfig, data.get("noise", {}), f"{name}: [noise]")
     canopy = _table_to(Canopy, data.get("parachute", {}), f"{name}: [parachute]")
     if "thermal_camera" in data:
-        sc.thermal_camera = _table_to(ThermalCameraSpec, data["thermal_camera"], f"{name}: [thermal_camera]")
+        table = dict(data["thermal_camera"])
+        if "video_port" in table:
+            sc.video_port = video_port(table.pop("video_port"), f"{name}: [thermal_camera].video_port")
+        sc.thermal_camera = _table_to(ThermalCameraSpec, table, f"{name}: [thermal_camera]")
     sim_table = data.get("sim", {})
     unknown = set(sim_table) - {"physics_rate_hz"}
     if unknown:

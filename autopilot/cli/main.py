@@ -102,6 +102,10 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--thermal-camera", action="store_true",
                    help="fit the thermal camera (MAVLink component 100) with its default spec, unless the "
                         "scenario's [thermal_camera] gives one")
+    p.add_argument("--video-port", type=video_port_option, default=None, metavar="PORT",
+                   help="UDP port on 127.0.0.1 the thermal camera's live video (H.264 in MPEG-TS) goes to, "
+                        "+10 per instance (default 5600, or the scenario's [thermal_camera].video_port; "
+                        "0: no video)")
     p.add_argument("--wipe", action="store_true", help="reset saved parameters to defaults (like SITL -w)")
     p.add_argument("--param", action="append", default=[], type=param_setting, metavar="NAME=VALUE",
                    help="set and save a parameter before the vehicle boots, as a ground station's set and a "
@@ -125,6 +129,7 @@ def build_parser() -> argparse.ArgumentParser:
     return p
 
 
+DEFAULT_VIDEO_PORT = 5600  # the thermal camera's video, +10 per instance (QGroundControl's usual port)
 GRID_SPACING_M = 5.0  # vehicles of one process start this far apart, on a square grid
 
 
@@ -150,6 +155,14 @@ def build(args) -> list:
     if getattr(args, "thermal_camera", False) and scenario.thermal_camera is None:
         from firefly.sim.thermal_camera import ThermalCameraSpec
         scenario.thermal_camera = ThermalCameraSpec()
+    if getattr(args, "video_port", None) is not None:
+        scenario.video_port = args.video_port
+    if scenario.thermal_camera is not None and scenario.video_port is None:
+        scenario.video_port = DEFAULT_VIDEO_PORT
+    if scenario.thermal_camera is not None and scenario.video_port:
+        last = scenario.video_port + 10 * (args.instance + args.fleet_total - 1)
+        if last > 65535:
+            raise CliError(f"--video-port: {scenario.video_port} + 10 per instance reaches {last}, past 65535")
     if args.signing_key:
         scenario.signing_key = signing_key_option(args.signing_key)
     if args.startup == "instant":
@@ -278,14 +291,16 @@ def assemble(args, scenario, k: int, state_dir: Path, board_id: str, *, epoch_us
     attach_state(session.signing, state_dir / "signing.json", scenario.signing_key, wipe)
     recorder, log_files = attach_dataflash(vehicle, session, state_dir / "logs")
     if scenario.thermal_camera is not None:
+        video_port = scenario.video_port + 10 * n if scenario.video_port else 0
         attach_thermal_camera(vehicle, session, scenario.thermal_camera, state_dir / "thermal",
-                              {} if kept is None else kept)
+                              {} if kept is None else kept, video_port)
     return vehicle, session, recorder, log_files
 
 
-def attach_thermal_camera(vehicle, session, spec, directory: Path, kept: dict) -> None:
+def attach_thermal_camera(vehicle, session, spec, directory: Path, kept: dict, video_port: int = 0) -> None:
     """The thermal camera (payload/thermal_camera.py) and its MAVLink component; its card and its
-    copy on disk outlive a reboot of the autopilot, as a separate camera's do."""
+    copy on disk outlive a reboot of the autopilot, as a separate camera's do, and so does its live
+    video to 127.0.0.1:video_port (payload/thermal_video.py, io/thermal_video.py; 0: none)."""
     from ..io.thermal_stills import ThermalStills
     from ..mavlink.camera_component import CameraComponent
     from ..payload.camera import MAVLINK_CAMV2
@@ -299,8 +314,20 @@ def attach_thermal_camera(vehicle, session, spec, directory: Path, kept: dict) -
         camera.on_still, camera.on_format = disk.write, disk.clear
     camera.look, camera.now = (lambda: look_of(vehicle)), (lambda: vehicle.time_s)
     camera.stop()  # the sim's clock starts again at a reboot
+    video = kept.get("thermal_video")
+    if video is None and video_port:
+        from ..io.thermal_video import VideoSender
+        from ..payload.thermal_video import ThermalVideo
+        video = kept["thermal_video"] = ThermalVideo(camera, f"udp://127.0.0.1:{video_port}",
+                                                     seed=vehicle.config.sim.seed)
+        sender = VideoSender(("127.0.0.1", video_port), spec.width_px, spec.height_px, spec.frame_rate_hz,
+                             video.bit_rate)
+        video.on_frame, video.edge_counters = sender.frame, sender.counters
+    if video is not None:
+        video.restart()
     component = session.camera_component = CameraComponent(camera, session.codec,
-                                                           gimbal_device_id=1 if vehicle.mount.fitted else 0)
+                                                           gimbal_device_id=1 if vehicle.mount.fitted else 0,
+                                                           video=video)
     if vehicle.camera.kind == MAVLINK_CAMV2:  # the autopilot's CAM1 drives it (payload/camera.py)
         vehicle.camera.mavlink_camera = component
         vehicle.notify(component.announcement, Severity.INFO)
@@ -490,6 +517,17 @@ def param_setting(text: str) -> tuple[str, float]:
         return name, checked_value(name, value)
     except ParamError as exc:
         raise argparse.ArgumentTypeError(f"expected NAME=VALUE of a known parameter: {exc}") from None
+
+
+def video_port_option(text: str) -> int:
+    """argparse names the option: the message says only what is wrong."""
+    try:
+        port = int(text)
+    except ValueError:
+        port = -1
+    if not 0 <= port <= 65535:
+        raise argparse.ArgumentTypeError(f"expected a UDP port 1..65535 (0: no video), got {text!r}")
+    return port
 
 
 def positive_pid(text: str) -> int:

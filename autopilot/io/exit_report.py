@@ -28,6 +28,10 @@ def report(runner, nodes, exception: BaseException | None, wall_s: float) -> dic
         if node.link_faults is not None:
             counters.update({f"link_dropped_{way}": n for way, n in node.link_faults.dropped.items()})
         counters.update({f"signing_{k}": n for k, n in session.signing.counters.items()})
+        video = session.camera_component.video if session.camera_component is not None else None
+        if video is not None:
+            counters.update({"video_rendered": video.frames, "video_skipped": video.schedule.skipped,
+                             **{f"video_{k}": n for k, n in video.edge_counters.items()}})
         vehicles.append({
             "system_id": v.system_id, "sim_s": v.time_s, "physics_steps": v.sim.steps,
             "armed": v.armed, "mode": v.mode.number,

@@ -6,12 +6,15 @@ What it says unasked, to every link: a HEARTBEAT (MAV_TYPE_CAMERA) each second o
 CAMERA_IMAGE_CAPTURED for each still as it is taken. Asked (COMMAND_LONG or COMMAND_INT), it answers
 each command with exactly one COMMAND_ACK, then any message the command asked for, to the asking link:
 - REQUEST_MESSAGE for CAMERA_INFORMATION, CAMERA_SETTINGS, CAMERA_CAPTURE_STATUS,
-  STORAGE_INFORMATION, CAMERA_IMAGE_CAPTURED (param 2 the image index, -1 all; param 3 0 that one,
+  STORAGE_INFORMATION, VIDEO_STREAM_INFORMATION and VIDEO_STREAM_STATUS (param 2 the stream id, 0
+  or 1; when the video is on), CAMERA_IMAGE_CAPTURED (param 2 the image index, -1 all; param 3 0 that one,
   -1 it and all after it, else the last index of a range) and HEARTBEAT; and the deprecated
   REQUEST_CAMERA_INFORMATION / _SETTINGS / _CAPTURE_STATUS and REQUEST_STORAGE_INFORMATION
   (param 1 = 0 asks for nothing), and REQUEST_CAMERA_IMAGE_CAPTURE (param 1 the index);
 - IMAGE_START_CAPTURE (param 2 interval [s], param 3 count, 0 until stopped), IMAGE_STOP_CAPTURE,
-  SET_CAMERA_MODE (image only), STORAGE_FORMAT, RESET_CAMERA_SETTINGS.
+  SET_CAMERA_MODE (image only), STORAGE_FORMAT, RESET_CAMERA_SETTINGS, and with the video on
+  VIDEO_START_STREAMING / VIDEO_STOP_STREAMING (param 1 the stream id) and the deprecated
+  REQUEST_VIDEO_STREAM_INFORMATION / _STATUS (param 1 the stream id).
 Results, as the camera protocol and ArduPilot give them: a message it does not send, or an image it
 does not hold, is FAILED (ArduPilot's answer to a message id it cannot send); a parameter out of
 its range (a camera/sensor id other than 0 or 1, NaN, a negative interval or count, an interval
@@ -24,6 +27,8 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 
+from ..payload.thermal_video import NAME as VIDEO_NAME
+from ..payload.thermal_video import STREAM_ID
 from ..results import Result
 from .camera_ftp import CameraFtp, file_url
 from .commands import Command
@@ -36,6 +41,7 @@ MODEL = b"Thermal 160 (Lepton 3.5 class)"
 PIXEL_PITCH_MM = 0.012  # the Lepton's 12 um pixel
 SENSORS = (0, 1)  # camera ids a command may name: 0 all, 1 its one sensor
 STORAGES = (0, 1)  # storage ids: 0 all, 1 its card
+STREAMS = (0, STREAM_ID)  # video stream ids: 0 all, 1 its one stream
 MIB = 1024 * 1024
 ALL_FOLLOWING = -1  # CAMERA_IMAGE_CAPTURED request: param 3 (and param 2 = -1: every image)
 CAPTURED_PER_REQUEST = 50  # at most this many resent for one request (a client asks again for more)
@@ -50,8 +56,9 @@ def _whole(value: float, low: float, high: float) -> int | None:
 class CameraComponent:
     COMPONENT = mav.MAV_COMP_ID_CAMERA
 
-    def __init__(self, camera, codec, gimbal_device_id: int = 0):
+    def __init__(self, camera, codec, gimbal_device_id: int = 0, video=None):
         self.camera = camera
+        self.video = video  # its live stream (payload/thermal_video.py), None: no video
         self.codec = codec
         self.gimbal_device_id = gimbal_device_id  # the autopilot's mount (1) when one is fitted
         self.ftp = CameraFtp(camera)
@@ -77,8 +84,13 @@ class CameraComponent:
         spec = self.camera.spec
         return (list(VENDOR.ljust(32, b"\0")), list(MODEL.ljust(32, b"\0")), 0,
                 spec.focal_px * PIXEL_PITCH_MM, spec.width_px * PIXEL_PITCH_MM, spec.height_px * PIXEL_PITCH_MM,
-                spec.width_px, spec.height_px, 0, mav.CAMERA_CAP_FLAGS_CAPTURE_IMAGE, 0, b"",
+                spec.width_px, spec.height_px, 0, self.flags, 0, b"",
                 self.gimbal_device_id, 0)
+
+    @property
+    def flags(self) -> int:
+        video = mav.CAMERA_CAP_FLAGS_HAS_VIDEO_STREAM if self.video is not None else 0
+        return mav.CAMERA_CAP_FLAGS_CAPTURE_IMAGE | video
 
     def information(self):
         return self.codec.camera_information_encode(self._ms(), *self.information_fields())
@@ -114,6 +126,23 @@ class CameraComponent:
             (camera.card_bytes - camera.used_bytes) / MIB, math.nan, math.nan, mav.STORAGE_TYPE_OTHER,
             b"thermal card", mav.STORAGE_USAGE_FLAG_SET | mav.STORAGE_USAGE_FLAG_PHOTO)
 
+    def _stream_fields(self) -> tuple:
+        """VIDEO_STREAM_INFORMATION's and VIDEO_STREAM_STATUS's shared fields after flags."""
+        spec = self.camera.spec
+        return (spec.frame_rate_hz, spec.width_px, spec.height_px, self.video.bit_rate, 0, round(spec.hfov_deg))
+
+    def _stream_flags(self) -> int:
+        running = mav.VIDEO_STREAM_STATUS_FLAGS_RUNNING if self.video.running else 0
+        return running | mav.VIDEO_STREAM_STATUS_FLAGS_THERMAL
+
+    def video_stream_information(self):
+        return self.codec.video_stream_information_encode(
+            STREAM_ID, 1, mav.VIDEO_STREAM_TYPE_MPEG_TS, self._stream_flags(), *self._stream_fields(),
+            VIDEO_NAME.encode(), self.video.uri.encode(), mav.VIDEO_STREAM_ENCODING_H264, 0)
+
+    def video_stream_status(self):
+        return self.codec.video_stream_status_encode(STREAM_ID, self._stream_flags(), *self._stream_fields(), 0)
+
     def image_captured(self, still):
         look = still.look
         return self.codec.camera_image_captured_encode(
@@ -125,7 +154,8 @@ class CameraComponent:
     def due(self, now_s: float) -> bool:
         """Whether poll has something to do now (the session is not idle)."""
         camera = self.camera
-        return now_s >= self.next_heartbeat_s or bool(camera.fresh) or camera.next_s <= now_s + 1e-9
+        return (now_s >= self.next_heartbeat_s or bool(camera.fresh) or camera.next_s <= now_s + 1e-9
+                or (self.video is not None and self.video.due(now_s)))
 
     def poll(self, now_s: float) -> list:
         """What goes to every link now: the heartbeat when due, a CAMERA_IMAGE_CAPTURED per still."""
@@ -135,6 +165,8 @@ class CameraComponent:
             out.append(self._framed(self.heartbeat()))
         camera = self.camera
         camera.tick()
+        if self.video is not None:
+            self.video.tick()
         if camera.fresh:
             out.extend(self._framed(self.image_captured(s)) for s in camera.take_fresh())
         return out
@@ -168,6 +200,8 @@ class CameraComponent:
         msg_id = _whole(c.p1, 0, 2**24)
         if msg_id == mav.MAVLINK_MSG_ID_CAMERA_IMAGE_CAPTURED:
             return self._resend(c.p2, c.p3, replies)
+        if msg_id in VIDEO_MESSAGES:  # param 2 the stream id, 0 every stream
+            return self._video_message(msg_id, c.p2, replies)
         build: Callable | None = MESSAGES.get(msg_id) if msg_id is not None else None
         if build is None:
             return Result.FAILED
@@ -199,6 +233,30 @@ class CameraComponent:
             return Result.DENIED
         if ask:
             replies.append(MESSAGES[DEPRECATED_REQUESTS[c.command]](self))
+        return Result.ACCEPTED
+
+    def _video_message(self, msg_id: int, stream: float, replies: list) -> Result:
+        if self.video is None:
+            return Result.FAILED  # as any message it does not send
+        if _whole(stream, 0, 255) not in STREAMS:
+            return Result.DENIED
+        replies.append(VIDEO_MESSAGES[msg_id](self))
+        return Result.ACCEPTED
+
+    def request_video_deprecated(self, c: Command, replies: list) -> Result:
+        """REQUEST_VIDEO_STREAM_INFORMATION / _STATUS: param 1 the stream id, 0 every stream."""
+        return self._video_message(DEPRECATED_VIDEO_REQUESTS[c.command], c.p1, replies)
+
+    def video_streaming(self, c: Command, replies: list) -> Result:
+        """VIDEO_START_STREAMING / VIDEO_STOP_STREAMING, param 1 the stream id (0 every stream)."""
+        if self.video is None:
+            return Result.UNSUPPORTED
+        if _whole(c.p1, 0, 255) not in STREAMS:
+            return Result.DENIED
+        if c.command == mav.MAV_CMD_VIDEO_START_STREAMING:
+            self.video.start()
+        else:
+            self.video.stop()
         return Result.ACCEPTED
 
     def request_image_captured(self, c: Command, replies: list) -> Result:
@@ -245,6 +303,14 @@ MESSAGES: dict[int, Callable] = {
     mav.MAVLINK_MSG_ID_CAMERA_CAPTURE_STATUS: CameraComponent.capture_status,
     mav.MAVLINK_MSG_ID_STORAGE_INFORMATION: CameraComponent.storage_information,
 }
+VIDEO_MESSAGES: dict[int, Callable] = {
+    mav.MAVLINK_MSG_ID_VIDEO_STREAM_INFORMATION: CameraComponent.video_stream_information,
+    mav.MAVLINK_MSG_ID_VIDEO_STREAM_STATUS: CameraComponent.video_stream_status,
+}
+DEPRECATED_VIDEO_REQUESTS = {
+    mav.MAV_CMD_REQUEST_VIDEO_STREAM_INFORMATION: mav.MAVLINK_MSG_ID_VIDEO_STREAM_INFORMATION,
+    mav.MAV_CMD_REQUEST_VIDEO_STREAM_STATUS: mav.MAVLINK_MSG_ID_VIDEO_STREAM_STATUS,
+}
 DEPRECATED_REQUESTS = {
     mav.MAV_CMD_REQUEST_CAMERA_INFORMATION: mav.MAVLINK_MSG_ID_CAMERA_INFORMATION,
     mav.MAV_CMD_REQUEST_CAMERA_SETTINGS: mav.MAVLINK_MSG_ID_CAMERA_SETTINGS,
@@ -255,6 +321,9 @@ COMMANDS: dict[int, Callable] = {
     mav.MAV_CMD_REQUEST_MESSAGE: CameraComponent.request_message,
     **{command: CameraComponent.request_deprecated for command in DEPRECATED_REQUESTS},
     mav.MAV_CMD_REQUEST_CAMERA_IMAGE_CAPTURE: CameraComponent.request_image_captured,
+    **{command: CameraComponent.request_video_deprecated for command in DEPRECATED_VIDEO_REQUESTS},
+    mav.MAV_CMD_VIDEO_START_STREAMING: CameraComponent.video_streaming,
+    mav.MAV_CMD_VIDEO_STOP_STREAMING: CameraComponent.video_streaming,
     mav.MAV_CMD_IMAGE_START_CAPTURE: CameraComponent.start_capture,
     mav.MAV_CMD_IMAGE_STOP_CAPTURE: CameraComponent.stop_capture,
     mav.MAV_CMD_SET_CAMERA_MODE: CameraComponent.set_mode,

@@ -321,3 +321,34 @@ def test_the_thermal_camera_option_fits_the_default_camera(tmp_path, no_sockets)
     assert component is not None and component.camera.spec.width_px == 160
     node, _ = build("--state-dir", str(tmp_path))
     assert node.session.camera_component is None  # off unless asked for
+
+
+def test_the_thermal_video_port_from_the_option_or_the_scenario(tmp_path, no_sockets):
+    def uri(*argv):
+        video = build(*argv, "--state-dir", str(tmp_path))[0].session.camera_component.video
+        return None if video is None else video.uri
+    assert uri("--thermal-camera") == "udp://127.0.0.1:5600"
+    assert uri("--thermal-camera", "--instance", "2") == "udp://127.0.0.1:5620"  # +10 per instance
+    assert uri("--thermal-camera", "--video-port", "6000") == "udp://127.0.0.1:6000"
+    assert uri("--thermal-camera", "--video-port", "0") is None  # the camera without its video
+    scenario = tmp_path / "video.toml"
+    scenario.write_text("[thermal_camera]\nvideo_port = 7000\n")
+    assert uri("--scenario", str(scenario)) == "udp://127.0.0.1:7000"
+    assert uri("--scenario", str(scenario), "--video-port", "7100") == "udp://127.0.0.1:7100"  # the option wins
+    with pytest.raises(cli.CliError, match="--video-port: 65535 \\+ 10 per instance"):
+        build("--thermal-camera", "--video-port", "65535", "--instance", "1", "--state-dir", str(tmp_path))
+
+
+@pytest.mark.parametrize("value", [-1, 70000, 1.5, "5600", True])
+def test_a_bad_video_port_is_refused_in_one_line_naming_the_key(value):
+    from firefly.autopilot.cli.scenario import scenario_from_dict
+    with pytest.raises(ScenarioError) as err:
+        scenario_from_dict({"thermal_camera": {"video_port": value}}, "s.toml")
+    text = str(err.value)
+    assert "\n" not in text and "s.toml: [thermal_camera].video_port" in text, text
+
+
+@pytest.mark.parametrize("text", ["-1", "65536", "abc", "1.5"])
+def test_a_bad_video_port_option_is_refused(text):
+    with pytest.raises(cli.CliError, match="^argument --video-port: expected a UDP port 1..65535 .*[^\n]$"):
+        cli.build_parser().parse_args(["--video-port", text])
