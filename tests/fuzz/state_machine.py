@@ -808,9 +808,15 @@ def _fit_thermal_camera(v, s) -> None:
 
 def act_payload(w: Walk, r) -> None:
     """What the payload start's devices take (their values hostile now and then): DO_WINCH (any
-    action), a command to the thermal camera's component (any it knows, and others), FLOWHOLD."""
-    how = r.randrange(4)
-    if how == 0:
+    action), a command to the thermal camera's component (any it knows, and others), MAVLink FTP
+    to it, FLOWHOLD, the devices' parameters."""
+    how = r.randrange(5)
+    if how == 4:  # the card, by MAVLink FTP to the camera: any opcode, its paths or others
+        data = r.choice((b"DCIM", b"DCIM/IR_0000.tif", b"/", b"", b"@PARAM/param.pck", b"DCIM/IR_0000.tif/x"))
+        payload = ftp_payload(r.randrange(65536), r.choice((0, 0, 1, 255)), r.choice(hostile.FTP_OPCODES), len(data),
+                              r.choice((0, 239, 2**32 - 1)), data)
+        w.send(w.client.file_transfer_protocol_encode(0, SYSTEM_ID, mav.MAV_COMP_ID_CAMERA, payload))
+    elif how == 0:
         w.command(mav.MAV_CMD_DO_WINCH, 1, param_f(r, r.choice((0, 1, 2, 3))), param_f(r, r.uniform(-5, 5)),
                   param_f(r, r.uniform(-2, 2)), as_int=r.random() < 0.3)
     elif how == 1:
