@@ -18,6 +18,7 @@ driver's (FLOW_FXSCALER, FLOW_ORIENT_YAW) and applied there.
 """
 from __future__ import annotations
 
+import math
 from collections import deque
 from dataclasses import dataclass
 from typing import NamedTuple
@@ -63,7 +64,17 @@ def true_flow(b: BodyState, ground_d_m: float, offset_m: tuple[float, float, flo
     # the body frame's velocity: R transposed times the NED velocity, then omega x offset
     vx = r[0][0] * vn + r[1][0] * ve + r[2][0] * vd + (q * offset_m[2] - rr * offset_m[1])
     vy = r[0][1] * vn + r[1][1] * ve + r[2][1] * vd + (rr * offset_m[0] - p * offset_m[2])
-    return FlowSample(-vy / range_m + p, vx / range_m + q, p, q, SURFACE_QUALITY)
+    return FlowSample(_over(-vy, range_m) + p, _over(vx, range_m) + q, p, q, SURFACE_QUALITY)
+
+
+def _over(x: float, y: float) -> float:
+    """x / y as SITL's float division gives it: over a range of exactly 0 (a lens offset
+    SIM_FLOW_POS_Z at the ground) an infinite flow, or NaN for no motion, where Python would raise."""
+    if y:
+        return x / y
+    if x != x or x == 0.0:
+        return math.nan
+    return math.copysign(math.inf, x) * math.copysign(1.0, y)
 
 
 @dataclass

@@ -328,6 +328,7 @@ def attach_thermal_camera(vehicle, session, spec, directory: Path, kept: dict, v
     component = session.camera_component = CameraComponent(camera, session.codec,
                                                            gimbal_device_id=1 if vehicle.mount.fitted else 0,
                                                            video=video)
+    component.on_failure = session.handler_failed
     if vehicle.camera.kind == MAVLINK_CAMV2:  # the autopilot's CAM1 drives it (payload/camera.py)
         vehicle.camera.mavlink_camera = component
         vehicle.notify(component.announcement, Severity.INFO)

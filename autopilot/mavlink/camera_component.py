@@ -65,6 +65,9 @@ class CameraComponent:
         self._seq = 0
         self.next_heartbeat_s = 0.0
         self.counters = {"commands": 0, "refused": 0}
+        # Told of a bug in a command's handler (the session's handler_failed: an internal error);
+        # the command is answered FAILED all the same
+        self.on_failure: Callable[[str, BaseException], None] | None = None
 
     # ----- output -------------------------------------------------------------------------------
     def _framed(self, msg) -> FromComponent:
@@ -188,7 +191,12 @@ class CameraComponent:
         self.counters["commands"] += 1
         handler = COMMANDS.get(c.command)
         replies: list = []
-        result = Result.UNSUPPORTED if handler is None else handler(self, c, replies)
+        try:
+            result = Result.UNSUPPORTED if handler is None else handler(self, c, replies)
+        except Exception as exc:  # noqa: BLE001 - a bug: reported, and the command still answered once
+            if self.on_failure is not None:
+                self.on_failure(f"camera command {c.command}", exc)
+            result, replies = Result.FAILED, []
         if result != Result.ACCEPTED:
             self.counters["refused"] += 1
         ack = self.codec.command_ack_encode(c.command, int(result), 0, 0, *c.src)

@@ -133,7 +133,7 @@ AUX_FUNCTIONS: dict[int, AuxFunction] = {f.number: f for f in (
     AuxFunction(37, "THROW", _mode(M.THROW)),
     AuxFunction(42, "SMART_RTL", _mode(M.SMART_RTL)),
     AuxFunction(44, "WINCH_ENABLE", _winch_enable, announce="WinchEnable"),
-    # WinchControl: the channel's stick runs the winch (AP_Winch reads it); Firefly does not (yet)
+    # WinchControl: nothing to do on a switch; the winch reads the channel's stick itself (payload/winch.py)
     AuxFunction(45, "WINCH_CONTROL", _nothing, announce="WinchControl"),
     AuxFunction(52, "ACRO", _mode(M.ACRO)),
     AuxFunction(55, "GUIDED", _mode(M.GUIDED)),

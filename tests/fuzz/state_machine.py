@@ -51,7 +51,7 @@ from firefly.autopilot.mavlink.dialect import new_codec
 from firefly.autopilot.mavlink.link import Link
 from firefly.autopilot.mavlink.session import Session
 from firefly.autopilot.mission.commands import NAMES as MISSION_COMMAND_NAMES
-from firefly.autopilot.modes import MODE_BY_NUMBER
+from firefly.autopilot.modes import MODE_BY_NUMBER, ModeNumber
 from firefly.autopilot.params import ParamStore
 from firefly.autopilot.startup import StartupTimeline
 from firefly.autopilot.vehicle import Vehicle, VehicleConfig
@@ -72,8 +72,12 @@ MODE_NAMES = {n: cls.name for n, cls in MODE_BY_NUMBER.items()}
 PHASES = {"ON_GROUND": "armed_ground", "TAKEOFF": "takeoff", "IN_AIR": "flying", "LANDING": "landing"}
 KIND_NAMES = {0: "mission", 1: "fence", 2: "rally"}
 # "camera": an instant start with a servo camera (SERVO9_FUNCTION 10 at power-on makes CAM1_TYPE 1),
-# so that the camera's commands and mission items act rather than answer that there is none
-STARTS = ("realistic", "instant", "camera")
+# so that the camera's commands and mission items act rather than answer that there is none;
+# "payload": an instant start with every payload that is off by default fitted, so that its
+# commands act: the winch (WINCH_TYPE 1 on output 10), the optical flow sensor (FLOW_TYPE 10, SITL's
+# camera on: FLOWHOLD can be entered) and the thermal camera as component 100, driven by CAM1_TYPE 6
+STARTS = ("realistic", "instant", "camera", "payload")
+PAYLOAD_PARAMS = {"WINCH_TYPE": 1, "SERVO10_FUNCTION": 88, "FLOW_TYPE": 10, "SIM_FLOW_ENABLE": 1, "CAM1_TYPE": 6}
 
 
 # ----- failures ---------------------------------------------------------------------------------------
@@ -233,8 +237,13 @@ class Walk:
         params = ParamStore()
         if start == "camera":
             params.set("SERVO9_FUNCTION", 10)
+        if start == "payload":
+            for name, value in PAYLOAD_PARAMS.items():
+                params.set(name, value)
         self.vehicle = v = Vehicle(VehicleConfig(startup=timeline), params)
         self.session = s = Session(v, new_codec(SYSTEM_ID))
+        if start == "payload":
+            _fit_thermal_camera(v, s)
         self.link = Link(s.codec, s.signing)  # what the vehicle sends is packed as the I/O edge packs it
         self.client = new_codec(*GCS)  # the ground station's codec: builds and packs what it sends
         self._parser = new_codec(0, 0)  # decodes what the ground station packed, as the link does
@@ -351,8 +360,16 @@ class Walk:
 
     # ----- invariants ---------------------------------------------------------------------------------
     def _snapshot(self) -> tuple:
+        """What a refused command must leave as it was: arming, the mode, home, and what the payload
+        commands move (the winch's control, the thermal camera's card and capture)."""
         v = self.vehicle
-        return v.armed, int(v.mode.number), repr(v.home_ned)
+        winch = v.winch
+        payload = (winch.mode, winch.length_desired_m, winch.rate_desired_m_s)
+        thermal = self.session.camera_component
+        if thermal is not None:
+            camera = thermal.camera
+            payload += (len(camera.stills), camera.interval_s, camera.left)
+        return v.armed, int(v.mode.number), repr(v.home_ned), repr(payload)
 
     def _error_counts(self) -> tuple:
         """(handler errors, internal errors, tracebacks kept): what _check_errors compares."""
@@ -442,7 +459,7 @@ class Walk:
     def _check_heartbeats(self, answers: list, now: float, state) -> None:
         v = self.vehicle
         for m in answers:
-            if m.get_type() == "HEARTBEAT":
+            if m.get_type() == "HEARTBEAT" and m.type != mav.MAV_TYPE_CAMERA:  # the autopilot's, not component 100's
                 self.last_hb_s = now
                 armed = bool(m.base_mode & mav.MAV_MODE_FLAG_SAFETY_ARMED)
                 if m.custom_mode != v.mode.number or armed != v.motors_armed:  # (a motor test arms the motors)
@@ -777,6 +794,41 @@ def act_camera(w: Walk, r) -> None:
         w.command(mav.MAV_CMD_DO_SET_CAM_TRIGG_DIST, param_f(r, r.choice((0.0, 5.0, 20.0))), 0, param_f(r, 1.0))
     else:
         w.command(mav.MAV_CMD_IMAGE_STOP_CAPTURE)
+
+
+def _fit_thermal_camera(v, s) -> None:
+    """The thermal camera and its component as the CLI fits them (cli/main.py), its stills kept on
+    its card only (no copy on disk)."""
+    from firefly.autopilot.cli.main import attach_thermal_camera
+    from firefly.autopilot.payload.thermal_camera import ThermalCamera, look_of
+    from firefly.sim.thermal_camera import ThermalCameraSpec
+    camera = ThermalCamera(ThermalCameraSpec(), v.config.sim.world, look=lambda: look_of(v), now=lambda: v.time_s)
+    attach_thermal_camera(v, s, camera.spec, None, {"thermal_camera": camera})
+
+
+def act_payload(w: Walk, r) -> None:
+    """What the payload start's devices take (their values hostile now and then): DO_WINCH (any
+    action), a command to the thermal camera's component (any it knows, and others), MAVLink FTP
+    to it, FLOWHOLD, the devices' parameters."""
+    how = r.randrange(5)
+    if how == 4:  # the card, by MAVLink FTP to the camera: any opcode, its paths or others
+        data = r.choice((b"DCIM", b"DCIM/IR_0000.tif", b"/", b"", b"@PARAM/param.pck", b"DCIM/IR_0000.tif/x"))
+        payload = ftp_payload(r.randrange(65536), r.choice((0, 0, 1, 255)), r.choice(hostile.FTP_OPCODES), len(data),
+                              r.choice((0, 239, 2**32 - 1)), data)
+        w.send(w.client.file_transfer_protocol_encode(0, SYSTEM_ID, mav.MAV_COMP_ID_CAMERA, payload))
+    elif how == 0:
+        w.command(mav.MAV_CMD_DO_WINCH, 1, param_f(r, r.choice((0, 1, 2, 3))), param_f(r, r.uniform(-5, 5)),
+                  param_f(r, r.uniform(-2, 2)), as_int=r.random() < 0.3)
+    elif how == 1:
+        from firefly.autopilot.mavlink.camera_component import COMMANDS, CameraComponent
+        command = r.choice(sorted(COMMANDS) + [mav.MAV_CMD_COMPONENT_ARM_DISARM, mav.MAV_CMD_DO_WINCH, 0])
+        p = [param_f(r, r.choice((0.0, 1.0, 0.5, -1.0, 259.0, 263.0)), 0.4) for _ in range(7)]
+        w.send(w.client.command_long_encode(SYSTEM_ID, CameraComponent.COMPONENT, command, 0, *p))
+    elif how == 2:
+        w.command(mav.MAV_CMD_DO_SET_MODE, mav.MAV_MODE_FLAG_CUSTOM_MODE_ENABLED, int(ModeNumber.FLOWHOLD))
+    else:
+        w.set_param(r.choice(("SIM_FLOW_ENABLE", "SIM_FLOW_POS_Z", "WINCH_RATE_MAX", "FLOW_TYPE")),
+                    param_f(r, r.choice((0.0, 1.0, 0.5, 5.0)), 0.2))
 
 
 def act_known(w: Walk, r) -> None:

@@ -299,3 +299,38 @@ def test_any_command_gets_exactly_one_ack_and_never_raises(rig):
         assert [m.command for m in acks(got)] == [command], (command, params)
         clock.t += 0.05
         wire(component.poll(clock.t))
+
+
+def test_a_command_whose_handler_fails_is_still_answered_once(rig, monkeypatch):
+    """As the autopilot's command table (commands.py) does: a bug in a handler is counted as an
+    internal error and the command still gets its one COMMAND_ACK (FAILED), not silence; what the
+    handler had queued before it failed is not sent."""
+    from firefly.autopilot.mavlink import camera_component
+
+    def broken(component, c, replies):
+        replies.append(component.heartbeat())
+        raise ZeroDivisionError("a bug")
+
+    failures = []
+    _, _, component = rig
+    component.on_failure = lambda where, exc: failures.append(where)
+    monkeypatch.setitem(camera_component.COMMANDS, mav.MAV_CMD_IMAGE_START_CAPTURE, broken)
+    got = ask(component, mav.MAV_CMD_IMAGE_START_CAPTURE, 0, 0, 1)
+    assert [(m.get_type(), m.command, m.result) for m in got] == [
+        ("COMMAND_ACK", mav.MAV_CMD_IMAGE_START_CAPTURE, mav.MAV_RESULT_FAILED)]
+    assert failures == [f"camera command {mav.MAV_CMD_IMAGE_START_CAPTURE}"]
+    assert component.counters["refused"] == 1
+
+
+@pytest.mark.internal_errors  # the bug planted is one
+def test_the_session_counts_a_camera_handler_bug_as_its_own(tmp_path, monkeypatch):
+    from firefly.autopilot.mavlink import camera_component
+
+    def broken(component, c, replies):
+        raise ZeroDivisionError("a bug")
+
+    v, session = camv2_vehicle(tmp_path)
+    monkeypatch.setitem(camera_component.COMMANDS, mav.MAV_CMD_SET_CAMERA_MODE, broken)
+    got = wire(session.receive(long(mav.MAV_CMD_SET_CAMERA_MODE, 0, 0), v.time_s))
+    assert [(m.get_type(), m.result) for m in got] == [("COMMAND_ACK", mav.MAV_RESULT_FAILED)]
+    assert session.counters["handler_errors"] == 1 and "ZeroDivisionError" in session.last_handler_error

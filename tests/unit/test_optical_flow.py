@@ -46,6 +46,17 @@ def test_the_flow_is_the_velocity_across_the_beam_over_the_range_plus_the_rotati
     assert true_flow(body(vn=2.0), 0.0).quality == 51
 
 
+def test_a_camera_whose_offset_puts_it_on_the_ground_gives_no_number_and_does_not_raise():
+    """SIM_FLOW_POS_Z (down to 5 m) can put the lens exactly at the ground: a range of 0. ArduPilot's
+    float division gives an infinite (or NaN) flow there; a ZeroDivisionError here would abort the
+    vehicle's whole mode tick (the mode, the failsafes) as an internal error each 10 ms."""
+    moving = true_flow(body(height_m=0.5, vn=1.0, ve=-1.0), 0.0, (0.0, 0.0, 0.5))
+    assert moving.flow_x == math.inf and moving.flow_y == math.inf
+    still = true_flow(body(height_m=0.5), 0.0, (0.0, 0.0, 0.5))
+    assert math.isnan(still.flow_x) and math.isnan(still.flow_y)
+    assert still.body_x == 0.0 and still.quality == 51
+
+
 def test_the_camera_samples_at_its_rate_with_bounded_noise_and_its_delay():
     cam = FlowCamera(seed=3)
     assert cam.read(0.0, body(vn=2.0)) is None  # SIM_FLOW_ENABLE 0

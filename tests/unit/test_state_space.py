@@ -23,13 +23,13 @@ from hypothesis import strategies as st
 from hypothesis.stateful import RuleBasedStateMachine, initialize, rule
 
 from ..fuzz import hostile
-from ..fuzz.state_machine import ACTIONS, START_AT_S, Walk, WalkFailure, render, shrink
+from ..fuzz.state_machine import ACTIONS, START_AT_S, Walk, WalkFailure, act_payload, render, shrink
 from ..fuzz.state_walk import run
 from .test_hostile_messages import MESSAGES
 
 SHRINK_S = 8.0  # wall seconds to shrink a failure's reproduction
 RANDOM = st.randoms(use_true_random=False)
-STARTS = [("instant", 0.0), ("camera", 0.0)] + [("realistic", t) for t in START_AT_S]
+STARTS = [("instant", 0.0), ("camera", 0.0), ("payload", 0.0)] + [("realistic", t) for t in START_AT_S]
 
 
 def _action(name: str):
@@ -79,6 +79,12 @@ class StateSpace(RuleBasedStateMachine):
     ftp = _action("ftp")
     known = _action("known")
     camera = _action("camera")
+
+    @rule(rng=RANDOM)
+    def payload(self, rng):
+        """The winch, the flow sensor and the thermal camera's component (act_payload): not among the
+        seeded walk's ACTIONS, whose draws (and the states seed WALK_SEED reaches) stay as they were."""
+        self.act(act_payload, rng)
 
     @rule(msg=MESSAGES)
     def hostile_as_in_the_hostile_message_tests(self, msg):
