@@ -30,6 +30,11 @@ from .fire import FireWorld, temperature_field
 LENS_ABOVE_GROUND_M = 0.05  # a pose at or below the ground is taken as resting on it, the lens this high
 
 
+# The largest side a frame may have: past the thermal cores sold today (1280 x 1024) with room,
+# and a frame that still renders in memory (MAVLink's uint16 resolution fields would take more).
+MAX_SIDE_PX = 4096
+
+
 @dataclass(frozen=True)
 class ThermalCameraSpec:
     """A small radiometric long-wave infrared core. The defaults are a FLIR Lepton 3.5-class sensor,
@@ -55,8 +60,8 @@ class ThermalCameraSpec:
     def __post_init__(self) -> None:
         for name in ("width_px", "height_px"):
             value = getattr(self, name)
-            if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value <= 0:
-                raise ValueError(f"{name} must be a positive whole number of pixels, got {value!r}")
+            if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or not 0 < value <= MAX_SIDE_PX:
+                raise ValueError(f"{name} must be a whole number of pixels in 1..{MAX_SIDE_PX}, got {value!r}")
         if not (math.isfinite(self.hfov_deg) and 0.0 < self.hfov_deg < 180.0):
             raise ValueError(f"hfov_deg must be within (0, 180) degrees, got {self.hfov_deg!r}")
         for name in ("frame_rate_hz",):

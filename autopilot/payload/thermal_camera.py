@@ -168,7 +168,11 @@ class ThermalCamera:
         """Take the interval's stills that are due by now (sim time)."""
         now = self.now()
         while self.left != 0 and self.next_s <= now + 1e-9:
-            still = self.capture()
+            try:
+                still = self.capture()
+            except Exception:  # a bug ends the series, or every poll would meet it again
+                self.stop()
+                raise
             if self.left > 0:
                 self.left -= 1
             self.next_s += self.interval_s

@@ -138,6 +138,22 @@ def test_an_interval_capture_runs_in_sim_time_and_stops_after_its_count(rig):
     assert (status.image_status, status.image_count) == (0, 3)
 
 
+def test_a_capture_that_raises_ends_its_series(rig):
+    """A bug in a capture (say a geotag it cannot make) is the session's to count; the series
+    stops, so that the next poll does not meet it again."""
+    clock, camera, component = rig
+    ask(component, mav.MAV_CMD_IMAGE_START_CAPTURE, 0, 0.5, 0)
+
+    def broken():
+        raise ValueError("geotag")
+    camera.capture = broken
+    clock.t = 1.0
+    with pytest.raises(ValueError):
+        camera.tick()
+    assert camera.left == 0
+    camera.tick()  # nothing due any more: no second raise
+
+
 def test_an_interval_until_stopped(rig):
     clock, camera, component = rig
     ask(component, mav.MAV_CMD_IMAGE_START_CAPTURE, 0, 0.5, 0)

@@ -179,6 +179,7 @@ def test_a_tiff_without_a_geotag_is_refused(tmp_path):
     ("width_px", 0), ("width_px", -160), ("height_px", 0), ("height_px", 12.5), ("hfov_deg", 0.0),
     ("hfov_deg", -10.0), ("hfov_deg", 180.0), ("hfov_deg", 200.0), ("hfov_deg", math.nan), ("netd_k", -0.01),
     ("psf_sigma_px", -1.0), ("frame_rate_hz", 0.0), ("emission_height_m", -1.0), ("sky_c", math.inf),
+    ("width_px", 4097), ("height_px", 70000),  # a frame that would not fit in memory or in MAVLink's fields
 ])
 def test_a_bad_spec_names_its_field(field, value):
     with pytest.raises(ValueError, match=field):
