@@ -24,6 +24,11 @@ from .housekeeping_commands import HANDLERS as HOUSEKEEPING_HANDLERS
 from .mount_commands import HANDLERS as MOUNT_HANDLERS
 from .mount_messages import REQUESTABLE as MOUNT_REQUESTABLE
 from .winch_messages import REQUESTABLE as WINCH_REQUESTABLE
+
+# Messages ArduCopter ACCEPTS a REQUEST_MESSAGE for although it has nothing to send (a device's
+# report with no device made at boot: measured for the gimbal's and the winch's). A payload
+# family joins here.
+ACCEPTED_UNSENT = MOUNT_REQUESTABLE | WINCH_REQUESTABLE
 from .payload_commands import HANDLERS as PAYLOAD_HANDLERS
 from .external_nav_messages import origin_taken
 from .preflight import HANDLERS as PREFLIGHT_HANDLERS
@@ -294,7 +299,7 @@ def request_message(s, c: Command) -> Result:
         return Result.DENIED
     msg = s.build(msg_id)
     if msg is None:
-        return Result.ACCEPTED if msg_id in MOUNT_REQUESTABLE | WINCH_REQUESTABLE else Result.FAILED
+        return Result.ACCEPTED if msg_id in ACCEPTED_UNSENT else Result.FAILED
     s.queue(msg)
     return Result.ACCEPTED
 
