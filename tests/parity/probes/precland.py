@@ -40,6 +40,9 @@ from .nav_flight import goto
 from .states import GUIDED, reach_armed_on_ground
 
 AREA = "precland"
+# The reference's pace: the beacon switched off and on, and a companion's reports, are set in wall
+# time, so at 20x a loaded machine moves them by vehicle seconds (a retry over before the beacon is on).
+FIREFLY_SPEEDUP = "10"
 M_PER_DEG = 111319.5
 LAND = 9
 VISION = mav.MAV_SYS_STATUS_SENSOR_VISION_POSITION
