@@ -11,11 +11,11 @@ acquired at once. No reading for 2 s loses it ("PrecLand: Target Lost").
 
 LAND (RTL's final descent and AUTO's land item too) then flies to the target while it descends, but holds its height while more than
 PLND_XY_DIST_MAX from it, and between 2 m and 0.35 m above it slows to between 0.1 m/s and half
-LAND_SPEED as its error grows to 15 cm. A target never seen while the rangefinder reads between
-PLND_ALT_MIN and PLND_ALT_MAX is the failsafe ("PrecLand: Failsafe Measures"): PLND_STRICT 1
-holds 7 s and then comes down where it is, 2 holds, 0 comes down at once. A target lost is
-landed on as last estimated for PLND_TIMEOUT, then comes down where it is (ArduCopter retries
-first, climbing back towards where it last saw it: not modelled).
+LAND_SPEED as its error grows to 15 cm. A target not in sight is precland_retry.py's: a target
+never seen while the rangefinder reads between PLND_ALT_MIN and PLND_ALT_MAX is the failsafe
+("PrecLand: Failsafe Measures": PLND_STRICT 1 holds 7 s and then comes down where it is, 2 holds,
+0 comes down at once); one lost descends PLND_TIMEOUT and then retries (PLND_STRICT 1, 2),
+climbing back over where it last saw it, or comes down where it is (0).
 
 SYS_STATUS's vision-position bit is present and enabled with precision landing on, healthy while
 the sensor is (SITL's beacon sees the vehicle; a companion's backend always).
@@ -23,7 +23,9 @@ the sensor is (SITL's beacon sees the vehicle; a companion's backend always).
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
+from .precland_retry import Action, RetryMachine, TargetState
 from .results import Severity
 
 NONE, MAVLINK, SITL = 0, 1, 4  # PLND_TYPE
@@ -31,7 +33,9 @@ INIT_S = 2.0  # EKF_INIT_TIME_MS
 INIT_GAP_S = 0.5  # EKF_INIT_SENSOR_MIN_UPDATE_MS
 TIMEOUT_S = 2.0  # LANDING_TARGET_TIMEOUT_MS
 MEASUREMENT_AGE_S = 1.0  # a backend's reading older than this is none
-FAILSAFE_HOLD_S = 7.0  # FAILSAFE_INIT_TIMEOUT_MS
+LOST_FOR_GOOD_S = 180.0  # LANDING_TARGET_LOST_TIMEOUT_MS: a target lost this long is never seen
+LOST_FAR_M = 30.0  # LANDING_TARGET_LOST_DIST_THRESH_M: nor one lost this far away
+LANDING_GAP_S = 0.5  # no landing asked of it this long: the next is a new landing (a mode's init)
 SLOW_BAND_M = (0.35, 2.0)  # the target's height within which LAND slows
 ACCEPTABLE_ERROR_M = 0.15
 SLOWEST_M_S = 0.10
@@ -51,7 +55,13 @@ class PrecLand:
         self.target_ne: tuple[float, float] | None = None  # in the sim's frame
         self.target_height_m = 0.0  # how far below the vehicle, as last measured
         self.ever_seen = False
-        self._failsafe_since_s: float | None = None
+        self.state = TargetState.NEVER_SEEN  # AC_PrecLand's target state (precland_retry.py)
+        self._last_valid_s = -math.inf  # the last update with the target acquired
+        self._last_target_ne: tuple[float, float] | None = None  # the target (with its offset) then
+        self._last_reading_from_ned = (0.0, 0.0, 0.0)  # where the vehicle was at the last reading
+        self.retry = RetryMachine()
+        self._landing_called_s = -math.inf
+        self._steered_ne: tuple[float, float] | None = None  # the point a landing was last steered to
         self.said_frame = False  # "Plnd: Frame not supported" is said once
 
     @property
@@ -84,11 +94,40 @@ class PrecLand:
             if self.acquired:
                 notify("PrecLand: Target Lost", Severity.CRITICAL)
             self.acquired, self._initialised_s = False, None
+        self._check_target(now_s, position_ned, rangefinder_m)
+
+    def _check_target(self, now_s, position_ned, rangefinder_m) -> None:
+        """AC_PrecLand::check_target_status: the target's state after this update."""
+        if self.acquired and self.target_ne is not None:
+            self.state = TargetState.FOUND
+            self._last_valid_s = now_s
+            self._last_target_ne = self._offset_target()
+            return
+        lost = self.state in (TargetState.FOUND, TargetState.RECENTLY_LOST)
+        self.state = TargetState.RECENTLY_LOST if lost else TargetState.NEVER_SEEN
+        if not self._sensor_in_range(rangefinder_m):
+            self.state = TargetState.OUT_OF_RANGE
+        elif lost:
+            here = position_ned[:2]
+            far = max(math.dist(here, self._last_target_ne or here), math.dist(here, self._last_reading_from_ned[:2]))
+            if now_s - self._last_valid_s > LOST_FOR_GOOD_S or far > LOST_FAR_M:
+                self.state = TargetState.NEVER_SEEN
+
+    def _sensor_in_range(self, rangefinder_m: float | None) -> bool:
+        """Whether the sensor should see the target from this height (PLND_ALT_MIN..PLND_ALT_MAX
+        on the rangefinder; both 0: always)."""
+        low, high = self._params["PLND_ALT_MIN"], self._params["PLND_ALT_MAX"]
+        if low == 0 and high == 0:
+            return True
+        if rangefinder_m is None:
+            return False
+        return not ((high != 0 and rangefinder_m > high) or (low != 0 and rangefinder_m < low))
 
     def _fuse(self, now_s, notify, position_ned, unit, distance) -> None:
         self.target_ne = (position_ned[0] + unit[0] * distance, position_ned[1] + unit[1] * distance)
         self.target_height_m = unit[2] * distance
         self._last_fused_s = now_s
+        self._last_reading_from_ned = position_ned
         self.ever_seen = True
         if self._initialised_s is None and not self.acquired:
             if int(self._params["PLND_EST_TYPE"]) == 0:
@@ -98,36 +137,57 @@ class PrecLand:
                 notify("PrecLand: Target Found", Severity.INFO)
 
     # ----- LAND ------------------------------------------------------------------------------
-    def landing(self, now_s: float, notify, rangefinder_m: float | None,
-                position_ne: tuple[float, float], land_speed_m_s: float) -> tuple[tuple[float, float] | None, float | None]:
-        """What LAND does with precision landing on: (where to fly, or None to hold its point; the
-        descent rate [m/s, down], or None for LAND's own)."""
+    def landing(self, now_s: float, notify, rangefinder_m: float | None, position_ned: tuple[float, float, float],
+                land_speed_m_s: float) -> Steer:
+        """What LAND does with precision landing on (see Steer)."""
         p = self._params
+        if now_s - self._landing_called_s > LANDING_GAP_S:  # a landing begun: ArduCopter's mode init
+            self.retry.begin()
+            self._steered_ne = None
+        self._landing_called_s = now_s
+        retry_from = self._retry_from()
+        action, point = self.retry.update(self.state, now_s, notify, p, self._last_valid_s, retry_from,
+                                          position_ned)
+        if action == Action.RETRY and point is not None:
+            self._steered_ne = point[:2]
+            return Steer(self._steered_ne, None, point[2])
+        if action == Action.HOLD:
+            return Steer(self._steered_ne, 0.0, None)
         if self.acquired and self.target_ne is not None:
-            self._failsafe_since_s = None
-            ofs = (p["PLND_LAND_OFS_X"] / 100.0, p["PLND_LAND_OFS_Y"] / 100.0)  # body offsets: heading ignored
-            target = (self.target_ne[0] + ofs[0], self.target_ne[1] + ofs[1])
-            error = math.hypot(target[0] - position_ne[0], target[1] - position_ne[1])
+            target = self._offset_target()
+            self._steered_ne = target
+            error = math.hypot(target[0] - position_ned[0], target[1] - position_ned[1])
             xy_max = p["PLND_XY_DIST_MAX"]
             if xy_max > 0 and error > xy_max:
-                return target, 0.0
+                return Steer(target, 0.0, None)
             low, high = SLOW_BAND_M
             if low < self.target_height_m < high and not int(p["PLND_OPTIONS"]) & 4:
                 most = land_speed_m_s / 2
-                return target, max(SLOWEST_M_S, most - error * most / ACCEPTABLE_ERROR_M)
-            return target, None
-        in_range = rangefinder_m is not None and (
-            (p["PLND_ALT_MIN"] == 0 and p["PLND_ALT_MAX"] == 0)
-            or p["PLND_ALT_MIN"] <= rangefinder_m <= p["PLND_ALT_MAX"])
-        if self.ever_seen or not in_range:
-            return None, None  # lost (or not yet in range): LAND comes down where it is
-        strict = int(p["PLND_STRICT"])
-        if self._failsafe_since_s is None:
-            self._failsafe_since_s = now_s
-            notify("PrecLand: Failsafe Measures", Severity.INFO)
-        if strict == 2 or (strict == 1 and now_s - self._failsafe_since_s < FAILSAFE_HOLD_S):
-            return None, 0.0
-        return None, None
+                return Steer(target, max(SLOWEST_M_S, most - error * most / ACCEPTABLE_ERROR_M), None)
+            return Steer(target, None, None)
+        return Steer(self._steered_ne, None, None)  # down where it was last steered (or LAND's own point)
+
+    def _offset_target(self) -> tuple[float, float]:
+        p = self._params
+        assert self.target_ne is not None
+        return (self.target_ne[0] + p["PLND_LAND_OFS_X"] / 100.0,  # body offsets: heading ignored
+                self.target_ne[1] + p["PLND_LAND_OFS_Y"] / 100.0)
+
+    def _retry_from(self) -> tuple[float, float, float]:
+        """PLND_RET_BEHAVE's point at the last reading's height: where the vehicle measured the
+        target from (0), or the target as last estimated (1)."""
+        n, e, d = self._last_reading_from_ned
+        if int(self._params["PLND_RET_BEHAVE"]) == 1 and self._last_target_ne is not None:
+            return (*self._last_target_ne, d)
+        return (n, e, d)
+
+
+class Steer(NamedTuple):
+    """A landing's steer from precision landing: where to fly (None: the landing's own point), the
+    descent rate (None: the landing's own; 0 a hold), the height to fly to (down, a retry's)."""
+    ne: tuple[float, float] | None
+    rate_m_s: float | None
+    pos_d: float | None
 
 
 BODY_FRD, LOCAL_FRD = 12, 20  # the frames a companion's LANDING_TARGET may use

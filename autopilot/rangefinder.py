@@ -26,6 +26,7 @@ NONE, MAVLINK, SIM = 0, 10, 100  # RNGFND1_TYPE
 DOWN = 25  # RNGFND1_ORIENT: ROTATION_PITCH_270
 UPDATE_S = 0.05  # ArduCopter's read_rangefinder, 20 Hz
 MAVLINK_TIMEOUT_S = 0.5  # a companion's rangefinder with nothing newer is no data
+TERRAIN_HEIGHT_VALID_S = 5.0  # EKF3: a terrain height this long after its last range fused
 VALID_COUNT_MAX = 10
 CM_TO_M = float32(0.01)  # ArduPilot's 0.01, a float32: 20 cm reads 0.19999999 m, sent back as 19 cm
 MAV_DISTANCE_SENSOR_UNKNOWN = 4  # the SITL driver's type in DISTANCE_SENSOR
@@ -71,6 +72,7 @@ class Rangefinder:
         self._heard_m = 0.0
         self._heard_limits = (0.0, 0.0)
         self._heard_quality = -1
+        self.last_good_s = -math.inf  # the last good reading facing down: the EKF's terrain height
         # ArduCopter's rangefinder_state.enabled: set at boot with a downward rangefinder, then by
         # the RANGEFINDER aux switch (switched()); SYS_STATUS's laser bit is enabled and healthy by it
         self.enabled = self.down
@@ -131,6 +133,8 @@ class Rangefinder:
             self._set(RangeStatus.OUT_OF_RANGE_LOW)
         else:
             self._set(RangeStatus.GOOD)
+            if self.down:
+                self.last_good_s = now_s
 
     def _set(self, status: RangeStatus) -> None:
         self._status = status

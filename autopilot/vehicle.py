@@ -73,11 +73,12 @@ from .payload.sitl_gripper import SitlGripper
 from .payload.sitl_parachute import SitlParachute
 from .payload.sprayer import Sprayer
 from .payload.winch import Winch
-from .precland import BODY_FRD, LOCAL_FRD, PrecLand, line_of_sight
+from .precland import BODY_FRD, LOCAL_FRD, PrecLand, Steer, line_of_sight
 from .precland import MAVLINK as PRECLAND_MAVLINK
 from .precland import SITL as PRECLAND_SITL
 from .rangefinder import UPDATE_S as RANGEFINDER_UPDATE_S
 from .rangefinder import RangeStatus
+from .rangefinder import TERRAIN_HEIGHT_VALID_S
 from .rangefinder import Rangefinder
 from .optical_flow import OpticalFlow
 from .servo_relay import ServoRelayEvents
@@ -552,7 +553,7 @@ class Vehicle:
         pl = self.precland
         if not self.params["PLND_ENABLED"]:
             return
-        if pl.kind == PRECLAND_SITL and self.sim.beacon is not None:
+        if pl.kind == PRECLAND_SITL and self.sim.beacon is not None and self.sim.beacon_on:
             seen = self.sim.read_beacon()
             pl.healthy = seen is not None
             if seen is not None:
@@ -562,14 +563,13 @@ class Vehicle:
         b = self.body
         pl.update(now, self.notify, (b.n_m, b.e_m, b.d_m), self._rangefinder_height())
 
-    def precland_landing(self, position_ne: tuple[float, float],
-                         land_speed_m_s: float) -> tuple[tuple[float, float] | None, float | None]:
-        """What precision landing makes of LAND now (precland.py): where to fly (None: its own
-        point) and the descent rate (None: its own)."""
+    def precland_landing(self, land_speed_m_s: float) -> Steer | None:
+        """What precision landing makes of LAND now (precland.py's Steer), None without it."""
         pl = self.precland
         if not pl.kind or not self.params["PLND_ENABLED"]:
-            return None, None
-        return pl.landing(self.time_s, self.notify, self._rangefinder_height(), position_ne, land_speed_m_s)
+            return None
+        b = self.body
+        return pl.landing(self.time_s, self.notify, self._rangefinder_height(), (b.n_m, b.e_m, b.d_m), land_speed_m_s)
 
     def fence_shapes(self) -> tuple[Shape, ...]:
         """The stored fence's polygons and circles in the local frame."""
@@ -638,6 +638,11 @@ class Vehicle:
         if not prox.good or not int(self.params["AVOID_ENABLE"]) & USE_PROXIMITY:
             return lean
         return self.simple_avoid.adjust_lean(prox.objects(), lean, math.radians(self.params["ANGLE_MAX"] / 100.0))
+
+    def terrain_height_known(self) -> bool:
+        """ArduCopter's EKF3 terrain height estimate (EKF_STATUS_REPORT's EKF_POS_VERT_AGL): valid
+        for 5 s after a good downward range, none without a rangefinder (measured: area ekf_flags)."""
+        return self.time_s - self.rangefinder.last_good_s < TERRAIN_HEIGHT_VALID_S
 
     def avoid_limits_active(self) -> bool:
         """Whether simple avoidance changed a wanted velocity within the last half second."""

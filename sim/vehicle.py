@@ -60,6 +60,9 @@ class SimVehicle:
         self.sonar = SonarBeam(config.seed)
         self.flow_camera = FlowCamera(config.seed)  # SITL's optical flow (SIM_FLOW_*), off until enabled
         self.beacon: Beacon | None = None  # SITL's precision-landing beacon (SIM_PLD_*), when on
+        # Switched off after it was on, SITL's beacon stops reporting but keeps its last health:
+        # the autopilot hears nothing new and still calls the sensor healthy.
+        self.beacon_on = False
         self.traffic = TrafficSim(config.seed, config.traffic)  # other aircraft (SIM_ADSB_*, [[traffic]])
         self.thermometer = TemperatureSensor(config.world, config.seed)
         self.time_s = 0.0

@@ -85,8 +85,9 @@ class Faults:
 
     def _precland_beacon(self) -> None:
         """SIM_PLD_*: SITL's beacon, placed as SITL places it (float32 degrees); off, the sim keeps
-        the one it had (SITL stops updating it: its last word stands)."""
+        the one it had but reports nothing (SITL stops updating it: its last health stands)."""
         p = self.params
+        self.sim.beacon_on = bool(p["SIM_PLD_ENABLE"])
         if not p["SIM_PLD_ENABLE"]:
             return
         lat_e7, lon_e7 = quantised_e7(p["SIM_PLD_LAT"]), quantised_e7(p["SIM_PLD_LON"])

@@ -271,15 +271,13 @@ def ground_temperature(v: TelemetryView, codec):
     return [own, codec.named_value_float_encode(_ms(v), named[0], named[1])]
 
 
+# What ArduCopter's EKF3 reports flying on a GPS or a visual odometry sensor's pose (measured);
+# EKF_POS_VERT_AGL only with a terrain height estimate (terrain_height_known): a rangefinder's.
 EKF_GOOD = (mav.EKF_ATTITUDE | mav.EKF_VELOCITY_HORIZ | mav.EKF_VELOCITY_VERT | mav.EKF_POS_HORIZ_REL
-            | mav.EKF_POS_HORIZ_ABS | mav.EKF_POS_VERT_ABS | mav.EKF_POS_VERT_AGL
-            | mav.EKF_PRED_POS_HORIZ_REL | mav.EKF_PRED_POS_HORIZ_ABS)
+            | mav.EKF_POS_HORIZ_ABS | mav.EKF_POS_VERT_ABS | mav.EKF_PRED_POS_HORIZ_REL | mav.EKF_PRED_POS_HORIZ_ABS)
 # Without a GPS fix the estimate keeps attitude and height but not where it is: constant position mode.
-EKF_NO_POSITION = (mav.EKF_ATTITUDE | mav.EKF_VELOCITY_VERT | mav.EKF_POS_VERT_ABS | mav.EKF_POS_VERT_AGL
-                   | mav.EKF_CONST_POS_MODE)
-# With a visual odometry sensor (VISO_TYPE), on its pose or on the GPS (measured): these, without
-# the height above ground; when the position is lost, attitude, vertical velocity and height only.
-EKF_EXTNAV_GOOD = EKF_GOOD & ~mav.EKF_POS_VERT_AGL
+EKF_NO_POSITION = mav.EKF_ATTITUDE | mav.EKF_VELOCITY_VERT | mav.EKF_POS_VERT_ABS | mav.EKF_CONST_POS_MODE
+# With a visual odometry sensor (VISO_TYPE) whose position is lost: attitude, vertical velocity and height only.
 EKF_EXTNAV_LOST = mav.EKF_ATTITUDE | mav.EKF_VELOCITY_VERT | mav.EKF_POS_VERT_ABS
 EKF_GPS_GLITCH = 32768  # MAVLink's EKF_GPS_GLITCH flag, newer than this pymavlink's dialect
 
@@ -289,8 +287,10 @@ def ekf_status_report(v: TelemetryView, codec):
     if not v.attitude_known():  # a realistic start-up before the EKF has aligned
         return codec.ekf_status_report_encode(mav.EKF_UNINITIALIZED, 1.0, 1.0, 1.0, 1.0, 0.0)
     flags, variance = (EKF_GOOD, 0.01) if v.has_position() else (EKF_NO_POSITION, 1.0)
-    if v.external_nav.kind:  # as ArduCopter with a visual odometry sensor, whatever the source: no height above ground
-        flags = EKF_EXTNAV_GOOD if v.has_position() else EKF_EXTNAV_LOST
+    if v.external_nav.kind and not v.has_position():  # as ArduCopter with a visual odometry sensor
+        flags = EKF_EXTNAV_LOST
+    if v.terrain_height_known():
+        flags |= mav.EKF_POS_VERT_AGL
     if v.gps_glitching:
         flags |= EKF_GPS_GLITCH
     return codec.ekf_status_report_encode(flags, variance, variance, 0.01, 0.01, 0.0)

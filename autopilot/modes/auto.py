@@ -30,7 +30,7 @@ from .context import ModeContext
 from .guided import Guided
 from .guided_stop import JERK_DEFAULT_M_S3, JerkLimitedStop
 from .guided_yaw import DEFAULT, GuidedYaw
-from .land import Rtl, descend_and_disarm, steer_to_target
+from .land import Rtl, descend_and_disarm, finish_precland, steer_to_target
 from .numbers import ModeNumber
 from .takeoff_climb import TakeoffClimb
 from .waypoint_legs import NAV_BY_LEGS, WaypointLegs, flies_through, next_nav_index
@@ -425,12 +425,11 @@ class Auto(Mode):
                 return
             self._land_descending = True  # as ArduCopter's land states: no going back to the fly-over
         sp.pos_ne = (n, e) if not ctx.landed else None
-        rate = steer_to_target(ctx, sp)
+        steer = steer_to_target(ctx, sp)
         # Landed: ArduCopter disarms here and leaves the land item current; the disarm resets
         # the mission (so the land item is never reported reached).
         descend_and_disarm(ctx, sp)
-        if rate is not None:  # precision landing's: a hold while far from its target, slow near it
-            sp.vel_d = sp.speed_dn = rate
+        finish_precland(sp, steer)
 
     def _hold(self, ctx: ModeContext, sp: Setpoint) -> None:
         self._legs.end()  # a leg after the hold starts from where the vehicle then is

@@ -18,6 +18,7 @@ if TYPE_CHECKING:
 
     from ..mission.progress import MissionProgress
     from ..optical_flow import FlowReading
+    from ..precland import Steer
     from ..params import ParamStore
     from ..payload.camera import Camera
     from ..payload.mount import Mount
@@ -81,8 +82,8 @@ class ModeContext:
                                  that flew attitudes hands back to it, as on a mode change)
         use_gains(gains or None) the controllers fly these ATC_* gains in place of the parameters'
                                  (AUTOTUNE's trial sets); None: the parameters' own again
-        precland_landing(position_ne, land_speed_m_s) what precision landing makes of a landing
-                                 (precland.py): (the point to fly to or None, the descent rate or None)
+        precland_landing(land_speed_m_s) what precision landing makes of a landing (precland.py's
+                                 Steer: a point, a descent rate, a retry's height), None without it
         avoid_velocity(vel_neu, accel, dt) a wanted velocity (north, east, up) as simple avoidance
                                  lets it be flown, accel the mode's horizontal limit (m/s/s)
         avoid_climb(climb, dt)   a pilot's climb rate as the altitude fences let it be flown
@@ -120,7 +121,7 @@ class ModeContext:
     set_mode: Callable[[int], Result]
     restart_position_control: Callable[[], None]
     use_gains: Callable[[Mapping[str, float] | None], None]
-    precland_landing: Callable[[tuple[float, float], float], tuple[tuple[float, float] | None, float | None]]
+    precland_landing: Callable[[float], Steer | None]
     avoid_velocity: Callable[[Vector3, float, float], Vector3]
     avoid_climb: Callable[[float, float], float]
     avoid_lean: Callable[[tuple[float, float]], tuple[float, float]]

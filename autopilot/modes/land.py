@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING
 
 from ..control.attitude import wrap_pi
 from ..params import ParamStore
@@ -10,6 +11,9 @@ from .auto_yaw import holds_in_rtl
 from .base import Mode, Setpoint, hold_here, shifted, stopping_point
 from .context import ModeContext
 from .numbers import ModeNumber
+
+if TYPE_CHECKING:
+    from ..precland import Steer
 from .waypoint_legs import WaypointLegs
 
 
@@ -44,16 +48,28 @@ def descend_and_disarm(ctx: ModeContext, sp: Setpoint) -> bool:
     return False
 
 
-def steer_to_target(ctx: ModeContext, sp: Setpoint) -> float | None:
-    """Precision landing's part of a landing that holds a point (LAND's, RTL's): fly to the target
-    in its place, when one is acquired; the descent rate it asks for (None: the landing's own)."""
+def steer_to_target(ctx: ModeContext, sp: Setpoint) -> Steer | None:
+    """Precision landing's part of a landing that holds a point (LAND's, RTL's, AUTO's land item):
+    fly to the target in its place, or where it last steered; what it asks of the rest, for
+    `finish_precland` once the landing has set its descent (None: nothing)."""
     if sp.pos_ne is None or not ctx.precland_kind:  # (most vehicles have no precision landing)
         return None
-    b = ctx.body
-    target, rate = ctx.precland_landing((b.n_m, b.e_m), ctx.params["LAND_SPEED"] / 100.0)
-    if target is not None:
-        sp.pos_ne = target
-    return rate
+    steer = ctx.precland_landing(ctx.params["LAND_SPEED"] / 100.0)
+    if steer is not None and steer.ne is not None:
+        sp.pos_ne = steer.ne
+    return steer
+
+
+def finish_precland(sp: Setpoint, steer: Steer | None) -> None:
+    """Precision landing's descent over the landing's: a hold while far from its target (or in
+    its failsafe), slow near it; a retry's climb and return to a height at the position
+    controller's own speeds (WPNAV_SPEED_UP / _DN, as ArduCopter's retry flies)."""
+    if steer is None:
+        return
+    if steer.pos_d is not None:
+        sp.pos_d, sp.vel_d, sp.speed_dn, sp.speed_up = steer.pos_d, 0.0, None, None
+    elif steer.rate_m_s is not None:
+        sp.vel_d = sp.speed_dn = steer.rate_m_s
 
 
 class Land(Mode):
@@ -82,13 +98,12 @@ class Land(Mode):
             sp.lean = (0.0, 0.0)
         else:
             sp.pos_ne = self._hold_ne
-        rate = steer_to_target(ctx, sp)
+        steer = steer_to_target(ctx, sp)
         if ctx.time_s < self._disarm_from_s:
             sp.vel_d = sp.speed_dn = descent_rate_m_s(ctx)
             return
         descend_and_disarm(ctx, sp)
-        if rate is not None:  # precision landing's: a hold while far from its target, slow near it
-            sp.vel_d = sp.speed_dn = rate
+        finish_precland(sp, steer)
 
     def landed_state_hint(self, ctx: ModeContext) -> str | None:
         return None if ctx.landed else "LANDING"
@@ -176,13 +191,12 @@ class Rtl(Mode):
             sp.vel_d = sp.speed_dn = descent_rate_m_s(ctx)
         if self._stage == "LAND":
             sp.pos_ne = home_ne if not ctx.landed else None
-            rate = steer_to_target(ctx, sp)
+            steer = steer_to_target(ctx, sp)
             if self.disarm_on_land:
                 descend_and_disarm(ctx, sp)
             else:
                 sp.vel_d = sp.speed_dn = descent_rate_m_s(ctx)
-            if rate is not None:  # precision landing's: a hold while far from its target, slow near it
-                sp.vel_d = sp.speed_dn = rate
+            finish_precland(sp, steer)
 
     def destination(self) -> tuple[float, float, float | None] | None:
         return self._legs.destination if self._legs is not None else None

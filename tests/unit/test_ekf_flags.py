@@ -1,0 +1,32 @@
+"""EKF_STATUS_REPORT's EKF_POS_VERT_AGL: ArduCopter's EKF3 has a terrain height only from a good
+downward range within 5 s (measured on its SITL, area ekf_flags: 0x33f without a rangefinder,
+0x37f hovering within its range, 0x33f again some seconds above it)."""
+from __future__ import annotations
+
+from pymavlink.dialects.v20 import ardupilotmega as mav
+
+from firefly.autopilot.mavlink import telemetry
+
+from ._util import altitude, fly_until, hovering_vehicle
+
+CODEC = mav.MAVLink(None)
+
+
+def flags(v) -> int:
+    return telemetry.ekf_status_report(v, CODEC).flags
+
+
+def test_no_rangefinder_no_height_above_ground():
+    v = hovering_vehicle(5.0)
+    assert flags(v) == 0x33f
+
+
+def test_a_rangefinder_in_range_gives_it_and_five_seconds_out_of_range_take_it_away():
+    v = hovering_vehicle(4.0, boot_params={"RNGFND1_TYPE": 100, "RNGFND1_MAX": 7})
+    v.run_until(v.time_s + 1.0)
+    assert flags(v) == 0x37f
+    b = v.body
+    v.guided_goto(b.n_m, b.e_m, b.d_m - 6.0)
+    assert fly_until(v, lambda x: altitude(x) > 9.8, 20.0)
+    assert flags(v) == 0x37f  # a range within the last 5 s
+    assert fly_until(v, lambda x: flags(x) == 0x33f, 6.0)
