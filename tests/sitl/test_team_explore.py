@@ -54,7 +54,7 @@ def fail_a_motor(url: str, system_id: int, after_s: float, started: threading.Ev
         first = gcs.recv("GLOBAL_POSITION_INT", 5)
         assert first is not None
         gcs.recv("GLOBAL_POSITION_INT", 60, lambda m: m.time_boot_ms >= first.time_boot_ms + 1000 * after_s)
-        gcs.mav.param_set_send(system_id, 1, b"SIM_ENGINE_FAIL", 4.0, 6)
+        gcs.mav.param_set_send(system_id, 1, b"SIM_ENGINE_FAIL", 4.0, 9)
         echo = gcs.recv("PARAM_VALUE", 5, lambda m: m.param_id == "SIM_ENGINE_FAIL" and m.param_value == 4.0)
         assert echo is not None, "the vehicle did not take the motor fault"
         done.append(first.time_boot_ms / 1000.0 + after_s)
