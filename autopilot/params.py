@@ -160,8 +160,8 @@ PARAM_TABLE: tuple[ParamSpec, ...] = (
     _i("MAV1_EXTRA2", 4, 0, 50), _i("MAV1_EXTRA3", 2, 0, 50),
     _i("MAV1_RC_CHAN", 0, 0, 50, "RC_CHANNELS and SERVO_OUTPUT_RAW: not streamed unasked"),
     # Simulation faults (ArduPilot SITL's SIM_ names; SIM_GPS_DISABLE is 4.5's, SIM_LINK_* are Firefly's own)
-    _i("SIM_ENGINE_FAIL", 0, 0, 3, "motor SIM_ENGINE_MUL applies to, 0 = the front one (output 3)"),
-    _f("SIM_ENGINE_MUL", 1, 0, 1, "thrust multiplier of motor SIM_ENGINE_FAIL, 0 = failed"),
+    _i("SIM_ENGINE_FAIL", 0, 0, 2**31 - 1, "mask of the motor outputs SIM_ENGINE_MUL scales (bit 0 = output 1), 0 = none"),
+    _f("SIM_ENGINE_MUL", 0, 0, 1, "PWM multiplier of the motors in SIM_ENGINE_FAIL, 0 = failed"),
     _i("SIM_GPS_DISABLE", 0, 0, 1, "1 = the GPS has no fix"),
     _i("SIM_GPS1_ENABLE", 1, 0, 1, "0 = the GPS has no fix (ArduPilot 4.7's inverse of SIM_GPS_DISABLE)"),
     _f("SIM_GPS1_GLTCH_X", 0, -1, 1, "GPS latitude offset [deg]"),

@@ -49,7 +49,6 @@ DEFAULT_DIFFERENCES: dict[str, str] = {
     "BATT_CAPACITY": "Firefly's airframe carries a 5000 mAh 3S pack",
     "FENCE_RADIUS": "ArduPilot's own default; copter.parm lowers it to 150 m for its autotests",
     "SIM_WIND_DIR": "set from the scenario's [wind] at start; moot while SIM_WIND_SPD is 0",
-    "SIM_ENGINE_MUL": "1 = healthy motor in Firefly (see SEMANTIC_DIFFERENCES: SIM_ENGINE_FAIL)",
     "MAV1_RAW_SENS": _STREAMS,
     "MAV1_EXT_STAT": _STREAMS,
     "MAV1_POSITION": _STREAMS,
@@ -137,6 +136,4 @@ IN_PROCESS_ONLY: dict[str, str] = {
 }
 
 SEMANTIC_DIFFERENCES: dict[str, str] = {
-    "SIM_ENGINE_FAIL": "Firefly (as SITL 4.5): the number of the one motor SIM_ENGINE_MUL applies to, "
-                       "0 = the front one (output 3); the reference: a bitmask of motors, bit 0 = motor 1",
 }

@@ -15,6 +15,7 @@ from firefly.sim.wind import SteadyWind
 from firefly.sim.geo import ned_from_global
 from firefly.sim.optical_flow import SensorSettings
 from firefly.sim.precland import Beacon, quantised_e7
+from ..motor_outputs import OUTPUT_OF_MOTOR
 
 
 def world_values(sim_config) -> dict:
@@ -43,9 +44,13 @@ class Faults:
             apply(self)
 
     def _motors(self) -> None:
-        shares = [1.0, 1.0, 1.0, 1.0]
-        shares[int(self.params["SIM_ENGINE_FAIL"])] = self.params["SIM_ENGINE_MUL"]
-        self.sim.set_motor_thrust_scale(tuple(shares))
+        """As SITL 4.7: SIM_ENGINE_FAIL a mask of motor outputs (bit 0 = output 1, 0 = none)
+        whose PWM above its minimum SIM_ENGINE_MUL scales. A motor's speed follows its PWM about
+        linearly (thrust goes as the square of the speed), so it keeps MUL of its speed, MUL**2
+        of its thrust."""
+        mask, mul = int(self.params["SIM_ENGINE_FAIL"]), self.params["SIM_ENGINE_MUL"]
+        self.sim.set_motor_thrust_scale(tuple(mul * mul if mask >> (output - 1) & 1 else 1.0
+                                              for output in OUTPUT_OF_MOTOR))
 
     def _gps(self) -> None:
         p, gps = self.params, self.sim.gps

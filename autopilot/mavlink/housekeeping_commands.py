@@ -12,6 +12,11 @@ Most change nothing a client can see on ArduCopter SITL either, and Firefly does
   ACCEPTED; without drag fusion ArduCopter's WIND stays zero after it, as Firefly's does.
 - DO_ACCEPT_MAG_CAL / DO_CANCEL_MAG_CAL with no calibration running: ACCEPTED; ACCELCAL_VEHICLE_POS
   with no accelerometer calibration waiting for a position: FAILED.
+- DO_START_MAG_CAL: refused while armed, as AP_Compass refuses it; else ACCEPTED with a
+  MAG_CAL_PROGRESS at once (tests/parity/probes/surface_commands.py). Firefly's compass is exact,
+  so no calibration runs: the one report says it is waiting to start, and none follows it.
+- FIXED_MAG_CAL_YAW: ACCEPTED in every state, as on SITL (the offsets it would set are zero for
+  Firefly's exact compass).
 """
 from __future__ import annotations
 
@@ -38,6 +43,19 @@ def accepted(s, c) -> Result:
 
 def failed(s, c) -> Result:
     return Result.FAILED
+
+
+def start_mag_cal(s, c) -> Result:
+    """As Compass::handle_mag_cal_command: armed first ("Disarm to allow compass calibration"
+    at NOTICE, FAILED), then param 1, the compass mask, outside 0-255 FAILED (NaN too)."""
+    if s.vehicle.armed:
+        s.vehicle.notify("Disarm to allow compass calibration", Severity.NOTICE)
+        return Result.FAILED
+    if not 0 <= c.p1 <= 255:
+        return Result.FAILED
+    s.queue(s.codec.mag_cal_progress_encode(0, 1, mav.MAG_CAL_WAITING_TO_START, 1, 0, [0] * 10,
+                                            0.0, 0.0, 0.0))
+    return Result.ACCEPTED
 
 
 def scripting(s, c) -> Result:
@@ -68,6 +86,8 @@ HANDLERS = {
     mav.MAV_CMD_SCRIPTING: scripting,
     MAV_CMD_EXTERNAL_WIND_ESTIMATE: external_wind_estimate,
     mav.MAV_CMD_DO_SET_SAFETY_SWITCH_STATE: set_safety_switch_state,
+    mav.MAV_CMD_DO_START_MAG_CAL: start_mag_cal,
+    mav.MAV_CMD_FIXED_MAG_CAL_YAW: accepted,
     mav.MAV_CMD_DO_ACCEPT_MAG_CAL: accepted,
     mav.MAV_CMD_DO_CANCEL_MAG_CAL: accepted,
     mav.MAV_CMD_ACCELCAL_VEHICLE_POS: failed,

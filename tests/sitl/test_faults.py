@@ -42,7 +42,8 @@ def test_a_weak_motor_on_a_loaded_copter_reports_potential_thrust_loss(autopilot
     scenario.write_text("[airframe]\nmass_kg = 3.6\n")
     gcs = Gcs(autopilot_factory(speedup="10", extra=("--scenario", str(scenario))).pymavlink_url)
     take_off(gcs, 20.0)
-    set_param(gcs, "SIM_ENGINE_MUL", 0.5)  # the front motor (SIM_ENGINE_FAIL 0) at half thrust
+    set_param(gcs, "SIM_ENGINE_MUL", 0.71)
+    set_param(gcs, "SIM_ENGINE_FAIL", 4)  # output 3, the front motor, at half thrust
     text = gcs.recv("STATUSTEXT", 10, lambda m: "Thrust Loss" in m.text)
     # ... which is ArduCopter's output 3 on a QUAD PLUS (autopilot/motor_outputs.py)
     assert text is not None and text.text == "Potential Thrust Loss (3)"

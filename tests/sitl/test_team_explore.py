@@ -45,7 +45,7 @@ def test_two_vehicles_find_the_fire_together_and_land_at_their_homes(tmp_path):
 
 def fail_a_motor(url: str, system_id: int, after_s: float, started: threading.Event, done: list) -> None:
     """Once the search has started, let `after_s` of the vehicle's own time pass, then stop its
-    front motor (SIM_ENGINE_MUL 0 on SIM_ENGINE_FAIL's default motor)."""
+    front motor (SIM_ENGINE_FAIL 4: output 3, at SIM_ENGINE_MUL's default 0)."""
     gcs = Gcs(url)
     try:
         assert started.wait(120), "the search never started"
@@ -54,8 +54,8 @@ def fail_a_motor(url: str, system_id: int, after_s: float, started: threading.Ev
         first = gcs.recv("GLOBAL_POSITION_INT", 5)
         assert first is not None
         gcs.recv("GLOBAL_POSITION_INT", 60, lambda m: m.time_boot_ms >= first.time_boot_ms + 1000 * after_s)
-        gcs.mav.param_set_send(system_id, 1, b"SIM_ENGINE_MUL", 0.0, 9)
-        echo = gcs.recv("PARAM_VALUE", 5, lambda m: m.param_id == "SIM_ENGINE_MUL" and m.param_value == 0.0)
+        gcs.mav.param_set_send(system_id, 1, b"SIM_ENGINE_FAIL", 4.0, 9)
+        echo = gcs.recv("PARAM_VALUE", 5, lambda m: m.param_id == "SIM_ENGINE_FAIL" and m.param_value == 4.0)
         assert echo is not None, "the vehicle did not take the motor fault"
         done.append(first.time_boot_ms / 1000.0 + after_s)
     finally:

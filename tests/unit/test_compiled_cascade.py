@@ -120,7 +120,7 @@ def test_faults_fly_bit_identical_compiled_and_in_python():
         both(a, b, action)
     lockstep(a, b, 6.0)
     for name, value in (("SIM_WIND_TURB", 2.5), ("SIM_WIND_TC", 1.0), ("SIM_WIND_SPD", 8.0),
-                        ("SIM_ENGINE_FAIL", 2), ("SIM_ENGINE_MUL", 0.6), ("SIM_BARO_DRIFT", 0.4)):
+                        ("SIM_ENGINE_MUL", 0.77), ("SIM_ENGINE_FAIL", 8), ("SIM_BARO_DRIFT", 0.4)):
         both(a, b, lambda v: v.params.set(name, value))
     both(a, b, lambda v: v.guided_goto(20.0, 5.0, -12.0))
     lockstep(a, b, 6.0)

@@ -150,7 +150,7 @@ def test_gps_glitch_is_announced_rejected_and_cleared():
 
 # ----- motors ---------------------------------------------------------------------------------------
 def test_a_motor_at_70_percent_thrust_still_holds_position():
-    v, hold = hovering_with(("SIM_ENGINE_FAIL", 0), ("SIM_ENGINE_MUL", 0.7))
+    v, hold = hovering_with(("SIM_ENGINE_FAIL", 4), ("SIM_ENGINE_MUL", 0.84))  # output 3, the front: 70 % thrust
     worst_xy = worst_z = 0.0
     for _ in range(200):  # 10 s
         v.run_until(v.time_s + 0.05)
@@ -163,8 +163,7 @@ def test_a_motor_at_70_percent_thrust_still_holds_position():
 
 def test_a_failed_motor_on_a_quad_cannot_keep_it_flying():
     v = hovering_vehicle(20.0)
-    v.params.set("SIM_ENGINE_FAIL", 1)
-    v.params.set("SIM_ENGINE_MUL", 0.0)
+    v.params.set("SIM_ENGINE_FAIL", 2)  # output 2, the sim's motor 2 (SIM_ENGINE_MUL 0 by default)
     assert fly_until(v, lambda x: true_altitude(x) < 0.05, 10.0)  # down within seconds
     assert v.sim.state.omega_rad_s[1] == pytest.approx(0.0, abs=1e-6)  # motor 2 stopped
 
@@ -172,8 +171,8 @@ def test_a_failed_motor_on_a_quad_cannot_keep_it_flying():
 def test_a_loaded_copter_with_a_weak_motor_reports_potential_thrust_loss():
     heavy = SimConfig(airframe=Airframe(mass_kg=3.6))  # hovers at 78 % thrust
     v = hovering_vehicle(20.0, sim=heavy)
-    v.params.set("SIM_ENGINE_FAIL", 0)
-    v.params.set("SIM_ENGINE_MUL", 0.5)  # total thrust available now below the weight
+    v.params.set("SIM_ENGINE_MUL", 0.71)
+    v.params.set("SIM_ENGINE_FAIL", 4)  # output 3 at half thrust: total thrust available now below the weight
     assert fly_until(v, lambda x: said(x, "Potential Thrust Loss"), 5.0)
     # the sim's motor 1 (front) is ArduCopter's motor 3 (autopilot/motor_outputs.py)
     assert (int(Severity.EMERGENCY), "Potential Thrust Loss (3)") in v.events
@@ -333,10 +332,10 @@ def test_the_radio_failsafe_on_the_ground_says_it_disarms():
 
 # ----- where faults come from -------------------------------------------------------------------
 def test_faults_in_the_vehicle_config_apply_from_the_start():
-    v = Vehicle(VehicleConfig(faults={"SIM_GPS_DISABLE": 1, "SIM_ENGINE_MUL": 0.5}))
+    v = Vehicle(VehicleConfig(faults={"SIM_GPS_DISABLE": 1, "SIM_ENGINE_FAIL": 4, "SIM_ENGINE_MUL": 0.5}))
     v.run_until(0.5)
     assert not v.has_position() and v.home_ned is None
-    assert v.sim.motor_speed_scale[0] == pytest.approx(math.sqrt(0.5))
+    assert v.sim.motor_speed_scale[0] == pytest.approx(0.5)  # output 3: its PWM, so its speed, halved
 
 
 def test_the_wind_and_battery_parameters_start_as_the_scenario_describes_them():
@@ -350,7 +349,7 @@ def test_the_wind_and_battery_parameters_start_as_the_scenario_describes_them():
 def test_fault_parameters_are_not_kept_across_restarts(tmp_path):
     path = tmp_path / "params.json"
     params = ParamStore(path)
-    params.set("SIM_ENGINE_MUL", 0.0)
+    params.set("SIM_ENGINE_FAIL", 4)
     params.set("RTL_ALT", 2000)
     again = ParamStore(path)
-    assert again["RTL_ALT"] == 2000 and again["SIM_ENGINE_MUL"] == 1.0
+    assert again["RTL_ALT"] == 2000 and again["SIM_ENGINE_FAIL"] == 0

@@ -36,6 +36,19 @@ def test_each_answers_as_arducopter_and_high_latency_says_so():
         assert answer(link, command, 1, 1)[0] == result
 
 
+def test_a_compass_calibration_starts_only_disarmed_and_reports_its_progress():
+    link = Link()
+    ack, out = link.command(mav.MAV_CMD_DO_START_MAG_CAL, 0, 0, 1)
+    assert ack.result == ACCEPTED and [m.get_type() for m in out].count("MAG_CAL_PROGRESS") == 1
+    assert answer(link, mav.MAV_CMD_DO_START_MAG_CAL, 256)[0] == FAILED  # not a compass mask
+    assert answer(link, mav.MAV_CMD_FIXED_MAG_CAL_YAW, 0)[0] == ACCEPTED
+    flying = Link(hovering_vehicle(10.0))
+    ack, out = flying.command(mav.MAV_CMD_DO_START_MAG_CAL, 0, 0, 1)
+    assert ack.result == FAILED and "MAG_CAL_PROGRESS" not in [m.get_type() for m in out]
+    assert statustexts(out + flying.poll())[-1] == "Disarm to allow compass calibration"
+    assert answer(flying, mav.MAV_CMD_FIXED_MAG_CAL_YAW, 0)[0] == ACCEPTED  # in flight too, as SITL
+
+
 def test_the_safety_switch_cuts_the_motors_refuses_arming_and_a_motor_test():
     link = Link()
     v = link.vehicle
