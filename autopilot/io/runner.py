@@ -293,6 +293,8 @@ class Runner:
                     read = ()
                 else:
                     last_read_wall = wall
+            if self.air is not None:
+                self.air.refresh()
             if self.batch_ticks > 1:  # a swarm at a finite speedup
                 self._batch(self._batch_ticks(duration_s))
                 self._flush()

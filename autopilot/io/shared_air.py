@@ -18,12 +18,23 @@ HEARD = frozenset({"GLOBAL_POSITION_INT"})
 class SharedAir:
     def __init__(self, nodes: Sequence[Node]):
         self.nodes = nodes
+        self.listeners: list[Node] = list(nodes)
+
+    def refresh(self) -> None:
+        """Who listens, asked once a round of ticks (the runner's), not once a message: a vehicle
+        that neither follows, avoids nor points a gimbal at another system has no use for their
+        positions, and asking each of N vehicles about each of N senders' messages cost a swarm of
+        250 a third of its time at 1x."""
+        self.listeners = [node for node in self.nodes if node.vehicle.hears_positions()]
 
     def broadcast(self, sender: Node, out: Sequence[Any]) -> None:
-        """What `sender` sent this exchange (its poll's messages), heard by the others now."""
+        """What `sender` sent this exchange (its poll's messages), heard by the listeners now."""
+        listeners = self.listeners
+        if not listeners:
+            return
         for msg in out:
             if msg.get_type() in HEARD:
                 system_id = sender.vehicle.system_id
-                for node in self.nodes:
+                for node in listeners:
                     if node is not sender:  # looked up each time: a reboot replaces a node's parts
                         node.session.overhear(msg, system_id, node.vehicle.time_s)
