@@ -366,6 +366,9 @@ def gripper(c: Client, trace: Trace) -> None:
     trace.fact("rest.outputs", _outputs(c, GRIPPER))
     for name, params in (("release", (1, 0)), ("release_again", (1, 0)), ("action2", (1, 2)), ("grab", (1, 1)),
                          ("grab_again", (1, 1)), ("gripper5_release", (5, 0)), ("grab_load", (1, 1))):
+        # Firefly answers an unconfirmed repeat within 1.5 s of vehicle time as a retry (commands.py's
+        # RETRY_WINDOW_S) where ArduCopter runs it again: each command comes well after the last
+        c.idle(0.5)
         _command(c, trace, name, mav.MAV_CMD_DO_GRIPPER, *params, outputs=(GRIPPER,))
     c.idle(3.0)  # SITL's jaws shut on the load 2.3 s after a grab from open
     reach_flying(c, 10.0)
