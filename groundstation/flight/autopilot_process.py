@@ -18,6 +18,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Awaitable, Callable, TypeVar
 
+from .warm_start import WarmProcess, popen_autopilot
+
 T = TypeVar("T")
 EXIT_POLL_S = 0.05  # how often guard() looks at the process while the flight runs
 
@@ -47,7 +49,7 @@ def _bindable(port: int) -> bool:
     return True
 
 
-def stop_process(process: subprocess.Popen, timeout_s: float = 10.0) -> None:
+def stop_process(process: subprocess.Popen | WarmProcess, timeout_s: float = 10.0) -> None:
     """Terminate `process` and reap it; killed if it has not exited within `timeout_s`."""
     if process.poll() is None:
         process.terminate()
@@ -64,7 +66,7 @@ class AutopilotExited(RuntimeError):
 
 @dataclass
 class AutopilotProcess:
-    process: subprocess.Popen
+    process: subprocess.Popen | WarmProcess
     port: int  # where the client listens (the autopilot's --out)
     state_dir: Path
     speedup: str
@@ -132,7 +134,7 @@ class AutopilotProcess:
 
 def start_autopilot(state_dir: Path | None = None, speedup="10", extra: tuple = (), port: int | None = None,
                     wipe: bool = True, cwd: Path | None = None, capture_stderr: bool = False) -> AutopilotProcess:
-    """Start `python -m firefly.autopilot` sending to a free port (or `port`). Without `state_dir` its
+    """Start `python -m firefly.autopilot` (warm_start.py: forked warm) sending to a free port (or `port`). Without `state_dir` its
     parameters and mission live in a temporary directory that stop() removes. With capture_stderr
     what it writes to stderr is kept for exit_line() and written out by stop()."""
     owned = []
@@ -141,13 +143,12 @@ def start_autopilot(state_dir: Path | None = None, speedup="10", extra: tuple = 
         state_dir = Path(owned[0].name)
     count = int(extra[extra.index("--count") + 1]) if "--count" in extra else 1
     port = port or free_udp_port(count)
-    cmd = [sys.executable, "-m", "firefly.autopilot", "--listen", "udp:127.0.0.1:0",
-           "--out", f"udp:127.0.0.1:{port}", "--speedup", str(speedup), "--state-dir", str(state_dir),
-           "--quiet", f"--exit-with-parent={os.getpid()}", *extra]
+    args = ["--listen", "udp:127.0.0.1:0", "--out", f"udp:127.0.0.1:{port}", "--speedup", str(speedup),
+            "--state-dir", str(state_dir), "--quiet", f"--exit-with-parent={os.getpid()}", *extra]
     if wipe:
-        cmd.append("--wipe")
+        args.append("--wipe")
     log = tempfile.TemporaryFile() if capture_stderr else None
-    process = subprocess.Popen(cmd, cwd=cwd, env={**os.environ, "PYTHONUNBUFFERED": "1"}, stderr=log)
+    process = popen_autopilot(args, cwd=cwd, env={**os.environ, "PYTHONUNBUFFERED": "1"}, stderr=log)
     return AutopilotProcess(process, port, Path(state_dir), str(speedup), log, owned)
 
 

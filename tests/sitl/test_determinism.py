@@ -1,5 +1,6 @@
-"""Same scenario and seed, same trajectory: bit-identical logged states whatever the speedup and
-the load on the machine (the two runs below compete for the CPU with each other)."""
+"""Same scenario and seed, same trajectory: bit-identical logged states whatever the speedup, the
+load on the machine (the runs below compete for the CPU with each other) and whether the process
+started cold or was forked warm (groundstation/flight/warm_start.py)."""
 from __future__ import annotations
 
 import hashlib
@@ -8,25 +9,34 @@ import sys
 
 import pytest
 
+from firefly.groundstation.flight.warm_start import WarmProcess, popen_autopilot
+
 from .conftest import REPO, free_udp_port
 
 pytestmark = pytest.mark.sitl
 
 
-def start(tmp_path, speedup: str, seed: str, tag: str):
+def start(tmp_path, speedup: str, seed: str, tag: str, warm: bool = False):
     # Telemetry goes to a port of its own that nobody listens on: a client that heard the vehicle
     # (say, another test's MAVSDK on a well-known port) could fly it and change the trajectory.
     log = tmp_path / f"states-{tag}.csv"
-    proc = subprocess.Popen([sys.executable, "-m", "firefly.autopilot", "--scenario", str(REPO / "scenarios" / "scripted_flight.toml"),
-                             "--speedup", speedup, "--duration", "60", "--seed", seed, "--state-log", str(log),
-                             "--listen", "udp:127.0.0.1:0", "--out", f"udp:127.0.0.1:{free_udp_port()}", "--quiet", "--wipe",
-                             "--state-dir", str(tmp_path / tag)], cwd=REPO)
+    args = ["--scenario", str(REPO / "scenarios" / "scripted_flight.toml"),
+            "--speedup", speedup, "--duration", "60", "--seed", seed, "--state-log", str(log),
+            "--listen", "udp:127.0.0.1:0", "--out", f"udp:127.0.0.1:{free_udp_port()}", "--quiet", "--wipe",
+            "--state-dir", str(tmp_path / tag)]
+    if warm:
+        proc = popen_autopilot(args, cwd=REPO)
+        assert isinstance(proc, WarmProcess)
+    else:
+        proc = subprocess.Popen([sys.executable, "-m", "firefly.autopilot", *args], cwd=REPO)
     return proc, log
 
 
 def test_trajectory_is_bit_identical_across_speedups_and_load(tmp_path):
     # Three runs of one seed at once, two flat out and one paced: they load the CPU for each other.
-    runs = [start(tmp_path, speedup, "3", tag) for speedup, tag in (("inf", "a"), ("30", "b"), ("inf", "c"))]
+    # The third is forked warm.
+    runs = [start(tmp_path, speedup, "3", tag, warm) for speedup, tag, warm in
+            (("inf", "a", False), ("30", "b", False), ("inf", "c", True))]
     for proc, _ in runs:
         assert proc.wait(timeout=120) == 0
     digests = {hashlib.sha256(log.read_bytes()).hexdigest() for _, log in runs}
