@@ -1,0 +1,119 @@
+"""Terrain in the world and in the vehicle: a scenario's hills (sim/terrain.py) under the sim's
+rangefinder and ground contact; the vehicle's terrain database (autopilot/terrain_grid.py,
+autopilot/terrain.py) filled by a ground station's tile server (groundstation/terrain_tiles.py)
+through the vehicle's own TERRAIN_REQUEST / TERRAIN_DATA / TERRAIN_REPORT / TERRAIN_CHECK."""
+from __future__ import annotations
+
+import dataclasses
+
+import pytest
+
+from firefly.autopilot.location import loc_of
+from firefly.autopilot.mavlink import terrain as terrain_messages
+from firefly.autopilot.mission import MissionItem
+from firefly.autopilot.modes import Guided
+from firefly.autopilot.results import Result
+from firefly.autopilot.terrain_grid import FULL_MASK, TerrainGrid, grid_info
+from firefly.groundstation.terrain_tiles import answer, hills_amsl, tiles
+from firefly.sim.rigid_body import BodyState
+from firefly.sim.scenario import ScenarioError, scenario_from_dict
+from firefly.sim.terrain import Hill, Terrain
+from firefly.sim.vehicle import SimConfig, SimVehicle
+
+from ._util import client_codec, ready_vehicle
+
+HILL = {"north_m": 120.0, "east_m": 0.0, "height_m": 20.0, "radius_m": 60.0}
+
+
+def test_a_hill_is_a_smooth_bump_that_adds_where_hills_overlap():
+    t = scenario_from_dict({"terrain": [HILL, {**HILL, "east_m": 30.0}]}).sim.terrain
+    assert t.height_m(0.0, 0.0) == 0.0
+    assert Terrain((Hill(**HILL),)).height_m(120.0, 0.0) == pytest.approx(20.0)
+    assert Terrain((Hill(**HILL),)).height_m(90.0, 0.0) == pytest.approx(10.0)
+    assert t.height_m(120.0, 15.0) > 20.0
+
+
+@pytest.mark.parametrize("tables, words", [
+    ({"terrain": {"north_m": 1}}, "s.toml: terrain is given as [[terrain]] tables"),
+    ({"terrain": [{**HILL, "slope": 1}]}, "s.toml: [[terrain]] 1 unknown key 'slope'"),
+    ({"terrain": [{"north_m": 100.0}]}, "s.toml: [[terrain]] 1 missing 'east_m'"),
+    ({"terrain": [{**HILL, "height_m": "tall"}]}, "s.toml: [[terrain]] 1.height_m: expected a finite number"),
+    ({"terrain": [HILL, {**HILL, "north_m": 20.0}]}, "s.toml: [[terrain]] 2.radius_m: the hill reaches home"),
+    ({"terrain": [{**HILL, "radius_m": 0}]}, "s.toml: [[terrain]] 1.radius_m: must be above 0"),
+])
+def test_bad_terrain_tables_are_one_line_naming_table_and_key(tables, words):
+    with pytest.raises(ScenarioError) as caught:
+        scenario_from_dict(tables, "s.toml")
+    assert str(caught.value).startswith(words) and "\n" not in str(caught.value)
+
+
+def test_the_rangefinder_sees_the_hill_and_a_body_rests_on_it():
+    sim = SimVehicle(SimConfig(terrain=Terrain((Hill(**HILL),))))
+    sim.state = sim.state._replace(body=BodyState(n_m=120.0, d_m=-30.0), on_ground=False)
+    assert sim.read_sonar() == pytest.approx(10.0)
+    sim.state = sim.state._replace(body=BodyState(n_m=120.0, d_m=-19.0, vd_m_s=1.0), on_ground=False)
+    sim.step((0.0, 0.0, 0.0, 0.0))
+    assert sim.state.on_ground and sim.state.body.d_m == pytest.approx(-20.0)
+
+
+def test_tiles_follow_the_grid_block_and_its_sub_grids():
+    here = (-353632610, 1491652299)
+    info = grid_info(*here, 100)
+    served = dict(tiles(info.block_lat_e7, info.block_lon_e7, 100, 0b101, lambda lat, lon: 584.0))
+    assert sorted(served) == [0, 2] and served[0] == [584] * 16
+    grid = TerrainGrid()
+    block = grid.want(info, 100)
+    for bit, data in tiles(block.lat_e7, block.lon_e7, 100, FULL_MASK, lambda lat, lon: 600.0):
+        assert grid.store(block.lat_e7, block.lon_e7, 100, bit, data, 100)
+    assert grid.statistics(100) == (0, 56)
+    assert grid.height_amsl(*here, 100) == pytest.approx(600.0)
+    assert not grid.store(block.lat_e7, block.lon_e7, 30, 0, [0] * 16, 100)  # another spacing: ignored
+    assert not grid.store(block.lat_e7, block.lon_e7, 100, 56, [0] * 16, 100)  # past the last sub-grid
+
+
+def _serve_until_loaded(v, height, rounds: int = 40) -> None:
+    """The vehicle's TERRAIN_REQUESTs answered, one every 2 s as ArduCopter asks, until none is left."""
+    codec = client_codec()
+    for _ in range(rounds):
+        v.run_until(v.time_s + 2.0)
+        request = terrain_messages.terrain_request(v, codec)
+        if request is None:
+            return
+        for data in answer(request, height, codec):
+            terrain_messages.on_terrain_data(v, data)
+    raise AssertionError("the vehicle kept asking for terrain")
+
+
+def _with_terrain_mission(v) -> None:
+    home = loc_of(v.position_global())
+    wp = home.offset(200.0, 0.0)
+    v.mission.replace(0, [MissionItem(22, 3, 0, 0, 0, 0, 0, 0, 10.0),
+                          MissionItem(16, 10, 0, 0, 0, 0, wp.lat_e7, wp.lon_e7, 15.0)])
+
+
+def test_a_served_database_reports_loaded_answers_checks_and_lets_a_terrain_mission_arm():
+    v = ready_vehicle()
+    _with_terrain_mission(v)
+    assert v.set_mode(Guided.number) == Result.ACCEPTED
+    assert v.arm() == Result.FAILED  # nothing served yet
+    codec = client_codec()
+    report = terrain_messages.terrain_report(v, codec)
+    assert report.spacing == 0 and report.pending > 0 and report.loaded == 0
+    home = loc_of(v.position_global())
+    ground_m = v.home.alt_m
+    wide = Hill(north_m=600.0, east_m=0.0, height_m=50.0, radius_m=400.0)  # broad against the 100 m grid
+    height = hills_amsl(v.home, Terrain((wide,)))
+    _serve_until_loaded(v, height)
+    report = terrain_messages.terrain_report(v, codec)
+    assert report.spacing == 100 and report.pending == 0 and report.loaded >= 56
+    assert report.terrain_height == pytest.approx(ground_m, abs=1.0)  # served in whole metres
+    assert abs(report.current_height) < 1.0  # on the ground
+    top = home.offset(600.0, 0.0)
+    checked = terrain_messages.terrain_check_reply(v, codec, dataclasses.make_dataclass("C", ["lat", "lon"])(top.lat_e7, top.lon_e7))
+    assert checked.spacing == 100 and checked.terrain_height == pytest.approx(ground_m + 50.0, abs=5.0)
+    v.run_until(v.time_s + 1.0)
+    assert v.arm() == Result.ACCEPTED and v.armed
+    far = home.offset(50_000.0, 0.0)  # not held: no height, and no extrapolation for a check
+    checked = terrain_messages.terrain_check_reply(v, codec, dataclasses.make_dataclass("C", ["lat", "lon"])(far.lat_e7, far.lon_e7))
+    assert checked.spacing == 0 and checked.terrain_height == 0.0
+    assert checked.pending == report.pending + 56  # asked about, its block is now wanted (as AP_Terrain's)
