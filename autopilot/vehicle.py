@@ -655,6 +655,16 @@ class Vehicle:
         home = self.home
         self.terrain.update(self.params, self.terrain_here(), None if home is None else loc_of(home), self.mission)
 
+    def terrain_offset_m(self) -> float | None:
+        """The terrain's height above the local origin under the vehicle [m] (AC_WPNav's terrain
+        offset from the database): the last known while there is none here, None before any."""
+        self.terrain_update()
+        here = self.terrain_here()
+        height = None if here is None else self.terrain.height_amsl(self.params, here)
+        if height is None:
+            height = self.terrain.last_current_height_m
+        return None if height is None else height - self.origin.alt_m
+
     def terrain_height_known(self) -> bool:
         """ArduCopter's EKF3 terrain height estimate (EKF_STATUS_REPORT's EKF_POS_VERT_AGL): valid
         for 5 s after a good downward range, none without a rangefinder (measured: area ekf_flags)."""
