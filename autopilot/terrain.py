@@ -79,8 +79,8 @@ class VehicleTerrain:
         current = 0.0
         if here is not None:
             under = self.height_amsl(params, here)
-            if under is None and extrapolate and self.last_current_height_m is not None:
-                under = self.last_current_height_m
+            if under is None and extrapolate:  # (0 before any height was known: AP_Terrain's start)
+                under = self.last_current_height_m if self.last_current_height_m is not None else 0.0
             if under is not None:
                 current = here.alt_cm * 0.01 - under
         pending, loaded = self.grid.statistics(spacing)
