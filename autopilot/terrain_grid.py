@@ -16,8 +16,9 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from functools import lru_cache
 
-from .location import Loc
+from .location import M_PER_E7, Loc, longitude_scale
 
 BLOCK_SIZE_N, BLOCK_SIZE_E = 28, 32  # points per block
 BLOCK_STEP_N, BLOCK_STEP_E = 24, 28  # spacings between block corners
@@ -44,15 +45,47 @@ class GridInfo:
     frac_e: float
 
 
+@lru_cache(maxsize=1024)  # home, waypoints and a vehicle on the ground ask about the same places
 def grid_info(lat_e7: int, lon_e7: int, spacing_m: int) -> GridInfo:
     """Where a location falls in the grid (AP_Terrain::calculate_grid_info)."""
     ref = Loc(_whole_degree_e7(lat_e7), _whole_degree_e7(lon_e7), 0)
     north, east = ref.ne_to(Loc(lat_e7, lon_e7, 0))
     idx_n, idx_e = int(north / spacing_m), int(east / spacing_m)
-    corner = ref.offset(idx_n // BLOCK_STEP_N * BLOCK_STEP_N * float(spacing_m),
-                        idx_e // BLOCK_STEP_E * BLOCK_STEP_E * float(spacing_m))
-    return GridInfo(corner.lat_e7, corner.lon_e7, idx_n % BLOCK_STEP_N, idx_e % BLOCK_STEP_E,
+    lat, lon = block_corner(ref.lat_e7, ref.lon_e7, idx_n // BLOCK_STEP_N, idx_e // BLOCK_STEP_E, spacing_m)
+    return GridInfo(lat, lon, idx_n % BLOCK_STEP_N, idx_e % BLOCK_STEP_E,
                     (north - idx_n * spacing_m) / spacing_m, (east - idx_e * spacing_m) / spacing_m)
+
+
+@lru_cache(maxsize=1024)
+def block_corner(ref_lat_e7: int, ref_lon_e7: int, block_n: int, block_e: int, spacing_m: int) -> tuple[int, int]:
+    """The south-west corner of the block_n'th, block_e'th block from a whole degree."""
+    corner = Loc(ref_lat_e7, ref_lon_e7, 0).offset(block_n * BLOCK_STEP_N * float(spacing_m),
+                                                   block_e * BLOCK_STEP_E * float(spacing_m))
+    return corner.lat_e7, corner.lon_e7
+
+
+def blocks_around(lat_e7: int, lon_e7: int, spacing_m: int) -> list[tuple[int, int]]:
+    """The corners of the blocks under the 9 points 0.7 of a block about a location
+    (update_surrounding_tiles): each point moved and measured as ArduPilot moves and measures it
+    (Location::offset, get_distance_NE), inline, the corners remembered (a vehicle in flight asks
+    10 times a second)."""
+    ref_lat, ref_lon = _whole_degree_e7(lat_e7), _whole_degree_e7(lon_e7)
+    step_n, step_e = BLOCK_SIZE_N * SURROUND_SHARE * spacing_m, BLOCK_SIZE_E * SURROUND_SHARE * spacing_m
+    corners = []
+    for dn in (-1, 0, 1):
+        d_lat = int(dn * step_n / M_PER_E7)
+        lat = lat_e7 + d_lat
+        east_scale = M_PER_E7 * longitude_scale(lat_e7 + d_lat / 2)
+        ne_scale = M_PER_E7 * longitude_scale((ref_lat + lat) * 0.5)
+        for de in (-1, 0, 1):
+            lon = lon_e7 + int(de * step_e / east_scale)
+            if _whole_degree_e7(lat) != ref_lat or _whole_degree_e7(lon) != ref_lon:  # the next degree's grid
+                info = grid_info(lat, lon, spacing_m)
+                corners.append((info.block_lat_e7, info.block_lon_e7))
+                continue
+            idx_n, idx_e = int((lat - ref_lat) * M_PER_E7 / spacing_m), int((lon - ref_lon) * ne_scale / spacing_m)
+            corners.append(block_corner(ref_lat, ref_lon, idx_n // BLOCK_STEP_N, idx_e // BLOCK_STEP_E, spacing_m))
+    return corners
 
 
 def subgrid_bit(idx_n: int, idx_e: int) -> int:
@@ -95,10 +128,13 @@ class TerrainGrid:
 
     def want(self, info: GridInfo, spacing_m: int) -> Block:
         """The block holding `info`, made empty (giving up the least recently wanted) if not held."""
+        return self.want_block(info.block_lat_e7, info.block_lon_e7, spacing_m)
+
+    def want_block(self, lat_e7: int, lon_e7: int, spacing_m: int) -> Block:
         self._clock += 1
-        block = self._find(info.block_lat_e7, info.block_lon_e7, spacing_m)
+        block = self._find(lat_e7, lon_e7, spacing_m)
         if block is None:
-            block = Block(info.block_lat_e7, info.block_lon_e7, spacing_m)
+            block = Block(lat_e7, lon_e7, spacing_m)
             while len(self.blocks) >= self.cache_size:  # (a loop: TERRAIN_CACHE_SZ may have shrunk)
                 self.blocks.remove(min(self.blocks, key=lambda b: b.used))
             self.blocks.append(block)
@@ -133,10 +169,8 @@ class TerrainGrid:
             self.height_amsl(wp.lat_e7, wp.lon_e7, spacing_m)
         if here is None:
             return False
-        for dn in (-1, 0, 1):
-            for de in (-1, 0, 1):
-                p = here.offset(dn * BLOCK_SIZE_N * SURROUND_SHARE * spacing_m, de * BLOCK_SIZE_E * SURROUND_SHARE * spacing_m)
-                self.height_amsl(p.lat_e7, p.lon_e7, spacing_m)
+        for lat, lon in blocks_around(here.lat_e7, here.lon_e7, spacing_m):
+            self.want_block(lat, lon, spacing_m)
         return self.height_amsl(here.lat_e7, here.lon_e7, spacing_m) is not None
 
     def store(self, lat_e7: int, lon_e7: int, spacing_m: int, gridbit: int, data, own_spacing_m: int) -> bool:
