@@ -7,7 +7,11 @@ request names, the points found by ArduPilot's flat-earth offsets from that corn
 the scenario's home altitude plus its [[terrain]] hills (sim/terrain.py), so a vehicle flying in that
 scenario holds the same ground in its database as its rangefinder sees.
 
-    python -m groundstation.terrain_tiles --scenario S.toml --url udpout:127.0.0.1:14550
+    autopilot --scenario S.toml --out udp:127.0.0.1:14551 ...
+    python -m groundstation.terrain_tiles --scenario S.toml --url udpin:127.0.0.1:14551
+
+Like MAVProxy it asks the vehicle for its EXTRA3 stream (where TERRAIN_REQUEST goes out) on the
+first HEARTBEAT it hears, and says it is there with a HEARTBEAT of its own each second.
 """
 from __future__ import annotations
 
@@ -19,6 +23,8 @@ from firefly.sim.geo import GeoPoint, global_from_ned, ned_from_global
 from firefly.sim.terrain import Terrain
 
 SUBGRIDS_E = 8  # sub-grids across a block's east side (AP_Terrain's TERRAIN_GRID_BLOCK_MUL_Y)
+MAV_TYPE_GCS, MAV_AUTOPILOT_INVALID = 6, 8
+EXTRA3_STREAM, EXTRA3_HZ = 12, 2  # MAV_DATA_STREAM_EXTRA3; TERRAIN_REQUEST comes at most every 2 s anyway
 
 
 def hills_amsl(home: GeoPoint, terrain: Terrain) -> Callable[[float, float], float]:
@@ -57,7 +63,8 @@ def main(argv: list[str] | None = None) -> int:
     from firefly.sim.scenario import ScenarioError, load_scenario
     parser = argparse.ArgumentParser(prog="terrain_tiles", description=__doc__.split("\n\n")[0])
     parser.add_argument("--scenario", required=True, help="scenario TOML whose [home] and [[terrain]] to serve")
-    parser.add_argument("--url", default="udpout:127.0.0.1:14550", help="the vehicle's MAVLink link")
+    parser.add_argument("--url", default="udpin:127.0.0.1:14551",
+                        help="the link to the vehicle (default: listening where an --out sends)")
     args = parser.parse_args(argv)
     try:
         sc = load_scenario(args.scenario)
@@ -66,11 +73,15 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     height = hills_amsl(sc.home, sc.sim.terrain)
     link = mavutil.mavlink_connection(args.url, source_system=255, source_component=190)
-    link.mav.heartbeat_send(6, 8, 0, 0, 0)
+    asked = False
     while True:
         msg = link.recv_match(type=["TERRAIN_REQUEST", "HEARTBEAT"], blocking=True, timeout=1.0)
         if msg is None or msg.get_type() == "HEARTBEAT":
-            link.mav.heartbeat_send(6, 8, 0, 0, 0)  # a ground station the vehicle hears
+            link.mav.heartbeat_send(MAV_TYPE_GCS, MAV_AUTOPILOT_INVALID, 0, 0, 0)
+            if msg is not None and not asked:  # the vehicle's EXTRA3 stream, where TERRAIN_REQUEST goes
+                link.mav.request_data_stream_send(msg.get_srcSystem(), msg.get_srcComponent(), EXTRA3_STREAM,
+                                                  EXTRA3_HZ, 1)
+                asked = True
             continue
         for out in answer(msg, height, link.mav):
             link.mav.send(out)
