@@ -40,6 +40,7 @@ from .follow_target import FollowTarget
 from .mission import FENCE, MISSION, MissionStore
 from .mission.progress import MissionProgress
 from .mission.terrain import TerrainItems
+from .surface_distance import SurfaceDistance
 from .terrain import VehicleTerrain
 from .modes import MODE_BY_NUMBER, Mode, ModeNumber, Setpoint
 from .modes.auto_rtl import EITHER, AutoRtl
@@ -239,6 +240,7 @@ class Vehicle:
         self.mission_items = partial(self.mission.items, MISSION)
         self.mission_uses_terrain = TerrainItems(self.mission)
         self.terrain = VehicleTerrain()  # the terrain database a ground station fills (AP_Terrain)
+        self.surface = SurfaceDistance()  # the downward rangefinder's terrain offset
         self._terrain_updated_s = -math.inf
         self.modes: dict[int, Mode] = {number: cls() for number, cls in MODE_BY_NUMBER.items()}
         self.mode = self.modes[ModeNumber.STABILIZE]
@@ -655,9 +657,25 @@ class Vehicle:
         home = self.home
         self.terrain.update(self.params, self.terrain_here(), None if home is None else loc_of(home), self.mission)
 
+    def _track_surface(self, now: float) -> None:
+        """The downward rangefinder's reading as a terrain offset (surface_distance.py)."""
+        r, b = self.rangefinder.reading(), self.body
+        self.surface.update(now, r.status == RangeStatus.GOOD, r.valid_count, r.distance_m,
+                            1.0 - 2.0 * (b.qx * b.qx + b.qy * b.qy), -b.d_m, RANGEFINDER_UPDATE_S,
+                            float(self.params["SURFTRAK_TC"]))
+
+    def terrain_from_rangefinder(self) -> bool:
+        """AC_WPNav's terrain source is the rangefinder (WPNAV_RFND_USE and one enabled facing down),
+        else the terrain database."""
+        return bool(self.params["WPNAV_RFND_USE"]) and self.rangefinder.enabled
+
     def terrain_offset_m(self) -> float | None:
         """The terrain's height above the local origin under the vehicle [m] (AC_WPNav's terrain
-        offset from the database): the last known while there is none here, None before any."""
+        offset): the rangefinder's while it is healthy when it is the source; else the database's,
+        the last known while there is none here; None when there is none."""
+        if self.terrain_from_rangefinder():
+            surface = self.surface
+            return surface.offset_m if surface.healthy else None
         self.terrain_update()
         here = self.terrain_here()
         height = None if here is None else self.terrain.height_amsl(self.params, here)
@@ -1286,6 +1304,8 @@ class Vehicle:
             estimate.track_barometer()
             if self._rangefinder_every and self.sim.steps % self._rangefinder_every == 0:
                 self.rangefinder.update(now, self.sim.read_sonar())
+                if self.rangefinder.down:
+                    self._track_surface(now)
             if self.optical_flow.kind:
                 self.optical_flow.update(now, self.sim.read_flow())
             if self.precland.kind:

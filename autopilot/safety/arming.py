@@ -170,8 +170,9 @@ def _winch(v: PrearmView) -> str | None:
 def _terrain_data(v: PrearmView) -> str | None:
     """A mission at heights above terrain needs the terrain database (AP_Arming::terrain_checks):
     every block wanted filled, the heights under the vehicle and home known. Until a ground
-    station has served the tiles: "Arm: waiting for terrain data", and no arming (measured)."""
-    if not v.mission_uses_terrain():
+    station has served the tiles: "Arm: waiting for terrain data", and no arming (measured). Not
+    when the waypoint navigator follows the terrain by rangefinder (terrain_database_required)."""
+    if not v.mission_uses_terrain() or v.terrain_from_rangefinder():  # the rangefinder: no database needed
         return None
     if not v.params["TERRAIN_ENABLE"]:
         return "terrain disabled"

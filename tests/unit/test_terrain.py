@@ -148,5 +148,27 @@ def test_an_auto_leg_above_terrain_follows_the_hill():
         if b.n_m > 490.0:
             break
     assert len(above) > 40  # the leg was sampled over the hill
-    print("above terrain over the hill", min(above), max(above), sum(above) / len(above))
+    assert max(abs(h - 15.0) for h in above) < 3.0, (min(above), max(above))
+
+
+def test_with_a_rangefinder_the_leg_follows_the_ground_it_sees_and_needs_no_database():
+    """WPNAV_RFND_USE (on by default) with a downward rangefinder: the terrain mission arms with no
+    tiles served (ArduCopter's terrain_database_required) and the leg holds its height above what
+    the rangefinder sees (the offset low-passed with SURFTRAK_TC)."""
+    hill = Hill(north_m=250.0, east_m=0.0, height_m=15.0, radius_m=200.0)
+    v = ready_vehicle({"RNGFND1_TYPE": 100, "RNGFND1_MAX": 40.0}, sim=SimConfig(terrain=Terrain((hill,))))
+    wp = loc_of(v.home).offset(500.0, 0.0)
+    v.mission.replace(0, [MissionItem(22, 3, 0, 0, 0, 0, 0, 0, 15.0),
+                          MissionItem(16, 10, 0, 0, 0, 0, wp.lat_e7, wp.lon_e7, 15.0)])
+    v.run_until(v.time_s + 1.0)
+    assert v.set_mode(Guided.number) == Result.ACCEPTED
+    assert v.arm() == Result.ACCEPTED
+    assert v.mission_start() == Result.ACCEPTED
+    above = []
+    while v.time_s < 120.0 and v.sim.state.body.n_m < 490.0:
+        v.run_until(v.time_s + 0.5)
+        b = v.sim.state.body
+        if 50.0 < b.n_m < 450.0:
+            above.append(-b.d_m - hill.height_at(b.n_m, b.e_m))
+    assert len(above) > 40
     assert max(abs(h - 15.0) for h in above) < 3.0, (min(above), max(above))

@@ -17,6 +17,11 @@ leg        the same mission flown: takeoff to 15 m, then a waypoint 15 m above t
            the height above the hill from GLOBAL_POSITION_INT's altitude AMSL, its largest and
            mean departure from 15 m, the highest AMSL, and TERRAIN_REPORT's current height
            (the vehicle's own height above its terrain) mean; whether the waypoint was reached.
+leg_rangefinder  on a fresh vehicle with SITL's downward rangefinder (RNGFND1_TYPE 100, RNGFND1_MAX
+           40 m; WPNAV_RFND_USE at its default 1, so the navigator follows what it sees): the
+           mission's ARM before any tile is served (result, texts; disarmed again), then served
+           until nothing is pending (ArduCopter's simulated ground is its database's) and the leg's
+           facts as above.
 """
 from __future__ import annotations
 
@@ -35,6 +40,7 @@ AREA = "terrain"
 HOME = GeoPoint(-35.363261, 149.165230, 584.0)
 HILL = {"north_m": 250.0, "east_m": 0.0, "height_m": 15.0, "radius_m": 200.0}
 PARAMS = {"TERRAIN_SPACING": 30}
+RANGEFINDER = {"RNGFND1_TYPE": 100, "RNGFND1_MAX": 40}
 REL, TERRAIN_ALT = mav.MAV_FRAME_GLOBAL_RELATIVE_ALT, mav.MAV_FRAME_GLOBAL_TERRAIN_ALT
 ABOVE_M, WP_NORTH_M = 15.0, 500.0
 LOAD_S, LEG_S = 90.0, 90.0
@@ -99,7 +105,7 @@ def _arm(client: Client, trace: Trace, name: str) -> None:
 
 
 def run(target) -> dict[str, Trace]:
-    exchange, leg = Trace(), Trace()
+    exchange, leg, by_rangefinder = Trace(), Trace(), Trace()
     try:
         client = target.boot(params=PARAMS, world={"terrain": [HILL]})
         pos0 = client.last["GLOBAL_POSITION_INT"]
@@ -138,9 +144,29 @@ def run(target) -> dict[str, Trace]:
             client.idle(1.0)
             _arm(client, exchange, "loaded")
             _fly(client, leg, geo)
+        _by_rangefinder(target, by_rangefinder)
     finally:
         target.close()
-    return {"exchange": exchange, "leg": leg}
+    return {"exchange": exchange, "leg": leg, "leg_rangefinder": by_rangefinder}
+
+
+def _by_rangefinder(target, trace: Trace) -> None:
+    client = target.boot(params={**PARAMS, **RANGEFINDER}, world={"terrain": [HILL]})
+    pos0 = client.last["GLOBAL_POSITION_INT"]
+    geo = Geometry(pos0.lat, pos0.lon)
+    server = TileServer(client)
+    with client.listening(server):
+        client.fresh("TERRAIN_REPORT")
+        trace.fact("upload", upload(client, _items(geo)))
+        _arm(client, trace, "unloaded")
+        if client.armed:
+            client.command(mav.MAV_CMD_COMPONENT_ARM_DISARM, 0)
+            client.wait(lambda: not client.armed, 10.0, what="disarmed")
+        server.on = True
+        trace.fact("loaded", client.try_wait(lambda: client.last["TERRAIN_REPORT"].pending == 0
+                                             and client.last["TERRAIN_REPORT"].spacing > 0, LOAD_S))
+        _arm(client, trace, "loaded")
+        _fly(client, trace, geo)
 
 
 def _fly(client: Client, trace: Trace, geo: Geometry) -> None:
