@@ -210,9 +210,11 @@ class SimVehicle:
         self.battery = BatteryState((1.0 - soc) * capacity, current, max(ocv - current * r, 0.0))
 
     def read_temperature(self, home_d_m: float) -> float:
-        """The downward radiometric sensor: reads the ground below at the vehicle's height."""
+        """The downward radiometric sensor: reads the ground below at the vehicle's height above
+        it (above home's ground less the hill under it, if any)."""
         b = self.state.body
-        return self.thermometer.read(b.n_m, b.e_m, home_d_m - b.d_m, self.time_s)
+        return self.thermometer.read(b.n_m, b.e_m, home_d_m + self.config.terrain.ground_d_m(b.n_m, b.e_m) - b.d_m,
+                                     self.time_s)
 
     def fly_traffic(self, dt_s: float, count: int, radius_m: float, alt_m: float) -> list[Aircraft]:
         """Move the other aircraft dt_s on around this vehicle; those flying."""

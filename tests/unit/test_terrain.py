@@ -172,3 +172,13 @@ def test_with_a_rangefinder_the_leg_follows_the_ground_it_sees_and_needs_no_data
             above.append(-b.d_m - hill.height_at(b.n_m, b.e_m))
     assert len(above) > 40
     assert max(abs(h - 15.0) for h in above) < 3.0, (min(above), max(above))
+
+
+def test_the_fire_sensor_reads_from_its_height_above_the_hill():
+    """The downward radiometric sensor's height is above the ground under it: over a 20 m hill,
+    30 m above home's ground reads as 10 m above the fire would on the flat field."""
+    hill = Hill(**HILL)
+    flat, hilly = SimVehicle(SimConfig()), SimVehicle(SimConfig(terrain=Terrain((hill,))))
+    for sim, d in ((flat, -10.0), (hilly, -30.0)):
+        sim.state = sim.state._replace(body=BodyState(n_m=120.0, d_m=d), on_ground=False)
+    assert hilly.read_temperature(0.0) == pytest.approx(flat.read_temperature(0.0))
