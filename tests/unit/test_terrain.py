@@ -182,3 +182,22 @@ def test_the_fire_sensor_reads_from_its_height_above_the_hill():
     for sim, d in ((flat, -10.0), (hilly, -30.0)):
         sim.state = sim.state._replace(body=BodyState(n_m=120.0, d_m=d), on_ground=False)
     assert hilly.read_temperature(0.0) == pytest.approx(flat.read_temperature(0.0))
+
+
+def test_terrain_off_quiet_and_odd_inputs_answered_without_fault():
+    v = ready_vehicle()
+    codec = client_codec()
+    Check = dataclasses.make_dataclass("Check", ["lat", "lon"])
+    for lat, lon in ((900_000_000, 1_800_000_000), (-900_000_000, -1_800_000_000), (2**31 - 1, -(2**31))):
+        assert terrain_messages.terrain_check_reply(v, codec, Check(lat, lon)).spacing == 0
+    v.params.set("TERRAIN_SPACING", 0)  # no grid at all: nothing asked, nothing held
+    v.run_until(v.time_s + 1.0)
+    assert terrain_messages.terrain_request(v, codec) is None
+    assert terrain_messages.terrain_report(v, codec).spacing == 0
+    v.params.set("TERRAIN_SPACING", 100)
+    v.params.set("TERRAIN_OPTIONS", 1)  # DisableDownload: reports, never asks
+    v.run_until(v.time_s + 1.0)
+    assert terrain_messages.terrain_request(v, codec) is None
+    assert terrain_messages.terrain_report(v, codec).pending > 0
+    v.params.set("TERRAIN_ENABLE", 0)  # off: neither
+    assert terrain_messages.terrain_request(v, codec) is None and terrain_messages.terrain_report(v, codec) is None
