@@ -40,6 +40,8 @@ from .follow_target import FollowTarget
 from .mission import FENCE, MISSION, MissionStore
 from .mission.progress import MissionProgress
 from .mission.terrain import TerrainItems
+from .surface_distance import SurfaceDistance
+from .terrain import VehicleTerrain
 from .modes import MODE_BY_NUMBER, Mode, ModeNumber, Setpoint
 from .modes.auto_rtl import EITHER, AutoRtl
 from .modes.context import ModeContext
@@ -97,6 +99,7 @@ PREARM_DISPLAY_PERIOD_S = 1.0  # AP_Arming::update's rate
 LAND_DETECTOR_ERROR_LINE = 66  # ArduCopter's land_detector.cpp line of its "climbed while landed" error
 MAX_PENDING_TEXTS = 64  # STATUSTEXTs waiting for the next poll; a loop of texts cannot grow memory
 EKF_LANES = ("IMU0", "IMU1")  # ArduCopter SITL's two EKF3 cores, each says what it does
+TERRAIN_UPDATE_S = 0.1  # AP_Terrain::update runs at 10 Hz (Copter.cpp terrain_update)
 HOME_RANGE_M = 50_000  # DO_SET_HOME farther than this from the origin is refused
 LOCATION_ALT_MAX_M = 83_000  # the largest altitude ArduPilot's Location holds: home and commands' positions
 SPEED_MAX_WPNAV = 5.0  # DO_CHANGE_SPEED is capped at this multiple of WPNAV_SPEED
@@ -236,6 +239,9 @@ class Vehicle:
         self.fence_items = partial(self.mission.items, FENCE)
         self.mission_items = partial(self.mission.items, MISSION)
         self.mission_uses_terrain = TerrainItems(self.mission)
+        self.terrain = VehicleTerrain()  # the terrain database a ground station fills (AP_Terrain)
+        self.surface = SurfaceDistance()  # the downward rangefinder's terrain offset
+        self._terrain_updated_s = -math.inf
         self.modes: dict[int, Mode] = {number: cls() for number, cls in MODE_BY_NUMBER.items()}
         self.mode = self.modes[ModeNumber.STABILIZE]
         # A mode entered before what it needs is there (disarmed before home, as ArduCopter
@@ -638,6 +644,44 @@ class Vehicle:
         if not prox.good or not int(self.params["AVOID_ENABLE"]) & USE_PROXIMITY:
             return lean
         return self.simple_avoid.adjust_lean(prox.objects(), lean, math.radians(self.params["ANGLE_MAX"] / 100.0))
+
+    def terrain_here(self) -> Loc | None:
+        """Where the terrain database looks from: the vehicle's location, once it has one."""
+        return loc_of(self.position_global()) if self.has_position() else None
+
+    def terrain_update(self) -> None:
+        """AP_Terrain::update, at its 10 Hz, run when someone asks (reports, requests, pre-arm)."""
+        if self.time_s - self._terrain_updated_s < TERRAIN_UPDATE_S:
+            return
+        self._terrain_updated_s = self.time_s
+        home = self.home
+        self.terrain.update(self.params, self.terrain_here(), None if home is None else loc_of(home), self.mission)
+
+    def _track_surface(self, now: float) -> None:
+        """The downward rangefinder's reading as a terrain offset (surface_distance.py)."""
+        r, b = self.rangefinder.reading(), self.body
+        self.surface.update(now, r.status == RangeStatus.GOOD, r.valid_count, r.distance_m,
+                            1.0 - 2.0 * (b.qx * b.qx + b.qy * b.qy), -b.d_m, RANGEFINDER_UPDATE_S,
+                            float(self.params["SURFTRAK_TC"]))
+
+    def terrain_from_rangefinder(self) -> bool:
+        """AC_WPNav's terrain source is the rangefinder (WPNAV_RFND_USE and one enabled facing down),
+        else the terrain database."""
+        return bool(self.params["WPNAV_RFND_USE"]) and self.rangefinder.enabled
+
+    def terrain_offset_m(self) -> float | None:
+        """The terrain's height above the local origin under the vehicle [m] (AC_WPNav's terrain
+        offset): the rangefinder's while it is healthy when it is the source; else the database's,
+        the last known while there is none here; None when there is none."""
+        if self.terrain_from_rangefinder():
+            surface = self.surface
+            return surface.offset_m if surface.healthy else None
+        self.terrain_update()
+        here = self.terrain_here()
+        height = None if here is None else self.terrain.height_amsl(self.params, here)
+        if height is None:
+            height = self.terrain.last_current_height_m
+        return None if height is None else height - self.origin.alt_m
 
     def terrain_height_known(self) -> bool:
         """ArduCopter's EKF3 terrain height estimate (EKF_STATUS_REPORT's EKF_POS_VERT_AGL): valid
@@ -1260,6 +1304,8 @@ class Vehicle:
             estimate.track_barometer()
             if self._rangefinder_every and self.sim.steps % self._rangefinder_every == 0:
                 self.rangefinder.update(now, self.sim.read_sonar())
+                if self.rangefinder.down:
+                    self._track_surface(now)
             if self.optical_flow.kind:
                 self.optical_flow.update(now, self.sim.read_flow())
             if self.precland.kind:

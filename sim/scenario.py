@@ -1,5 +1,5 @@
 """Scenario files (TOML): the world a run takes place in — home, airframe, wind, sensor noise,
-physics rate, seed, the recovery parachute's canopy, the fire world, and the thermal camera
+physics rate, seed, the recovery parachute's canopy, the fire world, the ground's hills ([[terrain]]), and the thermal camera
 the vehicle carries, if any ([thermal_camera], ThermalCameraSpec's fields; the table present
 fits one; its video_port key says where its video goes) — read the same way by the autopilot and the companion.
 
@@ -20,6 +20,7 @@ from .geo import GeoPoint
 from .parachute import Canopy
 from .sensors import NoiseConfig
 from .thermal_camera import ThermalCameraSpec
+from .terrain import Terrain, terrain_from_tables
 from .traffic import tracks_from_tables
 from .vehicle import SimConfig
 from .wind import SteadyWind
@@ -117,7 +118,7 @@ def load_scenario(path: Path) -> Scenario:
 
 
 WORLD_TABLES = ("seed", "home", "airframe", "wind", "noise", "sim", "world", "fire", "traffic", "parachute",
-                "thermal_camera")
+                "thermal_camera", "terrain")
 VEHICLE_TABLES = ("script", "signing", "faults", "startup", "params")  # what the vehicle acts on: checked by the autopilot
 KNOWN_TABLES = WORLD_TABLES + VEHICLE_TABLES
 
@@ -176,9 +177,10 @@ def scenario_from_dict(data: dict, name: str = "scenario") -> Scenario:
                                        wind_to_deg=(wind.from_direction_deg + 180.0) % 360.0)
     try:
         traffic = tracks_from_tables(data.get("traffic", []), name)
+        terrain = terrain_from_tables(data.get("terrain", []), name)
     except ValueError as exc:
         raise ScenarioError(str(exc)) from None
     sc.sim = SimConfig(airframe=airframe, wind=wind, noise=noise, physics_rate_hz=rate, seed=sc.seed,
-                       world=sc.world, traffic=traffic, canopy=canopy)
+                       world=sc.world, traffic=traffic, canopy=canopy, terrain=terrain)
     sc.vehicle_tables = {key: data[key] for key in VEHICLE_TABLES if key in data}
     return sc

@@ -25,6 +25,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from .tables import each_table
 from .sensors import sensor_rng
 
 EMITTER_TYPES = 20  # ADSB_EMITTER_TYPE 0..19
@@ -67,16 +68,9 @@ class Track:
 
 def tracks_from_tables(tables, where: str) -> tuple[Track, ...]:
     """A scenario's [[traffic]] tables; ValueError with one line naming the table and key at fault."""
-    if not isinstance(tables, list):
-        raise ValueError(f"{where}: traffic is given as [[traffic]] tables")
     tracks: list[Track] = []
-    for k, table in enumerate(tables, start=1):
-        name = f"{where}: [[traffic]] {k}"
-        if not isinstance(table, dict):
-            raise ValueError(f"{name} must be a table")
+    for name, table in each_table(tables, where, "traffic", TRACK_KEYS):
         for key, value in table.items():
-            if key not in TRACK_KEYS:
-                raise ValueError(f"{name} unknown key '{key}' (known: {', '.join(TRACK_KEYS)})")
             if key == "callsign":
                 if not isinstance(value, str):
                     raise ValueError(f"{name}.callsign: expected a string, got {value!r}")

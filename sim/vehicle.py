@@ -19,6 +19,8 @@ from .rotors import HEALTHY, shaft_power_per_thrust_1p5
 from .precland import Beacon
 from .optical_flow import FlowCamera, FlowSample
 from .rangefinder import SonarBeam
+from .rigid_body import apply_ground
+from .terrain import FLAT, Terrain
 from .traffic import Aircraft, Track, TrafficSim
 from .sensors import Barometer, Gps, Gyro, NoiseConfig, RcReceiver
 from .wind import SteadyWind, Wind
@@ -37,6 +39,7 @@ class SimConfig:
     world: FireWorld = field(default_factory=FireWorld)
     traffic: tuple[Track, ...] = ()  # the scenario's own aircraft ([[traffic]])
     canopy: Canopy = field(default_factory=Canopy)  # the recovery parachute's ([parachute])
+    terrain: Terrain = FLAT  # the ground's hills ([[terrain]]); the field is flat without them
 
 
 class SimVehicle:
@@ -97,6 +100,8 @@ class SimVehicle:
         self._count(n)
 
     def _count(self, n: int) -> None:
+        if self.config.terrain.hills:
+            self._rest_on_hills()
         self.steps += n
         self.time_s = self.steps * self.dt
         if self.steps % BATTERY_EVERY == 0:  # the pack changes slowly: integrate it at a quarter rate
@@ -108,6 +113,16 @@ class SimVehicle:
                 self._push(self.dt * BATTERY_EVERY)
             if self.canopy_deployed_at_s is not None or self.load is not None:
                 self._act_payloads(self.dt * BATTERY_EVERY)
+
+    def _rest_on_hills(self) -> None:
+        """Ground contact with a hill. The physics step (and its compiled twin) knows only the flat
+        field at d = 0; a body that has sunk into a hill since the last step is set on its surface
+        by the same contact rules, so a vehicle lands on and rests on the hill."""
+        b = self.state.body
+        ground_d = self.config.terrain.ground_d_m(b.n_m, b.e_m)
+        if ground_d < 0.0 and b.d_m >= ground_d:
+            body, on_ground = apply_ground(b, ground_d)
+            self.state = self.state._replace(body=body, on_ground=on_ground)
 
     def shove(self, accel_frd: tuple[float, float, float], seconds: float) -> None:
         """Push the body with a body-frame acceleration [m/s^2] for `seconds` (0: stop pushing),
@@ -195,9 +210,11 @@ class SimVehicle:
         self.battery = BatteryState((1.0 - soc) * capacity, current, max(ocv - current * r, 0.0))
 
     def read_temperature(self, home_d_m: float) -> float:
-        """The downward radiometric sensor: reads the ground below at the vehicle's height."""
+        """The downward radiometric sensor: reads the ground below at the vehicle's height above
+        it (above home's ground less the hill under it, if any)."""
         b = self.state.body
-        return self.thermometer.read(b.n_m, b.e_m, home_d_m - b.d_m, self.time_s)
+        return self.thermometer.read(b.n_m, b.e_m, home_d_m + self.config.terrain.ground_d_m(b.n_m, b.e_m) - b.d_m,
+                                     self.time_s)
 
     def fly_traffic(self, dt_s: float, count: int, radius_m: float, alt_m: float) -> list[Aircraft]:
         """Move the other aircraft dt_s on around this vehicle; those flying."""
@@ -210,13 +227,20 @@ class SimVehicle:
         b = self.state.body
         return None if self.beacon is None else self.beacon.sees(b.n_m, b.e_m, b.d_m)
 
+    def ground_d_m(self) -> float:
+        """The ground's down coordinate under the vehicle: 0 on the flat field, above it on a hill.
+        (The beams meet the ground straight below: over a smooth hill and a modest tilt the
+        difference from where a tilted beam lands is small.)"""
+        b = self.state.body
+        return self.config.terrain.ground_d_m(b.n_m, b.e_m)
+
     def read_sonar(self) -> float:
-        """The downward rangefinder's beam over the flat ground [m] (inf: it misses the ground)."""
-        return self.sonar.range_m(self.state.body)
+        """The downward rangefinder's beam to the ground below [m] (inf: it misses the ground)."""
+        return self.sonar.range_m(self.state.body, self.ground_d_m())
 
     def read_flow(self) -> FlowSample | None:
-        """The optical flow camera's new sample over the flat ground, when one is due (SIM_FLOW_RATE)."""
-        return self.flow_camera.read(self.time_s, self.state.body)
+        """The optical flow camera's new sample over the ground below, when one is due (SIM_FLOW_RATE)."""
+        return self.flow_camera.read(self.time_s, self.state.body, self.ground_d_m())
 
     @property
     def battery_remaining(self) -> float:

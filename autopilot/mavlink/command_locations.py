@@ -9,7 +9,8 @@ from ..vehicle import LOCATION_ALT_MAX_M
 from .dialect import mavlink as mav
 
 ABSOLUTE_ALT_FRAMES = {mav.MAV_FRAME_GLOBAL, mav.MAV_FRAME_GLOBAL_INT}
-# Altitude above home (ArduPilot's terrain frames fall back to home over flat ground, as here).
+# Altitude above home. A command's terrain frame is taken as above home here: only AUTO's waypoint
+# legs follow the terrain (modes/waypoint_legs.py).
 RELATIVE_ALT_FRAMES = {mav.MAV_FRAME_GLOBAL_RELATIVE_ALT, mav.MAV_FRAME_GLOBAL_RELATIVE_ALT_INT,
                        mav.MAV_FRAME_GLOBAL_TERRAIN_ALT, mav.MAV_FRAME_GLOBAL_TERRAIN_ALT_INT}
 

@@ -13,6 +13,7 @@ from __future__ import annotations
 from functools import partial
 
 from .. import version
+from . import terrain
 from ..results import Result
 from .adsb_messages import collision, forwarded, report_of
 from .adsb_out import AdsbOut
@@ -105,6 +106,8 @@ class Session:
             "ADSB_VEHICLE": lambda m, now: self.vehicle.adsb_vehicle(report_of(m)),
             "LANDING_TARGET": lambda m, now: self.vehicle.landing_target(
                 m.frame, m.angle_x, m.angle_y, m.distance, (m.x, m.y, m.z), m.position_valid == 1),
+            "TERRAIN_DATA": lambda m, now: terrain.on_terrain_data(self.vehicle, m),
+            "TERRAIN_CHECK": lambda m, now: self.queue(terrain.terrain_check_reply(self.vehicle, self.telemetry_codec, m)),
             "UAVIONIX_ADSB_OUT_CFG": self._on_adsb_config,
             "UAVIONIX_ADSB_TRANSCEIVER_HEALTH_REPORT": self._on_adsb_health,
             "FENCE_POINT": self._on_legacy_point,

@@ -1,7 +1,7 @@
 """Whether the stored mission has items at heights above terrain (MAV_FRAME_GLOBAL_TERRAIN_ALT and
 its _INT form), as AP_Mission::contains_terrain_alt_items asks: ArduCopter then needs its terrain
-database before it arms. Firefly has no terrain data (as ArduCopter SITL with no ground station
-serving tiles), so such a mission is refused at arming, with ArduCopter's words.
+database filled (autopilot/terrain.py) before it arms, unless its waypoint navigator follows the
+terrain by rangefinder (safety/arming.py).
 """
 from __future__ import annotations
 

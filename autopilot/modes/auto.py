@@ -18,6 +18,7 @@ from ..mission.commands import (CMD_DO_CHANGE_SPEED, CMD_DO_REPEAT_RELAY, CMD_DO
                                 CMD_LOITER_TIME, CMD_LOITER_UNLIM, CMD_RTL, CMD_TAKEOFF, CMD_WAYPOINT, COPTER_DO,
                                 FLOWN_AS, is_nav)
 from ..mission.progress import DONE_UNREPORTED, MissionProgress
+from ..mission.terrain import TERRAIN_FRAMES
 from ..mission.store import MissionItem
 from ..params import DEFAULTS as PARAM_DEFAULTS
 from ..results import Severity
@@ -320,8 +321,14 @@ class Auto(Mode):
         following = next_nav_index(items, index, mission.jumps_followed())
         next_item = None if following is None else items[following]
         through = flies_through(item, next_item)
-        next_target = self._target_ned(ctx, next_item) if through and next_item is not None else None
-        self._legs.begin(ctx, self._target, next_target, start=start)
+        terrain = item.frame in TERRAIN_FRAMES
+        target = (self._target[0], self._target[1], -item.z) if terrain else self._target
+        next_target = None
+        if through and next_item is not None and (next_item.frame in TERRAIN_FRAMES) == terrain:
+            next_target = self._target_ned(ctx, next_item)  # (ArduCopter flies through only in one frame)
+            if terrain:
+                next_target = (next_target[0], next_target[1], -next_item.z)
+        self._legs.begin(ctx, target, next_target, start=start, terrain=terrain)
         nav = self._legs.nav
         if (following is not None and nav is not None and item.command == CMD_WAYPOINT and not item.p1 > 0
                 and items[following].command == CMD_NAV_SPLINE_WAYPOINT):  # passed at the spline's speed

@@ -89,13 +89,16 @@ class ModeContext:
         avoid_climb(climb, dt)   a pilot's climb rate as the altitude fences let it be flown
         avoid_lean(lean)         ALT_HOLD's (roll, pitch) pushed away from what the proximity sensor sees
         destination_within_fence(n, e, d) a GUIDED destination (local NED) inside every enabled fence
+        terrain_offset_m()       the terrain's height above the origin under the vehicle [m], from
+                                 the terrain database, None while it has none there
     """
     __slots__ = ("_v", "_estimate", "_arming", "_land", "_sim", "params", "mission_progress", "return_path", "path_planner",
                  "follow_target", "camera", "mount", "parachute", "sprayer", "gripper", "winch", "notify", "disarm", "set_speed",
                  "set_home", "fence_enable_item",
                  "set_servo", "repeat_servo", "set_relay", "repeat_relay", "ned_of", "position_global", "set_mode",
                  "hover_thrust_share", "restart_position_control", "use_gains", "precland_landing",
-                 "avoid_velocity", "avoid_climb", "avoid_lean", "destination_within_fence")
+                 "avoid_velocity", "avoid_climb", "avoid_lean", "destination_within_fence",
+                 "terrain_offset_m")
     params: ParamStore
     mission_progress: MissionProgress
     return_path: ReturnPath
@@ -126,6 +129,7 @@ class ModeContext:
     avoid_climb: Callable[[float, float], float]
     avoid_lean: Callable[[tuple[float, float]], tuple[float, float]]
     destination_within_fence: Callable[[float, float, float], bool]
+    terrain_offset_m: Callable[[], float | None]
 
     def __init__(self, vehicle: ModeHost):
         self._v = vehicle
@@ -163,6 +167,7 @@ class ModeContext:
         self.avoid_climb = vehicle.avoid_climb
         self.avoid_lean = vehicle.avoid_lean
         self.destination_within_fence = vehicle.destination_within_fence
+        self.terrain_offset_m = vehicle.terrain_offset_m
         airframe = vehicle.sim.airframe
         self.hover_thrust_share = airframe.weight_n / (4.0 * airframe.max_rotor_thrust_n)
 

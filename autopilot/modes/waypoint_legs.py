@@ -7,6 +7,11 @@ loiters themselves, the leg stops at the point. The navigator is kept from one l
 so a corner in progress goes on; any other navigation item (takeoff, land, RTL) ends it, and the
 next waypoint starts afresh from where the vehicle can stop.
 
+A leg to a waypoint at a height above terrain (MAV_FRAME_GLOBAL_TERRAIN_ALT) is flown as
+ArduCopter's WPNAV flies one with terrain data: the navigator's path is planned in heights above
+the terrain, and the terrain's height under the vehicle (its terrain database's, extrapolated over
+a gap) is added to the target at every step, so the leg rises and falls with the ground beneath.
+
 Legs of a mode that plans paths (Mode.plans_paths: AUTO, GUIDED) go round the fence by the
 path planner, OA_TYPE's (leg_avoidance.py), as ArduCopter's AC_WPNav_OA flies every leg.
 """
@@ -67,6 +72,10 @@ class WaypointLegs:
         # The position controller's speed limit while they are flown: ArduCopter's follows the
         # legs' own speed, also where a speed change left one above the new limit.
         self.speed_cap = math.inf
+        # Flown above terrain: the navigator's down axis is then down from the terrain under the
+        # vehicle less its height above the origin (`offset_m`, metres up, as last known).
+        self.terrain = False
+        self.offset_m = 0.0
 
     @property
     def destination(self) -> Vector3 | None:
@@ -104,18 +113,27 @@ class WaypointLegs:
         self.nav = None
 
     def begin(self, ctx: ModeContext, target: Vector3, next_target: Vector3 | None,
-              speed_m_s: float | None = None, start: tuple[Vector3, Vector3] | None = None) -> None:
+              speed_m_s: float | None = None, start: tuple[Vector3, Vector3] | None = None,
+              terrain: bool = False) -> None:
         """Start the leg to `target` (local NED), flying through it to `next_target` if given,
         at `speed_m_s` (default: the navigation speed, WPNAV_SPEED or DO_CHANGE_SPEED's). With
         no leg flown before it, it starts where the vehicle can stop, or from `start` (a point
-        and the velocity a spline's target left it with) at that speed."""
+        and the velocity a spline's target left it with) at that speed. `terrain`: the targets'
+        down coordinates are heights above terrain (negated); a change of frame starts afresh
+        (ArduCopter re-plans the origin in the new frame)."""
+        if terrain != self.terrain:
+            self.nav, start = None, None
+            self.terrain = terrain
+        if terrain:
+            self._follow_terrain(ctx)
         limits = self._limits(ctx, ctx.nav_speed_m_s if speed_m_s is None else speed_m_s)
         if self.resume_jerk is not None:
             limits.jerk, self.resume_jerk = self.resume_jerk, None
             limits.clock_tc = max(limits.accel_xy / limits.jerk, 0.01)
         if self.nav is None:
             b = ctx.body
-            self.nav = WaypointNav(limits, (b.n_m, b.e_m, b.d_m), (b.vn_m_s, b.ve_m_s, b.vd_m_s))
+            self.nav = WaypointNav(limits, (b.n_m, b.e_m, b.d_m + self.offset_m if terrain else b.d_m),
+                                   (b.vn_m_s, b.ve_m_s, b.vd_m_s))
             if start is not None:
                 point, (vn, ve, vd) = start
                 self.nav.continue_at(point, math.sqrt(vn * vn + ve * ve + vd * vd))
@@ -126,6 +144,14 @@ class WaypointLegs:
             self.avoidance.reset()
         self.planned_for = limits.speed_xy
         self.speed_cap = max(limits.speed_xy, self.nav.planned_speed)
+
+    def _follow_terrain(self, ctx: ModeContext) -> float:
+        """The terrain's height above the origin under the vehicle [m], the last known if none now
+        (AC_WPNav::get_terrain_offset, extrapolating as ArduCopter's does)."""
+        offset = ctx.terrain_offset_m()
+        if offset is not None:
+            self.offset_m = offset
+        return self.offset_m
 
     def _limits(self, ctx: ModeContext, speed_m_s: float) -> NavLimits:
         limits = NavLimits(ctx.params, speed_m_s)
@@ -159,11 +185,16 @@ class WaypointLegs:
                 avoidance.fly_bendy(ctx, nav, sp, dt)
                 sp.yaw = self.auto_yaw.facing(ctx, sp.vel_ne[0], sp.vel_ne[1])
                 return False
-        reached = nav.update(dt, (b.n_m, b.e_m, b.d_m), (b.vn_m_s, b.ve_m_s, b.vd_m_s))
+        shift, rate = 0.0, 0.0
+        if self.terrain:  # into the navigator's frame above the terrain and back
+            before = self.offset_m
+            shift = self._follow_terrain(ctx)
+            rate = (shift - before) / dt if dt > 0.0 else 0.0
+        reached = nav.update(dt, (b.n_m, b.e_m, b.d_m + shift), (b.vn_m_s, b.ve_m_s, b.vd_m_s + rate))
         if avoidance is not None and avoidance.state != NOT_REQUIRED:
             reached = False
         p, v, a = nav.pos, nav.vel, nav.accel
         sp.pos_ne, sp.vel_ne, sp.accel_ne = (p[0], p[1]), (v[0], v[1]), (a[0], a[1])
-        sp.pos_d, sp.vel_d = p[2], v[2]
+        sp.pos_d, sp.vel_d = p[2] - shift, v[2] - rate
         sp.yaw = self.auto_yaw.facing(ctx, v[0], v[1])
         return reached

@@ -168,12 +168,16 @@ def _winch(v: PrearmView) -> str | None:
 
 
 def _terrain_data(v: PrearmView) -> str | None:
-    """A mission at heights above terrain needs the terrain database (AP_Arming::terrain_checks);
-    Firefly has none, as ArduCopter SITL has none until a ground station serves its tiles
-    (measured: "Arm: waiting for terrain data", and no arming)."""
-    if not v.mission_uses_terrain():
+    """A mission at heights above terrain needs the terrain database (AP_Arming::terrain_checks):
+    every block wanted filled, the heights under the vehicle and home known. Until a ground
+    station has served the tiles: "Arm: waiting for terrain data", and no arming (measured). Not
+    when the waypoint navigator follows the terrain by rangefinder (terrain_database_required)."""
+    if not v.mission_uses_terrain() or v.terrain_from_rangefinder():  # the rangefinder: no database needed
         return None
-    return "waiting for terrain data" if v.params["TERRAIN_ENABLE"] else "terrain disabled"
+    if not v.params["TERRAIN_ENABLE"]:
+        return "terrain disabled"
+    v.terrain_update()
+    return v.terrain.prearm_failure(v.params)
 
 
 # In ArduCopter's order; a check gives its words, a list of them, or None when it passes.

@@ -63,35 +63,39 @@ class FireflyTarget:
         self.scenario_dir = None
 
     def boot(self, streams_hz: int | None = 10, realistic_startup: bool = False,
-             params: dict | None = None) -> Client:
+             params: dict | None = None, world: dict | None = None) -> Client:
         """A fresh vehicle; with streams_hz, streams requested and ready to arm; with
         realistic_startup, booting as ArduCopter does instead of armable at once; with params,
         those parameters in force from power-on: SIM_* faults as a scenario's [faults], the
         rest as saved parameters it boots with (CAM1_TYPE, read at boot on both vehicles). Mind
         that ArduCopter takes its boot parameters unsaved, and replaces an unsaved CAM1_TYPE by
         1 if an output has SERVOn_FUNCTION 10, else 0 (AP_Camera::convert_params): boot a servo
-        camera with CAM1_TYPE 1 and its trigger output; any other camera, set it and reboot."""
+        camera with CAM1_TYPE 1 and its trigger output; any other camera, set it and reboot.
+        With world, a scenario's arrays of tables ({"terrain": [hill, ...]}): the world it flies
+        in (ArduCopter's comes from what the probe serves it: ArduCopterTarget ignores it)."""
         self.close()
         extra = (f"--home={HOME}",) + (("--startup", "realistic") if realistic_startup else ())
         saved = {name: value for name, value in (params or {}).items() if not name.startswith("SIM_")}
         faults = {name: value for name, value in (params or {}).items() if name.startswith("SIM_")}
-        if params:
+        if params or world:
             self.scenario_dir = tempfile.TemporaryDirectory(prefix="firefly-parity-")
-        if faults:
-            extra += ("--scenario", str(self._faults_scenario(faults)))
+        if faults or world:
+            extra += ("--scenario", str(self._faults_scenario(faults, world or {})))
         state_dir = self._saved_params(saved) if saved else None
         self.process = start_autopilot(state_dir=state_dir, speedup=self.speedup, extra=extra, capture_stderr=True,
                                        wipe=not saved)
         return ready(Client(self.process.pymavlink_url, streams_hz), streams_hz)
 
-    def _faults_scenario(self, params: dict) -> Path:
+    def _faults_scenario(self, params: dict, world: dict) -> Path:
         """A scenario with these SIM_* values: the wind's in its [wind] table (where a scenario
-        sets them), the rest in [faults]."""
+        sets them), the rest in [faults]; and the world's arrays of tables."""
         path = Path(self.scenario_dir.name) / "faults.toml"
         wind = {WIND_KEYS[name]: value for name, value in params.items() if name in WIND_KEYS}
         faults = {name: value for name, value in params.items() if name not in WIND_KEYS}
         path.write_text("".join(f"[{table}]\n" + "".join(f"{name} = {float(value)!r}\n" for name, value in values.items())
-                                for table, values in (("faults", faults), ("wind", wind)) if values))
+                                for table, values in (("faults", faults), ("wind", wind)) if values)
+                        + "".join(f"[[{table}]]\n" + "".join(f"{key} = {float(value)!r}\n" for key, value in entry.items())
+                                  for table, entries in world.items() for entry in entries))
         return path
 
     def _saved_params(self, params: dict) -> Path:
@@ -120,7 +124,7 @@ class ArduCopterTarget:
         self.process = None
 
     def boot(self, streams_hz: int | None = 10, realistic_startup: bool = True,
-             params: dict | None = None) -> Client:
+             params: dict | None = None, world: dict | None = None) -> Client:
         """A fresh vehicle (its start-up is always ArduCopter's own); with params, those
         parameters in force from power-on: a defaults file after the runner's own (SITL takes the
         last --defaults, so the runner's files are named again before it)."""

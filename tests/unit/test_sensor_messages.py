@@ -6,7 +6,8 @@ import math
 
 import pytest
 
-from firefly.autopilot.mavlink import sensor_messages, terrain
+from firefly.autopilot.mavlink import sensor_messages
+from firefly.autopilot.terrain_grid import grid_info
 from firefly.autopilot.mavlink.streams import StreamScheduler
 from firefly.autopilot.adsb.traffic_list import AdsbReport
 from firefly.autopilot.mavlink.telemetry import BUILDERS, STREAM_GROUPS
@@ -84,9 +85,10 @@ def test_nav_controller_output_points_at_the_guided_destination():
 
 def test_terrain_grid_block_is_ap_terrains():
     # Measured on ArduCopter SITL at its default home: TERRAIN_REQUEST lat -353747690 lon 1491548424.
-    assert terrain.grid_block_corner(-353632610, 1491652299, 100) == (-353747690, 1491548424)
-    lat, lon = terrain.grid_block_corner(435615000, 14838000, 100)
-    assert lat <= 435615000 and lon <= 14838000
+    info = grid_info(-353632610, 1491652299, 100)
+    assert (info.block_lat_e7, info.block_lon_e7) == (-353747690, 1491548424)
+    info = grid_info(435615000, 14838000, 100)
+    assert info.block_lat_e7 <= 435615000 and info.block_lon_e7 <= 14838000
 
 
 def test_terrain_request_goes_out_no_more_often_than_every_two_seconds():
