@@ -60,7 +60,7 @@ def test_imports_point_one_way(folder, forbidden):
 # decisions (strategy) and the plans know nothing of flying; judging against the truth sits on the
 # strategy; flying (flight) uses those; evaluation runs episodes, flown or not; a campaign runs
 # evaluations; the command line drives them all.
-GROUNDSTATION_LAYERS = (("strategy", "plans", "plots", "progress"), ("truth",), ("flight",),
+GROUNDSTATION_LAYERS = (("strategy", "plans", "plots", "progress"), ("truth",), ("flight", "terrain_tiles"),
                         ("evaluation",), ("campaign",), ("cli",), ("__main__",))
 
 
