@@ -37,7 +37,7 @@ from firefly.sim.thermal_camera import ThermalCameraSpec, footprint, footprint_c
 
 from ..strategy.belief import Geometry
 from ..strategy.controller import SearchConfig, SearchController
-from ..strategy.frame import reduce_frame
+from ..strategy.frame import nadir_footprint_m, reduce_footprint
 from ..strategy.policies import Policy
 from ..strategy.stopping import Declaration
 from ..truth import fires_found, judge_all
@@ -261,14 +261,13 @@ class Camera:
 
     def footprint_m(self, alt_m: float) -> tuple[float, float]:
         """The ground rectangle (north, east) [m] a frame from alt_m covers."""
-        corners = footprint_corners(self.spec, pose_from_attitude(0.0, 0.0, alt_m))
-        return float(np.ptp(corners[:, 0])), float(np.ptp(corners[:, 1]))
+        return nadir_footprint_m(self.spec, alt_m)
 
     def look(self, controller: SearchController, pos, alt: float, t: float) -> None:
         pose = pose_from_attitude(pos[0], pos[1], alt)
         image = render(self.world, self.spec, pose, self.rng, t)
         north, east = footprint(self.spec, pose)
         t0 = time.perf_counter()
-        frame = reduce_frame(image, north, east, footprint_corners(self.spec, pose), self.spec.emission_height_m)
+        frame = reduce_footprint(image, north, east, footprint_corners(self.spec, pose), self.spec.emission_height_m)
         controller.observe_frame(frame)
         self.ms.append(1000.0 * (time.perf_counter() - t0))
