@@ -88,6 +88,7 @@ def fly_episode(base: dict, world: FireWorld, seed: int, index: int, policy: str
                   "survey_vehicle_s": result["survey_vehicle_s"], "survey_wall_s": result["survey_wall_s"],
                   "wind_estimate_ne_m_s": result.get("wind_estimate_ne_m_s"), "plot": result.get("plot"),
                   "first_find_path_m": result.get("first_find_path_m"), "sensor": config.sensor,
+                  "decision_ms_mean": result["decision_ms_mean"], "decision_ms_max": result["decision_ms_max"],
                   **{k: v for k, v in result.items() if k.startswith("frame")}}
 
 

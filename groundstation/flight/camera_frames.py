@@ -5,7 +5,7 @@ TIFF reaches the search controller as the decision-level episodes' frames do.
 One still at a time: after each new observation the companion sends IMAGE_START_CAPTURE (one still)
 to component 100, waits for the CAMERA_IMAGE_CAPTURED of a new image index, downloads the file its
 file_url names by MAVLink FTP from the camera itself (MAVSDK's Ftp plugin, burst reads), reads it
-(sim/thermal_still.py, tifffile) and hands the frame to the controller (frame.py's frame_from_image,
+(sim/thermal_still.py, tifffile) and hands the frame to the controller (camera_view.frame_from_image,
 as the episodes do). The footprint is the geotag's: CAMERA_IMAGE_CAPTURED's position (the
 autopilot's estimate at the capture instant, as a real camera's) and its quaternion, the camera's
 axes to north-east-down. A still whose capture is slower than the next observation makes that
@@ -30,7 +30,7 @@ from mavsdk.asyncio.plugins.mavlink_direct import MavlinkMessage
 from firefly.sim.thermal_camera import CameraPose, ThermalCameraSpec
 from firefly.sim.thermal_still import load_radiometric
 
-from ..strategy.frame import frame_from_image
+from ..camera_view import frame_from_image
 from .vehicle_link import LinkError
 
 CAMERA_COMPONENT = 100  # MAV_COMP_ID_CAMERA
@@ -63,6 +63,7 @@ class FlightCamera:
         self.wall_ms: list[float] = []     # request to frame in the belief
         self.vehicle_ms: list[float] = []  # capture to frame in the belief, vehicle time
         self.think_ms: list[float] = []    # the frame's reduction and likelihood
+        self.download_ms: list[float] = []  # of which the MAVLink FTP download, wall time
         self.missed = 0  # observations that went without a still (one was still on its way)
         self._last_index = -1
         self._dir = tempfile.TemporaryDirectory(prefix="firefly-stills-")
@@ -103,10 +104,12 @@ class FlightCamera:
         if int(capture["capture_result"]) != 1:
             raise LinkError(f"the camera's still {capture['image_index']} failed")
         name = str(capture["file_url"]).rstrip("\0").removeprefix("mftp://")
+        fetch0 = time.monotonic()
         try:
             await asyncio.wait_for(self._download(name), DOWNLOAD_WAIT_S)
         except asyncio.TimeoutError:
             raise LinkError(f"no download of {name} within {DOWNLOAD_WAIT_S:g} s") from None
+        self.download_ms.append(1000.0 * (time.monotonic() - fetch0))
         image, _ = load_radiometric(Path(self._dir.name) / name.split("/")[-1])
         if image.shape != (self.spec.height_px, self.spec.width_px):
             raise LinkError(f"a still of {image.shape[1]} x {image.shape[0]} pixels, "
@@ -140,10 +143,12 @@ class FlightCamera:
             pass
 
     def summary(self) -> dict:
+        """Frames read, observation points without one, and what a frame cost (ms)."""
         def mean(xs):
             return float(np.mean(xs)) if xs else math.nan
         return {"frames": len(self.frames), "frames_missed": self.missed,
                 "frame_wall_ms_mean": mean(self.wall_ms), "frame_wall_ms_max": max(self.wall_ms, default=math.nan),
+                "frame_download_ms_mean": mean(self.download_ms),
                 "frame_vehicle_ms_mean": mean(self.vehicle_ms),
                 "frame_vehicle_ms_max": max(self.vehicle_ms, default=math.nan),
                 "frame_ms_mean": mean(self.think_ms), "frame_ms_max": max(self.think_ms, default=math.nan)}

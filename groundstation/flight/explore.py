@@ -35,7 +35,7 @@ from ..strategy import Geometry, make_policy
 from ..strategy.controller import SearchConfig, SearchController
 from ..strategy.stopping import Declaration
 from ..plots import draw_track, label_map, png
-from ..strategy.frame import nadir_footprint_m
+from ..camera_view import nadir_footprint_m
 from .autopilot_process import check_scenario, run_flight
 from .camera_frames import FlightCamera
 from .lean_samples import LeanSamples
@@ -202,7 +202,7 @@ async def explore(url: str, world: FireWorld, policy_name: str, plot: Path | Non
         else:
             say("wind: estimated from how the vehicle leans")
         controller = SearchController(geometry, policy, config, survey.here(), np.random.default_rng(POLICY_SEED),
-                                      wind_ne_m_s=wind.air_velocity_ne() if told_wind else None)
+                                      time.perf_counter, wind_ne_m_s=wind.air_velocity_ne() if told_wind else None)
         for sample in leans.samples:  # the hover at the survey height, before the search
             controller.observe_lean(*sample)
         feed.check()
@@ -223,12 +223,17 @@ async def explore(url: str, world: FireWorld, policy_name: str, plot: Path | Non
             "wind_used_ne_m_s": list(controller.wind_ne_m_s), "lean_samples": len(leans.samples),
             "wind_source": "WIND" if told_wind else "estimated from the lean",
             "fires": [], "sensor": sensor,
+            "decision_ms_mean": 1000.0 * float(np.mean(controller.decision_s)) if controller.decision_s else 0.0,
+            "decision_ms_max": 1000.0 * max(controller.decision_s, default=0.0),
         }
+        say(f"thinking: {len(controller.decision_s)} decisions, {result['decision_ms_mean']:.1f} ms mean, "
+            f"{result['decision_ms_max']:.0f} ms max")
         if camera is not None:
             result.update(camera.summary(), footprints=list(camera.frames))
             say(f"{len(camera.frames)} thermal frames taken and read ({camera.missed} observation points without one); "
                 f"a frame {result['frame_wall_ms_mean']:.0f} ms of wall time (max {result['frame_wall_ms_max']:.0f}) and "
-                f"{result['frame_vehicle_ms_mean']:.0f} ms of vehicle time from request to belief, "
+                f"{result['frame_vehicle_ms_mean']:.0f} ms of vehicle time from capture to belief "
+                f"({result['frame_download_ms_mean']:.0f} ms of wall time the download), "
                 f"{result['frame_ms_mean']:.1f} ms of it the search's own")
         estimate = controller.wind_estimator.estimate() if controller.wind_estimator else None
         if estimate is not None:

@@ -33,7 +33,7 @@ rest, never among the rest. The cost is a few vector operations over the hypothe
 per pixel: the frame's reduction is one percentile and one argmax over its pixels.
 
 A frame from a flying vehicle is tilted (the lean of its flight) and turned (its heading): its
-footprint is a quadrilateral, not an axis-aligned rectangle. frame_from_image judges such a frame on
+footprint is a quadrilateral, not an axis-aligned rectangle. reduce_footprint judges such a frame on
 the largest axis-aligned rectangle of the footprint's own proportions, centred on it, that lies
 inside it, and on the pixels whose ground points fall in that rectangle: it claims to have seen less
 than it did, never more, so a frame's "nothing here" covers only ground it saw. A level frame at
@@ -51,7 +51,6 @@ import numpy as np
 from scipy.special import log_ndtr, ndtr
 
 from firefly.sim.fire import kernel_value
-from firefly.sim.thermal_camera import CameraPose, ThermalCameraSpec, footprint, footprint_corners, pose_from_attitude
 
 DETECT_K = 5.0             # a peak this far above the frame's baseline is a hot spot (100 x the NETD)
 BASELINE_PERCENTILE = 5.0  # the frame's own ambient: a kernel's tail lifts most pixels a little
@@ -133,21 +132,6 @@ def reduce_frame(image: np.ndarray, north: np.ndarray, east: np.ndarray, corners
             break
         peaks.append((float(north[k]), float(east[k]), float(left[k])))
     return FrameObservation(n_lo, n_hi, e_lo, e_hi, top, peaks[0][:2], emission_height_m, tuple(peaks[1:]))
-
-
-def nadir_footprint_m(spec: ThermalCameraSpec, alt_m: float) -> tuple[float, float]:
-    """The ground rectangle (north, east) [m] a frame straight down from alt_m covers, level at yaw 0:
-    what the planner scores a candidate's frame by."""
-    corners = footprint_corners(spec, pose_from_attitude(0.0, 0.0, alt_m))
-    return float(np.ptp(corners[:, 0])), float(np.ptp(corners[:, 1]))
-
-
-def frame_from_image(image: np.ndarray, spec: ThermalCameraSpec, pose: CameraPose) -> FrameObservation:
-    """A frame rendered (or downloaded) from `pose` as a FrameObservation, judged on the
-    axis-aligned part of its footprint (the module's docstring)."""
-    north, east = footprint(spec, pose)
-    corners = footprint_corners(spec, pose)
-    return reduce_footprint(image, north, east, corners, spec.emission_height_m)
 
 
 def reduce_footprint(image: np.ndarray, north: np.ndarray, east: np.ndarray, corners: np.ndarray,

@@ -11,7 +11,8 @@ from groundstation.cli import main
 from groundstation.evaluation.episodes import EpisodeConfig, run_episode
 from groundstation.strategy.belief import Belief, Geometry
 from groundstation.flight.camera_frames import rotation_of
-from groundstation.strategy.frame import frame_from_image, frame_log_likelihood, inner_rectangle, reduce_frame
+from groundstation.camera_view import frame_from_image
+from groundstation.strategy.frame import frame_log_likelihood, inner_rectangle, reduce_frame
 from groundstation.strategy.policies import make_policy
 from groundstation.strategy.stopping import StoppingRule
 
