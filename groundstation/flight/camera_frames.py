@@ -95,8 +95,12 @@ class FlightCamera:
         fields = {"target_system": self.system_id, "target_component": CAMERA_COMPONENT,
                   "command": IMAGE_START_CAPTURE, "confirmation": 0, "param1": 0.0, "param2": 0.0,
                   "param3": 1.0, "param4": 0.0, "param5": 0.0, "param6": 0.0, "param7": 0.0}
-        ack = await asyncio.wait_for(self.direct.send_command(MavlinkMessage(
-            "COMMAND_LONG", 0, 0, self.system_id, CAMERA_COMPONENT, json.dumps(fields))), CAPTURE_WAIT_S)
+        try:
+            ack = await asyncio.wait_for(self.direct.send_command(MavlinkMessage(
+                "COMMAND_LONG", 0, 0, self.system_id, CAMERA_COMPONENT, json.dumps(fields))), CAPTURE_WAIT_S)
+        except Exception as exc:  # noqa: BLE001 - a timeout, or MAVSDK's own error for an unanswered command
+            raise LinkError(f"no answer from the camera (component {CAMERA_COMPONENT}) to IMAGE_START_CAPTURE "
+                            f"({type(exc).__name__}): is the vehicle fitted with one?") from None
         result = json.loads(ack.fields_json).get("result") if ack.fields_json else None
         if result != 0:
             raise LinkError(f"the camera refused IMAGE_START_CAPTURE: result {result}")

@@ -29,7 +29,8 @@ def test_explore_with_the_camera_reads_stills_and_finds_the_fire(tmp_path):
     assert abs(n - FIRE_N) <= 10.0 and abs(e - FIRE_E) <= 10.0, (n, e)
     frames = re.search(r"(\d+) thermal frames taken and read", out)
     assert frames, out
-    # the search's first find comes after some 180 m: a frame every few observation points at least
-    assert int(frames.group(1)) >= 10, out
+    # some 50 observation points; one still on its way at a time reads a frame at 40-50 % of them
+    # (28 measured at speedup 20 on a loaded machine): a frame every few points at least
+    assert int(frames.group(1)) >= 8, out
     assert "landed and disarmed" in out
     assert plot.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
