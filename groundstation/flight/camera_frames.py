@@ -11,6 +11,12 @@ autopilot's estimate at the capture instant, as a real camera's) and its quatern
 axes to north-east-down. A still whose capture is slower than the next observation makes that
 observation go without one: frames never queue up behind the vehicle.
 
+The vehicle holds its heading while the camera flies (WP_YAW_BEHAVIOR 0, its old value put back
+after the flight): ArduCopter's default turns the nose, and with it a fixed camera's frame, along
+each leg, and a frame turned 45 degrees keeps only some 40 % of its ground for the search (frame.py
+judges the axis-aligned rectangle inside it). Held at the take-off heading (north in Firefly's
+scenarios), every frame is whole but for the lean of its flight.
+
 The link's cost is measured per frame: wall time from the request to the frame in the belief, and
 vehicle time from the capture to the same moment (how far the vehicle flew meanwhile).
 """
@@ -26,6 +32,7 @@ from pathlib import Path
 import numpy as np
 from mavsdk.asyncio.plugins.ftp import FtpAsync
 from mavsdk.asyncio.plugins.mavlink_direct import MavlinkMessage
+from mavsdk.asyncio.plugins.param import ParamAsync
 
 from firefly.sim.thermal_camera import CameraPose, ThermalCameraSpec
 from firefly.sim.thermal_still import load_radiometric
@@ -37,6 +44,7 @@ CAMERA_COMPONENT = 100  # MAV_COMP_ID_CAMERA
 IMAGE_START_CAPTURE = 2000
 CAPTURE_WAIT_S = 5.0   # wall seconds for a still's CAMERA_IMAGE_CAPTURED
 DOWNLOAD_WAIT_S = 15.0  # ... and for its download
+HOLD_HEADING = ("WP_YAW_BEHAVIOR", 0)  # ArduCopter's "never change yaw" in AUTO/GUIDED/RTL
 
 
 def rotation_of(q) -> np.ndarray:
@@ -67,6 +75,17 @@ class FlightCamera:
         self.missed = 0  # observations that went without a still (one was still on its way)
         self._last_index = -1
         self._dir = tempfile.TemporaryDirectory(prefix="firefly-stills-")
+
+    async def hold_heading(self) -> int:
+        """Set WP_YAW_BEHAVIOR to hold the heading; its old value, for restore_heading."""
+        param = ParamAsync(self.link.system)
+        name, value = HOLD_HEADING
+        old = await param.get_param_int(name)
+        await param.set_param_int(name, value)
+        return old
+
+    async def restore_heading(self, old: int) -> None:
+        await ParamAsync(self.link.system).set_param_int(HOLD_HEADING[0], old)
 
     def on_captured(self, fields: dict) -> None:
         """A CAMERA_IMAGE_CAPTURED from the camera (the Feed's handler)."""

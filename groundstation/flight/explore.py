@@ -188,6 +188,8 @@ async def explore(url: str, world: FireWorld, policy_name: str, plot: Path | Non
         if told_wind:
             feed.watch("WIND", wind.take)
             await request_message_rate(feed.direct, link.system, WIND_MSG_ID, WIND_RATE_HZ)
+        if camera is not None:
+            yaw_behavior = await command(camera.hold_heading(), "WP_YAW_BEHAVIOR 0 (hold the heading)")
         await command(link.action.arm(), "arm")
         await command(link.action.set_takeoff_altitude(geometry.survey_alt_m), "set takeoff altitude")
         await command(link.action.takeoff(), "takeoff")
@@ -282,6 +284,8 @@ async def explore(url: str, world: FireWorld, policy_name: str, plot: Path | Non
         final = await link.position()
         result["landed_from_home_m"] = math.hypot(*link.north_east_m(final))
         say(f"landed and disarmed {result['landed_from_home_m']:.1f} m from home")
+        if camera is not None:
+            await command(camera.restore_heading(yaw_behavior), f"WP_YAW_BEHAVIOR {yaw_behavior} (put back)")
     except (LinkError, CommandRefused, FeedFailed) as exc:
         await make_safe(link)
         raise LinkError(str(exc)) from None
