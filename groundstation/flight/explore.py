@@ -156,6 +156,7 @@ async def explore(url: str, world: FireWorld, policy_name: str, plot: Path | Non
     link = await VehicleLink.connect(url)
     feed = None
     camera: FlightCamera | None = None
+    yaw_behavior: int | None = None  # the vehicle's own WP_YAW_BEHAVIOR while the camera flight holds the heading
     try:
         await link.wait_armable()
         say(f"vehicle armable; surveying {geometry.area_m:g} m x {geometry.area_m:g} m "
@@ -284,10 +285,16 @@ async def explore(url: str, world: FireWorld, policy_name: str, plot: Path | Non
         final = await link.position()
         result["landed_from_home_m"] = math.hypot(*link.north_east_m(final))
         say(f"landed and disarmed {result['landed_from_home_m']:.1f} m from home")
-        if camera is not None:
+        if camera is not None and yaw_behavior is not None:
             await command(camera.restore_heading(yaw_behavior), f"WP_YAW_BEHAVIOR {yaw_behavior} (put back)")
+            yaw_behavior = None
     except (LinkError, CommandRefused, FeedFailed) as exc:
         await make_safe(link)
+        if camera is not None and yaw_behavior is not None:  # best effort: the vehicle's own setting back
+            try:
+                await asyncio.wait_for(camera.restore_heading(yaw_behavior), 5.0)
+            except Exception:  # noqa: BLE001 - the link may be gone; the flight's error is what is said
+                pass
         raise LinkError(str(exc)) from None
     finally:
         if feed is not None:
