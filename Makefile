@@ -17,7 +17,7 @@ $(STAMP): pyproject.toml setup.py $(wildcard sim/*.h autopilot/control/*.h autop
 	touch $(STAMP)
 
 run: install
-	$(PY) -m firefly.groundstation explore --scenario scenarios/default.toml
+	$(PY) -m firefly.groundstation explore --scenario scenarios/default.toml --sensor camera
 
 # The unit tests share no sockets, ports or wall-clock timing: two workers halve their time. The
 # parity areas wait mostly on their vehicles' sim time at speedup 20 (a mismatch is run again

@@ -63,6 +63,10 @@ def build_parser() -> argparse.ArgumentParser:
     explore.add_argument("--told-wind", action="store_true",
                          help="tell the search the wind the vehicle reports in WIND (zero unless its EKF fuses drag, "
                               "as ArduCopter's EK3_DRAG_*); default: the search estimates it from how the vehicle leans")
+    explore.add_argument("--sensor", choices=("point", "camera"), default="point",
+                         help="point: the downward temperature sensor alone (default); camera: also a thermal "
+                              "still at each observation point, taken through the camera protocol (component 100) "
+                              "and downloaded by MAVLink FTP (a started autopilot is fitted with the camera)")
     ev = sub.add_parser("evaluate", help="judge the fire-localization policies on seeded decision-level episodes")
     ev.add_argument("--scenario", type=Path, default=Path("scenarios/default.toml"), help="scenario TOML file")
     ev.add_argument("--episodes", type=count, default=200, help="episodes per policy (default 200)")
@@ -239,6 +243,9 @@ def run_command(args) -> int:
     if args.command == "demo":
         from .flight import demo
         return demo.run(args.url, args.speedup, args.side, args.alt, args.plot)
+    if args.command == "explore" and args.vehicles > 1 and args.sensor != "point":
+        print("explore: --sensor camera flies one vehicle; a team carries the point sensor only", file=sys.stderr)
+        return 2
     if args.command == "explore" and args.vehicles > 1:
         from .flight import team_explore
         return team_explore.run(args.url, args.scenario, args.policy or "joint", args.speedup, args.plot,
@@ -246,7 +253,7 @@ def run_command(args) -> int:
     if args.command == "explore":
         from .flight import explore
         return explore.run(args.url, args.scenario, args.policy or "gig", args.speedup, args.plot, not args.no_truth,
-                           args.max_fires, args.told_wind)
+                           args.max_fires, args.told_wind, args.sensor)
     from .flight import mission
     return mission.run(args.file, args.url, args.speedup, args.plot, args.camera_url)
 

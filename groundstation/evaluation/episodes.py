@@ -33,11 +33,11 @@ import numpy as np
 
 from firefly.sim.airframe import Airframe
 from firefly.sim.fire import Fire, FireWorld, TemperatureSensor
-from firefly.sim.thermal_camera import ThermalCameraSpec, footprint, footprint_corners, pose_from_attitude, render
+from firefly.sim.thermal_camera import ThermalCameraSpec, pose_from_attitude, render
 
 from ..strategy.belief import Geometry
 from ..strategy.controller import SearchConfig, SearchController
-from ..strategy.frame import reduce_frame
+from ..camera_view import frame_from_image, nadir_footprint_m
 from ..strategy.policies import Policy
 from ..strategy.stopping import Declaration
 from ..truth import fires_found, judge_all
@@ -107,8 +107,8 @@ class EpisodeResult:
     time_s: float = 0.0                # flight time to the declaration (survey speed, climbs)
     sensor: str = "point"
     frames: int = 0                    # thermal frames taken (sensor "camera")
-    frame_ms_mean: float = 0.0         # ... and the time one costs the search: its reduction and its
-    frame_ms_max: float = 0.0          # likelihood into the belief (not the render, the world's part)
+    frame_ms_mean: float = 0.0         # ... and the time one costs the search: its pixels' ground points,
+    frame_ms_max: float = 0.0          # its reduction and its likelihood (not the render, the world's part)
 
     def to_dict(self) -> dict:
         return dataclasses.asdict(self)
@@ -261,14 +261,12 @@ class Camera:
 
     def footprint_m(self, alt_m: float) -> tuple[float, float]:
         """The ground rectangle (north, east) [m] a frame from alt_m covers."""
-        corners = footprint_corners(self.spec, pose_from_attitude(0.0, 0.0, alt_m))
-        return float(np.ptp(corners[:, 0])), float(np.ptp(corners[:, 1]))
+        return nadir_footprint_m(self.spec, alt_m)
 
     def look(self, controller: SearchController, pos, alt: float, t: float) -> None:
         pose = pose_from_attitude(pos[0], pos[1], alt)
         image = render(self.world, self.spec, pose, self.rng, t)
-        north, east = footprint(self.spec, pose)
         t0 = time.perf_counter()
-        frame = reduce_frame(image, north, east, footprint_corners(self.spec, pose), self.spec.emission_height_m)
+        frame = frame_from_image(image, self.spec, pose)  # as the flown search reads a downloaded still
         controller.observe_frame(frame)
         self.ms.append(1000.0 * (time.perf_counter() - t0))

@@ -226,8 +226,6 @@ def evaluate(args) -> int:
         raise EvaluateError(f"--flight {args.flight}: at most --episodes ({args.episodes}) episodes can be flown")
     if args.flight is not None and args.survey_alt is not None:
         raise EvaluateError("--survey-alt: flown episodes survey at the scenario's height")
-    if args.flight is not None and args.sensor != "point":
-        raise EvaluateError("--sensor camera: flown episodes carry the point sensor only; decide them without --flight")
     vehicles = args.vehicles
     team = (vehicles, args.start) if vehicles > 1 else None
     if team is None and args.start == "spread":

@@ -4,7 +4,8 @@ Each episode's world (its fire, strength and ambient, from episodes.py) is writt
 scenario file, a real `autopilot` process is started on it at the given speedup, and
 `groundstation explore` flies the policy over MAVLink exactly as `make run` does, its search
 controller configured as the decision-level episodes' (`--threshold`, `--confirm`, `--no-confirm`,
-`--budget`, `--subcells`, and `--speed` as the survey speed). The flown result sits beside the
+`--budget`, `--subcells`, `--speed` as the survey speed, and `--sensor`: with the camera the vehicle
+is fitted with the thermal camera and the companion reads its stills through MAVLink). The flown result sits beside the
 decision-level result of the same episode, so one can see whether the figures of the cheap
 simulation hold when a vehicle with real dynamics, a real link and a 10 Hz sensor flies it. The
 flight's sensor noise comes from the autopilot's own seeded stream, so the two runs see the same
@@ -20,7 +21,7 @@ from pathlib import Path
 from firefly.sim.fire import WORLD_KEYS, FireWorld
 
 from ..flight.autopilot_process import AutopilotExited, run_flight, run_team_flight
-from ..flight.explore import explore
+from ..flight.explore import camera_options, explore
 from ..flight.team_explore import explore_team
 from ..flight.vehicle_link import LinkError
 from .episodes import EpisodeConfig, episode_world, fires_found, judge_all
@@ -72,8 +73,8 @@ def fly_episode(base: dict, world: FireWorld, seed: int, index: int, policy: str
                                          None, speedup, path, say=quiet, count=vehicles)
             else:
                 result = run_flight(lambda url: explore(url, world, policy, plot, truth=True, config=config, say=quiet,
-                                                        told_wind=told_wind),
-                                    None, speedup, path, say=quiet)
+                                                        told_wind=told_wind, sensor=config.sensor),
+                                    None, speedup, path, say=quiet, extra=camera_options(config.sensor))
         except (LinkError, AutopilotExited) as exc:
             return row | {"flown": False, "why": str(exc)}
     if vehicles > 1:
@@ -85,7 +86,10 @@ def fly_episode(base: dict, world: FireWorld, seed: int, index: int, policy: str
                   "path_m": result["path_m"], "error_m": error, "success": within,
                   "forced": result["forced"], "landed_from_home_m": result["landed_from_home_m"],
                   "survey_vehicle_s": result["survey_vehicle_s"], "survey_wall_s": result["survey_wall_s"],
-                  "wind_estimate_ne_m_s": result.get("wind_estimate_ne_m_s"), "plot": result.get("plot")}
+                  "wind_estimate_ne_m_s": result.get("wind_estimate_ne_m_s"), "plot": result.get("plot"),
+                  "first_find_path_m": result.get("first_find_path_m"), "sensor": config.sensor,
+                  "decision_ms_mean": result["decision_ms_mean"], "decision_ms_max": result["decision_ms_max"],
+                  **{k: v for k, v in result.items() if k.startswith("frame")}}
 
 
 def team_row(world: FireWorld, result: dict) -> dict:
@@ -128,4 +132,7 @@ def summarize(flown: list[dict]) -> dict:
         "success_rate": sum(r["success"] for r in done) / len(flown) if flown else math.nan,
         "path_mean_m": sum(r["path_m"] for r in done) / len(done) if done else math.nan,
         "landed_home_rate": sum(r["landed_from_home_m"] < 5.0 for r in done) / len(flown) if flown else math.nan,
+        "vehicle_s_mean": sum(r["survey_vehicle_s"] for r in done) / len(done) if done else math.nan,
+        "wall_s_mean": sum(r["survey_wall_s"] for r in done) / len(done) if done else math.nan,
+        **({"frames_mean": sum(r["frames"] for r in done) / len(done)} if done and "frames" in done[0] else {}),
     }

@@ -11,7 +11,10 @@ The plume leans with the wind, so the search needs it. ArduCopter reports zero w
 its EKF fuses the rotors' drag, so by default the search estimates the wind itself from how the
 vehicle leans in steady flight (ATTITUDE and LOCAL_POSITION_NED, lean_samples.py). With told_wind it
 asks for the vehicle's WIND report instead (ArduCopter sends it only when asked) and is told that.
-Everything it knows of the vehicle arrives as MAVLink. On a lost link or a refused command it says
+With sensor "camera" it also takes a thermal still at each observation point through the camera
+protocol and reads it by MAVLink FTP (camera_frames.py), and its planner scores what a frame would
+see, as the decision-level episodes' camera search does. Everything it knows of the vehicle arrives
+as MAVLink. On a lost link or a refused command it says
 so, leaves the vehicle in RTL (or hold) if it can, and exits non-zero.
 """
 from __future__ import annotations
@@ -32,7 +35,9 @@ from ..strategy import Geometry, make_policy
 from ..strategy.controller import SearchConfig, SearchController
 from ..strategy.stopping import Declaration
 from ..plots import draw_track, label_map, png
+from ..camera_view import nadir_footprint_m
 from .autopilot_process import check_scenario, run_flight
+from .camera_frames import FlightCamera
 from .lean_samples import LeanSamples
 from .survey import Survey
 from .vehicle_link import LinkError, VehicleLink, first
@@ -66,6 +71,18 @@ class Feed:
             except Exception as exc:  # noqa: BLE001 - any handler error ends the flight, named
                 self.failure = f"{name} handling failed: {type(exc).__name__}: {exc}"
                 self.moved.set()  # wake the survey loop to see it
+        self.tasks.append(asyncio.ensure_future(run()))
+
+    def run(self, name: str, job) -> None:
+        """A coroutine beside the telemetry (the camera's stills): its error ends the flight, named."""
+        async def run():
+            try:
+                await job
+            except asyncio.CancelledError:
+                raise
+            except Exception as exc:  # noqa: BLE001 - as watch's handlers
+                self.failure = f"{name} failed: {type(exc).__name__}: {exc}"
+                self.moved.set()
         self.tasks.append(asyncio.ensure_future(run()))
 
     def check(self) -> None:
@@ -127,15 +144,19 @@ async def first_wind(wind: WindReport) -> None:
 
 
 async def explore(url: str, world: FireWorld, policy_name: str, plot: Path | None, truth: bool,
-                  config: SearchConfig = SearchConfig(), say=print, told_wind: bool = False) -> dict:
+                  config: SearchConfig = SearchConfig(), say=print, told_wind: bool = False,
+                  sensor: str = "point") -> dict:
     """Fly one search; `say` receives the progress lines (print by default); told_wind: tell the
-    search the vehicle's WIND report instead of estimating the wind."""
+    search the vehicle's WIND report instead of estimating the wind; sensor "camera": a thermal still
+    at each observation point besides the point readings."""
     geometry = Geometry.from_world(world)
     policy = make_policy(policy_name)
     survey = Survey(geometry, config)
     moved = asyncio.Event()  # set by every position report
     link = await VehicleLink.connect(url)
     feed = None
+    camera: FlightCamera | None = None
+    yaw_behavior: int | None = None  # the vehicle's own WP_YAW_BEHAVIOR while the camera flight holds the heading
     try:
         await link.wait_armable()
         say(f"vehicle armable; surveying {geometry.area_m:g} m x {geometry.area_m:g} m "
@@ -157,12 +178,19 @@ async def explore(url: str, world: FireWorld, policy_name: str, plot: Path | Non
                 survey.add_reading(int(f["time_boot_ms"]), float(f["value"]))
 
         wind = WindReport()
+        if sensor == "camera":
+            camera = FlightCamera(link, feed.direct, survey)
+            survey.on_observe = camera.on_observation
+            policy.footprint_m = nadir_footprint_m(camera.spec, geometry.survey_alt_m)  # before the controller resets it
+            feed.watch("CAMERA_IMAGE_CAPTURED", camera.on_captured)
         feed.watch("LOCAL_POSITION_NED", on_position)
         feed.watch("NAMED_VALUE_FLOAT", on_value)
         feed.watch("ATTITUDE", lambda f: leans.add_attitude(int(f["time_boot_ms"]), f["roll"], f["pitch"], f["yaw"]))
         if told_wind:
             feed.watch("WIND", wind.take)
             await request_message_rate(feed.direct, link.system, WIND_MSG_ID, WIND_RATE_HZ)
+        if camera is not None:
+            yaw_behavior = await command(camera.hold_heading(), "WP_YAW_BEHAVIOR 0 (hold the heading)")
         await command(link.action.arm(), "arm")
         await command(link.action.set_takeoff_altitude(geometry.survey_alt_m), "set takeoff altitude")
         await command(link.action.takeoff(), "takeoff")
@@ -177,11 +205,13 @@ async def explore(url: str, world: FireWorld, policy_name: str, plot: Path | Non
         else:
             say("wind: estimated from how the vehicle leans")
         controller = SearchController(geometry, policy, config, survey.here(), np.random.default_rng(POLICY_SEED),
-                                      wind_ne_m_s=wind.air_velocity_ne() if told_wind else None)
+                                      time.perf_counter, wind_ne_m_s=wind.air_velocity_ne() if told_wind else None)
         for sample in leans.samples:  # the hover at the survey height, before the search
             controller.observe_lean(*sample)
         feed.check()
         survey.start(controller)
+        if camera is not None:
+            feed.run("the camera's stills", camera.run())
         declared = await fly_survey(link, survey, moved, feed)
         est_n, est_e = declared.position
         est = link.lat_lon_of(est_n, est_e)
@@ -195,8 +225,19 @@ async def explore(url: str, world: FireWorld, policy_name: str, plot: Path | Non
             "readings": survey.readings, "observations": controller.observations,
             "wind_used_ne_m_s": list(controller.wind_ne_m_s), "lean_samples": len(leans.samples),
             "wind_source": "WIND" if told_wind else "estimated from the lean",
-            "fires": [],
+            "fires": [], "sensor": sensor,
+            "decision_ms_mean": 1000.0 * float(np.mean(controller.decision_s)) if controller.decision_s else 0.0,
+            "decision_ms_max": 1000.0 * max(controller.decision_s, default=0.0),
         }
+        say(f"thinking: {len(controller.decision_s)} decisions, {result['decision_ms_mean']:.1f} ms mean, "
+            f"{result['decision_ms_max']:.0f} ms max")
+        if camera is not None:
+            result.update(camera.summary(), footprints=list(camera.frames))
+            say(f"{len(camera.frames)} thermal frames taken and read ({camera.missed} observation points without one); "
+                f"a frame {result['frame_wall_ms_mean']:.0f} ms of wall time (max {result['frame_wall_ms_max']:.0f}) and "
+                f"{result['frame_vehicle_ms_mean']:.0f} ms of vehicle time from capture to belief "
+                f"({result['frame_download_ms_mean']:.0f} ms of wall time the download), "
+                f"{result['frame_ms_mean']:.1f} ms of it the search's own")
         estimate = controller.wind_estimator.estimate() if controller.wind_estimator else None
         if estimate is not None:
             wn, we = estimate.air_ne_m_s
@@ -244,8 +285,16 @@ async def explore(url: str, world: FireWorld, policy_name: str, plot: Path | Non
         final = await link.position()
         result["landed_from_home_m"] = math.hypot(*link.north_east_m(final))
         say(f"landed and disarmed {result['landed_from_home_m']:.1f} m from home")
+        if camera is not None and yaw_behavior is not None:
+            await command(camera.restore_heading(yaw_behavior), f"WP_YAW_BEHAVIOR {yaw_behavior} (put back)")
+            yaw_behavior = None
     except (LinkError, CommandRefused, FeedFailed) as exc:
         await make_safe(link)
+        if camera is not None and yaw_behavior is not None:  # best effort: the vehicle's own setting back
+            try:
+                await asyncio.wait_for(camera.restore_heading(yaw_behavior), 5.0)
+            except Exception:  # noqa: BLE001 - the link may be gone; the flight's error is what is said
+                pass
         raise LinkError(str(exc)) from None
     finally:
         if feed is not None:
@@ -253,6 +302,13 @@ async def explore(url: str, world: FireWorld, policy_name: str, plot: Path | Non
         link.close()
     save_picture(plot, result, say, lambda path: write_plot(survey, world if truth else None, result, path))
     return result
+
+
+def camera_options(sensor: str) -> tuple:
+    """The autopilot options a search with this sensor needs of the vehicle it starts: the thermal
+    camera fitted, its live video off (the search reads stills; the video would cost the vehicle
+    some 5 ms of rendering and encoding per frame, 8.7 frames a vehicle second)."""
+    return ("--thermal-camera", "--video-port", "0") if sensor == "camera" else ()
 
 
 def save_picture(plot: Path | None, result: dict, say, draw) -> None:
@@ -317,6 +373,7 @@ async def fly_survey(link: VehicleLink, survey: Survey, moved: asyncio.Event, fe
 def write_plot(survey: Survey, world: FireWorld | None, result: dict, path: Path) -> None:
     with png(path, (6.4, 5.6)) as (fig, ax):
         draw_belief(fig, ax, survey.controller.belief.probabilities(), survey.geometry)
+        draw_footprints(ax, result.get("footprints", ()))
         if survey.track:
             draw_track(ax, survey.track, color="cyan", lw=1.2, label="flown (readings)")
         for k, fire in enumerate(result["fires"]):
@@ -324,9 +381,17 @@ def write_plot(survey: Survey, world: FireWorld | None, result: dict, path: Path
         draw_fires(ax, world)
         draw_wind(ax, result, survey.geometry)
         further = survey.controller.several and survey.controller.found
-        label_map(ax, f"Fire search: {result['path_m']:.0f} m flown, {result['readings']} readings"
+        frames = f", {result['frames']} thermal frames" if "frames" in result else ""
+        label_map(ax, f"Fire search: {result['path_m']:.0f} m flown, {result['readings']} readings{frames}"
                   + ("\n(the map: where a further fire could be)" if further else ""))
         ax.legend(loc="upper left", fontsize=8)
+
+
+def draw_footprints(ax, footprints) -> None:
+    """Each thermal frame's ground rectangle, as the search judged it (frame.py)."""
+    for k, (n_lo, n_hi, e_lo, e_hi) in enumerate(footprints):
+        ax.plot([e_lo, e_hi, e_hi, e_lo, e_lo], [n_lo, n_lo, n_hi, n_hi, n_lo], color="white", lw=0.5,
+                alpha=0.35, label="thermal frames" if k == 0 else None)
 
 
 def draw_wind(ax, result: dict, g: Geometry) -> None:
@@ -358,12 +423,13 @@ def draw_fires(ax, world: FireWorld | None) -> None:
 
 
 def run(url: str | None, scenario: Path | None, policy: str, speedup: float, plot: Path | None,
-        truth: bool, max_fires: int | None = None, told_wind: bool = False) -> int:
+        truth: bool, max_fires: int | None = None, told_wind: bool = False, sensor: str = "point") -> int:
     from firefly.sim.scenario import Scenario, load_scenario
     sc = load_scenario(scenario) if scenario else Scenario()
     if scenario and not url:
         check_scenario(scenario)  # the vehicle's tables too, before a vehicle starts on them
     make_policy(policy)  # a bad name fails here, before anything starts
     config = SearchConfig(max_fires=max_fires)
-    result = run_flight(lambda at: explore(at, sc.world, policy, plot, truth, config, told_wind=told_wind), url, speedup, scenario)
+    result = run_flight(lambda at: explore(at, sc.world, policy, plot, truth, config, told_wind=told_wind, sensor=sensor),
+                        url, speedup, scenario, extra=camera_options(sensor))
     return 0 if result.get("landed_from_home_m", math.inf) < 5.0 else 1

@@ -49,6 +49,7 @@ class Survey:
         self.readings = 0
         self.vehicle_t_ms = 0
         self._stepped_at = 0  # the controller's observation count at the last step
+        self.on_observe = None  # called after each observation reaches the controller (a camera's cue)
 
     def start(self, controller: SearchController) -> None:
         """Feed `controller` from now on (readings before this moment are not used)."""
@@ -114,6 +115,8 @@ class Survey:
             _, n, e, height, z = (sum(column) / len(self.bin) for column in zip(*self.bin))
             self.bin.clear()
             self.controller.observe(n, e, z, height)
+            if self.on_observe is not None:
+                self.on_observe()
 
     def next_move(self) -> Goto | Declaration | None:
         """The controller's answer if it has something new to decide on, else None (fly on)."""

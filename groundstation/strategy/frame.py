@@ -32,8 +32,14 @@ between the cells it sees (and those just beside it, whose fire would show at it
 rest, never among the rest. The cost is a few vector operations over the hypotheses per frame, none
 per pixel: the frame's reduction is one percentile and one argmax over its pixels.
 
-Not modelled: several fires in one frame (the hottest wins), a tilted or rotated frame (the
-rectangle must be axis-aligned: the vehicle level, yaw 0), frames above the sky line.
+A frame from a flying vehicle is tilted (the lean of its flight) and turned (its heading): its
+footprint is a quadrilateral, not an axis-aligned rectangle. reduce_footprint judges such a frame on
+the largest axis-aligned rectangle of the footprint's own proportions, centred on it, that lies
+inside it, and on the pixels whose ground points fall in that rectangle: it claims to have seen less
+than it did, never more, so a frame's "nothing here" covers only ground it saw. A level frame at
+yaw 0 (the decision-level episodes') is its whole self.
+
+Not modelled: several fires in one frame (the hottest wins), frames above the sky line.
 """
 from __future__ import annotations
 
@@ -126,6 +132,57 @@ def reduce_frame(image: np.ndarray, north: np.ndarray, east: np.ndarray, corners
             break
         peaks.append((float(north[k]), float(east[k]), float(left[k])))
     return FrameObservation(n_lo, n_hi, e_lo, e_hi, top, peaks[0][:2], emission_height_m, tuple(peaks[1:]))
+
+
+def reduce_footprint(image: np.ndarray, north: np.ndarray, east: np.ndarray, corners: np.ndarray,
+                     emission_height_m: float = 2.0) -> FrameObservation:
+    """reduce_frame of the part of a frame inside the largest axis-aligned rectangle of its
+    footprint (its four ground corners) that keeps the bounding box's proportions and centre: the
+    whole frame when it is already axis-aligned."""
+    corners = np.asarray(corners, dtype=float)
+    if not np.isfinite(corners).all():
+        raise ValueError("a frame must see only ground, with finite readings")
+    if _axis_aligned(corners):
+        return reduce_frame(image, north, east, corners, emission_height_m)
+    rect = inner_rectangle(corners)
+    n_lo, n_hi, e_lo, e_hi = rect
+    north, east = np.asarray(north, dtype=float), np.asarray(east, dtype=float)
+    inside = (north >= n_lo) & (north <= n_hi) & (east >= e_lo) & (east <= e_hi)
+    if not inside.any():
+        raise ValueError("the frame's footprint holds no axis-aligned rectangle with a pixel in it")
+    box = np.array([[n_lo, e_lo], [n_lo, e_hi], [n_hi, e_hi], [n_hi, e_lo]])
+    return reduce_frame(np.asarray(image)[inside], north[inside], east[inside], box, emission_height_m)
+
+
+def _axis_aligned(corners: np.ndarray) -> bool:
+    n_lo, n_hi = corners[:, 0].min(), corners[:, 0].max()
+    e_lo, e_hi = corners[:, 1].min(), corners[:, 1].max()
+    scale = max(n_hi - n_lo, e_hi - e_lo, 1e-9)
+    return all(min(abs(v[0] - n_lo), abs(v[0] - n_hi)) <= AXIS_TOLERANCE * scale
+               and min(abs(v[1] - e_lo), abs(v[1] - e_hi)) <= AXIS_TOLERANCE * scale for v in corners)
+
+
+def inner_rectangle(corners: np.ndarray) -> tuple[float, float, float, float]:
+    """(n_lo, n_hi, e_lo, e_hi): the largest rectangle with the corners' bounding box's centre and
+    proportions inside the convex quadrilateral they make (a footprint's ground corners, any order)."""
+    corners = np.asarray(corners, dtype=float)
+    centre = corners.mean(axis=0)
+    ring = corners[np.argsort(np.arctan2(corners[:, 1] - centre[1], corners[:, 0] - centre[0]))]
+    half = 0.5 * np.ptp(corners, axis=0)
+    # Each edge a.x <= b (inside): a box corner c + s h stays inside for s <= (b - a.c) / (a.h),
+    # the worst of its four corners; the largest s is the least over the edges.
+    scale = 1.0
+    for p, q in zip(ring, np.roll(ring, -1, axis=0)):
+        normal = np.array([q[1] - p[1], -(q[0] - p[0])])  # outward or inward: fixed by the centre's side
+        if normal @ (centre - p) > 0:
+            normal = -normal
+        room = normal @ (p - centre)  # > 0: the centre is inside
+        reach = abs(normal[0]) * half[0] + abs(normal[1]) * half[1]
+        if reach > 0:
+            scale = min(scale, room / reach)
+    scale = max(scale, 0.0)
+    return (float(centre[0] - scale * half[0]), float(centre[0] + scale * half[0]),
+            float(centre[1] - scale * half[1]), float(centre[1] + scale * half[1]))
 
 
 def _log_axis_density(x: float, centre: np.ndarray, half: float, lo: float, hi: float) -> np.ndarray:

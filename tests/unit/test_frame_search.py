@@ -10,7 +10,9 @@ from firefly.sim.thermal_camera import ThermalCameraSpec, footprint, footprint_c
 from groundstation.cli import main
 from groundstation.evaluation.episodes import EpisodeConfig, run_episode
 from groundstation.strategy.belief import Belief, Geometry
-from groundstation.strategy.frame import frame_log_likelihood, reduce_frame
+from groundstation.flight.camera_frames import rotation_of
+from groundstation.camera_view import frame_from_image
+from groundstation.strategy.frame import frame_log_likelihood, inner_rectangle, reduce_frame
 from groundstation.strategy.policies import make_policy
 from groundstation.strategy.stopping import StoppingRule
 
@@ -100,6 +102,33 @@ def test_a_tilted_frame_is_refused():
     north, east = footprint(SPEC, pose)
     with pytest.raises(ValueError, match="axis-aligned"):
         reduce_frame(image, north, east, footprint_corners(SPEC, pose))
+
+
+@pytest.mark.parametrize("roll, pitch, yaw", [(0.0, 0.0, 30.0), (0.0, 0.0, 90.0), (4.0, -7.0, 45.0)])
+def test_a_tilted_or_turned_frame_is_judged_on_the_rectangle_inside_its_footprint(roll, pitch, yaw):
+    pose = pose_from_attitude(200.0, 200.0, 30.0, roll, pitch, yaw)
+    corners = footprint_corners(SPEC, pose)
+    n_lo, n_hi, e_lo, e_hi = inner_rectangle(corners)
+    assert n_hi - n_lo > 10.0 and e_hi - e_lo > 10.0  # a good part of the 24 m x 33 m footprint
+    # every corner of the rectangle is inside the footprint: its pixels' ground points surround it
+    north, east = footprint(SPEC, pose)
+    for n, e in ((n_lo, e_lo), (n_lo, e_hi), (n_hi, e_lo), (n_hi, e_hi)):
+        assert np.min(np.hypot(north - n, east - e)) < 0.5
+    # a fire in the rectangle is seen there; the frame claims no more ground than the rectangle
+    fire = Fire(0.5 * (n_lo + n_hi) + 2.0, 0.5 * (e_lo + e_hi) - 3.0, 40.0)
+    world = FireWorld(fires=(fire,), ambient_c=20.0)
+    frame = frame_from_image(render(world, SPEC, pose, np.random.default_rng(1)), SPEC, pose)
+    assert (frame.n_lo, frame.n_hi, frame.e_lo, frame.e_hi) == pytest.approx((n_lo, n_hi, e_lo, e_hi))
+    assert frame.peak is not None and np.hypot(frame.peak[0] - fire.n_m, frame.peak[1] - fire.e_m) < 1.0
+
+
+def test_a_level_frame_at_yaw_0_is_judged_whole_and_the_geotag_quaternion_is_its_pose():
+    pose = pose_from_attitude(200.0, 200.0, 30.0)
+    image = render(FireWorld(ambient_c=20.0), SPEC, pose, np.random.default_rng(2))
+    north, east = footprint(SPEC, pose)
+    assert frame_from_image(image, SPEC, pose) == reduce_frame(image, north, east, footprint_corners(SPEC, pose))
+    # CAMERA_IMAGE_CAPTURED's q for a fixed camera level at yaw 0 (docs/thermal_camera.md)
+    assert np.allclose(rotation_of((0.7071068, 0.0, -0.7071068, 0.0)), pose.rotation, atol=1e-6)
 
 
 def test_the_sensor_option_is_checked(capsys):

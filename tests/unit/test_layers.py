@@ -58,9 +58,9 @@ def test_imports_point_one_way(folder, forbidden):
 
 # The companion's own layers, lowest first: each may import only those before it. The search's
 # decisions (strategy) and the plans know nothing of flying; judging against the truth sits on the
-# strategy; flying (flight) uses those; evaluation runs episodes, flown or not; a campaign runs
+# strategy, as does reading a camera's frame into it (camera_view); flying (flight) uses those; evaluation runs episodes, flown or not; a campaign runs
 # evaluations; the command line drives them all.
-GROUNDSTATION_LAYERS = (("strategy", "plans", "plots", "progress"), ("truth",), ("flight", "terrain_tiles"),
+GROUNDSTATION_LAYERS = (("strategy", "plans", "plots", "progress"), ("truth", "camera_view"), ("flight", "terrain_tiles"),
                         ("evaluation",), ("campaign",), ("cli",), ("__main__",))
 
 
