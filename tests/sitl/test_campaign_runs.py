@@ -140,14 +140,21 @@ def cmdline(pid: int) -> str:
 
 
 def flying_workers(campaign_pid: int, ray: bool) -> list[int]:
-    """Workers that have an autopilot child: the pool's are the campaign's children; Ray's are
+    """Workers flying an autopilot: the pool's workers are the campaign's children; Ray's are
     processes titled ray::work (Ray names a worker after the task it runs)."""
     if ray:
         workers = [int(p.name) for p in Path("/proc").iterdir()
                    if p.name.isdigit() and cmdline(int(p.name)).startswith("ray::work")]
     else:
         workers = children(campaign_pid)
-    return [w for w in workers if any("-m firefly.autopilot" in cmdline(c) for c in children(w))]
+    return [w for w in workers if any(flies(c) for c in children(w))]
+
+
+def flies(pid: int) -> bool:
+    """An autopilot started cold, or a warm-start server (groundstation/flight/warm_start.py) with
+    a vehicle forked from it (whose command line is the server's)."""
+    line = cmdline(pid)
+    return "-m firefly.autopilot" in line or ("flight.warm_start" in line and bool(children(pid)))
 
 
 @pytest.mark.parametrize("backend", [(), ("--ray",)], ids=["local-pool", "local-ray"])
