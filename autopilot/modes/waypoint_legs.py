@@ -11,6 +11,8 @@ A leg to a waypoint at a height above terrain (MAV_FRAME_GLOBAL_TERRAIN_ALT) is 
 ArduCopter's WPNAV flies one with terrain data: the navigator's path is planned in heights above
 the terrain, and the terrain's height under the vehicle (its terrain database's, extrapolated over
 a gap) is added to the target at every step, so the leg rises and falls with the ground beneath.
+With no terrain source at all (TERRAIN_ENABLE 0, an unhealthy rangefinder) the leg flies on at the
+last height known and the terrain failsafe's timer runs (safety/failsafe.py).
 
 Legs of a mode that plans paths (Mode.plans_paths: AUTO, GUIDED) go round the fence by the
 path planner, OA_TYPE's (leg_avoidance.py), as ArduCopter's AC_WPNav_OA flies every leg.
@@ -188,8 +190,16 @@ class WaypointLegs:
         shift, rate = 0.0, 0.0
         if self.terrain:  # into the navigator's frame above the terrain and back
             before = self.offset_m
-            shift = self._follow_terrain(ctx)
+            found = ctx.terrain_offset_m()
+            if found is not None:
+                self.offset_m = found
+            shift = self.offset_m
             rate = (shift - before) / dt if dt > 0.0 else 0.0
+            # Flown on at the last offset known; missing for long, it is the terrain failsafe
+            # (ArduCopter's update_wpnav fails and its mode calls failsafe_terrain_set_status).
+            ctx.terrain_status(found is not None)
+        else:
+            ctx.terrain_status(True)
         reached = nav.update(dt, (b.n_m, b.e_m, b.d_m + shift), (b.vn_m_s, b.ve_m_s, b.vd_m_s + rate))
         if avoidance is not None and avoidance.state != NOT_REQUIRED:
             reached = False
