@@ -15,7 +15,11 @@ rtl        RTL from there: it returns at 25 m above terrain (RTL_ALT 15 m, but n
            is): along the hill the height above it, its departure from 25 m, the highest AMSL; what
            it said.
 failsafe   back over flat ground in GUIDED with a terrain-frame target, TERRAIN_ENABLE 0: what it
-           says and the mode it goes to (ArduCopter's GUIDED has no terrain offset: failsafe, RTL).
+           says and the mode it goes to (ArduCopter's GUIDED has no terrain offset: failsafe, RTL);
+           then GUIDED and RTL again with the terrain still off: what RTL says.
+prearm_rangefinder  a fresh vehicle with SITL's downward rangefinder (RNGFND1_TYPE 100, RNGFND1_MAX
+           10 m) and RTL_ALT_TYPE 1: the ARM with RTL_ALT (15 m) beyond the rangefinder's range,
+           then with RNGFND1_MAX 40 (no tiles served: the rangefinder needs no database).
 """
 from __future__ import annotations
 
@@ -26,7 +30,7 @@ from ..client import Client, mav
 from ..facts import Tol, Trace
 from .states import GUIDED, RTL
 from .surface_mission import Geometry
-from .terrain import HOME, TileServer, arm_in_guided, hill_facts
+from .terrain import HOME, RANGEFINDER, TileServer, arm_in_guided, hill_facts
 from .texts import said
 
 AREA = "terrain_modes"
@@ -46,7 +50,7 @@ def _hill_amsl():
 
 
 def run(target) -> dict[str, Trace]:
-    traces = {name: Trace() for name in ("prearm", "guided", "reposition", "rtl", "failsafe")}
+    traces = {name: Trace() for name in ("prearm", "guided", "reposition", "rtl", "failsafe", "prearm_rangefinder")}
     try:
         client = target.boot(params=PARAMS, world={"terrain": [HILL]})
         pos0 = client.last["GLOBAL_POSITION_INT"]
@@ -57,6 +61,7 @@ def run(target) -> dict[str, Trace]:
             _prearm(client, traces["prearm"], server)
             if client.armed:
                 _fly(client, traces, geo)
+        _prearm_rangefinder(target, traces["prearm_rangefinder"])
     finally:
         target.close()
     return traces
@@ -126,3 +131,20 @@ def _fly(client: Client, traces: dict[str, Trace], geo: Geometry) -> None:
     client.idle(2.0)
     failsafe.fact("said", said([t for _, _, t in client.texts]))
     failsafe.fact("mode", client.mode)
+    client.set_mode(GUIDED)
+    client.wait(lambda: client.mode == GUIDED, 5, what="GUIDED")
+    client.texts.clear()
+    failsafe.fact("rtl_again", client.set_mode(RTL))
+    client.idle(1.0)
+    failsafe.fact("rtl_again_said", said([t for _, _, t in client.texts]))
+
+
+def _prearm_rangefinder(target, trace: Trace) -> None:
+    client = target.boot(params={**PARAMS, **RANGEFINDER, "RNGFND1_MAX": 10})
+    client.set_mode(GUIDED)
+    client.wait(lambda: client.mode == GUIDED, 5, what="GUIDED")
+    trace.fact("rtl_alt_type", client.set_param("RTL_ALT_TYPE", 1))
+    arm_in_guided(client, trace, "short")
+    trace.fact("longer", client.set_param("RNGFND1_MAX", 40))
+    client.idle(1.0)
+    arm_in_guided(client, trace, "long")
