@@ -113,3 +113,25 @@ def test_rtl_without_terrain_data_says_so_and_returns_above_home():
     assert "RTL: no terrain data, using alt-above-home" in said(v)
     v.run_until(v.time_s + 5.0)
     assert v.mode.number == ModeNumber.RTL
+
+
+def test_an_rtl_leg_without_terrain_for_5_s_is_the_failsafe_and_restarts_above_home():
+    v = _loaded()
+    assert v.set_mode(Guided.number) == Result.ACCEPTED and v.arm() == Result.ACCEPTED
+    assert v.takeoff(25.0) == Result.ACCEPTED
+    v.run_until(v.time_s + 15.0)
+    assert v.guided_goto(120.0, 0.0, v.home_ned[2] - 25.0) == Result.ACCEPTED
+    _fly(v, lambda b: b.n_m > 118.0 and abs(b.vn_m_s) < 0.5, 40.0)
+    assert v.set_mode(ModeNumber.RTL) == Result.ACCEPTED
+    v.run_until(v.time_s + 5.0)
+    v.params.set("TERRAIN_ENABLE", 0)
+    n0 = v.sim.state.body.n_m
+    v.run_until(v.time_s + 4.5)
+    assert "Failsafe: Terrain data missing" not in said(v)
+    stopped_n = v.sim.state.body.n_m
+    assert abs(v.sim.state.body.vn_m_s) < 1.0 and n0 - stopped_n < 20.0  # its target held: it stopped
+    v.run_until(v.time_s + 1.5)
+    assert said(v)[-2:] == ["Failsafe: Terrain data missing", "Restarting RTL - Terrain data missing"]
+    assert v.mode.number == ModeNumber.RTL and not v.failsafes.terrain
+    v.run_until(v.time_s + 5.0)
+    assert v.sim.state.body.n_m < stopped_n - 10.0  # home again, above home

@@ -17,6 +17,9 @@ rtl        RTL from there: it returns at 25 m above terrain (RTL_ALT 15 m, but n
 failsafe   back over flat ground in GUIDED with a terrain-frame target, TERRAIN_ENABLE 0: what it
            says and the mode it goes to (ArduCopter's GUIDED has no terrain offset: failsafe, RTL);
            then GUIDED and RTL again with the terrain still off: what RTL says.
+rtl_failsafe  the terrain on again, out 120 m north above home in GUIDED, RTL (above terrain), and
+           5 s into its return (under way) TERRAIN_ENABLE 0: how long until the failsafe, how far the vehicle
+           went meanwhile (its navigator's target stops where it was), what it says, its mode.
 prearm_rangefinder  a fresh vehicle with SITL's downward rangefinder (RNGFND1_TYPE 100, RNGFND1_MAX
            10 m) and RTL_ALT_TYPE 1: the ARM with RTL_ALT (15 m) beyond the rangefinder's range,
            then with RNGFND1_MAX 40 (no tiles served: the rangefinder needs no database).
@@ -37,11 +40,17 @@ AREA = "terrain_modes"
 HILL = {"north_m": 150.0, "east_m": 0.0, "height_m": 12.0, "radius_m": 100.0}
 PARAMS = {"TERRAIN_SPACING": 30}  # RTL_ALT_TYPE 1 is set once booted: the boot waits for the pre-arm checks
 TERRAIN_ALT_INT = mav.MAV_FRAME_GLOBAL_TERRAIN_ALT_INT
-ABOVE_M, REPOSITION_M, FAR_NORTH_M = 15.0, 25.0, 300.0
+ABOVE_M, REPOSITION_M, FAR_NORTH_M, OUT_NORTH_M = 15.0, 25.0, 300.0, 120.0
+FAILSAFE = "Failsafe: Terrain data missing"
+RETURNING_S = 5.0
 OVER_HILL = (40.0, 260.0)  # north [m]: the hill's slopes and top (it spans 50..250)
 LOAD_S, LEG_S = 90.0, 80.0
 POSITION_ONLY = 0b110111111000  # type_mask: position, no velocity, acceleration or yaw
 
+SECONDS = Tol(abs=1.0, why="5 s of missing terrain (FS_TERRAIN_TIMEOUT_MS) from the parameter set, read at each "
+                          "vehicle's loop rate and the probe's read")
+MOVED = Tol(abs=6.0, why="the way from the terrain switched off to the failsafe: each vehicle stopping from the return's "
+                         "speed at its own navigator's target, then held")
 ALT = Tol(abs=1.0, why="the height a vehicle settles at, within its position controller's hold")
 
 
@@ -50,7 +59,8 @@ def _hill_amsl():
 
 
 def run(target) -> dict[str, Trace]:
-    traces = {name: Trace() for name in ("prearm", "guided", "reposition", "rtl", "failsafe", "prearm_rangefinder")}
+    traces = {name: Trace() for name in ("prearm", "guided", "reposition", "rtl", "failsafe", "rtl_failsafe",
+                                         "prearm_rangefinder")}
     try:
         client = target.boot(params=PARAMS, world={"terrain": [HILL]})
         pos0 = client.last["GLOBAL_POSITION_INT"]
@@ -137,6 +147,33 @@ def _fly(client: Client, traces: dict[str, Trace], geo: Geometry) -> None:
     failsafe.fact("rtl_again", client.set_mode(RTL))
     client.idle(1.0)
     failsafe.fact("rtl_again_said", said([t for _, _, t in client.texts]))
+    _rtl_failsafe(client, traces["rtl_failsafe"], geo)
+
+
+def _rtl_failsafe(client: Client, trace: Trace, geo: Geometry) -> None:
+    client.set_mode(GUIDED)
+    client.wait(lambda: client.mode == GUIDED, 5, what="GUIDED")
+    trace.fact("enable", client.set_param("TERRAIN_ENABLE", 1))
+    lat, lon = geo.latlon((OUT_NORTH_M, 0.0))
+    client.conn.mav.set_position_target_global_int_send(0, 1, 1, mav.MAV_FRAME_GLOBAL_RELATIVE_ALT_INT, POSITION_ONLY,
+                                                        lat, lon, REPOSITION_M, 0, 0, 0, 0, 0, 0, 0, 0)
+    trace.fact("out", client.try_wait(lambda: _north(client, geo) > OUT_NORTH_M - 2.0
+                                      and abs(client.last["GLOBAL_POSITION_INT"].vx) < 50, 40.0))
+    trace.fact("rtl", client.set_mode(RTL))
+    client.idle(RETURNING_S)
+    trace.fact("returning", _north(client, geo) < OUT_NORTH_M - 5.0)
+    client.texts.clear()
+    start_ms, start_n = client.now_ms, _north(client, geo)
+    trace.fact("disable", client.set_param("TERRAIN_ENABLE", 0))
+    failed = client.try_wait(lambda: any(t == FAILSAFE for _, _, t in client.texts), 10.0)
+    trace.fact("failsafe", failed)
+    if failed:
+        stamp = next(s for s, _, t in client.texts if t == FAILSAFE)
+        trace.fact("failsafe_after_s", round((stamp - start_ms) / 1000.0, 1), SECONDS)
+        trace.fact("moved_m", round(start_n - _north(client, geo), 1), MOVED)
+    client.idle(1.0)
+    trace.fact("said", said([t for _, _, t in client.texts]))
+    trace.fact("mode", client.mode)
 
 
 def _prearm_rangefinder(target, trace: Trace) -> None:
