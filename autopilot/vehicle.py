@@ -680,7 +680,10 @@ class Vehicle:
     def terrain_offset_m(self) -> float | None:
         """The terrain's height above the local origin under the vehicle [m] (AC_WPNav's terrain
         offset): the rangefinder's while it is healthy when it is the source; else the database's,
-        the last known while there is none here; None when there is none (or no source)."""
+        the last known while there is none here, and before any was known 0 m AMSL, as
+        AP_Terrain::height_above_terrain extrapolates from its last height, which starts at 0
+        (measured: DO_REPOSITION in the terrain frame ACCEPTED with no tile served); None with
+        no source or no position."""
         source = self.terrain_source()
         if source is None:
             return None
@@ -689,10 +692,13 @@ class Vehicle:
             return surface.offset_m if surface.healthy else None
         self.terrain_update()
         here = self.terrain_here()
-        height = None if here is None else self.terrain.height_amsl(self.params, here)
+        if here is None:
+            return None
+        height = self.terrain.height_amsl(self.params, here)
         if height is None:
-            height = self.terrain.last_current_height_m
-        return None if height is None else height - self.origin.alt_m
+            last = self.terrain.last_current_height_m
+            height = 0.0 if last is None else last
+        return height - self.origin.alt_m
 
     def terrain_offset_at(self, n_m: float, e_m: float) -> float | None:
         """The terrain database's height above the local origin at a local point [m], None where

@@ -36,12 +36,14 @@ def _terrain_heights(ctx: ModeContext) -> tuple[float, float] | None:
     """(the vehicle above its terrain, home above its terrain) [m], or None (said) without them."""
     source = ctx.terrain_source()
     b, home = ctx.body, ctx.require_home()
-    offset = ctx.terrain_offset_m() if source is not None else None
     if source == FROM_RANGEFINDER:
+        offset = ctx.terrain_offset_m()
         if offset is None:
             ctx.notify(NO_RANGEFINDER, Severity.CRITICAL)
             return None
         return -b.d_m - offset, 0.0  # (home's own height is not asked: the target is RTL_ALT up)
+    # the database's heights here and at home, not extrapolated (Location::change_alt_frame)
+    offset = ctx.terrain_offset_at(b.n_m, b.e_m) if source is not None else None
     home_offset = ctx.terrain_offset_at(home[0], home[1]) if source is not None else None
     if offset is None or home_offset is None:
         ctx.notify(NO_DATABASE, Severity.CRITICAL)

@@ -104,15 +104,25 @@ def test_no_terrain_in_guided_is_the_terrain_failsafe_and_rtl_goes_home_above_it
 
 
 def test_rtl_without_terrain_data_says_so_and_returns_above_home():
-    v = ready_vehicle({"RTL_ALT_TYPE": 1, "ARMING_CHECK": 0})
-    assert v.set_mode(Guided.number) == Result.ACCEPTED and v.arm() == Result.ACCEPTED
-    assert v.takeoff(10.0) == Result.ACCEPTED
-    v.run_until(v.time_s + 10.0)
-    v.params.set("TERRAIN_ENABLE", 0)
-    assert v.set_mode(ModeNumber.RTL) == Result.ACCEPTED
-    assert "RTL: no terrain data, using alt-above-home" in said(v)
-    v.run_until(v.time_s + 5.0)
-    assert v.mode.number == ModeNumber.RTL
+    for terrain_enable in (0, 1):  # off, or on with no tile served
+        v = ready_vehicle({"RTL_ALT_TYPE": 1, "ARMING_CHECK": 0})
+        assert v.set_mode(Guided.number) == Result.ACCEPTED and v.arm() == Result.ACCEPTED
+        assert v.takeoff(10.0) == Result.ACCEPTED
+        v.run_until(v.time_s + 10.0)
+        v.params.set("TERRAIN_ENABLE", terrain_enable)
+        assert v.set_mode(ModeNumber.RTL) == Result.ACCEPTED
+        assert "RTL: no terrain data, using alt-above-home" in said(v)
+        v.run_until(v.time_s + 5.0)
+        assert v.mode.number == ModeNumber.RTL and not v.failsafes.terrain
+
+
+def test_with_no_tile_served_a_terrain_target_is_taken_above_0_m_amsl():
+    """AP_Terrain extrapolates from its last height, 0 before any: ArduCopter takes the target
+    (measured: DO_REPOSITION ACCEPTED) as that far above sea level."""
+    v = ready_vehicle()
+    assert v.set_mode(Guided.number) == Result.ACCEPTED
+    assert v.terrain_offset_m() == -v.origin.alt_m
+    assert v.guided_target((0.0, 0.0, -15.0), None, None, terrain=True) == Result.ACCEPTED
 
 
 def test_an_rtl_leg_without_terrain_for_5_s_is_the_failsafe_and_restarts_above_home():

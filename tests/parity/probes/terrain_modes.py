@@ -4,7 +4,8 @@ area terrain: ArduCopter SITL's ground is its terrain database).
 
 prearm     RTL_ALT_TYPE 1 set once booted (TERRAIN_SPACING 30, no mission): the ARM in GUIDED with
            TERRAIN_ENABLE 0 (result, texts), then with it 1 before any tile is served, then served
-           until nothing is pending (each: result, texts, armed).
+           until nothing is pending (each: result, texts, armed); DO_REPOSITION in the terrain frame
+           with the terrain off and with none served (its result).
 guided     a takeoff to 15 m, then SET_POSITION_TARGET_GLOBAL_INT in MAV_FRAME_GLOBAL_TERRAIN_ALT_INT,
            15 m above terrain at a point 300 m north across the hill: along the hill (40..260 m north)
            the height above it (GLOBAL_POSITION_INT's altitude AMSL less the hill), its largest and mean
@@ -83,15 +84,23 @@ def _prearm(client: Client, trace: Trace, server: TileServer) -> None:
     trace.fact("rtl_alt_type", client.set_param("RTL_ALT_TYPE", 1))
     trace.fact("disable", client.set_param("TERRAIN_ENABLE", 0))
     arm_in_guided(client, trace, "disabled")
+    trace.fact("disabled.reposition", _reposition(client))
     trace.fact("enable", client.set_param("TERRAIN_ENABLE", 1))
     client.idle(1.0)
     arm_in_guided(client, trace, "unloaded")
+    trace.fact("unloaded.reposition", _reposition(client))
     server.on = True
     trace.fact("loaded", client.try_wait(lambda: "TERRAIN_REPORT" in client.last
                                          and client.last["TERRAIN_REPORT"].pending == 0
                                          and client.last["TERRAIN_REPORT"].spacing > 0, LOAD_S))
     client.idle(1.0)
     arm_in_guided(client, trace, "loaded")
+
+
+def _reposition(client: Client) -> int | None:
+    """DO_REPOSITION in the terrain frame to where the vehicle stands (on the ground, disarmed)."""
+    here = client.last["GLOBAL_POSITION_INT"]
+    return client.command_int(mav.MAV_CMD_DO_REPOSITION, TERRAIN_ALT_INT, -1, 0, 0, 0, here.lat, here.lon, ABOVE_M)
 
 
 def _north(client: Client, geo: Geometry) -> float:
