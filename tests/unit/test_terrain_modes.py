@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from firefly.autopilot.location import loc_of
 from firefly.autopilot.mavlink import terrain as terrain_messages
+from firefly.autopilot.mission import MissionItem
 from firefly.autopilot.modes import Guided
 from firefly.autopilot.modes.numbers import ModeNumber
 from firefly.autopilot.results import Result
@@ -145,3 +146,19 @@ def test_an_rtl_leg_without_terrain_for_5_s_is_the_failsafe_and_restarts_above_h
     assert v.mode.number == ModeNumber.RTL and not v.failsafes.terrain
     v.run_until(v.time_s + 5.0)
     assert v.sim.state.body.n_m < stopped_n - 10.0  # home again, above home
+
+
+def test_an_auto_terrain_leg_without_terrain_for_5_s_goes_to_rtl():
+    v = _loaded()
+    home = loc_of(v.home)
+    wp = home.offset(300.0, 0.0)
+    v.mission.replace(0, [MissionItem(22, 3, 0, 0, 0, 0, 0, 0, 15.0),
+                          MissionItem(16, 10, 0, 0, 0, 0, wp.lat_e7, wp.lon_e7, 15.0)])
+    assert v.set_mode(Guided.number) == Result.ACCEPTED and v.arm() == Result.ACCEPTED
+    assert v.mission_start() == Result.ACCEPTED
+    _fly(v, lambda b: b.n_m > 60.0, 60.0)
+    v.params.set("TERRAIN_ENABLE", 0)
+    v.run_until(v.time_s + 4.5)
+    assert v.mode.number == ModeNumber.AUTO and "Failsafe: Terrain data missing" not in said(v)
+    v.run_until(v.time_s + 1.0)
+    assert "Failsafe: Terrain data missing" in said(v) and v.mode.number == ModeNumber.RTL
