@@ -94,12 +94,27 @@ def _items(geo: Geometry) -> list[tuple]:
             (mav.MAV_CMD_NAV_WAYPOINT, TERRAIN_ALT, 0, 0, 0, 0, *geo.latlon((WP_NORTH_M, 0.0)), ABOVE_M)]
 
 
+CHUNK = 50  # STATUSTEXT's text: a longer one goes on in the next
+
+
+def _not_prearm(texts: list[str]) -> list[str]:
+    """The texts less the pre-arm reports said unasked (every 30 s), with the chunks a long one
+    goes on in."""
+    kept, dropping = [], False
+    for text in texts:
+        if text.startswith("PreArm") or dropping:
+            dropping = len(text) == CHUNK
+            continue
+        kept.append(text)
+    return kept
+
+
 def arm_in_guided(client: Client, trace: Trace, name: str) -> None:
     client.set_mode(GUIDED)
     client.texts.clear()
     trace.fact(f"{name}.arm", client.command(mav.MAV_CMD_COMPONENT_ARM_DISARM, 1))
     client.idle(1.0)
-    trace.fact(f"{name}.arm_said", said([t for _, _, t in client.texts if not t.startswith("PreArm")]))
+    trace.fact(f"{name}.arm_said", said(_not_prearm([t for _, _, t in client.texts])))
     # (HEARTBEAT says it once a second: a read cut at the idle's edge may not have it yet)
     trace.fact(f"{name}.armed", client.try_wait(lambda: client.armed, 3.0))
 
