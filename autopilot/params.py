@@ -134,6 +134,7 @@ PARAM_TABLE: tuple[ParamSpec, ...] = (
     _f("RTL_LOIT_TIME", 5000, 0, 60000, "RTL loiter over home before descending [ms]"),
     _f("RTL_CLIMB_MIN", 0, 0, 3000, "RTL minimum climb [cm]"),
     _f("RTL_CONE_SLOPE", 3.0, 0, 10, "RTL climbs at most this times the distance home, below 0.5 = no cone"),
+    _i("RTL_ALT_TYPE", 0, 0, 1, "RTL's return altitude: 0 above home, 1 above terrain"),
     _f("DISARM_DELAY", 10, 0, 127, "auto-disarm on the ground after [s], 0 = never"),
     _f("MOT_SPIN_ARM", 0.10, 0.0, 0.2, "motor output when armed, throttle zero"),
     _f("MOT_THST_HOVER", 0.35, 0.125, 0.6875, "hover throttle (learned)"),

@@ -15,6 +15,8 @@ from .terrain_grid import FULL_MASK, Block, TerrainGrid
 
 NAV_WAYPOINT, NAV_SPLINE_WAYPOINT = 16, 82  # the mission items whose terrain is fetched ahead
 DISABLE_DOWNLOAD = 1  # TERRAIN_OPTIONS bit 0
+# AC_WPNav's terrain sources (Vehicle.terrain_source; None: unavailable)
+FROM_RANGEFINDER, FROM_DATABASE = "rangefinder", "database"
 
 
 @dataclass(frozen=True)

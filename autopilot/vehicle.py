@@ -41,7 +41,7 @@ from .mission import FENCE, MISSION, MissionStore
 from .mission.progress import MissionProgress
 from .mission.terrain import TerrainItems
 from .surface_distance import SurfaceDistance
-from .terrain import VehicleTerrain
+from .terrain import FROM_DATABASE, FROM_RANGEFINDER, VehicleTerrain
 from .modes import MODE_BY_NUMBER, Mode, ModeNumber, Setpoint
 from .modes.auto_rtl import EITHER, AutoRtl
 from .modes.context import ModeContext
@@ -324,6 +324,7 @@ class Vehicle:
     mode_number: ReadThrough[int] = property(attrgetter("mode.number"))
     mode_name: ReadThrough[str] = property(attrgetter("mode.name"))
     mode_requires_position: ReadThrough[bool] = property(attrgetter("mode.requires_position"))
+    mode_requires_terrain_failsafe: ReadThrough[bool] = property(attrgetter("mode.requires_terrain_failsafe"))
     mode_named_float: ReadThrough[tuple[bytes, float] | None] = property(
         attrgetter("mode.named_float"), doc="A value the mode reports by name (FLOWHOLD's HEST).")
     mode_allows_arming: ReadThrough[bool] = property(attrgetter("mode.allows_arming"))
@@ -669,19 +670,60 @@ class Vehicle:
         else the terrain database."""
         return bool(self.params["WPNAV_RFND_USE"]) and self.rangefinder.enabled
 
+    def terrain_source(self) -> str | None:
+        """AC_WPNav::get_terrain_source: the rangefinder, else the terrain database while
+        TERRAIN_ENABLE is on, else none."""
+        if self.terrain_from_rangefinder():
+            return FROM_RANGEFINDER
+        return FROM_DATABASE if self.params["TERRAIN_ENABLE"] else None
+
     def terrain_offset_m(self) -> float | None:
         """The terrain's height above the local origin under the vehicle [m] (AC_WPNav's terrain
         offset): the rangefinder's while it is healthy when it is the source; else the database's,
-        the last known while there is none here; None when there is none."""
-        if self.terrain_from_rangefinder():
+        the last known while there is none here, and before any was known 0 m AMSL, as
+        AP_Terrain::height_above_terrain extrapolates from its last height, which starts at 0
+        (measured: DO_REPOSITION in the terrain frame ACCEPTED with no tile served); None with
+        no source or no position."""
+        source = self.terrain_source()
+        if source is None:
+            return None
+        if source == FROM_RANGEFINDER:
             surface = self.surface
             return surface.offset_m if surface.healthy else None
         self.terrain_update()
         here = self.terrain_here()
-        height = None if here is None else self.terrain.height_amsl(self.params, here)
+        if here is None:
+            return None
+        height = self.terrain.height_amsl(self.params, here)
         if height is None:
-            height = self.terrain.last_current_height_m
+            last = self.terrain.last_current_height_m
+            height = 0.0 if last is None else last
+        return height - self.origin.alt_m
+
+    def terrain_offset_at(self, n_m: float, e_m: float) -> float | None:
+        """The terrain database's height above the local origin at a local point [m], None where
+        it holds none (or is off): Location::change_alt_frame to above terrain."""
+        height = self.terrain.height_amsl(self.params, loc_of(global_from_ned(self.origin, n_m, e_m, 0.0)))
         return None if height is None else height - self.origin.alt_m
+
+    def terrain_failsafe(self) -> None:
+        """A mode that needs the terrain has none (failsafe_terrain_on_event): said; landed it
+        disarms, RTL starts again above home, any other mode goes to RTL (else LAND)."""
+        self.failsafes.terrain = True
+        self.notify("Failsafe: Terrain data missing", Severity.CRITICAL)
+        if self.land_detector.landed:
+            self.disarm("terrain failsafe")
+        elif self.mode.number == ModeNumber.RTL:
+            self.mode.restart_without_terrain(self.ctx)
+        elif self.set_mode(ModeNumber.RTL) != Result.ACCEPTED:
+            self.set_mode(ModeNumber.LAND)
+
+    def terrain_status(self, found: bool) -> None:
+        self.failsafes.terrain_status(found, self.time_s)
+
+    @property
+    def terrain_failsafe_on(self) -> bool:
+        return self.failsafes.terrain
 
     def terrain_height_known(self) -> bool:
         """ArduCopter's EKF3 terrain height estimate (EKF_STATUS_REPORT's EKF_POS_VERT_AGL): valid
@@ -1122,19 +1164,20 @@ class Vehicle:
         return Result.ACCEPTED
 
     def guided_goto(self, n: float, e: float, d: float | None, yaw: float | None = None,
-                    vel_ff: Vector3 = (0.0, 0.0, 0.0)) -> Result:
+                    vel_ff: Vector3 = (0.0, 0.0, 0.0), terrain: bool = False) -> Result:
         yaw = None if yaw is None else wrap_pi(yaw)  # as ArduPilot wraps a heading it is given
-        return Result.ACCEPTED if self.mode.goto(self.ctx, n, e, d, yaw, vel_ff) else Result.DENIED
+        return Result.ACCEPTED if self.mode.goto(self.ctx, n, e, d, yaw, vel_ff, terrain) else Result.DENIED
 
     def guided_velocity(self, vn: float, ve: float, vd: float, yaw: float | None = None) -> Result:
         yaw = None if yaw is None else wrap_pi(yaw)
         return Result.ACCEPTED if self.mode.set_velocity(self.ctx, vn, ve, vd, yaw) else Result.DENIED
 
     def guided_target(self, pos: Vector3 | None, vel: Vector3 | None, accel: Vector3 | None,
-                      yaw: float | None = None, yaw_rate: float | None = None, yaw_relative: bool = False) -> Result:
+                      yaw: float | None = None, yaw_rate: float | None = None, yaw_relative: bool = False,
+                      terrain: bool = False) -> Result:
         """A GUIDED target of any kind (Mode.set_target); DENIED where no mode takes it."""
         yaw = None if yaw is None or yaw_relative else wrap_pi(yaw)
-        ok = self.mode.set_target(self.ctx, pos, vel, accel, yaw, yaw_rate, yaw_relative)
+        ok = self.mode.set_target(self.ctx, pos, vel, accel, yaw, yaw_rate, yaw_relative, terrain)
         return Result.ACCEPTED if ok else Result.DENIED
 
     def guided_attitude(self, attitude: Vector3 | None, rates: Vector3, climb_or_thrust: float,

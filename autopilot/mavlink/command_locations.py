@@ -9,8 +9,10 @@ from ..vehicle import LOCATION_ALT_MAX_M
 from .dialect import mavlink as mav
 
 ABSOLUTE_ALT_FRAMES = {mav.MAV_FRAME_GLOBAL, mav.MAV_FRAME_GLOBAL_INT}
-# Altitude above home. A command's terrain frame is taken as above home here: only AUTO's waypoint
-# legs follow the terrain (modes/waypoint_legs.py).
+TERRAIN_ALT_FRAMES = {mav.MAV_FRAME_GLOBAL_TERRAIN_ALT, mav.MAV_FRAME_GLOBAL_TERRAIN_ALT_INT}
+# Altitude above home, or above terrain. Where a command's position is flown (DO_REPOSITION, the
+# guided waypoint) the terrain frame is GUIDED's above the terrain (terrain_target_ned); elsewhere
+# (DO_SET_HOME, a gimbal's point) it is taken as above home.
 RELATIVE_ALT_FRAMES = {mav.MAV_FRAME_GLOBAL_RELATIVE_ALT, mav.MAV_FRAME_GLOBAL_RELATIVE_ALT_INT,
                        mav.MAV_FRAME_GLOBAL_TERRAIN_ALT, mav.MAV_FRAME_GLOBAL_TERRAIN_ALT_INT}
 
@@ -28,6 +30,16 @@ def is_location(s, c) -> bool:
         s.vehicle.notify(f"Unknown mavlink coordinate frame {c.frame}", Severity.INFO)
         return False
     return True
+
+
+def terrain_target_ned(s, c):
+    """A location in a terrain frame as GUIDED flies it: local north, east, and down as minus its
+    height above the terrain (Guided.set_target with terrain); None without a position."""
+    v = s.vehicle
+    if not v.has_position():
+        return None
+    n, e, _ = v.ned_of(c.p5, c.p6, v.origin.alt_m)
+    return n, e, -c.p7
 
 
 def target_ned(s, c):

@@ -18,7 +18,7 @@ from ..safety.arming import FORCE_ARM_MAGIC, FORCE_DISARM_MAGIC, prearm_failures
 from .dialect import mavlink as mav
 from ..c_casts import as_int16, as_uint16, as_uint32
 from .camera_commands import HANDLERS as CAMERA_HANDLERS
-from .command_locations import is_location, target_ned
+from .command_locations import TERRAIN_ALT_FRAMES, is_location, target_ned, terrain_target_ned
 from .do_item_commands import HANDLERS as DO_ITEM_HANDLERS
 from .housekeeping_commands import HANDLERS as HOUSEKEEPING_HANDLERS
 from .mount_commands import HANDLERS as MOUNT_HANDLERS
@@ -188,17 +188,22 @@ def do_reposition(s, c: Command) -> Result:
         return Result.DENIED
     if not is_location(s, c):
         return Result.DENIED
-    target = target_ned(s, c)
+    terrain = c.frame in TERRAIN_ALT_FRAMES
+    target = terrain_target_ned(s, c) if terrain else target_ned(s, c)
     # ArduCopter: GUIDED cannot take the destination yet, or it lies beyond the fence (checked
-    # before any mode change: measured, FAILED from AUTO and the mode kept)
-    if target is None or not v.destination_within_fence(*target):
+    # before any mode change: measured, FAILED from AUTO and the mode kept); in a terrain frame,
+    # no terrain under the vehicle (set_destination fails: FAILED)
+    if target is None or (terrain and v.terrain_offset_m() is None):
+        return Result.FAILED
+    if not terrain and not v.destination_within_fence(*target):
         return Result.FAILED
     if v.mode.number != ModeNumber.GUIDED and v.set_mode(ModeNumber.GUIDED) != Result.ACCEPTED:
         return Result.FAILED
     if math.isfinite(c.p1) and c.p1 > 0:
         v.set_speed(c.p1)
     yaw = math.radians(c.p4) if math.isfinite(c.p4) else None
-    return v.guided_goto(*target, yaw=yaw)
+    result = v.guided_goto(*target, yaw=yaw, terrain=terrain)
+    return Result.FAILED if terrain and result != Result.ACCEPTED else result
 
 
 def do_set_home(s, c: Command) -> Result:

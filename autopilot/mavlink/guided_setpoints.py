@@ -57,7 +57,7 @@ def _used(mask: int, bits: int) -> bool:
     return not mask & bits
 
 
-def _send(v, mask: int, pos, vel, accel, yaw_relative: bool, msg) -> bool:
+def _send(v, mask: int, pos, vel, accel, yaw_relative: bool, msg, terrain: bool = False) -> bool:
     yaw = msg.yaw if _used(mask, YAW_IGNORE) else None
     yaw_rate = msg.yaw_rate if _used(mask, YAW_RATE_IGNORE) else None
     if yaw is not None and math.isnan(yaw) or yaw_rate is not None and math.isnan(yaw_rate):
@@ -70,7 +70,7 @@ def _send(v, mask: int, pos, vel, accel, yaw_relative: bool, msg) -> bool:
         raise Invalid  # nothing to fly (a position with only an acceleration is not a combination)
     if pos is not None and vel is None and accel is not None:
         raise Invalid
-    return v.guided_target(pos, vel, accel, yaw, yaw_rate, yaw_relative) == Result.ACCEPTED
+    return v.guided_target(pos, vel, accel, yaw, yaw_rate, yaw_relative, terrain) == Result.ACCEPTED
 
 
 def _taken(v, handle, msg) -> bool:
@@ -118,6 +118,7 @@ def _global(v, msg) -> bool:
     if mask & FORCE_SET and _used(mask, ACCEL_IGNORE):
         raise Invalid
     pos = vel = accel = None
+    terrain = False
     if _used(mask, POS_IGNORE):
         lat, lon = msg.lat_int * 1e-7, msg.lon_int * 1e-7
         alt_from = GLOBAL_ALT_FRAMES.get(msg.coordinate_frame)
@@ -126,14 +127,16 @@ def _global(v, msg) -> bool:
         if v.home_ned is None and alt_from != "amsl":
             raise Invalid
         n, e, d = v.ned_of(lat, lon, msg.alt)
-        if alt_from != "amsl":  # above home (terrain: flat ground here, as home's)
+        if alt_from == "home":
             d = v.home_ned[2] - msg.alt
+        elif alt_from == "terrain":  # above the terrain under the vehicle (Guided.set_target)
+            d, terrain = -msg.alt, True
         pos = (n, e, d)
     if _used(mask, VEL_IGNORE):
         vel = _sane((msg.vx, msg.vy, msg.vz))
     if _used(mask, ACCEL_IGNORE):
         accel = _sane((msg.afx, msg.afy, msg.afz))
-    return _send(v, mask, pos, vel, accel, False, msg)
+    return _send(v, mask, pos, vel, accel, False, msg, terrain)
 
 
 def _climb_or_thrust(v, thrust: float, use_thrust: bool) -> float:

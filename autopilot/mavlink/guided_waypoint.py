@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from ..mission import MISSION
 from ..results import Result
-from .command_locations import ABSOLUTE_ALT_FRAMES
+from .command_locations import ABSOLUTE_ALT_FRAMES, TERRAIN_ALT_FRAMES
 from .dialect import mavlink as mav
 from .mission_checks import check_item, item_from_message
 
@@ -34,12 +34,16 @@ def guided_request(v, msg) -> int | None:
     if item.command != mav.MAV_CMD_NAV_WAYPOINT:
         return mav.MAV_MISSION_ERROR
     lat, lon = item.x * 1e-7, item.y * 1e-7
+    terrain = item.frame in TERRAIN_ALT_FRAMES
     if item.frame in ABSOLUTE_ALT_FRAMES:
         target = v.ned_of(lat, lon, item.z)
+    elif terrain:  # above the terrain, as GUIDED flies it (Guided.set_target)
+        n, e, _ = v.ned_of(lat, lon, v.origin.alt_m)
+        target = (n, e, -item.z)
     elif v.home_ned is None:
         return mav.MAV_MISSION_ERROR  # a height above home needs home
-    else:  # above home (terrain: flat ground here, as home's)
+    else:
         n, e, _ = v.ned_of(lat, lon, v.origin.alt_m)
         target = (n, e, v.home_ned[2] - item.z)
-    taken = v.guided_target(target, None, None) == Result.ACCEPTED
+    taken = v.guided_target(target, None, None, terrain=terrain) == Result.ACCEPTED
     return mav.MAV_MISSION_ACCEPTED if taken else mav.MAV_MISSION_ERROR

@@ -64,6 +64,7 @@ class Auto(Mode):
     takes_speed_change = True
     number = ModeNumber.AUTO
     plans_paths = True
+    requires_terrain_failsafe = True
     requires_position = True
     requires_home = True  # items at heights above home, RTL and land items
     _ctx: ModeContext
@@ -194,9 +195,10 @@ class Auto(Mode):
         return self._guided() is not None
 
     def set_target(self, ctx: ModeContext, pos: Vector3 | None, vel: Vector3 | None, accel: Vector3 | None,
-                   yaw: float | None, yaw_rate: float | None, yaw_relative: bool = False) -> bool:
+                   yaw: float | None, yaw_rate: float | None, yaw_relative: bool = False,
+                   terrain: bool = False) -> bool:
         guided = self._guided()
-        return guided is not None and guided.set_target(ctx, pos, vel, accel, yaw, yaw_rate, yaw_relative)
+        return guided is not None and guided.set_target(ctx, pos, vel, accel, yaw, yaw_rate, yaw_relative, terrain)
 
     def set_attitude(self, ctx: ModeContext, attitude: Vector3 | None, rates: Vector3, climb_or_thrust: float,
                      use_thrust: bool) -> bool:

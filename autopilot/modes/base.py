@@ -118,6 +118,9 @@ class Mode:
     # Needs the optical flow sensor enabled and healthy to be entered (FLOWHOLD): the vehicle refuses
     # it otherwise, as ArduCopter's init() does ("init failed")
     requires_flow = False
+    # Terrain data missing for TERRAIN_TIMEOUT_S in it is a failsafe (requires_terrain_failsafe: AUTO,
+    # GUIDED, RTL): the modes whose legs may be flown above terrain
+    requires_terrain_failsafe = False
     # A value the mode reports by name (NAMED_VALUE_FLOAT), as ArduCopter's FLOWHOLD its height
     # estimate "HEST": (name, value), or None
     named_float: tuple[bytes, float] | None = None
@@ -145,6 +148,9 @@ class Mode:
     def landed_state_hint(self, ctx: ModeContext) -> str | None:
         """'TAKEOFF' or 'LANDING' while the mode is doing either, else None."""
         return None
+
+    def restart_without_terrain(self, ctx: ModeContext) -> None:
+        """The terrain failsafe in this mode (RTL's: its return starts again above home)."""
 
     def position_reset(self, dn: float, de: float) -> None:
         """The estimate's horizontal position jumped by (dn, de) on a change of its source: the
@@ -175,7 +181,7 @@ class Mode:
         raise NotImplementedError(f"{self.name} declares no user takeoff")
 
     def goto(self, ctx: ModeContext, n: float, e: float, d: float | None, yaw: float | None,
-             vel_ff: Vector3) -> bool:
+             vel_ff: Vector3, terrain: bool = False) -> bool:
         """Fly to a local NED point (d None: keep the height); False if this mode does not."""
         return False
 
@@ -186,8 +192,10 @@ class Mode:
         return False
 
     def set_target(self, ctx: ModeContext, pos: Vector3 | None, vel: Vector3 | None, accel: Vector3 | None,
-                   yaw: float | None, yaw_rate: float | None, yaw_relative: bool = False) -> bool:
-        """GUIDED's position / velocity / acceleration target (local NED, None = not given)."""
+                   yaw: float | None, yaw_rate: float | None, yaw_relative: bool = False,
+                   terrain: bool = False) -> bool:
+        """GUIDED's position / velocity / acceleration target (local NED, None = not given;
+        terrain: the position's down is less its height above the terrain, not the origin's)."""
         return False
 
     def set_attitude(self, ctx: ModeContext, attitude: Vector3 | None, rates: Vector3, climb_or_thrust: float,

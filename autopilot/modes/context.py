@@ -90,7 +90,11 @@ class ModeContext:
         avoid_lean(lean)         ALT_HOLD's (roll, pitch) pushed away from what the proximity sensor sees
         destination_within_fence(n, e, d) a GUIDED destination (local NED) inside every enabled fence
         terrain_offset_m()       the terrain's height above the origin under the vehicle [m], from
-                                 the terrain database, None while it has none there
+                                 the terrain source, None while it has none there
+        terrain_source()         AC_WPNav's terrain source: "rangefinder", "database" or None
+        terrain_offset_at(n, e)  the terrain database's height above the origin at a local point
+        terrain_failsafe()       terrain missing where a mode needs it: the failsafe's action
+        terrain_status(found)    a terrain leg's step found its terrain offset or not (the failsafe's timer)
     """
     __slots__ = ("_v", "_estimate", "_arming", "_land", "_sim", "params", "mission_progress", "return_path", "path_planner",
                  "follow_target", "camera", "mount", "parachute", "sprayer", "gripper", "winch", "notify", "disarm", "set_speed",
@@ -98,7 +102,7 @@ class ModeContext:
                  "set_servo", "repeat_servo", "set_relay", "repeat_relay", "ned_of", "position_global", "set_mode",
                  "hover_thrust_share", "restart_position_control", "use_gains", "precland_landing",
                  "avoid_velocity", "avoid_climb", "avoid_lean", "destination_within_fence",
-                 "terrain_offset_m")
+                 "terrain_offset_m", "terrain_source", "terrain_offset_at", "terrain_failsafe", "terrain_status")
     params: ParamStore
     mission_progress: MissionProgress
     return_path: ReturnPath
@@ -130,6 +134,10 @@ class ModeContext:
     avoid_lean: Callable[[tuple[float, float]], tuple[float, float]]
     destination_within_fence: Callable[[float, float, float], bool]
     terrain_offset_m: Callable[[], float | None]
+    terrain_source: Callable[[], str | None]
+    terrain_offset_at: Callable[[float, float], float | None]
+    terrain_failsafe: Callable[[], None]
+    terrain_status: Callable[[bool], None]
 
     def __init__(self, vehicle: ModeHost):
         self._v = vehicle
@@ -168,6 +176,10 @@ class ModeContext:
         self.avoid_lean = vehicle.avoid_lean
         self.destination_within_fence = vehicle.destination_within_fence
         self.terrain_offset_m = vehicle.terrain_offset_m
+        self.terrain_source = vehicle.terrain_source
+        self.terrain_offset_at = vehicle.terrain_offset_at
+        self.terrain_failsafe = vehicle.terrain_failsafe
+        self.terrain_status = vehicle.terrain_status
         airframe = vehicle.sim.airframe
         self.hover_thrust_share = airframe.weight_n / (4.0 * airframe.max_rotor_thrust_n)
 
@@ -177,6 +189,7 @@ class ModeContext:
     pilot: ReadThrough[PilotInput] = property(attrgetter("_v.rc.pilot"))
     armed: ReadThrough[bool] = property(attrgetter("_arming.armed"))
     landed: ReadThrough[bool] = property(attrgetter("_land.landed"))
+    terrain_failsafe_on: ReadThrough[bool] = property(attrgetter("_v.terrain_failsafe_on"))
     landed_at_s: ReadThrough[float] = property(attrgetter("_land.landed_at_s"))
     time_s: ReadThrough[float] = property(attrgetter("_sim.time_s"))
     home_ned: ReadThrough[Vector3 | None] = property(attrgetter("_v.home_ned"))

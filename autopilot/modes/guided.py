@@ -49,6 +49,7 @@ class Guided(Mode):
     allows_arming = True
     has_user_takeoff = True
     in_guided_mode = True
+    requires_terrain_failsafe = True
     takeoff: TakeoffClimb | None  # a user takeoff, until another target replaces it
     submode: str
     target_ne: tuple[float, float]
@@ -62,6 +63,8 @@ class Guided(Mode):
     paused_d: float | None  # DO_PAUSE_CONTINUE: the height it stopped at, until resumed
     stopping_vertically: bool  # entered climbing or sinking: the height is held once that stops
     stopping: JerkLimitedStop | None  # slowing to a stop: paused, or a velocity stream that stopped
+    target_terrain: bool  # target_d is down from the terrain under the vehicle, less the height above it
+    terrain_offset: float  # the terrain's height above the origin [m] under the vehicle, as last known
     speed_up: float | None  # DO_CHANGE_SPEED's climb and descent speeds [m/s] (None: WPNAV_SPEED_UP/DN)
     speed_dn: float | None
     legs: WaypointLegs | None = None  # the WP sub-mode's leg
@@ -100,6 +103,7 @@ class Guided(Mode):
             ctx.restart_position_control()
         self.submode = POS
         self.target_ne, self.target_d = stopping_point(ctx)
+        self.target_terrain, self.terrain_offset = False, 0.0
         self.stopping_vertically = not ctx.landed and abs(ctx.body.vd_m_s) > VERTICAL_MOVING_M_S
         self.target_vel = self.target_accel = ZERO3
         self.updated_s = ctx.time_s
@@ -123,20 +127,34 @@ class Guided(Mode):
         self.takeoff = TakeoffClimb(ctx, self.target_d)
 
     def goto(self, ctx: ModeContext, n: float, e: float, d: float | None, yaw: float | None = None,
-             vel_ff: Vector3 = ZERO3) -> bool:
+             vel_ff: Vector3 = ZERO3, terrain: bool = False) -> bool:
         """A position (d None: keep the height), with a velocity: ArduCopter's PosVelAccel."""
+        if d is None and self.target_terrain:  # the height kept, in the frame it was given in
+            terrain = True
         return self.set_target(ctx, (n, e, self.target_d if d is None else d), None if vel_ff == ZERO3 else vel_ff,
-                               None, yaw, None)
+                               None, yaw, None, terrain=terrain)
 
     def set_velocity(self, ctx: ModeContext, vn: float, ve: float, vd: float, yaw: float | None = None) -> bool:
         self.set_target(ctx, None, (vn, ve, vd), None, yaw, None)
         return True
 
     def set_target(self, ctx: ModeContext, pos: Vector3 | None, vel: Vector3 | None, accel: Vector3 | None,
-                   yaw: float | None, yaw_rate: float | None, yaw_relative: bool = False) -> bool:
+                   yaw: float | None, yaw_rate: float | None, yaw_relative: bool = False,
+                   terrain: bool = False) -> bool:
         """A SET_POSITION_TARGET's parts (local NED; None = ignored), as ArduCopter takes them:
-        position [+ velocity [+ acceleration]], velocity [+ acceleration], or acceleration."""
-        if pos is not None and not ctx.destination_within_fence(*pos):
+        position [+ velocity [+ acceleration]], velocity [+ acceleration], or acceleration.
+        `terrain`: the position is above the terrain (its down: less the height above it), flown
+        with the terrain's height under the vehicle added (a position alone: ArduCopter's pos
+        controller has no terrain offset with a velocity); without any terrain there it stops
+        and refuses the target, as ArduCopter's set_destination does."""
+        offset = 0.0
+        if pos is not None and terrain:
+            found = ctx.terrain_offset_m()
+            if found is None or vel is not None or accel is not None:
+                self.stop(ctx)
+                return False
+            offset = found
+        if pos is not None and not ctx.destination_within_fence(pos[0], pos[1], pos[2] - offset):
             return False  # ArduCopter refuses it, and flies on as it was
         self.takeoff = None
         self.stopping = None
@@ -144,11 +162,12 @@ class Guided(Mode):
         if pos is not None:
             self.stopping_vertically = False
             if vel is None and int(ctx.params["GUID_OPTIONS"]) & WPNAV_FOR_POSITION:
-                self._set_waypoint(ctx, pos, before)
+                self._set_waypoint(ctx, pos, before, terrain)
             else:
                 self.submode = POS if vel is None else POS_VEL_ACCEL
                 self.legs = None
             self.target_ne, self.target_d = (pos[0], pos[1]), pos[2]
+            self.target_terrain, self.terrain_offset = terrain, offset
             self.has_waypoint = vel is None
         elif vel is None:  # the acceleration moves a velocity on: from the present one at its start
             if self.submode != ACCEL:
@@ -173,13 +192,13 @@ class Guided(Mode):
         self._set_yaw(ctx, yaw, yaw_rate, yaw_relative)
         return True
 
-    def _set_waypoint(self, ctx: ModeContext, pos: Vector3, before: str) -> None:
+    def _set_waypoint(self, ctx: ModeContext, pos: Vector3, before: str, terrain: bool) -> None:
         """The WP sub-mode's leg to `pos`: from where the vehicle can stop when it starts, else
         on from the leg being flown (ArduCopter's wp_control_start and set_wp_destination)."""
         if before != WP or self.legs is None:
             self.legs = WaypointLegs(self.plans_paths)
         self.submode = WP
-        self.legs.begin(ctx, pos, None)
+        self.legs.begin(ctx, pos, None, terrain=terrain)
         self.reach_untold = True
 
     def _set_yaw(self, ctx: ModeContext, yaw: float | None, rate: float | None, relative: bool) -> None:
@@ -257,7 +276,9 @@ class Guided(Mode):
         reports the corner it flies to."""
         if self.legs is not None and self.legs.avoiding:
             return self.legs.destination
-        return (self.target_ne[0], self.target_ne[1], self.target_d) if self.has_waypoint else None
+        if not self.has_waypoint:
+            return None
+        return self.target_ne[0], self.target_ne[1], self.target_d - self.terrain_offset
 
     def nav_distance_bearing(self) -> tuple[float, float] | None:
         """While a leg round the fence is flown: the way to the target, not to the corner."""
@@ -318,7 +339,15 @@ class Guided(Mode):
         if self.stopping_vertically and abs(ctx.body.vd_m_s) < VERTICAL_STILL_M_S:
             self.stopping_vertically = False
             self.target_d = ctx.body.d_m
-        sp.pos_ne, sp.pos_d = self.target_ne, None if self.stopping_vertically else self.target_d
+        target_d = self.target_d
+        if self.target_terrain:  # ArduCopter's pos_control_run: the offset, or the terrain failsafe
+            offset = ctx.terrain_offset_m()
+            if offset is None:
+                ctx.terrain_failsafe()
+                return
+            self.terrain_offset = offset
+            target_d -= offset
+        sp.pos_ne, sp.pos_d = self.target_ne, None if self.stopping_vertically else target_d
         if self.yaw.kind != DEFAULT:
             return
         # ArduCopter's desired velocity points at the target until the last centimetres (its

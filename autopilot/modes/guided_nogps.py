@@ -36,10 +36,10 @@ class GuidedNoGps(Guided):
     def user_takeoff(self, ctx: ModeContext, alt_above_home_m: float) -> None:
         pass  # accepted, as ArduCopter's (GUIDED's takeoff start), and never flown
 
-    def goto(self, ctx, n, e, d, yaw=None, vel_ff=(0.0, 0.0, 0.0)) -> bool:
+    def goto(self, ctx, n, e, d, yaw=None, vel_ff=(0.0, 0.0, 0.0), terrain=False) -> bool:
         return True
 
-    def set_target(self, ctx, pos, vel, accel, yaw, yaw_rate, yaw_relative=False) -> bool:
+    def set_target(self, ctx, pos, vel, accel, yaw, yaw_rate, yaw_relative=False, terrain=False) -> bool:
         return True
 
     def stop(self, ctx: ModeContext) -> bool:

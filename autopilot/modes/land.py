@@ -6,11 +6,12 @@ from typing import TYPE_CHECKING
 
 from ..control.attitude import wrap_pi
 from ..params import ParamStore
-from ..safety.fence_switch import ALT_MAX as FENCE_ALT_MAX
+from ..results import Severity
 from .auto_yaw import holds_in_rtl
 from .base import Mode, Setpoint, hold_here, shifted, stopping_point
 from .context import ModeContext
 from .numbers import ModeNumber
+from .rtl_altitude import return_height
 
 if TYPE_CHECKING:
     from ..precland import Steer
@@ -112,35 +113,17 @@ class Land(Mode):
         return ctx.has_position()  # it holds its point with a fix, comes down level without
 
 
-RTL_ALT_MIN_M = 2.0  # ArduCopter's RTL_ALT_MIN
-RTL_MIN_CONE_SLOPE = 0.5  # a shallower RTL_CONE_SLOPE turns the cone off
-
-
-def return_altitude(ctx: ModeContext) -> float:
-    """The height above home RTL returns at, as ArduCopter's compute_return_target: RTL_ALT (at
-    least RTL_CLIMB_MIN above the present height), but within RTL_CONE_SLOPE times the distance
-    home, so a vehicle near home climbs little or not at all; not above an altitude fence's
-    margin; never below where it is."""
-    params, b = ctx.params, ctx.body
-    home = ctx.require_home()
-    current_alt = home[2] - b.d_m
-    least = max(RTL_ALT_MIN_M, current_alt + max(0.0, params["RTL_CLIMB_MIN"] / 100.0))
-    target = max(params["RTL_ALT"] / 100.0, least)
-    slope = params["RTL_CONE_SLOPE"]
-    if slope >= RTL_MIN_CONE_SLOPE:
-        target = min(target, max(math.hypot(b.n_m - home[0], b.e_m - home[1]) * slope, least))
-    if ctx.enabled_fences & FENCE_ALT_MAX:  # not above the ceiling's margin
-        target = min(target, params["FENCE_ALT_MAX"] - params["FENCE_MARGIN"])
-    return max(target, current_alt)
-
-
 class Rtl(Mode):
     """Climb to RTL_ALT (or stay higher), fly home, loiter RTL_LOIT_TIME, land and disarm.
     The climb and the return are waypoint legs, as ArduCopter flies them with its wp_nav: the
     climb blends into the return leg, which stops over home. The nose on the way home follows
     WP_YAW_BEHAVIOR as an RTL's (auto_yaw.py); where that faces the way (1, 3), the loiter over
     home also turns back to the heading the vehicle was armed at, and lasts until within 2° of it
-    (ArduCopter's RESET_TO_ARMED_YAW, measured: the descent faces the armed heading)."""
+    (ArduCopter's RESET_TO_ARMED_YAW, measured: the descent faces the armed heading).
+
+    With RTL_ALT_TYPE 1 the climb, the return and the loiter over home are flown above the terrain
+    (rtl_altitude.py, the legs' terrain frame); the terrain failsafe in RTL starts it again above
+    home (restart_without_terrain), as does an RTL the failsafe itself chose."""
     takes_speed_change = True
     number = ModeNumber.RTL
     plans_paths = True
@@ -152,6 +135,8 @@ class Rtl(Mode):
     _stage: str  # GROUND, CLIMB, RETURN, LOITER, LAND
     _loiter_until: float  # set when the stage LOITER begins
     _legs: WaypointLegs | None
+    _above_terrain: bool  # _return_d is down from the terrain (less the height above it)
+    requires_terrain_failsafe = True
 
     def __init__(self, disarm_on_land: bool = True):
         self.disarm_on_land = disarm_on_land  # AUTO's RTL item leaves the disarm to the mission's end
@@ -160,9 +145,19 @@ class Rtl(Mode):
         self._legs: WaypointLegs | None = None
 
     def enter(self, ctx: ModeContext) -> str | None:
-        params = ctx.params
-        home_d = ctx.require_home()[2]
-        self._return_d = home_d - return_altitude(ctx)
+        self._start(ctx, not ctx.terrain_failsafe_on)
+        return None
+
+    def restart_without_terrain(self, ctx: ModeContext) -> None:
+        """ModeRTL::restart_without_terrain: the return starts again, above home."""
+        ctx.notify("Restarting RTL - Terrain data missing", Severity.CRITICAL)
+        if self._stage in ("CLIMB", "RETURN", "LOITER"):
+            self._start(ctx, False)
+
+    def _start(self, ctx: ModeContext, terrain_allowed: bool) -> None:
+        height = return_height(ctx, terrain_allowed)
+        self._above_terrain = height.above_terrain
+        self._return_d = -height.alt_m if height.above_terrain else ctx.require_home()[2] - height.alt_m
         # The climb is over where the vehicle can stop (ArduCopter's origin point): a vehicle
         # entering RTL at speed flies on to it rather than back to where the mode changed.
         self._hold_ne, _ = stopping_point(ctx)
@@ -171,7 +166,6 @@ class Rtl(Mode):
         self._stage = "GROUND" if ctx.landed else "CLIMB"
         self._loiter_until = math.inf
         self._legs = None
-        return None
 
     def update(self, ctx: ModeContext, sp: Setpoint, dt: float) -> None:
         sp.clear()
@@ -181,6 +175,9 @@ class Rtl(Mode):
             self._fly_home(ctx, sp, dt, home_ne, sp.speed_xy)
         if self._stage == "LOITER":
             sp.pos_ne, sp.pos_d = home_ne, self._return_d
+            if self._above_terrain and self._legs is not None:  # over home's terrain, as last known
+                self._legs.update(ctx, sp, dt)
+                sp.yaw = None
             turned = True
             if not holds_in_rtl(ctx.params):
                 sp.yaw = ctx.armed_yaw
@@ -220,12 +217,12 @@ class Rtl(Mode):
             legs = self._legs = WaypointLegs(self.plans_paths)
             legs.auto_yaw.rtl = True
             climb_target = (self._hold_ne[0], self._hold_ne[1], self._return_d)
-            legs.begin(ctx, climb_target, return_target, speed)
+            legs.begin(ctx, climb_target, return_target, speed, terrain=self._above_terrain)
         if not legs.update(ctx, sp, dt):
             return
         if self._stage == "CLIMB":
             self._stage = "RETURN"
-            legs.begin(ctx, return_target, None, speed)
+            legs.begin(ctx, return_target, None, speed, terrain=self._above_terrain)
         else:
             self._stage = "LOITER"
             self._loiter_until = ctx.time_s + ctx.params["RTL_LOIT_TIME"] / 1000.0

@@ -11,6 +11,9 @@ A leg to a waypoint at a height above terrain (MAV_FRAME_GLOBAL_TERRAIN_ALT) is 
 ArduCopter's WPNAV flies one with terrain data: the navigator's path is planned in heights above
 the terrain, and the terrain's height under the vehicle (its terrain database's, extrapolated over
 a gap) is added to the target at every step, so the leg rises and falls with the ground beneath.
+With no terrain offset at all (TERRAIN_ENABLE 0, an unhealthy rangefinder) the target stops where
+it was and the terrain failsafe's timer runs (safety/failsafe.py), as ArduCopter's navigator
+stops advancing it.
 
 Legs of a mode that plans paths (Mode.plans_paths: AUTO, GUIDED) go round the fence by the
 path planner, OA_TYPE's (leg_avoidance.py), as ArduCopter's AC_WPNav_OA flies every leg.
@@ -171,6 +174,21 @@ class WaypointLegs:
             self.nav.set_speed(limits)
             self.speed_cap = max(limits.speed_xy, self.nav.planned_speed)
 
+    def _hold_target(self, ctx: ModeContext, sp: Setpoint) -> None:
+        """No terrain offset: ArduCopter's advance_wp_target_along_track fails and moves nothing,
+        so its target stays where it was (at the last offset known) with the velocity it last
+        had: the vehicle comes to rest past it, where the position error's pull back meets that
+        velocity (measured: 12 m on from a return at speed)."""
+        nav = self.nav
+        if nav is None:
+            b = ctx.body
+            p, v = (b.n_m, b.e_m, b.d_m + self.offset_m), (0.0, 0.0, 0.0)
+        else:
+            p, v = nav.pos, nav.vel
+        sp.pos_ne, sp.vel_ne, sp.accel_ne = (p[0], p[1]), (v[0], v[1]), (0.0, 0.0)
+        sp.pos_d, sp.vel_d = p[2] - self.offset_m, v[2]
+        sp.yaw = self.auto_yaw.facing(ctx, v[0], v[1])
+
     def update(self, ctx: ModeContext, sp: Setpoint, dt: float) -> bool:
         """Fill the setpoint with the navigator's target; returns whether the leg's point is
         reached."""
@@ -188,8 +206,17 @@ class WaypointLegs:
         shift, rate = 0.0, 0.0
         if self.terrain:  # into the navigator's frame above the terrain and back
             before = self.offset_m
-            shift = self._follow_terrain(ctx)
+            found = ctx.terrain_offset_m()
+            # Missing for long, it is the terrain failsafe (ArduCopter's update_wpnav fails and
+            # its mode calls failsafe_terrain_set_status)
+            ctx.terrain_status(found is not None)
+            if found is None:
+                self._hold_target(ctx, sp)
+                return False
+            self.offset_m = shift = found
             rate = (shift - before) / dt if dt > 0.0 else 0.0
+        else:
+            ctx.terrain_status(True)
         reached = nav.update(dt, (b.n_m, b.e_m, b.d_m + shift), (b.vn_m_s, b.ve_m_s, b.vd_m_s + rate))
         if avoidance is not None and avoidance.state != NOT_REQUIRED:
             reached = False

@@ -10,6 +10,7 @@ import math
 from collections.abc import Callable
 
 from ..modes.numbers import ModeNumber
+from ..terrain import FROM_DATABASE, FROM_RANGEFINDER
 from ..rc.radio import ARMING_CHECK_THROTTLE, ARMING_SKIP_CHECK_RPY
 from ..views import PrearmView
 from .simple_avoid import USE_PROXIMITY
@@ -167,12 +168,34 @@ def _winch(v: PrearmView) -> str | None:
     return v.winch_prearm_failure()
 
 
+RTL_ABOVE_TERRAIN = 1  # RTL_ALT_TYPE
+
+
+def _rtl_terrain(v: PrearmView) -> str | None:
+    """ArduCopter's parameter checks for RTL_ALT_TYPE 1 (above terrain): a terrain source, and with
+    the rangefinder one, RTL_ALT (cm) within its range (RNGFND1_MAX, m). The database's own check
+    is _terrain_data's."""
+    p = v.params
+    if int(p["RTL_ALT_TYPE"]) != RTL_ABOVE_TERRAIN:
+        return None
+    source = v.terrain_source()
+    if source is None:
+        return "RTL_ALT_TYPE is above-terrain but no terrain data"
+    if source == FROM_RANGEFINDER and p["RTL_ALT"] > p["RNGFND1_MAX"] * 100.0:
+        return "RTL_ALT_TYPE is above-terrain but RTL_ALT (in cm) above RNGFND_MAX (in metres)"
+    return None
+
+
 def _terrain_data(v: PrearmView) -> str | None:
-    """A mission at heights above terrain needs the terrain database (AP_Arming::terrain_checks):
-    every block wanted filled, the heights under the vehicle and home known. Until a ground
-    station has served the tiles: "Arm: waiting for terrain data", and no arming (measured). Not
-    when the waypoint navigator follows the terrain by rangefinder (terrain_database_required)."""
-    if not v.mission_uses_terrain() or v.terrain_from_rangefinder():  # the rangefinder: no database needed
+    """A mission at heights above terrain, or RTL above terrain over the database, needs the
+    terrain database (AP_Arming::terrain_checks): every block wanted filled, the heights under the
+    vehicle and home known. Until a ground station has served the tiles: "Arm: waiting for terrain
+    data", and no arming (measured, both). Not when the waypoint navigator follows the terrain by
+    rangefinder (terrain_database_required)."""
+    if v.terrain_from_rangefinder():  # the rangefinder: no database needed
+        return None
+    rtl_above_terrain = int(v.params["RTL_ALT_TYPE"]) == RTL_ABOVE_TERRAIN and v.terrain_source() == FROM_DATABASE
+    if not (rtl_above_terrain or v.mission_uses_terrain()):
         return None
     if not v.params["TERRAIN_ENABLE"]:
         return "terrain disabled"
@@ -182,7 +205,7 @@ def _terrain_data(v: PrearmView) -> str | None:
 
 # In ArduCopter's order; a check gives its words, a list of them, or None when it passes.
 PREARM_CHECKS: tuple[Callable[[PrearmView], str | list[str] | None], ...] = (
-    _starting_up, _adsb_threat, _object_avoidance, _winch, _throttle_below_failsafe, _safety_switch, _internal_errors, _need_position, _visual_odometry, _ekf_sources, _gps_glitching, _leaning, _battery_low,
+    _starting_up, _rtl_terrain, _adsb_threat, _object_avoidance, _winch, _throttle_below_failsafe, _safety_switch, _internal_errors, _need_position, _visual_odometry, _ekf_sources, _gps_glitching, _leaning, _battery_low,
     _rangefinder, _parachute, _proximity, _terrain_data, _emergency_stopped)
 
 

@@ -33,6 +33,8 @@ RC_CONTINUE_IF_AUTO, RC_CONTINUE_IF_GUIDED, CONTINUE_IF_LANDING = 1, 4, 8
 RADIO_LOW_THROTTLE_CHECKS = 3  # ArduCopter's FS_COUNTER: low throttle readings in a row
 GCS_CONTINUE_IN_AUTO = 2  # FS_GCS_ENABLE: a mission in AUTO flies on
 CHECK_S = 0.1  # check() runs at 10 Hz of sim time
+TERRAIN_TIMEOUT_S = 5.0  # FS_TERRAIN_TIMEOUT_MS: terrain data missing this long is a failsafe
+TERRAIN_CLEAR_S = 0.1  # failures forgotten after this long of the data found again
 
 
 class Failsafes:
@@ -49,6 +51,8 @@ class Failsafes:
         self.fence = FenceBreach()
         self.adsb = False  # ArduCopter's failsafe.adsb: avoidance is acting on a threat (adsb/escape.py)
         self.ekf = EkfCheck()
+        self.terrain = False  # ArduCopter's failsafe.terrain
+        self._terrain_failures: tuple[float, float] | None = None  # first and last time terrain was missing
 
     @property
     def radio_input_valid(self) -> bool:
@@ -188,7 +192,29 @@ class Failsafes:
             self.gcs = False
             v.notify("GCS Failsafe Cleared", Severity.CRITICAL)
 
+    # ----- terrain ------------------------------------------------------------------------------
+    def terrain_status(self, found: bool, now_s: float) -> None:
+        """A waypoint leg's terrain offset found or not (failsafe_terrain_set_status, each step)."""
+        failures = self._terrain_failures
+        if not found:
+            self._terrain_failures = (now_s if failures is None else failures[0], now_s)
+        elif failures is not None and now_s - failures[1] > TERRAIN_CLEAR_S:
+            self._terrain_failures = None
+
+    def check_terrain(self, v: FailsafeView) -> None:
+        """failsafe_terrain_check: missing for over 5 s in a mode that needs it starts the
+        failsafe (v.terrain_failsafe); it ends when that no longer holds."""
+        failures = self._terrain_failures
+        trigger = (failures is not None and failures[1] - failures[0] > TERRAIN_TIMEOUT_S
+                   and v.mode_requires_terrain_failsafe)
+        if trigger != self.terrain:
+            if trigger:
+                v.terrain_failsafe()
+            else:
+                self.terrain = False
+
     def check(self, v: FailsafeView) -> None:
+        self.check_terrain(v)
         self.check_radio(v)
         self.check_battery(v)
         self.fence.update(v, v.time_s, self.radio)
