@@ -28,6 +28,7 @@ FULL_MASK = (1 << SUBGRIDS) - 1
 CACHE_SIZE = 12  # TERRAIN_GRID_BLOCK_CACHE_SIZE
 SURROUND_SHARE = 0.7  # update_surrounding_tiles: points 0.7 of a block away
 MISSION_POINT_SPACINGS = 10  # update_mission_data: 4 points 10 spacings from each waypoint, and itself
+DEGREE_EAST_MAX_M, EARTH_RADIUS_M = 112_000.0, 6_371_000.0  # (_Around's bound on the east scale's drift)
 
 
 def _whole_degree_e7(x_e7: int) -> int:
@@ -66,12 +67,20 @@ def block_corner(ref_lat_e7: int, ref_lon_e7: int, block_n: int, block_e: int, s
 
 def blocks_around(lat_e7: int, lon_e7: int, spacing_m: int) -> list[tuple[int, int]]:
     """The corners of the blocks under the 9 points 0.7 of a block about a location
-    (update_surrounding_tiles): each point moved and measured as ArduPilot moves and measures it
-    (Location::offset, get_distance_NE), inline, the corners remembered (a vehicle in flight asks
-    10 times a second)."""
+    (update_surrounding_tiles)."""
+    return _blocks_around(lat_e7, lon_e7, spacing_m)[0]
+
+
+def _blocks_around(lat_e7: int, lon_e7: int, spacing_m: int) -> tuple[list[tuple[int, int]], float, float]:
+    """blocks_around's corners, each point moved and measured as ArduPilot moves and measures it
+    (Location::offset, get_distance_NE), inline; and how far north and east [m] the location may
+    move before any point crosses into another block (0 when a point lies in the next degree's
+    grid, whose edges are not worked out here)."""
     ref_lat, ref_lon = _whole_degree_e7(lat_e7), _whole_degree_e7(lon_e7)
     step_n, step_e = BLOCK_SIZE_N * SURROUND_SHARE * spacing_m, BLOCK_SIZE_E * SURROUND_SHARE * spacing_m
+    edge_n, edge_e = BLOCK_STEP_N * spacing_m, BLOCK_STEP_E * spacing_m
     corners = []
+    free_n = free_e = math.inf
     for dn in (-1, 0, 1):
         d_lat = int(dn * step_n / M_PER_E7)
         lat = lat_e7 + d_lat
@@ -82,10 +91,34 @@ def blocks_around(lat_e7: int, lon_e7: int, spacing_m: int) -> list[tuple[int, i
             if _whole_degree_e7(lat) != ref_lat or _whole_degree_e7(lon) != ref_lon:  # the next degree's grid
                 info = grid_info(lat, lon, spacing_m)
                 corners.append((info.block_lat_e7, info.block_lon_e7))
+                free_n = free_e = 0.0
                 continue
-            idx_n, idx_e = int((lat - ref_lat) * M_PER_E7 / spacing_m), int((lon - ref_lon) * ne_scale / spacing_m)
-            corners.append(block_corner(ref_lat, ref_lon, idx_n // BLOCK_STEP_N, idx_e // BLOCK_STEP_E, spacing_m))
-    return corners
+            north, east = (lat - ref_lat) * M_PER_E7, (lon - ref_lon) * ne_scale
+            idx_n, idx_e = int(north / spacing_m), int(east / spacing_m)
+            block_n, block_e = idx_n // BLOCK_STEP_N, idx_e // BLOCK_STEP_E
+            corners.append(block_corner(ref_lat, ref_lon, block_n, block_e, spacing_m))
+            free_n = min(free_n, north - block_n * edge_n, (block_n + 1) * edge_n - north)
+            free_e = min(free_e, east - block_e * edge_e, (block_e + 1) * edge_e - east)
+    return corners, free_n, free_e
+
+
+class _Around:
+    """The last blocks_around worked out, kept while the vehicle stays well inside what keeps every
+    point in its block: a vehicle in flight asks 10 times a second, and crosses a block's edge
+    seldom. Moving north also changes the longitude scale the points' east distances are measured
+    with, by tan(lat) / R of their up to a degree's 112 km per metre moved: the way the vehicle may
+    go (north plus east) is the smaller free distance, less a metre for rounding, over 1 + that."""
+    __slots__ = ("lat_e7", "lon_e7", "spacing_m", "corners", "free_m")
+
+    def __init__(self, lat_e7: int, lon_e7: int, spacing_m: int):
+        self.lat_e7, self.lon_e7, self.spacing_m = lat_e7, lon_e7, spacing_m
+        self.corners, free_n, free_e = _blocks_around(lat_e7, lon_e7, spacing_m)
+        drift = abs(math.tan(math.radians(lat_e7 * 1e-7))) * DEGREE_EAST_MAX_M / EARTH_RADIUS_M + 0.01
+        self.free_m = (min(free_n, free_e) - 1.0) / (1.0 + drift)
+
+    def holds(self, lat_e7: int, lon_e7: int, spacing_m: int) -> bool:
+        moved = (abs(lat_e7 - self.lat_e7) + abs(lon_e7 - self.lon_e7) * longitude_scale(lat_e7)) * M_PER_E7
+        return spacing_m == self.spacing_m and moved < self.free_m
 
 
 def subgrid_bit(idx_n: int, idx_e: int) -> int:
@@ -118,6 +151,7 @@ class TerrainGrid:
         self.margin_e7 = margin_e7  # TERRAIN_MARGIN's 0.05 m as lat/lon matches are judged (x100)
         self.cache_size = CACHE_SIZE  # TERRAIN_CACHE_SZ
         self._clock = 0
+        self._around: _Around | None = None
 
     def _find(self, lat_e7: int, lon_e7: int, spacing_m: int) -> Block | None:
         m = self.margin_e7
@@ -169,7 +203,10 @@ class TerrainGrid:
             self.height_amsl(wp.lat_e7, wp.lon_e7, spacing_m)
         if here is None:
             return False
-        for lat, lon in blocks_around(here.lat_e7, here.lon_e7, spacing_m):
+        around = self._around
+        if around is None or not around.holds(here.lat_e7, here.lon_e7, spacing_m):
+            around = self._around = _Around(here.lat_e7, here.lon_e7, spacing_m)
+        for lat, lon in around.corners:
             self.want_block(lat, lon, spacing_m)
         return self.height_amsl(here.lat_e7, here.lon_e7, spacing_m) is not None
 

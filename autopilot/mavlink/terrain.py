@@ -26,8 +26,8 @@ def terrain_request(v, codec):
     return codec.terrain_request_encode(block.lat_e7, block.lon_e7, block.spacing_m, missing_mask(block))
 
 
-def _report(v, codec, loc: Loc, extrapolate: bool):
-    r = v.terrain.report(v.params, loc, v.terrain_here(), extrapolate)
+def _report(v, codec, loc: Loc, here: Loc | None, extrapolate: bool):
+    r = v.terrain.report(v.params, loc, here, extrapolate)
     return codec.terrain_report_encode(loc.lat_e7, loc.lon_e7, r.spacing, r.terrain_height_m, r.current_height_m,
                                        r.pending, r.loaded)
 
@@ -38,7 +38,7 @@ def terrain_report(v, codec):
         return None
     v.terrain_update()
     here = v.terrain_here()
-    return _report(v, codec, ZERO if here is None else here, True)
+    return _report(v, codec, ZERO if here is None else here, here, True)
 
 
 def on_terrain_data(v, msg) -> None:
@@ -49,7 +49,7 @@ def terrain_check_reply(v, codec, msg):
     """TERRAIN_CHECK's answer: a TERRAIN_REPORT for its location, the heights there only if held."""
     if not v.params["TERRAIN_ENABLE"]:
         return None
-    return _report(v, codec, Loc(msg.lat, msg.lon, 0), False)
+    return _report(v, codec, Loc(msg.lat, msg.lon, 0), v.terrain_here(), False)
 
 
 BUILDERS = {mav.MAVLINK_MSG_ID_TERRAIN_REQUEST: terrain_request,

@@ -5,15 +5,16 @@ through the vehicle's own TERRAIN_REQUEST / TERRAIN_DATA / TERRAIN_REPORT / TERR
 from __future__ import annotations
 
 import dataclasses
+import random
 
 import pytest
 
-from firefly.autopilot.location import loc_of
+from firefly.autopilot.location import Loc, loc_of
 from firefly.autopilot.mavlink import terrain as terrain_messages
 from firefly.autopilot.mission import MissionItem
 from firefly.autopilot.modes import Guided
 from firefly.autopilot.results import Result
-from firefly.autopilot.terrain_grid import FULL_MASK, TerrainGrid, grid_info
+from firefly.autopilot.terrain_grid import FULL_MASK, TerrainGrid, blocks_around, grid_info
 from firefly.groundstation.terrain_tiles import answer, hills_amsl, tiles
 from firefly.sim.rigid_body import BodyState
 from firefly.sim.scenario import ScenarioError, scenario_from_dict
@@ -201,3 +202,22 @@ def test_terrain_off_quiet_and_odd_inputs_answered_without_fault():
     assert terrain_messages.terrain_report(v, codec).pending > 0
     v.params.set("TERRAIN_ENABLE", 0)  # off: neither
     assert terrain_messages.terrain_request(v, codec) is None and terrain_messages.terrain_report(v, codec) is None
+
+
+@pytest.mark.parametrize("lat_e7, lon_e7, spacing, keeps", [
+    (-353632610, 1491652300, 30, True), (-353632610, 1491652300, 100, True),
+    (-359995000, 1499995000, 30, False),  # beside a whole degree: points in the next degree's grid
+    (795000000, 105000000, 30, True)])  # far north, where moving north changes the east scale most
+def test_the_blocks_kept_around_a_wandering_vehicle_are_those_worked_out_afresh(lat_e7, lon_e7, spacing, keeps):
+    # The grid keeps the 9 surrounding blocks while the vehicle stays inside what keeps them; a
+    # walk of steps up to 4 m over block edges must want exactly the blocks a fresh look finds.
+    rng = random.Random(7)
+    grid, kept = TerrainGrid(), 0
+    for _ in range(5000):
+        lat_e7 += rng.randint(-400, 400)
+        lon_e7 += rng.randint(-400, 400)
+        before = grid._around
+        grid.want_around(Loc(lat_e7, lon_e7, 0), None, [], spacing)
+        kept += grid._around is before
+        assert grid._around.corners == blocks_around(lat_e7, lon_e7, spacing)
+    assert (kept > 1000) == keeps  # kept and used, but where the next degree's grid is near

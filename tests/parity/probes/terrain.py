@@ -55,15 +55,16 @@ DEVIATION = Tol(abs=1.5, why="how far each vehicle's height above the hill depar
 AMSL = Tol(abs=2.0, why="the top of the flight over the hill: 15 m above its 15 m top, within each controller's lag")
 
 
-def _hill_amsl():
-    return hills_amsl(HOME, Terrain((Hill(**HILL),)))
+def hill_amsl(hill: dict = HILL):
+    """The served heights [m AMSL] of one hill (a probe's HILL table) on home's flat ground."""
+    return hills_amsl(HOME, Terrain((Hill(**hill),)))
 
 
 class TileServer:
     """Answers each TERRAIN_REQUEST the vehicle sends (a listener), counting them."""
 
     def __init__(self, client: Client) -> None:
-        self.client, self.height, self.requests = client, _hill_amsl(), 0
+        self.client, self.height, self.requests = client, hill_amsl(), 0
         self.on = False
 
     def __call__(self, msg) -> None:
@@ -185,7 +186,7 @@ def _by_rangefinder(target, trace: Trace) -> None:
 
 
 def _fly(client: Client, trace: Trace, geo: Geometry) -> None:
-    hill = _hill_amsl()
+    hill = hill_amsl()
     client.log.clear()
     client.logging = True
     client.set_mode(AUTO)

@@ -27,14 +27,11 @@ prearm_rangefinder  a fresh vehicle with SITL's downward rangefinder (RNGFND1_TY
 """
 from __future__ import annotations
 
-from firefly.groundstation.terrain_tiles import hills_amsl
-from firefly.sim.terrain import Hill, Terrain
-
 from ..client import Client, mav
 from ..facts import Tol, Trace
 from .states import GUIDED, RTL
 from .surface_mission import Geometry
-from .terrain import HOME, RANGEFINDER, TileServer, arm_in_guided, hill_facts
+from .terrain import RANGEFINDER, TileServer, arm_in_guided, hill_amsl, hill_facts
 from .texts import said
 
 AREA = "terrain_modes"
@@ -55,10 +52,6 @@ MOVED = Tol(abs=6.0, why="the way from the terrain switched off to the failsafe:
 ALT = Tol(abs=1.0, why="the height a vehicle settles at, within its position controller's hold")
 
 
-def _hill_amsl():
-    return hills_amsl(HOME, Terrain((Hill(**HILL),)))
-
-
 def run(target) -> dict[str, Trace]:
     traces = {name: Trace() for name in ("prearm", "guided", "reposition", "rtl", "failsafe", "rtl_failsafe",
                                          "prearm_rangefinder")}
@@ -67,7 +60,7 @@ def run(target) -> dict[str, Trace]:
         pos0 = client.last["GLOBAL_POSITION_INT"]
         geo = Geometry(pos0.lat, pos0.lon)
         server = TileServer(client)
-        server.height = _hill_amsl()
+        server.height = hill_amsl(HILL)
         with client.listening(server):
             _prearm(client, traces["prearm"], server)
             if client.armed:
@@ -122,7 +115,7 @@ def _fly(client: Client, traces: dict[str, Trace], geo: Geometry) -> None:
                                            and abs(client.last["GLOBAL_POSITION_INT"].vx) < 50, LEG_S))
     client.logging = False
     guided.fact("mode", client.mode)
-    hill_facts(client.log, geo, _hill_amsl(), ABOVE_M, OVER_HILL, guided)
+    hill_facts(client.log, geo, hill_amsl(HILL), ABOVE_M, OVER_HILL, guided)
 
     reposition.fact("result", client.command_int(mav.MAV_CMD_DO_REPOSITION, TERRAIN_ALT_INT, -1, 0, 0, 0,
                                                  lat, lon, REPOSITION_M))
@@ -136,7 +129,7 @@ def _fly(client: Client, traces: dict[str, Trace], geo: Geometry) -> None:
     rtl.fact("passed_hill", client.try_wait(lambda: _north(client, geo) < 20.0, LEG_S))
     client.logging = False
     rtl.fact("said", said([t for _, _, t in client.texts]))
-    hill_facts(client.log, geo, _hill_amsl(), REPOSITION_M, OVER_HILL, rtl)
+    hill_facts(client.log, geo, hill_amsl(HILL), REPOSITION_M, OVER_HILL, rtl)
 
     client.set_mode(GUIDED)
     client.wait(lambda: client.mode == GUIDED, 5, what="GUIDED")
