@@ -175,6 +175,8 @@ def facets(v, s) -> tuple:
         flags.append("fs:fence")
     if fs.ekf.failsafe:
         flags.append("fs:ekf")
+    if fs.terrain:
+        flags.append("fs:terrain")
     if v.startup.gps_powered_up(v.time_s) and v.gps.fix_type < 3:
         flags.append("gps_lost")
     if fs.ekf.gps_glitching:
@@ -829,6 +831,33 @@ def act_payload(w: Walk, r) -> None:
     else:
         w.set_param(r.choice(("SIM_FLOW_ENABLE", "SIM_FLOW_POS_Z", "WINCH_RATE_MAX", "FLOW_TYPE")),
                     param_f(r, r.choice((0.0, 1.0, 0.5, 5.0)), 0.2))
+
+
+def act_terrain(w: Walk, r) -> None:
+    """Terrain (its values hostile now and then): its parameters (RTL above terrain, the database
+    off), targets in the terrain frame (GUIDED's SET_POSITION_TARGET_GLOBAL_INT, DO_REPOSITION),
+    and a ground station's TERRAIN_DATA for the block the vehicle asks about, or for another."""
+    c, v, how = w.client, w.vehicle, r.randrange(4)
+    terrain_frame = mav.MAV_FRAME_GLOBAL_TERRAIN_ALT_INT
+    if how == 0:
+        w.set_param(*r.choice((("RTL_ALT_TYPE", 1.0), ("RTL_ALT_TYPE", 0.0), ("TERRAIN_ENABLE", 0.0),
+                               ("TERRAIN_ENABLE", 1.0), ("WPNAV_RFND_USE", 0.0), ("TERRAIN_SPACING", 30.0))))
+    elif how == 1:
+        lat, lon = near(w.origin, r, 80)
+        w.send(c.set_position_target_global_int_encode(0, SYSTEM_ID, 1, terrain_frame, 0b110111111000, lat, lon,
+                                                       param_f(r, r.uniform(3, 30)), 0, 0, 0, 0, 0, 0, 0, 0))
+    elif how == 2:
+        lat, lon = near(w.origin, r, 80)
+        w.command(mav.MAV_CMD_DO_REPOSITION, -1, mav.MAV_DO_REPOSITION_FLAGS_CHANGE_MODE, 0, math.nan, 0, 0,
+                  param_f(r, r.uniform(3, 30)), as_int=True, frame=terrain_frame, x=lat, y=lon)
+    else:
+        block = v.terrain.request(v.params, v.terrain_here())
+        if block is not None and r.random() < 0.8:
+            lat, lon, spacing = block.lat_e7, block.lon_e7, block.spacing_m
+        else:
+            (lat, lon), spacing = near(w.origin, r, 3000), r.choice((0, 30, 100, 65535))
+        w.send(c.terrain_data_encode(lat, lon, spacing, r.choice((r.randrange(56), 56, 255)),
+                                     [r.choice((600, 584, -32768, 32767)) for _ in range(16)]))
 
 
 def act_known(w: Walk, r) -> None:

@@ -23,7 +23,7 @@ from hypothesis import strategies as st
 from hypothesis.stateful import RuleBasedStateMachine, initialize, rule
 
 from ..fuzz import hostile
-from ..fuzz.state_machine import ACTIONS, START_AT_S, Walk, WalkFailure, act_payload, render, shrink
+from ..fuzz.state_machine import ACTIONS, START_AT_S, Walk, WalkFailure, act_payload, act_terrain, render, shrink
 from ..fuzz.state_walk import run
 from .test_hostile_messages import MESSAGES
 
@@ -85,6 +85,12 @@ class StateSpace(RuleBasedStateMachine):
         """The winch, the flow sensor and the thermal camera's component (act_payload): not among the
         seeded walk's ACTIONS, whose draws (and the states seed WALK_SEED reaches) stay as they were."""
         self.act(act_payload, rng)
+
+    @rule(rng=RANDOM)
+    def terrain(self, rng):
+        """Terrain's parameters, terrain-frame targets and TERRAIN_DATA (act_terrain): not among the
+        seeded walk's ACTIONS either, for the same reason."""
+        self.act(act_terrain, rng)
 
     @rule(msg=MESSAGES)
     def hostile_as_in_the_hostile_message_tests(self, msg):
