@@ -117,8 +117,11 @@ class Client:
         probe sends its next command and times what follows from now_ms)."""
         start_ms, wall0 = self.now_ms, time.monotonic()
         while not condition():
-            if self.now_ms - start_ms > sim_s * 1000 or time.monotonic() - wall0 > WALL_LIMIT_S:
+            if self.now_ms - start_ms > sim_s * 1000:
                 raise ProbeTimeout(f"no {what} within {sim_s:g} s of vehicle time")
+            if time.monotonic() - wall0 > WALL_LIMIT_S:
+                raise ProbeTimeout(f"no {what} within {WALL_LIMIT_S:g} s of wall time "
+                                   f"({(self.now_ms - start_ms) / 1000:g} s of vehicle time)")
             if self.stall_s is not None and time.monotonic() - self._clock_moved_wall > self.stall_s:
                 raise VehicleSilent(f"no {what}: vehicle time stood still for {self.stall_s:g} s of wall time")
             self.pump(until=condition if exact else None)

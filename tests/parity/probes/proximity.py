@@ -59,6 +59,7 @@ PROXIMITY = mav.MAV_SYS_STATUS_SENSOR_PROXIMITY
 OBSTACLE_AVOIDANCE = mav.MAV_COMP_ID_OBSTACLE_AVOIDANCE  # 196
 HOLD_S = 20.0
 WINDOW_S = 3.0
+SETTLE_MS = 200  # read on past the window so every message stamped inside it has come
 SEND_EVERY_MS = 100  # the companion's messages at 10 Hz of vehicle time
 SECTORS, INCREMENT_DEG = 72, 5
 AHEAD_DEG = 15.0
@@ -110,14 +111,18 @@ def _bits(c: Client) -> list[int]:
 
 
 def _sensors(c: Client, sim_s: float = WINDOW_S) -> list:
-    """Every DISTANCE_SENSOR the vehicle sends for sim_s of vehicle time."""
+    """Every DISTANCE_SENSOR the vehicle stamps within the next sim_s of vehicle time. The window
+    is cut by each message's own time_boot_ms: on a loaded machine the client reads a backlog
+    when it starts listening and a batch past the end, which would count a second too many."""
     got: list = []
+    start_ms = c.now_ms
+    end_ms = start_ms + sim_s * 1000
 
     def take(msg) -> None:
-        if msg.get_type() == "DISTANCE_SENSOR":
+        if msg.get_type() == "DISTANCE_SENSOR" and start_ms <= msg.time_boot_ms < end_ms:
             got.append(msg)
     with c.listening(take):
-        c.idle(sim_s)
+        c.wait(lambda: c.now_ms >= end_ms + SETTLE_MS, sim_s + 5, what="vehicle time")
     return got
 
 

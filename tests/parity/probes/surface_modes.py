@@ -103,9 +103,13 @@ class Vehicle:
     def disarmed_in(self, mode: int) -> None:
         c = self.c
         on_ground_disarmed(c)
-        if c.mode != mode:
-            c.set_mode(mode)
-            c.wait(lambda: c.mode == mode, 3, what=f"mode {self.name(mode)}")
+        answers = []
+        while c.mode != mode:  # setting up, not a fact: an exchange lost on a loaded machine is tried again
+            if len(answers) == 3:
+                raise ProbeTimeout(f"mode {self.name(mode)} not entered: DO_SET_MODE answered {answers}, "
+                                   f"the vehicle in {self.name(c.mode)}, said {c.texts[-3:]}")
+            answers.append(c.set_mode(mode))
+            c.try_wait(lambda: c.mode == mode, 3)
 
     def armed_on_ground(self, mode: int = GUIDED) -> None:
         """Armed on the ground in `mode`; arming is retried for a while (a vehicle that just landed
