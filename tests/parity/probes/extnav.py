@@ -11,6 +11,9 @@ no_origin  before the companion speaks: GPS_RAW_INT, SYS_STATUS's vision and GPS
 origin     then SET_GPS_GLOBAL_ORIGIN: what comes back (GPS_GLOBAL_ORIGIN, the texts, home), a
            second origin and MAV_CMD_DO_SET_GLOBAL_ORIGIN after it, LOITER arming, and LOITER
            refused once EK3_SRC1_VELZ is set back to the GPS
+loiter     the GPS-denied flight: LOITER entered from a GUIDED hover at 10 m (sticks centred by RC override),
+           held 20 s (how far the vehicle wanders, where it believes it is), then the roll stick
+           full right for 4 s and centred: where it was at the release, its top speed, where it stopped
 hold       GUIDED at 10 m with the pose 0.8 m north of the truth: where the vehicle believes it
            is and where it is; then a 5.8 m jump: held off for seconds, then taken (the vehicle
            flies to where the pose says its point is)
@@ -47,6 +50,7 @@ from ..client import Client, mav
 from ..facts import Tol, Trace
 from ..targets import wait_armable
 from .booting import each_on_a_fresh_vehicle
+from .pilot import MID, Sticks
 
 AREA = "extnav"
 EXTNAV = {"GPS1_TYPE": 0, "VISO_TYPE": 1, "EK3_SRC1_POSXY": 6, "EK3_SRC1_VELXY": 6, "EK3_SRC1_VELZ": 6}
@@ -62,6 +66,13 @@ SETTLED_MS = 25_000
 FAILSAFE_TEXTS = ("EKF variance", "EKF Failsafe: changed to LAND Mode")
 TIMING = Tol(abs=1.0, why="a 20 Hz companion answering over the link at speedup 10-20, and 10 Hz streams")
 HOLD = Tol(abs=0.3, why="both position controllers settling; the companion's pose lags its SIMSTATE by the link")
+LOITER_HOLD_S, LOITER_STICK_S = 20.0, 4.0
+RIGHT = 2000  # the roll stick full right
+WANDER = Tol(abs=0.3, why="two position controllers holding a pose that lags the truth by the link")
+LOITER_PLACE = Tol(abs=2.0, why="two LOITER shapers from rest to the stick's speed and back: Firefly's is "
+                                 "AC_Loiter's drag and brake without its jerk shaping, about 1 m ahead at the "
+                                 "release and 1-2 m short of ArduCopter's stop after 33 m")
+LOITER_SPEED = Tol(abs=1.0, rel=0.15, why="LOITER's speed after the stick's seconds, as two loiter shapers reach it")
 
 
 def companion_link(c: Client):
@@ -82,6 +93,7 @@ class Companion:
         self.message = "VISION_POSITION_ESTIMATE"  # or ODOMETRY (frame_id below), ATT_POS_MOCAP
         self.odometry_frame = v20.MAV_FRAME_LOCAL_FRD
         self.last_truth = (0.0, 0.0)
+        self.track: list | None = None  # (vehicle s, true north, true east) at each SIMSTATE, once a list
 
     def __call__(self, msg) -> None:
         if msg.get_type() != "SIMSTATE":
@@ -89,6 +101,8 @@ class Companion:
         if self.first is None:
             self.first = msg
         self.last_truth = self.truth_ne(msg)
+        if self.track is not None:
+            self.track.append((self.c.now_ms / 1000.0, *self.last_truth))
         if self.speaking:
             n, e = self.last_truth
             n, e, usec = n + self.error_ne[0], e + self.error_ne[1], self.c.now_ms * 1000
@@ -254,6 +268,42 @@ def probe_hold(c: Client, trace: Trace) -> None:
     c.fresh_heartbeat()
     trace.fact("mode_15s", c.mode)
     trace.fact("said", [t for t in c.texts_since(t0) if t in FAILSAFE_TEXTS])
+
+
+def probe_loiter(c: Client, trace: Trace) -> None:
+    """LOITER with no GPS, on the pose alone (issue 31's GPS-denied flight): entered from the
+    GUIDED hover with the sticks centred by RC override; held 20 s; the roll stick full right for
+    LOITER_STICK_S, then centred again for 5 s."""
+    companion = _start(c)
+    _hover(c, companion)
+    sticks = Sticks(c)
+    with c.listening(sticks):
+        sticks.hold(MID, MID, MID, MID)
+        trace.fact("result", c.set_mode(LOITER))
+        c.wait(lambda: c.mode == LOITER, 5, what="LOITER")
+        entered = companion.last_truth
+        companion.track = []
+        c.idle(LOITER_HOLD_S)
+        trace.fact("hold.wander_m", round(max(math.dist(entered, p[1:]) for p in companion.track), 2), WANDER)
+        trace.fact("hold.believed_less_true", [round(x, 1) for x in _believed_less_true(c, companion)], HOLD)
+        start_s, companion.track = c.now_ms / 1000.0, []
+        sticks.hold(RIGHT, MID, MID, MID)
+        c.idle(LOITER_STICK_S)
+        released_s = c.now_ms / 1000.0
+        sticks.hold(MID, MID, MID, MID)
+        c.idle(5.0)
+        track = companion.track
+        speeds = [math.dist(a[1:], b[1:]) / (b[0] - a[0])  # over half a second: SIMSTATE's 1e-7 degrees
+                  for a, b in zip(track, track[10:]) if b[0] > a[0]]
+        held = [p for p in track if p[0] <= released_s]
+        trace.fact("stick.east_at_release_m", round(held[-1][2] - entered[1], 1), LOITER_PLACE)
+        trace.fact("stick.north_at_release_m", round(held[-1][1] - entered[0], 1), LOITER_PLACE)
+        trace.fact("stick.fastest_m_s", round(max(speeds), 1), LOITER_SPEED)
+        trace.fact("stick.stopped_east_m", round(track[-1][2] - entered[1], 1), LOITER_PLACE)
+        trace.fact("stick.took_s", round(released_s - start_s, 1))
+        c.fresh_heartbeat()
+        trace.fact("mode_after", c.mode)
+        trace.fact("said", [t for t in c.texts_since(int(start_s * 1000)) if t.startswith("EKF")])
 
 
 def probe_jump_with_speed(c: Client, trace: Trace) -> None:
@@ -548,7 +598,7 @@ def probe_external_position_estimate_extnav(c: Client, trace: Trace) -> None:
     trace.fact("said", [t for t in c.texts_since(t0) if not t.startswith("PreArm")])
 
 
-PROBES = {"no_origin": probe_no_origin, "origin": probe_origin, "hold": probe_hold,
+PROBES = {"no_origin": probe_no_origin, "origin": probe_origin, "hold": probe_hold, "loiter": probe_loiter,
           "jump_with_speed": probe_jump_with_speed, "silent": probe_silent, "other_messages": probe_other_messages,
           "gps_input": probe_gps_input, "source_switch": probe_source_switch,
           "external_position_estimate": probe_external_position_estimate,
