@@ -29,6 +29,9 @@ companion_obstacle_3d  PRX1_TYPE 2, the companion's OBSTACLE_DISTANCE_3D (body F
                     ahead, and 30 degrees right: the bits, the DISTANCE_SENSOR messages and the same
                     LOITER push; then a point in MAV_FRAME_LOCAL_NED only (ArduCopter takes body FRD
                     alone): whether the sensor stays healthy on it
+companion_guided    PRX1_TYPE 2, companion_obstacle's wall 20 m north: GUIDED velocity targets
+                    (SET_POSITION_TARGET_LOCAL_NED) of 3 m/s north at 5 Hz for 20 s: where it
+                    stops short of the wall (AVOID_MARGIN 2), its cruise and where it slows.
 prearm              PRX1_TYPE 2: ARM in LOITER with no companion yet, then with an obstacle straight
                     ahead at 1 m, 0.5 m and 5 m (the check wants more than 0.6 m): the COMMAND_ACK
                     result, the ARM's own texts and the pre-arm texts that name the sensor.
@@ -48,6 +51,7 @@ from ..client import Client, mav
 from ..facts import Tol, Trace
 from ..targets import wait_armable
 from .booting import each_on_a_fresh_vehicle
+from .avoid import Companion as VelocityTargets
 from .avoid import FULL_FORWARD, Recorder, _first, _in_loiter, _mode_now, _slowed_at, _square, _texts
 from .missions import upload
 from .nav_flight import goto, ne_alt
@@ -69,6 +73,7 @@ NORTH_M = 10.0  # sitl_sectors hovers this far north of home
 WALL_OBSTACLE_M, WALL_SENSOR_M, WALL_3D_M = 20.0, 15.0, 17.0  # the companions' walls, north of home
 RIGHT_3D_DEG = 30.0  # the 3-D companion's second point of its wall
 PUSH_WALL_M = 3.0  # althold_push's wall, ahead of where ALT_HOLD starts
+GUIDED_SPEED_M_S = 3.0  # companion_guided's velocity targets, north
 
 COMMON = {"FENCE_ENABLE": 0, "FENCE_ACTION": 0, "AVOID_ENABLE": 2, "AVOID_MARGIN": 2, "WP_YAW_BEHAVIOR": 0}
 SITL = {**COMMON, "PRX1_TYPE": 10, "FENCE_ALT_MAX": 50}
@@ -79,6 +84,7 @@ PROBES_PARAMS = {
     "companion_obstacle": MAVLINK,
     "companion_distance_sensor": MAVLINK,
     "companion_obstacle_3d": MAVLINK,
+    "companion_guided": MAVLINK,
     "prearm": MAVLINK,
     "althold_push": {**MAVLINK, "AVOID_DIST_MAX": 5, "AVOID_ANGLE_MAX": 1000},
 }
@@ -352,6 +358,32 @@ def companion_obstacle_3d(c: Client, trace: Trace) -> None:
         trace.fact("local_ned.proximity_bits", _bits(c))
 
 
+def companion_guided(c: Client, trace: Trace) -> None:
+    """GUIDED toward the companion's wall: velocity targets of GUIDED_SPEED_M_S north for HOLD_S."""
+    companion = Companion(c)
+    companion.wall_north = WALL_OBSTACLE_M
+    with c.listening(companion):
+        _ready(c, companion)
+        _wait_home(c)
+        targets, rec = VelocityTargets(c), Recorder(c)
+        with c.listening(targets), c.listening(rec):
+            reach_flying(c, 10.0)
+            c.idle(1.0)
+            since_ms, pushed_s = c.now_ms, rec.now_s()
+            targets.velocity = (GUIDED_SPEED_M_S, 0.0, 0.0)
+            c.idle(HOLD_S)
+            trace.fact("texts", _texts(c, since_ms))
+            trace.fact("mode_after", _mode_now(c))
+    held = rec.since(pushed_s)
+    trace.fact("farthest_north_m", round(max(p[1] for p in held), 1), COMPANION_STOP)
+    trace.fact("end.north_m", round(held[-1][1], 1), COMPANION_STOP)
+    trace.fact("end.east_m", round(held[-1][2], 1), DRIFT)
+    cruise = [p[4] for p in held if 3.0 < p[1] < 10.0]
+    trace.fact("cruise_m_s", round(sorted(cruise)[len(cruise) // 2], 1) if cruise else None,
+               Tol(abs=0.2, why="the 3 m/s asked for"))
+    trace.fact("slowed_below_1_m_s_at_north_m", _slowed_at(held, lambda p: p[1], 2.0), COMPANION_STOP)
+
+
 def _companion_push(c: Client, trace: Trace, companion: Companion, wall_m: float, why: str,
                     ready_trace: bool = False) -> None:
     """A companion reporting a wall `wall_m` north of home: the hover's sensors, then the LOITER push."""
@@ -452,7 +484,7 @@ def althold_push(c: Client, trace: Trace) -> None:
 
 PROBES = {"sitl_sectors": sitl_sectors, "sitl_loiter_stop": sitl_loiter_stop, "companion_obstacle": companion_obstacle,
           "companion_distance_sensor": companion_distance_sensor, "companion_obstacle_3d": companion_obstacle_3d,
-          "prearm": prearm, "althold_push": althold_push}
+          "companion_guided": companion_guided, "prearm": prearm, "althold_push": althold_push}
 
 
 def run(target) -> dict[str, Trace]:
