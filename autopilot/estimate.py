@@ -138,7 +138,7 @@ class StateEstimate:
         return (-told[0], -told[1]) if reset else None
 
     def _gps_reading(self):
-        gps = self.sim.gps.read(self.sim.state.body)
+        gps = self.sim.gps.read(self.sim.state.body, self.sim.time_s)
         if not self.gps_fitted:
             return gps._replace(satellites=0, fix_type=NO_GPS)
         if self.gps_from_mavlink:  # the companion's fix while it comes, else none

@@ -3,17 +3,20 @@
 Each sensor owns its own numpy Generator (seeded from the vehicle seed and the sensor's name) so
 adding a sensor never changes another's noise. Noise draws happen at each sensor's own rate.
 
-Faults are plain attributes set from outside (autopilot/faults/world.py): the GPS can be switched off,
-glitched by a fixed offset or report few satellites; the barometer can drift; the RC receiver can
-stop sending frames or send its failsafe throttle.
+Faults are plain attributes set from outside (autopilot/faults/world.py): the GPS can be switched
+off, jammed (gps_jamming.py), glitched by a fixed offset or report few satellites; the barometer
+can drift; the RC receiver can stop sending frames or send its failsafe throttle.
 """
 from __future__ import annotations
 
 import zlib
 from dataclasses import dataclass
-from typing import NamedTuple
+from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
+
+if TYPE_CHECKING:
+    from .gps_jamming import GpsJamming
 
 
 @dataclass(frozen=True)
@@ -69,15 +72,27 @@ class Gps:
         # satellites in flight change nothing.
         self.satellites = 10
         self.glitch_ned = (0.0, 0.0, 0.0)  # metres added to every position reading
+        self._seed = seed
+        self.jamming: GpsJamming | None = None  # while SIM_GPS1_JAM is on
 
-    def read(self, body) -> GpsReading:
+    def jam(self, on: bool) -> None:
+        """SIM_GPS1_JAM: the receiver jammed from now on, or no longer. Its draws come from a
+        generator of their own, so the other readings' noise is the same whether or not it was."""
+        if on and self.jamming is None:
+            from .gps_jamming import GpsJamming as Jamming  # (it reads this module's GpsReading)
+            self.jamming = Jamming(sensor_rng(self._seed, "gps_jamming"))
+        elif not on:
+            self.jamming = None
+
+    def read(self, body, now_s: float = 0.0) -> GpsReading:
         nz, h, v, vel = self._src.normal, self._noise.gps_horizontal_m, self._noise.gps_vertical_m, \
             self._noise.gps_velocity_m_s
         gn, ge, gd = self.glitch_ned
         sats, fix = (self.satellites, FIX_3D) if self.enabled else (0, NO_FIX)
-        return GpsReading(body.n_m + gn + h * nz(), body.e_m + ge + h * nz(), body.d_m + gd + v * nz(),
-                          body.vn_m_s + vel * nz(), body.ve_m_s + vel * nz(),
-                          body.vd_m_s + vel * nz(), sats, fix)
+        reading = GpsReading(body.n_m + gn + h * nz(), body.e_m + ge + h * nz(), body.d_m + gd + v * nz(),
+                             body.vn_m_s + vel * nz(), body.ve_m_s + vel * nz(),
+                             body.vd_m_s + vel * nz(), sats, fix)
+        return reading if self.jamming is None else self.jamming.read(reading, now_s)
 
 
 class RcReceiver:

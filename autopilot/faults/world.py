@@ -60,6 +60,7 @@ class Faults:
         n, e, d = ned_from_global(o, o.lat_deg + p["SIM_GPS1_GLTCH_X"], o.lon_deg + p["SIM_GPS1_GLTCH_Y"],
                                   o.alt_m + p["SIM_GPS1_GLTCH_Z"])
         gps.glitch_ned = (n, e, d)
+        gps.jam(p["SIM_GPS1_JAM"] == 1)
 
     def _baro(self) -> None:
         self.sim.baro.set_drift(self.params["SIM_BARO_DRIFT"], self.sim.time_s)
@@ -116,7 +117,7 @@ class Faults:
 APPLY = {
     "SIM_ENGINE_FAIL": Faults._motors, "SIM_ENGINE_MUL": Faults._motors,
     "SIM_GPS_DISABLE": Faults._gps, "SIM_GPS1_ENABLE": Faults._gps, "SIM_GPS1_NUMSATS": Faults._gps, "SIM_GPS1_GLTCH_X": Faults._gps,
-    "SIM_GPS1_GLTCH_Y": Faults._gps, "SIM_GPS1_GLTCH_Z": Faults._gps,
+    "SIM_GPS1_GLTCH_Y": Faults._gps, "SIM_GPS1_GLTCH_Z": Faults._gps, "SIM_GPS1_JAM": Faults._gps,
     "SIM_BARO_DRIFT": Faults._baro,
     "SIM_WIND_SPD": Faults._wind, "SIM_WIND_DIR": Faults._wind, "SIM_WIND_TURB": Faults._wind,
     "SIM_WIND_TC": Faults._wind,

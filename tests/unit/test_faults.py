@@ -148,6 +148,72 @@ def test_gps_glitch_is_announced_rejected_and_cleared():
     assert fly_until(v, lambda x: said(x, "Glitch cleared"), 0.3)
 
 
+# ----- GPS jamming ----------------------------------------------------------------------------------
+def test_a_jammed_gps_trips_the_ekf_failsafe_by_its_velocity_and_comes_and_goes():
+    """SIM_GPS1_JAM in a GUIDED hover, as measured on ArduCopter SITL (six flights): the fix goes,
+    comes back wandering hundreds of metres off with wild velocities, the EKF failsafe lands the
+    vehicle within seconds (4.3 to 7.5 s), then clears and trips again as the readings come."""
+    v, hold = hovering_with(("SIM_GPS1_JAM", 1))
+    t0 = v.time_s
+    fix_types, offsets = set(), []
+    while v.mode.number != Land.number and v.time_s - t0 < 20.0:
+        v.run_until(v.time_s + 0.1)
+        fix_types.add(v.gps.fix_type)
+        offsets.append(math.hypot(v.gps.n_m - v.sim.state.body.n_m, v.gps.e_m - v.sim.state.body.e_m))
+    assert v.mode.number == Land.number, "no EKF failsafe within 20 s of jamming"
+    assert 1.0 < v.time_s - t0 < 20.0  # the first second at least has no fix at all
+    assert fix_types == {1, 3} and max(offsets) > 20.0
+    assert said(v, "GPS Glitch or Compass error") and said(v, "EKF Failsafe: changed to LAND Mode")
+    assert horizontal_distance(v, hold) < 1.0  # rejected: the estimate did not follow the fixes
+    assert fly_until(v, lambda x: said(x, "EKF Failsafe Cleared"), 20.0)
+    v.params.set("SIM_GPS1_JAM", 0)
+    v.run_until(v.time_s + 1.0)
+    assert v.gps.n_m - v.sim.state.body.n_m == pytest.approx(0.0, abs=2.0)  # the receiver as before
+
+
+def test_a_glitch_alone_is_no_variance_but_wild_velocities_are():
+    """ArduCopter's ekf_over_threshold: a high position variance (a glitching GPS) counts only
+    with another; the velocity variance at twice FS_EKF_THRESH counts alone."""
+    v, _ = hovering_with(("SIM_GPS_GLITCH_X", 0.001))
+    v.run_until(v.time_s + 5.0)
+    ekf = v.failsafes.ekf
+    assert ekf.gps_glitching and ekf.vel_variance < 0.1 and ekf.fail_count == 0
+    v.params.set("SIM_GPS_GLITCH_X", 0.0)
+    v.sim.gps.glitch_ned = (0.0, 0.0, 0.0)
+    reading = v.sim.gps.read  # a receiver whose velocity is 20 m/s off: a variance of 5.7
+    v.sim.gps.read = lambda body, now_s=0.0: reading(body, now_s)._replace(vn_m_s=body.vn_m_s + 20.0)
+    t0 = v.time_s
+    assert fly_until(v, lambda x: x.mode.number == Land.number, 2.0)
+    assert v.time_s - t0 >= 0.9  # ten checks over the threshold, at 10 Hz
+    assert said(v, "EKF variance")
+
+
+def test_vibration_compensation_comes_on_after_a_second_of_high_velocity_variance_and_goes_after_15_s():
+    v = hovering_vehicle(10.0)
+    v.events.clear()
+    reading = v.sim.gps.read
+    v.params.set("FS_EKF_THRESH", 0)  # the variance high, the failsafe kept out of it
+    v.sim.gps.read = lambda body, now_s=0.0: reading(body, now_s)._replace(vd_m_s=body.vd_m_s + 10.0)
+    assert not fly_until(v, lambda x: said(x, "Vibration compensation ON"), 1.0)
+    assert fly_until(v, lambda x: said(x, "Vibration compensation ON"), 0.5)
+    v.sim.gps.read = reading
+    assert not fly_until(v, lambda x: said(x, "Vibration compensation OFF"), 14.5)
+    assert fly_until(v, lambda x: said(x, "Vibration compensation OFF"), 1.0)
+
+
+def test_in_a_mode_that_needs_no_position_the_ekf_failsafe_is_only_said_and_cleared():
+    """failsafe_ekf_event(): no action where the mode needs no position, "EKF Failsafe" said, and
+    "EKF Failsafe Cleared" once the checks pass again."""
+    v = throttle_at_mid(hovering_vehicle(10.0))
+    assert v.set_mode(AltHold.number) == Result.ACCEPTED
+    v.events.clear()
+    v.params.set("SIM_GPS_DISABLE", 1)
+    assert fly_until(v, lambda x: x.failsafes.ekf.failsafe, EKF_FAILSAFE_S + 1.0)
+    assert v.mode.number == AltHold.number and texts(v)[:2] == ["EKF variance", "EKF Failsafe"]
+    v.params.set("SIM_GPS_DISABLE", 0)
+    assert fly_until(v, lambda x: said(x, "EKF Failsafe Cleared"), 2.0)
+
+
 # ----- motors ---------------------------------------------------------------------------------------
 def test_a_motor_at_70_percent_thrust_still_holds_position():
     v, hold = hovering_with(("SIM_ENGINE_FAIL", 4), ("SIM_ENGINE_MUL", 0.84))  # output 3, the front: 70 % thrust

@@ -115,6 +115,40 @@ def test_gps_glitch_offsets_every_position_reading():
     assert (r.n_m, r.e_m, r.d_m) == pytest.approx((31.0, -18.0, 2.0))
 
 
+def jammed_readings(seed: int, seconds: float = 30.0, body=BodyState(n_m=5.0, e_m=-3.0, d_m=-10.0)) -> list:
+    gps = Gps(seed, NoiseConfig())
+    gps.jam(True)
+    return [gps.read(body, k * 0.1) for k in range(round(seconds * 10))]
+
+
+def test_a_jammed_gps_loses_its_fix_then_wanders_as_sitls_does():
+    """SIM_GPS1_JAM as ArduPilot SITL jams: no lock for the first 1 to 6 s, then fixes that come
+    and go, a position stepped up to 200 m at a time from where it started, and speeds within
+    +-400 m/s now and then; a reading held for SITL's 0.2 s between its samples."""
+    readings = jammed_readings(7)
+    assert all(r.fix_type == NO_FIX and r.satellites == 3 for r in readings[:10])
+    later = readings[60:]
+    assert {r.fix_type for r in later} == {NO_FIX, FIX_3D}
+    assert all(2 <= r.satellites <= 16 for r in later)
+    steps = [math.hypot(b.n_m - a.n_m, b.e_m - a.e_m) for a, b in zip(readings, readings[1:])]
+    assert 0 < max(steps) <= 200.0 * math.sqrt(2) and max(map(abs, (r.n_m - 5.0 for r in later))) > 20.0
+    speeds = [max(abs(r.vn_m_s), abs(r.ve_m_s), abs(r.vd_m_s)) for r in later]
+    assert 10.0 < max(speeds) <= 400.0 and sorted(speeds)[len(speeds) // 2] < 1.0  # wild only now and then
+    assert all(a == b for a, b in zip(readings[::2], readings[1::2]))  # SITL's 5 Hz at Firefly's 10 Hz
+    assert all(r.d_m == pytest.approx(-10.0, abs=3.0) for r in readings)  # the height is left alone
+
+
+def test_jamming_is_repeatable_and_leaves_the_receivers_own_noise_as_it_was():
+    assert jammed_readings(3) == jammed_readings(3) != jammed_readings(4)
+    quiet, jammed = Gps(3, NoiseConfig()), Gps(3, NoiseConfig())
+    body = BodyState()
+    jammed.jam(True)
+    for k in range(50):
+        quiet.read(body, k * 0.1), jammed.read(body, k * 0.1)
+    jammed.jam(False)
+    assert quiet.read(body, 5.0) == jammed.read(body, 5.0)
+
+
 def test_barometer_drift_grows_from_when_it_is_set_and_clears_with_zero():
     baro = Barometer(0, QUIET)
     body = BodyState(d_m=-10.0)

@@ -49,6 +49,15 @@ DRIFT_TOL = Tol(abs=3.0, rel=0.5, why="how far the wind pushes before the positi
 HEIGHT_TOL = Tol(abs=3.0, rel=0.5, why="read while the vehicle still sinks at up to 1 m/s from 5 Hz GPS fixes: "
                                        "ArduCopter read -5.4 to -7.7 m in three recordings, Firefly -7.8 to "
                                        "-12 m (its height is the barometer's alone; ArduCopter's EKF blends)")
+# A jammed GPS's readings are drawn at random on both vehicles (SITL's and Firefly's jamming
+# alike), and with them when the failsafe trips and how often it clears and trips again.
+JAM_TOL = Tol(abs=5.0, why="chance: ArduCopter tripped 4.3 to 7.5 s after the jamming in six flights; Firefly's "
+                           "model 3.5 to 6.6 s for half of 100 seeds, 12.5 s at most")
+# So the jammed scenario's texts are the set said: the failsafe's clearing and tripping again
+# come on both, in numbers that vary. Vibration compensation is left out of that set: it comes
+# when the velocity variance stays high for a second, which chance decides (ArduCopter: in each
+# of four flights, 5.6 to 17.2 s in; Firefly's model: 98 of 100 seeds within 20 s).
+VIBRATION = re.compile(r"^Vibration compensation")
 NUMBER = re.compile(r"-?\d+(\.\d+)?")
 # ArduCopter's EKF runs a lane per IMU and says when it makes another lane primary: the internals
 # of a multi-lane estimator, on its own timing, not a reaction a client acts on.
@@ -113,10 +122,11 @@ def tilt_deg(c: Client) -> float:
 
 
 def watch(c: Client, trace: Trace, scenario: str, sets: list[tuple[str, float]], window_s: float,
-          tol: Tol = HEARTBEAT_TOL, during=None, early=None) -> None:
+          tol: Tol = HEARTBEAT_TOL, during=None, early=None, said_as=None) -> None:
     """Set each (name, value), then watch `window_s` of vehicle time: the facts listed in the
     module's docstring under `scenario.`; `during(c)` adds facts of its own at the end, `early`
-    = (seconds, fn) facts of fn(c) that many seconds into the window."""
+    = (seconds, fn) facts of fn(c) that many seconds into the window; `said_as` reduces what
+    was said in another way than said()."""
     start_mode = c.mode
     t0 = c.now_ms
     changed: list[float] = []
@@ -138,7 +148,7 @@ def watch(c: Client, trace: Trace, scenario: str, sets: list[tuple[str, float]],
     trace.fact(f"{scenario}.mode_after", mode_name(c.mode))
     trace.fact(f"{scenario}.armed_after", c.armed)
     trace.fact(f"{scenario}.flying_after", c.armed and c.rel_alt_m() > 2.0)
-    trace.fact(f"{scenario}.said", said(c.texts_since(t0)))
+    trace.fact(f"{scenario}.said", (said_as or said)(c.texts_since(t0)))
     for name, (value, value_tol) in extra.items():
         trace.fact(f"{scenario}.{name}", value, value_tol)
 
@@ -166,7 +176,7 @@ def battery(vehicle: Vehicle) -> dict[str, Trace]:
     return {"SIM_BATT_VOLTAGE": trace}
 
 
-def one_fault(name: str, scenario: str, value: float, window_s: float, tol: Tol):
+def one_fault(name: str, scenario: str, value: float, window_s: float, tol: Tol, said_as=None):
     """A part of the area: `name` set to `value` on a fresh hovering vehicle."""
     def part(vehicle: Vehicle) -> dict[str, Trace]:
         trace = Trace()
@@ -174,7 +184,7 @@ def one_fault(name: str, scenario: str, value: float, window_s: float, tol: Tol)
         if c is None:
             unreached(trace, scenario)
         else:
-            watch(c, trace, scenario, [(name, value)], window_s, tol)
+            watch(c, trace, scenario, [(name, value)], window_s, tol, said_as=said_as)
         vehicle.lost()
         return {name: trace}
     return part
@@ -183,7 +193,8 @@ def one_fault(name: str, scenario: str, value: float, window_s: float, tol: Tol)
 # the GPS goes silent; its latitude jumps by 0.001 deg (111 m north); its fix wanders as jammed
 gps_off = one_fault("SIM_GPS1_ENABLE", "gps_off", 0, 14.0, EKF_TOL)  # LAND at 8 s, still descending
 gps_glitch = one_fault("SIM_GPS1_GLTCH_X", "jump_111m", 0.001, 15.0, EKF_TOL)
-gps_jam = one_fault("SIM_GPS1_JAM", "jammed", 1, 20.0, EKF_TOL)
+gps_jam = one_fault("SIM_GPS1_JAM", "jammed", 1, 20.0, JAM_TOL, said_as=lambda texts: sorted(set(said(
+    [t for t in texts if not VIBRATION.search(t)]))))
 
 
 def rc_fail(vehicle: Vehicle) -> dict[str, Trace]:
