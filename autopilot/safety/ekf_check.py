@@ -10,9 +10,10 @@ watch. Three things are modelled, each as ArduCopter's check sees it:
   grows with the distance between the GPS's velocity and the estimate's. Measured on ArduCopter
   SITL under SIM_GPS1_JAM, 3.1 to 4.9 m/s of velocity innovation per unit (VEL_INNOVATION_M_S);
   like EKF3's it holds between fused fixes. It is filtered at FS_EKF_FILT, as ekf_check's;
-- the position variance, only as "past the threshold" while the GPS glitches (its fixes farther
-  than GPS_GLITCH_GATE_M from the estimate, rejected): ArduCopter's check counts a high position
+- the position variance: the fix's distance from the estimate over GPS_GLITCH_GATE_M (EKF3's gate
+  as measured, where its test ratio reaches 1). ArduCopter's check counts a high position
   variance only with one other over the threshold, so a glitch alone trips nothing, as measured.
+The two test ratios also make EKF3's GPS glitch flag, with its hysteresis (_check_glitch).
 After EKF_CHECK_ITERATIONS_MAX bad checks the failsafe says "EKF variance" and takes FS_EKF_ACTION;
 it counts back down once the checks pass, and clears at zero.
 
@@ -39,6 +40,9 @@ if TYPE_CHECKING:
 EKF_CHECK_ITERATIONS_MAX = 10  # 1 s of bad checks at 10 Hz
 CHECK_DT_S = 0.1  # the checks run at 10 Hz
 GPS_GLITCH_GATE_M = 5.0  # horizontal GPS-to-estimate distance beyond which a fix is rejected
+# EKF3's innovation check (calcGpsGoodForFlight): failing for a second makes a glitch, passing for
+# ten seconds ends it; a test ratio above this fails, below 1 (both) passes
+GLITCH_DETECT_S, GLITCH_CLEAR_S, INNOVATION_FAIL_RATIO = 1.0, 10.0, 0.7
 VEL_INNOVATION_M_S = 3.5  # GPS velocity innovation per unit of EKF3's reported velocity variance
 VIBE_DETECT_S, VIBE_CLEAR_S = 1.0, 15.0  # check_vibration's times to switch compensation on and off
 ACTION_REPORT_ONLY, ACTION_LAND, ACTION_ALT_HOLD, ACTION_LAND_EVEN_STABILIZE = 0, 1, 2, 3
@@ -50,19 +54,20 @@ class EkfCheck:
         self.failsafe = False  # ArduCopter's failsafe.ekf
         self.acted = False  # ArduCopter's AP_Notify failsafe_ekf flag: tripped while armed
         self.gps_glitching = False
-        self.vel_variance = 0.0  # EKF3's, from the last fused fix
+        self.vel_variance = self.pos_variance = 0.0  # EKF3's (square roots of its test ratios), from the last fix
         self.vel_variance_filt = 0.0
         self.vibe_comp = False  # ArduCopter's vibration_check.high_vibes
         self._vibe_since_s: float | None = None  # bad since then (None: not bad at the last check)
         self._vibe_last_s = 0.0
         self._filt_hz, self._alpha = math.nan, 1.0  # FS_EKF_FILT and its filter's gain
+        self._innovations_passed_s = self._innovations_failed_s = 0.0
 
     def check(self, v: FailsafeView) -> None:
         """Called at 10 Hz."""
         gps, body, params = v.gps, v.body, v.params
-        self._check_glitch(v, gps, body)
         thresh = params["FS_EKF_THRESH"]
         over = self._variances_over(gps, body, params["FS_EKF_FILT"], thresh)
+        self._check_glitch(v, gps)
         if self.vel_variance_filt > 1.0 or self.vibe_comp:
             self._check_vibration(v)
         else:  # (most checks: nothing to time)
@@ -85,16 +90,17 @@ class EkfCheck:
     def _variances_over(self, gps: GpsReading, b: BodyState, filt_hz: float, thresh: float) -> bool:
         """ekf_over_threshold(): the velocity variance (filtered) at twice the threshold, or at it
         with the position's; the magnetometers never are."""
-        if gps.fix_type >= 3:  # a fix fused (or tested): its velocity innovation
+        if gps.fix_type >= 3:  # a fix fused (or tested): its innovations
             dn, de, dd = gps.vn_m_s - b.vn_m_s, gps.ve_m_s - b.ve_m_s, gps.vd_m_s - b.vd_m_s
             self.vel_variance = math.sqrt(dn * dn + de * de + dd * dd) / VEL_INNOVATION_M_S
+            self.pos_variance = math.hypot(gps.n_m - b.n_m, gps.e_m - b.e_m) / GPS_GLITCH_GATE_M
         if filt_hz != self._filt_hz:
             self._filt_hz = filt_hz  # ArduPilot's LowPassFilterFloat at the check's rate
             self._alpha = CHECK_DT_S / (CHECK_DT_S + 1.0 / (2.0 * math.pi * filt_hz)) if filt_hz > 0 else 1.0
         filt = self.vel_variance_filt = self.vel_variance_filt + self._alpha * (self.vel_variance - self.vel_variance_filt)
         if filt < thresh:
             return False
-        return filt >= 2.0 * thresh or self.gps_glitching
+        return filt >= 2.0 * thresh or self.pos_variance >= thresh
 
     def _check_vibration(self, v: FailsafeView) -> None:
         now = v.time_s
@@ -135,10 +141,23 @@ class EkfCheck:
             self.acted = False
             v.notify("EKF Failsafe Cleared", Severity.CRITICAL)
 
-    def _check_glitch(self, v: FailsafeView, gps: GpsReading, b: BodyState) -> None:
+    def _check_glitch(self, v: FailsafeView, gps: GpsReading) -> None:
+        """EKF3's GPS accuracy check: the fix's innovations judged with hysteresis, failing for a
+        second to call the GPS glitching, passing for GLITCH_CLEAR_S to call it well again. The
+        position's test ratio is its distance from the estimate over GPS_GLITCH_GATE_M, squared;
+        the velocity's, the velocity variance squared."""
         if gps.fix_type < 3:  # no fix, nothing to judge: EKF3's flag stays as the last fix left it
             return
-        glitching = math.hypot(gps.n_m - b.n_m, gps.e_m - b.e_m) > GPS_GLITCH_GATE_M
-        if glitching != self.gps_glitching:
-            self.gps_glitching = glitching
-            v.notify("GPS Glitch or Compass error" if glitching else "Glitch cleared", Severity.CRITICAL)
+        now = v.time_s
+        pos_ratio, vel_ratio = self.pos_variance * self.pos_variance, self.vel_variance * self.vel_variance
+        if pos_ratio < 1.0 and vel_ratio < 1.0:
+            self._innovations_passed_s = now
+        elif pos_ratio > INNOVATION_FAIL_RATIO or vel_ratio > INNOVATION_FAIL_RATIO:
+            self._innovations_failed_s = now
+        if self.gps_glitching:
+            if now - self._innovations_failed_s > GLITCH_CLEAR_S:
+                self.gps_glitching = False
+                v.notify("Glitch cleared", Severity.CRITICAL)
+        elif now - self._innovations_passed_s > GLITCH_DETECT_S:
+            self.gps_glitching = True
+            v.notify("GPS Glitch or Compass error", Severity.CRITICAL)
