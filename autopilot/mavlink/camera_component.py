@@ -9,8 +9,9 @@ each command with exactly one COMMAND_ACK, then any message the command asked fo
   STORAGE_INFORMATION, VIDEO_STREAM_INFORMATION and VIDEO_STREAM_STATUS (param 2 the stream id, 0
   or 1; when the video is on), CAMERA_IMAGE_CAPTURED (param 2 the image index, -1 all; param 3 0 that one,
   -1 it and all after it, else the last index of a range) and HEARTBEAT; and the deprecated
-  REQUEST_CAMERA_INFORMATION / _SETTINGS / _CAPTURE_STATUS and REQUEST_STORAGE_INFORMATION
-  (param 1 = 0 asks for nothing), and REQUEST_CAMERA_IMAGE_CAPTURE (param 1 the index);
+  REQUEST_CAMERA_INFORMATION / _SETTINGS / _CAPTURE_STATUS (param 1 = 0 asks for nothing) and
+  REQUEST_STORAGE_INFORMATION (param 1 the storage, 0 or 1; param 2 = 0 asks for nothing), and
+  REQUEST_CAMERA_IMAGE_CAPTURE (param 1 the index);
 - IMAGE_START_CAPTURE (param 2 interval [s], param 3 count, 0 until stopped), IMAGE_STOP_CAPTURE,
   SET_CAMERA_MODE (image only), STORAGE_FORMAT, RESET_CAMERA_SETTINGS, and with the video on
   VIDEO_START_STREAMING / VIDEO_STOP_STREAMING (param 1 the stream id) and the deprecated
@@ -235,8 +236,15 @@ class CameraComponent:
         return Result.ACCEPTED
 
     def request_deprecated(self, c: Command, replies: list) -> Result:
-        """REQUEST_CAMERA_INFORMATION and its kin: param 1 = 0 asks for nothing."""
-        ask = _whole(c.p1, 0, 255)
+        """REQUEST_CAMERA_INFORMATION and its kin: param 1 = 0 asks for nothing. Except
+        REQUEST_STORAGE_INFORMATION, whose param 1 is the storage (0 all) and param 2 the request
+        (QGroundControl's retry sends 0, 1)."""
+        flag = c.p1
+        if c.command == mav.MAV_CMD_REQUEST_STORAGE_INFORMATION:
+            if _whole(c.p1, 0, 255) not in STORAGES:
+                return Result.DENIED
+            flag = c.p2
+        ask = _whole(flag, 0, 1)  # a MAV_BOOL: "values not equal to 0 or 1 are invalid"
         if ask is None:
             return Result.DENIED
         if ask:

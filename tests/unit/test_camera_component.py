@@ -101,6 +101,21 @@ def test_the_other_messages_on_request(rig, msg_id, name):
     assert [m.get_type() for m in got] == ["COMMAND_ACK", name] and got[0].result == mav.MAV_RESULT_ACCEPTED
 
 
+def test_the_older_requests_and_their_flag(rig):
+    """REQUEST_CAMERA_INFORMATION and its kin take the request in param 1; REQUEST_STORAGE_INFORMATION
+    takes the storage there and the request in param 2 (QGroundControl's retry: 0 all, 1 yes)."""
+    component = rig[2]
+    storage = ask(component, mav.MAV_CMD_REQUEST_STORAGE_INFORMATION, 0, 1)
+    assert [m.get_type() for m in storage] == ["COMMAND_ACK", "STORAGE_INFORMATION"]
+    assert storage[0].result == mav.MAV_RESULT_ACCEPTED
+    assert [m.get_type() for m in ask(component, mav.MAV_CMD_REQUEST_STORAGE_INFORMATION, 1, 0)] == ["COMMAND_ACK"]
+    assert acks(ask(component, mav.MAV_CMD_REQUEST_STORAGE_INFORMATION, 2, 1))[0].result == mav.MAV_RESULT_DENIED
+    assert acks(ask(component, mav.MAV_CMD_REQUEST_STORAGE_INFORMATION, 0, 2))[0].result == mav.MAV_RESULT_DENIED
+    info = ask(component, mav.MAV_CMD_REQUEST_CAMERA_INFORMATION, 1)
+    assert [m.get_type() for m in info] == ["COMMAND_ACK", "CAMERA_INFORMATION"]
+    assert [m.get_type() for m in ask(component, mav.MAV_CMD_REQUEST_CAMERA_SETTINGS, 0)] == ["COMMAND_ACK"]
+
+
 def test_a_photo_is_announced_with_its_geotag_and_file(rig):
     clock, camera, component = rig
     got = ask(component, mav.MAV_CMD_IMAGE_START_CAPTURE, 0, 0, 1)
