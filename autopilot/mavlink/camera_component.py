@@ -6,7 +6,7 @@ What it says unasked, to every link: a HEARTBEAT (MAV_TYPE_CAMERA) each second o
 CAMERA_IMAGE_CAPTURED for each still as it is taken. Asked (COMMAND_LONG or COMMAND_INT), it answers
 each command with exactly one COMMAND_ACK, then any message the command asked for, to the asking link:
 - REQUEST_MESSAGE for CAMERA_INFORMATION, CAMERA_SETTINGS, CAMERA_CAPTURE_STATUS,
-  STORAGE_INFORMATION, VIDEO_STREAM_INFORMATION and VIDEO_STREAM_STATUS (param 2 the stream id, 0
+  STORAGE_INFORMATION, CAMERA_FOV_STATUS, VIDEO_STREAM_INFORMATION and VIDEO_STREAM_STATUS (param 2 the stream id, 0
   or 1; when the video is on), CAMERA_IMAGE_CAPTURED (param 2 the image index, -1 all; param 3 0 that one,
   -1 it and all after it, else the last index of a range) and HEARTBEAT; and the deprecated
   REQUEST_CAMERA_INFORMATION / _SETTINGS / _CAPTURE_STATUS (param 1 = 0 asks for nothing) and
@@ -32,6 +32,7 @@ from ..payload.thermal_video import NAME as VIDEO_NAME
 from ..payload.thermal_video import STREAM_ID
 from ..results import Result
 from .camera_ftp import CameraFtp, file_url
+from .camera_messages import NOT_KNOWN
 from .commands import Command
 from .component_frames import FromComponent
 from .dialect import mavlink as mav
@@ -115,6 +116,16 @@ class CameraComponent:
 
     def settings(self):
         return self.codec.camera_settings_encode(self._ms(), mav.CAMERA_MODE_IMAGE, math.nan, math.nan)
+
+    def fov_status(self):
+        """Where the camera is and how wide it sees: QGroundControl asks after each CAMERA_SETTINGS
+        and takes hfov (with the aspect of CAMERA_INFORMATION's resolution) for its gimbal
+        control on the video. The point it looks at is not worked out: INT32_MAX, "not known"."""
+        look = self.camera.look()
+        spec = self.camera.spec
+        return self.codec.camera_fov_status_encode(self._ms(), look.lat_e7, look.lon_e7, look.alt_mm,
+                                                   NOT_KNOWN, NOT_KNOWN, NOT_KNOWN, list(look.q),
+                                                   spec.hfov_deg, spec.vfov_deg)
 
     def capture_status(self):
         camera = self.camera
@@ -318,6 +329,7 @@ MESSAGES: dict[int, Callable] = {
     mav.MAVLINK_MSG_ID_CAMERA_SETTINGS: CameraComponent.settings,
     mav.MAVLINK_MSG_ID_CAMERA_CAPTURE_STATUS: CameraComponent.capture_status,
     mav.MAVLINK_MSG_ID_STORAGE_INFORMATION: CameraComponent.storage_information,
+    mav.MAVLINK_MSG_ID_CAMERA_FOV_STATUS: CameraComponent.fov_status,
 }
 VIDEO_MESSAGES: dict[int, Callable] = {
     mav.MAVLINK_MSG_ID_VIDEO_STREAM_INFORMATION: CameraComponent.video_stream_information,

@@ -116,6 +116,19 @@ def test_the_older_requests_and_their_flag(rig):
     assert [m.get_type() for m in ask(component, mav.MAV_CMD_REQUEST_CAMERA_SETTINGS, 0)] == ["COMMAND_ACK"]
 
 
+def test_fov_status_gives_the_lens_and_where_the_camera_is(rig):
+    """QGroundControl asks for it after each CAMERA_SETTINGS and reads hfov (its gimbal control on
+    the video): the lens's 57 x 44.3 deg, the camera's position and attitude; the ground point
+    it looks at is left "not known" (INT32_MAX)."""
+    got = ask(rig[2], mav.MAV_CMD_REQUEST_MESSAGE, mav.MAVLINK_MSG_ID_CAMERA_FOV_STATUS)
+    assert [m.get_type() for m in got] == ["COMMAND_ACK", "CAMERA_FOV_STATUS"]
+    fov = got[1]
+    assert (fov.hfov, fov.vfov) == (pytest.approx(57.0), pytest.approx(44.3, abs=0.05))
+    assert (fov.lat_camera, fov.lon_camera, fov.alt_camera) == (-350000000, 1490000000, 604000)
+    assert fov.lat_image == fov.lon_image == fov.alt_image == 2**31 - 1
+    assert fov.q == pytest.approx([math.sqrt(0.5), 0.0, -math.sqrt(0.5), 0.0], abs=1e-6)  # straight down
+
+
 def test_a_photo_is_announced_with_its_geotag_and_file(rig):
     clock, camera, component = rig
     got = ask(component, mav.MAV_CMD_IMAGE_START_CAPTURE, 0, 0, 1)
