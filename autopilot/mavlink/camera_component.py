@@ -6,11 +6,12 @@ What it says unasked, to every link: a HEARTBEAT (MAV_TYPE_CAMERA) each second o
 CAMERA_IMAGE_CAPTURED for each still as it is taken. Asked (COMMAND_LONG or COMMAND_INT), it answers
 each command with exactly one COMMAND_ACK, then any message the command asked for, to the asking link:
 - REQUEST_MESSAGE for CAMERA_INFORMATION, CAMERA_SETTINGS, CAMERA_CAPTURE_STATUS,
-  STORAGE_INFORMATION, VIDEO_STREAM_INFORMATION and VIDEO_STREAM_STATUS (param 2 the stream id, 0
+  STORAGE_INFORMATION, CAMERA_FOV_STATUS, VIDEO_STREAM_INFORMATION and VIDEO_STREAM_STATUS (param 2 the stream id, 0
   or 1; when the video is on), CAMERA_IMAGE_CAPTURED (param 2 the image index, -1 all; param 3 0 that one,
   -1 it and all after it, else the last index of a range) and HEARTBEAT; and the deprecated
-  REQUEST_CAMERA_INFORMATION / _SETTINGS / _CAPTURE_STATUS and REQUEST_STORAGE_INFORMATION
-  (param 1 = 0 asks for nothing), and REQUEST_CAMERA_IMAGE_CAPTURE (param 1 the index);
+  REQUEST_CAMERA_INFORMATION / _SETTINGS / _CAPTURE_STATUS (param 1 = 0 asks for nothing) and
+  REQUEST_STORAGE_INFORMATION (param 1 the storage, 0 or 1; param 2 = 0 asks for nothing), and
+  REQUEST_CAMERA_IMAGE_CAPTURE (param 1 the index);
 - IMAGE_START_CAPTURE (param 2 interval [s], param 3 count, 0 until stopped), IMAGE_STOP_CAPTURE,
   SET_CAMERA_MODE (image only), STORAGE_FORMAT, RESET_CAMERA_SETTINGS, and with the video on
   VIDEO_START_STREAMING / VIDEO_STOP_STREAMING (param 1 the stream id) and the deprecated
@@ -31,6 +32,7 @@ from ..payload.thermal_video import NAME as VIDEO_NAME
 from ..payload.thermal_video import STREAM_ID
 from ..results import Result
 from .camera_ftp import CameraFtp, file_url
+from .camera_messages import NOT_KNOWN
 from .commands import Command
 from .component_frames import FromComponent
 from .dialect import mavlink as mav
@@ -114,6 +116,16 @@ class CameraComponent:
 
     def settings(self):
         return self.codec.camera_settings_encode(self._ms(), mav.CAMERA_MODE_IMAGE, math.nan, math.nan)
+
+    def fov_status(self):
+        """Where the camera is and how wide it sees: QGroundControl asks after each CAMERA_SETTINGS
+        and takes hfov (with the aspect of CAMERA_INFORMATION's resolution) for its gimbal
+        control on the video. The point it looks at is not worked out: INT32_MAX, "not known"."""
+        look = self.camera.look()
+        spec = self.camera.spec
+        return self.codec.camera_fov_status_encode(self._ms(), look.lat_e7, look.lon_e7, look.alt_mm,
+                                                   NOT_KNOWN, NOT_KNOWN, NOT_KNOWN, list(look.q),
+                                                   spec.hfov_deg, spec.vfov_deg)
 
     def capture_status(self):
         camera = self.camera
@@ -235,8 +247,15 @@ class CameraComponent:
         return Result.ACCEPTED
 
     def request_deprecated(self, c: Command, replies: list) -> Result:
-        """REQUEST_CAMERA_INFORMATION and its kin: param 1 = 0 asks for nothing."""
-        ask = _whole(c.p1, 0, 255)
+        """REQUEST_CAMERA_INFORMATION and its kin: param 1 = 0 asks for nothing. Except
+        REQUEST_STORAGE_INFORMATION, whose param 1 is the storage (0 all) and param 2 the request
+        (QGroundControl's retry sends 0, 1)."""
+        flag = c.p1
+        if c.command == mav.MAV_CMD_REQUEST_STORAGE_INFORMATION:
+            if _whole(c.p1, 0, 255) not in STORAGES:
+                return Result.DENIED
+            flag = c.p2
+        ask = _whole(flag, 0, 1)  # a MAV_BOOL: "values not equal to 0 or 1 are invalid"
         if ask is None:
             return Result.DENIED
         if ask:
@@ -310,6 +329,7 @@ MESSAGES: dict[int, Callable] = {
     mav.MAVLINK_MSG_ID_CAMERA_SETTINGS: CameraComponent.settings,
     mav.MAVLINK_MSG_ID_CAMERA_CAPTURE_STATUS: CameraComponent.capture_status,
     mav.MAVLINK_MSG_ID_STORAGE_INFORMATION: CameraComponent.storage_information,
+    mav.MAVLINK_MSG_ID_CAMERA_FOV_STATUS: CameraComponent.fov_status,
 }
 VIDEO_MESSAGES: dict[int, Callable] = {
     mav.MAVLINK_MSG_ID_VIDEO_STREAM_INFORMATION: CameraComponent.video_stream_information,

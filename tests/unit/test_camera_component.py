@@ -101,6 +101,34 @@ def test_the_other_messages_on_request(rig, msg_id, name):
     assert [m.get_type() for m in got] == ["COMMAND_ACK", name] and got[0].result == mav.MAV_RESULT_ACCEPTED
 
 
+def test_the_older_requests_and_their_flag(rig):
+    """REQUEST_CAMERA_INFORMATION and its kin take the request in param 1; REQUEST_STORAGE_INFORMATION
+    takes the storage there and the request in param 2 (QGroundControl's retry: 0 all, 1 yes)."""
+    component = rig[2]
+    storage = ask(component, mav.MAV_CMD_REQUEST_STORAGE_INFORMATION, 0, 1)
+    assert [m.get_type() for m in storage] == ["COMMAND_ACK", "STORAGE_INFORMATION"]
+    assert storage[0].result == mav.MAV_RESULT_ACCEPTED
+    assert [m.get_type() for m in ask(component, mav.MAV_CMD_REQUEST_STORAGE_INFORMATION, 1, 0)] == ["COMMAND_ACK"]
+    assert acks(ask(component, mav.MAV_CMD_REQUEST_STORAGE_INFORMATION, 2, 1))[0].result == mav.MAV_RESULT_DENIED
+    assert acks(ask(component, mav.MAV_CMD_REQUEST_STORAGE_INFORMATION, 0, 2))[0].result == mav.MAV_RESULT_DENIED
+    info = ask(component, mav.MAV_CMD_REQUEST_CAMERA_INFORMATION, 1)
+    assert [m.get_type() for m in info] == ["COMMAND_ACK", "CAMERA_INFORMATION"]
+    assert [m.get_type() for m in ask(component, mav.MAV_CMD_REQUEST_CAMERA_SETTINGS, 0)] == ["COMMAND_ACK"]
+
+
+def test_fov_status_gives_the_lens_and_where_the_camera_is(rig):
+    """QGroundControl asks for it after each CAMERA_SETTINGS and reads hfov (its gimbal control on
+    the video): the lens's 57 x 44.3 deg, the camera's position and attitude; the ground point
+    it looks at is left "not known" (INT32_MAX)."""
+    got = ask(rig[2], mav.MAV_CMD_REQUEST_MESSAGE, mav.MAVLINK_MSG_ID_CAMERA_FOV_STATUS)
+    assert [m.get_type() for m in got] == ["COMMAND_ACK", "CAMERA_FOV_STATUS"]
+    fov = got[1]
+    assert (fov.hfov, fov.vfov) == (pytest.approx(57.0), pytest.approx(44.3, abs=0.05))
+    assert (fov.lat_camera, fov.lon_camera, fov.alt_camera) == (-350000000, 1490000000, 604000)
+    assert fov.lat_image == fov.lon_image == fov.alt_image == 2**31 - 1
+    assert fov.q == pytest.approx([math.sqrt(0.5), 0.0, -math.sqrt(0.5), 0.0], abs=1e-6)  # straight down
+
+
 def test_a_photo_is_announced_with_its_geotag_and_file(rig):
     clock, camera, component = rig
     got = ask(component, mav.MAV_CMD_IMAGE_START_CAPTURE, 0, 0, 1)
