@@ -380,7 +380,8 @@ def companion_guided(c: Client, trace: Trace) -> None:
     trace.fact("end.east_m", round(held[-1][2], 1), DRIFT)
     cruise = [p[4] for p in held if 3.0 < p[1] < 10.0]
     trace.fact("cruise_m_s", round(sorted(cruise)[len(cruise) // 2], 1) if cruise else None,
-               Tol(abs=0.2, why="the 3 m/s asked for"))
+               Tol(abs=0.3, why="the 3 m/s asked for, as each velocity controller holds it: ArduCopter 2.9-3.0, "
+                                "Firefly 3.0-3.1 (two runs each)"))
     trace.fact("slowed_below_1_m_s_at_north_m", _slowed_at(held, lambda p: p[1], 2.0), COMPANION_STOP)
 
 
