@@ -73,6 +73,8 @@ def surface_section(results: list[AreaResult]) -> list[str]:
     missing_params = sorted(n for n, s in table.get("parameters", {}).items() if s in ("not yet", "not probed"))
     if missing_params:
         lines.append(f"- parameters ({len(missing_params)}): see the params area below")
+    if lines[-1] == "":  # nothing listed
+        lines.append("None: every entry in scope is matched or listed as a deliberate difference.")
     return lines + [""]
 
 

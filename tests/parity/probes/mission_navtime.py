@@ -98,8 +98,12 @@ def fly(client, probe: str, command: str, spec: Spec, trace: Trace) -> None:
     end_ms = log[-1][0] if log else client.now_ms
     at_a = next((t for t, m in reached if m.seq == seq - 1), None)
     at_item = next((t for t, m in reached if m.seq == seq), None)
-    # the item current: from its first beat to the first beat of another
-    first = next((t for t, m in currents if m.seq == seq), None)
+    # the item current: from its first beat to the first beat of another. An item that ends at
+    # once (NAV_GUIDED_ENABLE off) is current for one loop of the vehicle's (2.5 ms on ArduCopter,
+    # a 10 ms tick on Firefly): a single beat that happens to fall in it says nothing, so an item
+    # seen in one beat only counts as passed through.
+    beats = [t for t, m in currents if m.seq == seq]
+    first = beats[0] if len(beats) > 1 else None
     last = next((t for t, m in currents if first is not None and t > first and m.seq != seq), end_ms)
     during = [p for p in positions if first is not None and first <= p[0] <= last]
 
