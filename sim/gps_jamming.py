@@ -5,7 +5,8 @@ What the receiver reports while jammed, from the true reading, at SITL's GPS rat
 - then, at random moments, each quantity changes at its own mean rate: the satellites in view
   (3 Hz: 2 to 16, and with 4 or more a lock half the time, else none), the vertical speed
   (0.5 Hz: anything within +-400 m/s), the horizontal speed (0.8 Hz: the same), the position
-  (1.1 Hz: a step of up to 200 m north and east from where it was) and the accuracies (3 Hz).
+  (1.1 Hz: a step of up to 200 m north and east from where it was). SITL also changes the
+  reported accuracies (3 Hz); Firefly's receiver reports none, so they are left out.
   A changed number or speed is reported in that sample only; the position stays where it was
   stepped to, starting from where the vehicle was when the jamming began.
 A jamming that stops for more than a second starts afresh. The draws come from the receiver's

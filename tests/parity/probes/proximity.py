@@ -44,6 +44,7 @@ althold_push        PRX1_TYPE 2, AVOID_DIST_MAX 5, AVOID_ANGLE_MAX 10 degrees: A
 from __future__ import annotations
 
 import math
+from contextlib import ExitStack, contextmanager
 
 from pymavlink.dialects.v20 import ardupilotmega as v20
 
@@ -248,6 +249,20 @@ def _ready(c: Client, companion: Companion, trace: Trace | None = None) -> None:
     wait_armable(c)
 
 
+@contextmanager
+def _up_beside(c: Client, companion: Companion, *listeners, trace: Trace | None = None):
+    """The companion speaking, the vehicle ready (with trace, _ready's facts) and up at 10 m in
+    GUIDED, with `listeners` hearing the vehicle from before the takeoff."""
+    with c.listening(companion):
+        _ready(c, companion, trace)
+        _wait_home(c)
+        with ExitStack() as stack:
+            for listener in listeners:
+                stack.enter_context(c.listening(listener))
+            reach_flying(c, 10.0)
+            yield
+
+
 def _push(c: Client, trace: Trace, rec: Recorder, sticks: Sticks, forward: list | None = None,
           stop: Tol = STOP) -> None:
     """Up at 10 m, LOITER, the pitch stick full forward for HOLD_S, released for 3 s: the stop's
@@ -362,18 +377,14 @@ def companion_guided(c: Client, trace: Trace) -> None:
     """GUIDED toward the companion's wall: velocity targets of GUIDED_SPEED_M_S north for HOLD_S."""
     companion = Companion(c)
     companion.wall_north = WALL_OBSTACLE_M
-    with c.listening(companion):
-        _ready(c, companion)
-        _wait_home(c)
-        targets, rec = VelocityTargets(c), Recorder(c)
-        with c.listening(targets), c.listening(rec):
-            reach_flying(c, 10.0)
-            c.idle(1.0)
-            since_ms, pushed_s = c.now_ms, rec.now_s()
-            targets.velocity = (GUIDED_SPEED_M_S, 0.0, 0.0)
-            c.idle(HOLD_S)
-            trace.fact("texts", _texts(c, since_ms))
-            trace.fact("mode_after", _mode_now(c))
+    targets, rec = VelocityTargets(c), Recorder(c)
+    with _up_beside(c, companion, targets, rec):
+        c.idle(1.0)
+        since_ms, pushed_s = c.now_ms, rec.now_s()
+        targets.velocity = (GUIDED_SPEED_M_S, 0.0, 0.0)
+        c.idle(HOLD_S)
+        trace.fact("texts", _texts(c, since_ms))
+        trace.fact("mode_after", _mode_now(c))
     held = rec.since(pushed_s)
     trace.fact("farthest_north_m", round(max(p[1] for p in held), 1), COMPANION_STOP)
     trace.fact("end.north_m", round(held[-1][1], 1), COMPANION_STOP)
@@ -389,16 +400,12 @@ def _companion_push(c: Client, trace: Trace, companion: Companion, wall_m: float
                     ready_trace: bool = False) -> None:
     """A companion reporting a wall `wall_m` north of home: the hover's sensors, then the LOITER push."""
     companion.wall_north = wall_m
-    with c.listening(companion):
-        _ready(c, companion, trace if ready_trace else None)
-        _wait_home(c)
-        sticks, rec = Sticks(c), Recorder(c)
-        with c.listening(sticks), c.listening(rec):
-            reach_flying(c, 10.0)
-            c.idle(1.0)
-            trace.fact("hover.proximity_bits", _bits(c))
-            _window(c, trace, "hover", Tol(abs=100.0, why=why))
-            _push(c, trace, rec, sticks, stop=COMPANION_STOP)
+    sticks, rec = Sticks(c), Recorder(c)
+    with _up_beside(c, companion, sticks, rec, trace=trace if ready_trace else None):
+        c.idle(1.0)
+        trace.fact("hover.proximity_bits", _bits(c))
+        _window(c, trace, "hover", Tol(abs=100.0, why=why))
+        _push(c, trace, rec, sticks, stop=COMPANION_STOP)
 
 
 def _proximity_texts(c: Client, since_ms: int, prefix: str) -> list:
@@ -449,26 +456,22 @@ def prearm(c: Client, trace: Trace) -> None:
 
 def althold_push(c: Client, trace: Trace) -> None:
     companion = Companion(c)
-    with c.listening(companion):
-        _ready(c, companion)
-        _wait_home(c)
-        sticks, rec = Sticks(c), Recorder(c)
-        with c.listening(sticks), c.listening(rec):
-            reach_flying(c, 10.0)
-            sticks.hold(MID, MID, MID, MID)
-            c.set_mode(ALT_HOLD)
-            c.wait(lambda: c.mode == ALT_HOLD, 5, what="ALT_HOLD")
-            c.idle(2.0)
-            start_n = rec.points[-1][1]
-            companion.wall_north = start_n + PUSH_WALL_M
-            wall_s = rec.now_s()
-            c.idle(10.5)
-            forward_s = rec.now_s()
-            sticks.hold(MID, FULL_FORWARD, MID, MID)
-            c.idle(5.5)
-            sticks.hold(MID, MID, MID, MID)
-            c.idle(1.0)
-            trace.fact("mode_after", _mode_now(c))
+    sticks, rec = Sticks(c), Recorder(c)
+    with _up_beside(c, companion, sticks, rec):
+        sticks.hold(MID, MID, MID, MID)
+        c.set_mode(ALT_HOLD)
+        c.wait(lambda: c.mode == ALT_HOLD, 5, what="ALT_HOLD")
+        c.idle(2.0)
+        start_n = rec.points[-1][1]
+        companion.wall_north = start_n + PUSH_WALL_M
+        wall_s = rec.now_s()
+        c.idle(10.5)
+        forward_s = rec.now_s()
+        sticks.hold(MID, FULL_FORWARD, MID, MID)
+        c.idle(5.5)
+        sticks.hold(MID, MID, MID, MID)
+        c.idle(1.0)
+        trace.fact("mode_after", _mode_now(c))
     for s in (0, 2, 5, 10):
         p = _first(rec.points, lambda p: p[0] >= wall_s + s)
         trace.fact(f"centred.north_at_{s}s_m", None if p is None else round(p[1] - start_n, 1), PUSHED)
