@@ -860,6 +860,13 @@ def act_terrain(w: Walk, r) -> None:
                                      [r.choice((600, 584, -32768, 32767)) for _ in range(16)]))
 
 
+def act_gps_jam(w: Walk, r) -> None:
+    """SIM_GPS1_JAM on and off, and the EKF check's filter, threshold and vibration switch, their
+    values hostile now and then: the jammed GPS's variances, glitch flag and vibration check."""
+    name = r.choice(("SIM_GPS1_JAM", "SIM_GPS1_JAM", "FS_EKF_FILT", "FS_EKF_THRESH", "FS_VIBE_ENABLE"))
+    w.set_param(name, param_f(r, r.choice((0.0, 1.0, 5.0, 0.8)), 0.2))
+
+
 def act_known(w: Walk, r) -> None:
     w.send(r.choice(hostile.known_reproductions(w.client, w.origin)))
 

@@ -23,7 +23,8 @@ from hypothesis import strategies as st
 from hypothesis.stateful import RuleBasedStateMachine, initialize, rule
 
 from ..fuzz import hostile
-from ..fuzz.state_machine import ACTIONS, START_AT_S, Walk, WalkFailure, act_payload, act_terrain, render, shrink
+from ..fuzz.state_machine import (ACTIONS, START_AT_S, Walk, WalkFailure, act_gps_jam, act_payload, act_terrain,
+                                  render, shrink)
 from ..fuzz.state_walk import run
 from .test_hostile_messages import MESSAGES
 
@@ -91,6 +92,12 @@ class StateSpace(RuleBasedStateMachine):
         """Terrain's parameters, terrain-frame targets and TERRAIN_DATA (act_terrain): not among the
         seeded walk's ACTIONS either, for the same reason."""
         self.act(act_terrain, rng)
+
+    @rule(rng=RANDOM)
+    def gps_jam(self, rng):
+        """A jammed GPS and the EKF check's parameters (act_gps_jam): not among the seeded walk's
+        ACTIONS either."""
+        self.act(act_gps_jam, rng)
 
     @rule(msg=MESSAGES)
     def hostile_as_in_the_hostile_message_tests(self, msg):
