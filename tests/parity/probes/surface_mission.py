@@ -48,6 +48,7 @@ ROI = (20.0, -30.0)      # a region of interest due west of the whole leg: facin
 NEW_HOME = (-10.0, 10.0)
 JUMP_TAG = 7
 FINAL_HOLD_S = 2.0       # the final item current this long: the command's part is over
+DISARMED_HOLD_S = 1.0    # watched this long past the first disarmed HEARTBEAT: what disarming resets
 LIMIT_S = 70.0           # vehicle seconds from MISSION_START: takeoff, two 20 m legs and the command
 SERVO = 9                # the first output ArduCopter's quad leaves free (SERVO9_FUNCTION 0)
 FENCE_BIT = mav.MAV_SYS_STATUS_GEOFENCE
@@ -245,13 +246,18 @@ def held_seqs(seqs: list[int]) -> list[int]:
 class Window:
     """Where the flight's window ends, decided message by message in the order they came (a
     listener), so a client that reads a burst of seconds at once under load still cuts the window
-    at the same vehicle moment: disarmed, the final item or a mission complete held FINAL_HOLD_S,
-    a never-ending command held its hold, or the limit."""
+    at the same vehicle moment: disarmed for DISARMED_HOLD_S, the final item or a mission complete
+    held FINAL_HOLD_S, a never-ending command held its hold, or the limit.
+
+    Disarmed is held a second, not cut at the first disarmed HEARTBEAT: the 1 Hz HEARTBEAT falls
+    anywhere up to a second after the disarm, so a window cut there saw the mission's reset on
+    disarming (MISSION_CURRENT back to 1) for ten beats or for none, by the client's timing."""
 
     def __init__(self, client: Client, spec: Spec, seq: int, final_seq: int):
         self.c, self.spec, self.seq, self.final_seq = client, spec, seq, final_seq
         self.start_ms = client.now_ms
         self.current, self.since_ms, self.complete = None, client.now_ms, False
+        self.disarmed_ms: int | None = None
         self.end: int | None = None  # length of client.log when the window ended
 
     def __call__(self, msg) -> None:
@@ -263,7 +269,9 @@ class Window:
             self.current, self.since_ms = msg.seq, now
             self.complete = msg.mission_state == mav.MISSION_STATE_COMPLETE
         held = (now - self.since_ms) / 1000.0
-        if (now - self.start_ms > 3000 and not self.c.armed) \
+        if self.disarmed_ms is None and now - self.start_ms > 3000 and not self.c.armed:
+            self.disarmed_ms = now
+        if (self.disarmed_ms is not None and now - self.disarmed_ms >= DISARMED_HOLD_S * 1000) \
                 or now - self.start_ms >= self.spec.limit_s * 1000 \
                 or (not self.spec.ends_flight and (self.current == self.final_seq or self.complete)
                     and held >= FINAL_HOLD_S) \
