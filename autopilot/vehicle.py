@@ -140,6 +140,10 @@ class Vehicle:
         self._return_path_due = 0  # failsafe checks until the next path update
         self.prearm_display = PrearmDisplay()  # the "PreArm: " texts said unasked
         self._prearm_display_at_s = PREARM_DISPLAY_PERIOD_S  # sim time of the next update
+        # AP_Notify's pre_arm_check: the pre-arm checks' last verdict, SYS_STATUS's PREARM health.
+        # ArduCopter runs them once a second (AP_Arming::update), at an ARM and at RUN_PREARM_CHECKS,
+        # not at each SYS_STATUS: a change shows up to a second late, and nothing is checked per send.
+        self.prearm_passed = False
         self.script: Script | None = None  # a scenario's scripted commands (autopilot.cli.script.Script), if any
         n0, e0 = config.offset_ne_m
         # Where this vehicle's EKF origin lies in the sim's frame (its start, where ArduCopter sets
@@ -1020,6 +1024,10 @@ class Vehicle:
     def is_armable(self) -> bool:
         return self.prearm_failure() is None
 
+    def prearm_checked(self, failures: list[str]) -> None:
+        """The pre-arm checks were run (an ARM, RUN_PREARM_CHECKS) and found `failures`."""
+        self.prearm_passed = not failures
+
     def notify(self, text: str, severity: int = Severity.INFO) -> None:
         events = self.events
         if len(events) >= MAX_PENDING_TEXTS:  # as ArduPilot's queue: the oldest gives way
@@ -1061,7 +1069,11 @@ class Vehicle:
         if refusals:
             for text in refusals:
                 self.notify(text, Severity.CRITICAL)
+            if not force:  # (a forced ARM runs no pre-arm checks)
+                self.prearm_checked(prearm_failures(self, REPORTED_CHECKS))
             return Result.FAILED
+        if not force:
+            self.prearm_passed = True
         est = self.estimate
         if self.home_ned is None and est.origin_known() and est.local_position_known():  # else it stays unset
             self._set_home_here()
@@ -1450,8 +1462,10 @@ class Vehicle:
     def _display_prearm(self, now: float) -> None:
         options = int(self.params["ARMING_OPTIONS"])
         failures = lambda: prearm_failures(self, REPORTED_CHECKS)  # noqa: E731
-        for reason in self.prearm_display.update(now, self.arming.armed, failures, options):
+        display = self.prearm_display
+        for reason in display.update(now, self.arming.armed, failures, options):
             self.notify(f"PreArm: {reason}", Severity.CRITICAL)
+        self.prearm_passed = display.last_passed  # (armed: passed, as ArduCopter's checks pass armed)
 
     def _update_return_path(self, now: float) -> None:
         """Offer the position to SMART_RTL's path: kept while armed in any other mode."""

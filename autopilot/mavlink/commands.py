@@ -272,8 +272,10 @@ def run_prearm_checks(s, c: Command) -> Result:
     v = s.vehicle
     if v.armed:
         return Result.TEMPORARILY_REJECTED
-    for reason in prearm_failures(v):
+    failures = prearm_failures(v)
+    for reason in failures:
         v.notify(f"PreArm: {reason}", Severity.CRITICAL)
+    v.prearm_checked(failures)
     return Result.ACCEPTED
 
 

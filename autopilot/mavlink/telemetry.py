@@ -97,7 +97,7 @@ def sys_status(v: TelemetryView, codec):
     if v.fence.enabled and v.params["FENCE_ACTION"] != 0:  # as AC_Fence: a fence that only reports is not enabled
         enabled |= mav.MAV_SYS_STATUS_GEOFENCE
     healthy = (enabled & ~PREARM & ~mav.MAV_SYS_STATUS_GEOFENCE) | mav.MAV_SYS_STATUS_SENSOR_PROXIMITY
-    if v.is_armable():
+    if v.armed or v.prearm_passed:  # as ArduPilot: armed, or the checks' last verdict (1 Hz)
         healthy |= PREARM
     if v.battery_failsafe_level:
         healthy &= ~mav.MAV_SYS_STATUS_SENSOR_BATTERY

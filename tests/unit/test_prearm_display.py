@@ -2,12 +2,19 @@
 every 30 s, and at the next second's update once passing checks start to fail."""
 from __future__ import annotations
 
+import math
+
+from pymavlink.dialects.v20 import ardupilotmega as mav
+
+from firefly.autopilot.mavlink import telemetry
 from firefly.autopilot.modes import ModeNumber
 from firefly.autopilot.results import Result
 from firefly.autopilot.safety.prearm_display import DISABLE_PREARM_DISPLAY, PrearmDisplay
 
-from ._util import ready_vehicle
+from ._util import fly_until, ready_vehicle
 from .test_external_nav import EXTNAV, speak
+
+CODEC = mav.MAVLink(None)
 
 
 def run(display: PrearmDisplay, failing_from_s: dict[float, list[str]], until_s: float, armed=False,
@@ -60,3 +67,29 @@ def test_arming_options_bit_1_silences_the_arming_texts():
     v.params.set("ARMING_OPTIONS", 2)
     assert v.arm() == Result.ACCEPTED and v.disarm() == Result.ACCEPTED
     assert v.drain_events() == []
+
+
+def _prearm_healthy(v) -> bool:
+    return bool(telemetry.sys_status(v, CODEC).onboard_control_sensors_health & mav.MAV_SYS_STATUS_PREARM_CHECK)
+
+
+def test_sys_status_shows_the_last_once_a_second_verdict_not_a_check_per_message():
+    v = ready_vehicle()
+    assert fly_until(v, _prearm_healthy, 1.0)
+    v.run_until(math.floor(v.time_s) + 1.5)  # between two updates
+    v.params.set("BATT_LOW_VOLT", 20.0)  # a check that fails at once
+    assert v.prearm_failure() is not None and _prearm_healthy(v)  # not yet looked at
+    assert fly_until(v, lambda x: not _prearm_healthy(x), 1.0)
+    v.params.set("BATT_LOW_VOLT", 0.0)
+    assert not _prearm_healthy(v)
+    assert fly_until(v, _prearm_healthy, 1.0)
+
+
+def test_an_arm_refused_or_accepted_updates_the_verdict_at_once():
+    v = ready_vehicle()
+    assert fly_until(v, _prearm_healthy, 1.0)
+    v.params.set("BATT_LOW_VOLT", 20.0)
+    assert v.set_mode(ModeNumber.GUIDED) == Result.ACCEPTED
+    assert v.arm() == Result.FAILED and not _prearm_healthy(v)
+    v.params.set("BATT_LOW_VOLT", 0.0)
+    assert v.arm() == Result.ACCEPTED and _prearm_healthy(v)
