@@ -341,6 +341,8 @@ class Vehicle:
     fence_breach_count: ReadThrough[int] = property(attrgetter("failsafes.fence.count"))
     fence_breach_time_ms: ReadThrough[int] = property(attrgetter("failsafes.fence.time_ms"))
     gps_glitching: ReadThrough[bool] = property(attrgetter("failsafes.ekf.gps_glitching"))
+    ekf_test_ratios: ReadThrough[tuple[float, float]] = property(
+        attrgetter("failsafes.ekf.test_ratios"), doc="EKF3's GPS velocity and position variances, as modelled.")
     internal_error_bits: ReadThrough[int] = property(attrgetter("internal_errors.bits"))
     mission_version: ReadThrough[int] = property(attrgetter("mission.version"), doc="Bumped on every change.")
     precland_kind: ReadThrough[int] = property(attrgetter("precland.kind"), doc="PLND_TYPE's sensor, 0 none.")

@@ -282,18 +282,29 @@ EKF_EXTNAV_LOST = mav.EKF_ATTITUDE | mav.EKF_VELOCITY_VERT | mav.EKF_POS_VERT_AB
 EKF_GPS_GLITCH = 32768  # MAVLink's EKF_GPS_GLITCH flag, newer than this pymavlink's dialect
 
 
+# EKF3's height and compass test ratios as ArduCopter SITL reports them, settled, hovering and
+# with its GPS jammed alike (0.00 and 0.02): the ideal estimate here has no innovations of its own.
+HEIGHT_TEST_RATIO, COMPASS_TEST_RATIO = 0.0, 0.02
+
+
 def ekf_status_report(v: TelemetryView, codec):
-    """Flags for what the estimate knows; horizontal variances over FS_EKF_THRESH without a fix."""
+    """Flags for what the estimate knows; the velocity and horizontal position variances as the
+    EKF check models them (the square roots of EKF3's GPS test ratios, 1 at its gate), over
+    FS_EKF_THRESH without a position."""
     if not v.attitude_known():  # a realistic start-up before the EKF has aligned
         return codec.ekf_status_report_encode(mav.EKF_UNINITIALIZED, 1.0, 1.0, 1.0, 1.0, 0.0)
-    flags, variance = (EKF_GOOD, 0.01) if v.has_position() else (EKF_NO_POSITION, 1.0)
-    if v.external_nav.kind and not v.has_position():  # as ArduCopter with a visual odometry sensor
-        flags = EKF_EXTNAV_LOST
+    if v.has_position():
+        flags = EKF_GOOD
+        velocity, position = v.ekf_test_ratios
+    else:
+        flags, velocity, position = EKF_NO_POSITION, 1.0, 1.0
+        if v.external_nav.kind:  # as ArduCopter with a visual odometry sensor
+            flags = EKF_EXTNAV_LOST
     if v.terrain_height_known():
         flags |= mav.EKF_POS_VERT_AGL
     if v.gps_glitching:
         flags |= EKF_GPS_GLITCH
-    return codec.ekf_status_report_encode(flags, variance, variance, 0.01, 0.01, 0.0)
+    return codec.ekf_status_report_encode(flags, velocity, position, HEIGHT_TEST_RATIO, COMPASS_TEST_RATIO, 0.0)
 
 
 # msg id -> builder(vehicle, codec): the message, or None when there is nothing to send.

@@ -62,6 +62,11 @@ class EkfCheck:
         self._filt_hz, self._alpha = math.nan, 1.0  # FS_EKF_FILT and its filter's gain
         self._innovations_passed_s = self._innovations_failed_s = 0.0
 
+    @property
+    def test_ratios(self) -> tuple[float, float]:
+        """The velocity and position variances of the last fix (EKF_STATUS_REPORT's)."""
+        return self.vel_variance, self.pos_variance
+
     def check(self, v: FailsafeView) -> None:
         """Called at 10 Hz."""
         gps, body, params = v.gps, v.body, v.params

@@ -3,6 +3,7 @@ downward range within 5 s (measured on its SITL, area ekf_flags: 0x33f without a
 0x37f hovering within its range, 0x33f again some seconds above it)."""
 from __future__ import annotations
 
+import pytest
 from pymavlink.dialects.v20 import ardupilotmega as mav
 
 from firefly.autopilot.mavlink import telemetry
@@ -30,3 +31,23 @@ def test_a_rangefinder_in_range_gives_it_and_five_seconds_out_of_range_take_it_a
     assert fly_until(v, lambda x: altitude(x) > 9.8, 20.0)
     assert flags(v) == 0x37f  # a range within the last 5 s
     assert fly_until(v, lambda x: flags(x) == 0x33f, 6.0)
+
+
+def variances(v) -> tuple[float, float, float, float]:
+    r = telemetry.ekf_status_report(v, CODEC)
+    return r.velocity_variance, r.pos_horiz_variance, r.pos_vert_variance, r.compass_variance
+
+
+def test_the_variances_are_the_modelled_test_ratios_small_at_rest_and_past_the_gate_jammed():
+    """ArduCopter SITL (area ekf_variances): a few hundredths settled; SIM_GPS1_JAM takes the
+    velocity's past 0.8 in 3.6-4.2 s and on past the gate; the height's and compass's stay."""
+    v = hovering_vehicle(10.0)
+    quiet = []
+    for _ in range(50):
+        v.run_until(v.time_s + 0.1)
+        quiet.append(variances(v))
+    assert max(q[0] for q in quiet) < 0.2 and max(q[1] for q in quiet) < 0.4
+    assert len({q[0] for q in quiet}) > 1  # modelled, not a constant
+    v.params.set("SIM_GPS1_JAM", 1)
+    assert fly_until(v, lambda x: variances(x)[0] > 1.0, 10.0, step_s=0.1)
+    assert variances(v)[2:] == (0.0, pytest.approx(0.02))
