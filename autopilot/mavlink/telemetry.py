@@ -275,10 +275,13 @@ def ground_temperature(v: TelemetryView, codec):
 # EKF_POS_VERT_AGL only with a terrain height estimate (terrain_height_known): a rangefinder's.
 EKF_GOOD = (mav.EKF_ATTITUDE | mav.EKF_VELOCITY_HORIZ | mav.EKF_VELOCITY_VERT | mav.EKF_POS_HORIZ_REL
             | mav.EKF_POS_HORIZ_ABS | mav.EKF_POS_VERT_ABS | mav.EKF_PRED_POS_HORIZ_REL | mav.EKF_PRED_POS_HORIZ_ABS)
-# Without a GPS fix the estimate keeps attitude and height but not where it is: constant position mode.
-EKF_NO_POSITION = mav.EKF_ATTITUDE | mav.EKF_VELOCITY_VERT | mav.EKF_POS_VERT_ABS | mav.EKF_CONST_POS_MODE
-# With a visual odometry sensor (VISO_TYPE) whose position is lost: attitude, vertical velocity and height only.
-EKF_EXTNAV_LOST = mav.EKF_ATTITUDE | mav.EKF_VELOCITY_VERT | mav.EKF_POS_VERT_ABS
+# Without a position (measured, area ekf_variances): on the ground, constant position mode, which
+# also vouches for the horizontal velocity (0xa7, booted without a GPS); flying, attitude, vertical
+# velocity and height only (0x25, 7 s after the GPS went in a hover), as with a visual odometry
+# sensor (VISO_TYPE) whose position is lost.
+EKF_NO_POSITION_GROUND = (mav.EKF_ATTITUDE | mav.EKF_VELOCITY_HORIZ | mav.EKF_VELOCITY_VERT | mav.EKF_POS_VERT_ABS
+                          | mav.EKF_CONST_POS_MODE)
+EKF_NO_POSITION = mav.EKF_ATTITUDE | mav.EKF_VELOCITY_VERT | mav.EKF_POS_VERT_ABS
 EKF_GPS_GLITCH = 32768  # MAVLink's EKF_GPS_GLITCH flag, newer than this pymavlink's dialect
 
 
@@ -289,17 +292,17 @@ HEIGHT_TEST_RATIO, COMPASS_TEST_RATIO = 0.0, 0.02
 
 def ekf_status_report(v: TelemetryView, codec):
     """Flags for what the estimate knows; the velocity and horizontal position variances as the
-    EKF check models them (the square roots of EKF3's GPS test ratios, 1 at its gate), over
-    FS_EKF_THRESH without a position."""
+    EKF check models them (the square roots of EKF3's GPS test ratios, 1 at its gate), held from
+    the last fix when there is none (measured: ArduCopter's stay where they were)."""
     if not v.attitude_known():  # a realistic start-up before the EKF has aligned
         return codec.ekf_status_report_encode(mav.EKF_UNINITIALIZED, 1.0, 1.0, 1.0, 1.0, 0.0)
+    velocity, position = v.ekf_test_ratios
     if v.has_position():
         flags = EKF_GOOD
-        velocity, position = v.ekf_test_ratios
+    elif v.landed and not v.external_nav.kind:
+        flags = EKF_NO_POSITION_GROUND
     else:
-        flags, velocity, position = EKF_NO_POSITION, 1.0, 1.0
-        if v.external_nav.kind:  # as ArduCopter with a visual odometry sensor
-            flags = EKF_EXTNAV_LOST
+        flags = EKF_NO_POSITION
     if v.terrain_height_known():
         flags |= mav.EKF_POS_VERT_AGL
     if v.gps_glitching:

@@ -8,7 +8,7 @@ from pymavlink.dialects.v20 import ardupilotmega as mav
 
 from firefly.autopilot.mavlink import telemetry
 
-from ._util import altitude, fly_until, hovering_vehicle
+from ._util import altitude, fly_until, hovering_vehicle, ready_vehicle
 
 CODEC = mav.MAVLink(None)
 
@@ -51,3 +51,16 @@ def test_the_variances_are_the_modelled_test_ratios_small_at_rest_and_past_the_g
     v.params.set("SIM_GPS1_JAM", 1)
     assert fly_until(v, lambda x: variances(x)[0] > 1.0, 10.0, step_s=0.1)
     assert variances(v)[2:] == (0.0, pytest.approx(0.02))
+
+
+def test_without_a_position_constant_position_mode_on_the_ground_attitude_and_height_flying():
+    """ArduCopter SITL (area ekf_variances): booted without a GPS, 0xa7 on the ground; the GPS gone
+    in a hover, 0x25 some seconds later, the variances held where the last fix left them."""
+    grounded = ready_vehicle(boot_params={"SIM_GPS1_ENABLE": 0})
+    assert flags(grounded) == 0xa7
+    v = hovering_vehicle(10.0)
+    v.params.set("SIM_GPS1_ENABLE", 0)
+    assert fly_until(v, lambda x: flags(x) == 0x25, 15.0, step_s=0.1)
+    held = variances(v)
+    v.run_until(v.time_s + 2.0)
+    assert variances(v) == held and held[0] < 0.2 and held[1] < 0.4
