@@ -27,6 +27,9 @@ from .wind import SteadyWind, Wind
 
 
 BATTERY_EVERY = 4  # physics steps per battery step; the wind changes at the same steps
+# A wind that weakens near the ground is worked out again when the height has moved this much: a
+# finer step changes it by millimetres a second, and each change costs the compiled loop a reload.
+WIND_HEIGHT_STEP_M = 0.1
 
 
 @dataclass
@@ -50,6 +53,7 @@ class SimVehicle:
         self._step = make_fast_step(self.airframe, self.dt)
         self.wind = Wind(config.wind, config.seed)
         self._wind_ned = self.wind.velocity_ned
+        self._wind_height_m = -math.inf  # the height the wind was last worked out at
         self._speed_scale: tuple[float, ...] = HEALTHY
         self._thrust_scale: tuple[float, ...] = HEALTHY
         self._outputs_cut = False
@@ -106,13 +110,30 @@ class SimVehicle:
         self.time_s = self.steps * self.dt
         if self.steps % BATTERY_EVERY == 0:  # the pack changes slowly: integrate it at a quarter rate
             self.battery = STEP_AT(self.battery, self.state.omega_rad_s, self._battery_constants)
-            if self.wind.changing:
-                self._wind_ned = self.wind.advance(self.dt * BATTERY_EVERY)
-                self.conditions_version += 1
+            if self.wind.live:
+                self._blow(self.wind)
             if self.shove_accel_frd is not None:
                 self._push(self.dt * BATTERY_EVERY)
             if self.canopy_deployed_at_s is not None or self.load is not None:
                 self._act_payloads(self.dt * BATTERY_EVERY)
+
+    def _blow(self, wind: Wind) -> None:
+        """The wind at this battery step, as it changes in time or with the height it weakens
+        with (SIM_WIND_T), the height in steps of WIND_HEIGHT_STEP_M."""
+        height = self._height_above_ground()
+        if not wind.changing and abs(height - self._wind_height_m) < WIND_HEIGHT_STEP_M:
+            return
+        self._wind_height_m = height
+        blowing = wind.advance(self.dt * BATTERY_EVERY, height)
+        if blowing != self._wind_ned:
+            self._wind_ned = blowing
+            self.conditions_version += 1
+
+    def _height_above_ground(self) -> float:
+        """The body's height above the ground under it [m] (ArduPilot SITL's height_agl)."""
+        b = self.state.body
+        terrain = self.config.terrain
+        return (terrain.ground_d_m(b.n_m, b.e_m) if terrain.hills else 0.0) - b.d_m
 
     def _rest_on_hills(self) -> None:
         """Ground contact with a hill. The physics step (and its compiled twin) knows only the flat

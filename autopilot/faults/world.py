@@ -10,7 +10,7 @@ flown by the vehicle's ADS-B update (vehicle.py, adsb/sitl_transceiver.py).
 """
 from __future__ import annotations
 
-from firefly.sim.wind import SteadyWind
+from firefly.sim.wind import SteadyWind, WindProfile
 
 from firefly.sim.geo import ned_from_global
 from firefly.sim.optical_flow import SensorSettings
@@ -69,9 +69,10 @@ class Faults:
         return SteadyWind(self.params["SIM_WIND_SPD"], self.params["SIM_WIND_DIR"])
 
     def _wind(self) -> None:
-        wind = self.sim.wind
-        wind.turbulence_m_s = self.params["SIM_WIND_TURB"]
-        wind.change_tc_s = self.params["SIM_WIND_TC"]
+        wind, p = self.sim.wind, self.params
+        wind.turbulence_m_s = p["SIM_WIND_TURB"]
+        wind.change_tc_s = p["SIM_WIND_TC"]
+        wind.profile = WindProfile(int(p["SIM_WIND_T"]), p["SIM_WIND_T_ALT"], p["SIM_WIND_T_COEF"])
         wind.set_mean(self._steady_wind())
 
     def _battery(self) -> None:
@@ -120,7 +121,8 @@ APPLY = {
     "SIM_GPS1_GLTCH_Y": Faults._gps, "SIM_GPS1_GLTCH_Z": Faults._gps, "SIM_GPS1_JAM": Faults._gps,
     "SIM_BARO_DRIFT": Faults._baro,
     "SIM_WIND_SPD": Faults._wind, "SIM_WIND_DIR": Faults._wind, "SIM_WIND_TURB": Faults._wind,
-    "SIM_WIND_TC": Faults._wind,
+    "SIM_WIND_TC": Faults._wind, "SIM_WIND_T": Faults._wind, "SIM_WIND_T_ALT": Faults._wind,
+    "SIM_WIND_T_COEF": Faults._wind,
     "SIM_BATT_VOLTAGE": Faults._battery,
     "SIM_RC_FAIL": Faults._rc,
     "SIM_SHOVE_TIME": Faults._shove,

@@ -295,12 +295,33 @@ def test_turbulence_moves_the_vehicle_the_same_way_for_the_same_seed():
 
 
 def test_a_wind_change_blows_in_over_sim_wind_tc_and_is_held_against():
-    v, hold = hovering_with(("SIM_WIND_TC", 2.0), ("SIM_WIND_SPD", 8.0), ("SIM_WIND_DIR", 90.0))  # from the east
+    # (SIM_WIND_T 1: the same wind at every height, for the change alone)
+    v, hold = hovering_with(("SIM_WIND_T", 1), ("SIM_WIND_TC", 2.0), ("SIM_WIND_SPD", 8.0),
+                            ("SIM_WIND_DIR", 90.0))  # from the east
     v.run_until(v.time_s + 2.0)
     assert v.sim.wind_ned[1] == pytest.approx(-8.0 * (1 - math.exp(-1.0)), abs=0.3)
     v.run_until(v.time_s + 15.0)
     assert v.sim.wind_ned[1] == pytest.approx(-8.0, abs=0.01)
     assert horizontal_distance(v, hold) < 0.3
+
+
+def test_the_wind_weakens_near_the_ground_as_sim_wind_t_says():
+    """ArduPilot SITL's profile: by default (SIM_WIND_T 0) the speed times the square root of the
+    height's share of SIM_WIND_T_ALT below it; 1 the same everywhere; 2 less by SIM_WIND_T_COEF a
+    metre under SIM_WIND_T_ALT."""
+    v, _ = hovering_with(("SIM_WIND_TC", 0.0), ("SIM_WIND_SPD", 8.0), ("SIM_WIND_DIR", 90.0))
+
+    def blowing() -> float:
+        v.run_until(v.time_s + 0.5)
+        return -v.sim.wind_ned[1]
+    assert blowing() == pytest.approx(8.0 * math.sqrt(altitude(v) / 60.0), abs=0.05)
+    v.params.set("SIM_WIND_T", 1)
+    assert blowing() == pytest.approx(8.0, abs=1e-9)
+    v.params.set("SIM_WIND_T", 2)
+    v.params.set("SIM_WIND_T_COEF", 0.1)
+    assert blowing() == pytest.approx(8.0 - (60.0 - altitude(v)) * 0.1, abs=0.05)
+    v.params.set("SIM_WIND_T_COEF", 1.0)
+    assert blowing() == 0.0  # never backwards
 
 
 # ----- battery --------------------------------------------------------------------------------------
