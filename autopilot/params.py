@@ -174,6 +174,10 @@ PARAM_TABLE: tuple[ParamSpec, ...] = (
     _f("SIM_WIND_DIR", 0, 0, 360, "direction the wind blows from [deg], from the scenario's [wind]"),
     _f("SIM_WIND_TURB", 0, 0, 20, "turbulence, standard deviation per axis [m/s]"),
     _f("SIM_WIND_TC", 5, 0, 120, "time over which a wind change takes effect [s]"),
+    # (no ranges, as ArduPilot's: any value is taken; sim/wind.py keeps the wind it makes physical)
+    _i8("SIM_WIND_T", 0, doc="how the wind weakens near the ground: 0 square root, 1 none, 2 linear"),
+    _f("SIM_WIND_T_ALT", 60, -FLOAT32_MAX, FLOAT32_MAX, "height from which the wind blows whole [m]"),
+    _f("SIM_WIND_T_COEF", 0.01, -FLOAT32_MAX, FLOAT32_MAX, "linear profile: less this much a metre below SIM_WIND_T_ALT"),
     _i("SIM_RC_FAIL", 0, 0, 2, "RC receiver: 1 no frames, 2 throttle at 950 us"),
     _f("SIM_BATT_VOLTAGE", 12.6, 0, 100, "battery resting voltage [V]; setting it re-initialises the charge"),
     _f("SIM_LINK_DOWN", 0, 0, 3600, "ground-station link cut for this many wall seconds, then 0"),

@@ -54,6 +54,7 @@ class SimVehicle:
         self.wind = Wind(config.wind, config.seed)
         self._wind_ned = self.wind.velocity_ned
         self._wind_height_m = -math.inf  # the height the wind was last worked out at
+        self._start_ground_d = config.terrain.ground_d_m(n_m, e_m) if config.terrain.hills else 0.0
         self._speed_scale: tuple[float, ...] = HEALTHY
         self._thrust_scale: tuple[float, ...] = HEALTHY
         self._outputs_cut = False
@@ -120,7 +121,7 @@ class SimVehicle:
     def _blow(self, wind: Wind) -> None:
         """The wind at this battery step, as it changes in time or with the height it weakens
         with (SIM_WIND_T), the height in steps of WIND_HEIGHT_STEP_M."""
-        height = self._height_above_ground()
+        height = self._height_above_start()
         if not wind.changing and abs(height - self._wind_height_m) < WIND_HEIGHT_STEP_M:
             return
         self._wind_height_m = height
@@ -129,11 +130,10 @@ class SimVehicle:
             self._wind_ned = blowing
             self.conditions_version += 1
 
-    def _height_above_ground(self) -> float:
-        """The body's height above the ground under it [m] (ArduPilot SITL's height_agl)."""
-        b = self.state.body
-        terrain = self.config.terrain
-        return (terrain.ground_d_m(b.n_m, b.e_m) if terrain.hills else 0.0) - b.d_m
+    def _height_above_start(self) -> float:
+        """The body's height above the ground it started on [m]: SITL's wind profile reads the
+        barometer's altitude, zeroed at boot, not the height over the ground under it (hills)."""
+        return self._start_ground_d - self.state.body.d_m
 
     def _rest_on_hills(self) -> None:
         """Ground contact with a hill. The physics step (and its compiled twin) knows only the flat

@@ -22,6 +22,9 @@ TURBULENCE_TC_S = 0.5  # how long a gust lasts, roughly; ArduPilot's is a per-ph
 
 # SIM_WIND_T's values
 SQUARE_ROOT, NO_LIMIT, LINEAR = 0, 1, 2
+# A profile's parameters take any value, as ArduPilot's do; the wind they make is held to the
+# highest SIM_WIND_SPD takes, so that absurd settings make a storm, not an overflowing physics step.
+MAX_SPEED_M_S = 100.0
 
 
 @dataclass(frozen=True)
@@ -32,12 +35,15 @@ class WindProfile:
     coef: float = 0.01
 
     def speed_at(self, speed_m_s: float, height_m: float) -> float:
+        """As SITL works it out (an altitude of 0: no wind below it; a negative one: stronger below
+        it), at most MAX_SPEED_M_S and never blowing backwards."""
         if self.kind == SQUARE_ROOT:
             if height_m < self.alt_m:
-                speed_m_s *= math.sqrt(max(height_m / self.alt_m, 0.0)) if self.alt_m > 0.0 else 1.0
+                share = height_m / self.alt_m if self.alt_m != 0.0 else -math.inf
+                speed_m_s *= math.sqrt(max(share, 0.0))
         elif self.kind == LINEAR:
             speed_m_s += (height_m - self.alt_m) * self.coef
-        return max(speed_m_s, 0.0)  # (never blowing backwards)
+        return min(max(speed_m_s, 0.0), MAX_SPEED_M_S)
 
 
 FLAT = WindProfile()
