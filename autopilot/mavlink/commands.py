@@ -14,7 +14,7 @@ from typing import NamedTuple
 from ..estimate import TOLD_DELAY_MAX_S
 from ..modes.numbers import ModeNumber
 from ..results import Result, Severity
-from ..safety.arming import FORCE_ARM_MAGIC, FORCE_DISARM_MAGIC, prearm_failures
+from ..safety.arming import FORCE_ARM_MAGIC, FORCE_DISARM_MAGIC, REPORTED_CHECKS, prearm_failures
 from .dialect import mavlink as mav
 from ..c_casts import as_int16, as_uint16, as_uint32
 from .camera_commands import HANDLERS as CAMERA_HANDLERS
@@ -268,11 +268,12 @@ def flight_termination(s, c: Command) -> Result:
 
 def run_prearm_checks(s, c: Command) -> Result:
     """As ArduCopter: TEMPORARILY_REJECTED while armed; otherwise every failing pre-arm check is
-    said ("PreArm: ...") and the command ACCEPTED, whatever the checks found."""
+    said ("PreArm: ...") and the command ACCEPTED, whatever the checks found. The pre-arm checks
+    only (AP_Arming::pre_arm_checks): the ARM's own, such as leaning, are not run."""
     v = s.vehicle
     if v.armed:
         return Result.TEMPORARILY_REJECTED
-    failures = prearm_failures(v)
+    failures = prearm_failures(v, REPORTED_CHECKS)
     for reason in failures:
         v.notify(f"PreArm: {reason}", Severity.CRITICAL)
     v.prearm_checked(failures)
