@@ -212,13 +212,19 @@ class StateEstimate:
             return self.no_source_since_s
         return self.last_fix_s
 
+    def has_origin(self) -> bool:
+        """Whether the EKF has ever had an origin (from the message or a first fix): once set, it stays."""
+        return self.origin_set_by_message or self.last_fix_s > -math.inf
+
+    def aiding(self) -> bool:
+        """Whether the EKF still aids its position (a position fused within AIDING_STOPS_S)."""
+        return self.sim.time_s - self.last_position_s() <= AIDING_STOPS_S
+
     def takes_told_position(self) -> bool:
         """Whether a told position would be taken now: with an origin, while dead-reckoning
         (no position fused for POSITION_FUSED_RECENTLY_S) and still aiding (AIDING_STOPS_S)."""
         since = self.sim.time_s - self.last_position_s()
-        # the origin, once set (from the message, or with the GPS's first fix), stays when the GPS goes
-        has_origin = self.origin_set_by_message or self.last_fix_s > -math.inf
-        return POSITION_FUSED_RECENTLY_S <= since <= AIDING_STOPS_S and has_origin
+        return POSITION_FUSED_RECENTLY_S <= since <= AIDING_STOPS_S and self.has_origin()
 
     def take_told_position(self, n_m: float, e_m: float, age_s: float, accuracy_m: float) -> None:
         """The estimate jumps to (n_m, e_m) of the sim's frame as it was age_s ago (0 to

@@ -357,6 +357,13 @@ class Vehicle:
     def has_position(self) -> bool:
         return self.estimate.has_position()
 
+    def ekf_has_origin(self) -> bool:
+        return self.estimate.has_origin()
+
+    def ekf_aiding(self) -> bool:
+        """The EKF still aids its position (15 s after the last it fused), else holds a constant one."""
+        return self.estimate.aiding()
+
     def navigating_externally(self) -> bool:
         """The horizontal position is external navigation's (the source set's POSXY 6, a pose fused)."""
         return self.estimate.nav_offset_ne is not None
@@ -1024,6 +1031,8 @@ class Vehicle:
         return prearm_failure(self)
 
     def is_armable(self) -> bool:
+        """Every pre-arm check passes now (an ARM's view; SYS_STATUS shows prearm_passed, the
+        once-a-second verdict)."""
         return self.prearm_failure() is None
 
     def prearm_checked(self, failures: list[str]) -> None:

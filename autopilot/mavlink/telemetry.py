@@ -275,10 +275,10 @@ def ground_temperature(v: TelemetryView, codec):
 # EKF_POS_VERT_AGL only with a terrain height estimate (terrain_height_known): a rangefinder's.
 EKF_GOOD = (mav.EKF_ATTITUDE | mav.EKF_VELOCITY_HORIZ | mav.EKF_VELOCITY_VERT | mav.EKF_POS_HORIZ_REL
             | mav.EKF_POS_HORIZ_ABS | mav.EKF_POS_VERT_ABS | mav.EKF_PRED_POS_HORIZ_REL | mav.EKF_PRED_POS_HORIZ_ABS)
-# Without a position (measured, area ekf_variances): on the ground, constant position mode, which
-# also vouches for the horizontal velocity (0xa7, booted without a GPS); flying, attitude, vertical
-# velocity and height only (0x25, 7 s after the GPS went in a hover), as with a visual odometry
-# sensor (VISO_TYPE) whose position is lost.
+# Without a position (measured, area ekf_variances): flying, attitude, vertical velocity and height
+# only (0x25, from 7 s after the GPS went in a hover, as with a visual odometry sensor whose pose is
+# lost); once the EKF stops aiding (15 s after the last position) or on the ground, constant
+# position mode, which also vouches for the horizontal velocity (0xa7; booted without a GPS too).
 EKF_NO_POSITION_GROUND = (mav.EKF_ATTITUDE | mav.EKF_VELOCITY_HORIZ | mav.EKF_VELOCITY_VERT | mav.EKF_POS_VERT_ABS
                           | mav.EKF_CONST_POS_MODE)
 EKF_NO_POSITION = mav.EKF_ATTITUDE | mav.EKF_VELOCITY_VERT | mav.EKF_POS_VERT_ABS
@@ -293,16 +293,17 @@ HEIGHT_TEST_RATIO, COMPASS_TEST_RATIO = 0.0, 0.02
 def ekf_status_report(v: TelemetryView, codec):
     """Flags for what the estimate knows; the velocity and horizontal position variances as the
     EKF check models them (the square roots of EKF3's GPS test ratios, 1 at its gate), held from
-    the last fix when there is none (measured: ArduCopter's stay where they were)."""
+    the last fix while the EKF dead-reckons without one (measured: ArduCopter's stay where they
+    were), nothing once it holds a constant position."""
     if not v.attitude_known():  # a realistic start-up before the EKF has aligned
         return codec.ekf_status_report_encode(mav.EKF_UNINITIALIZED, 1.0, 1.0, 1.0, 1.0, 0.0)
     velocity, position = v.ekf_test_ratios
     if v.has_position():
         flags = EKF_GOOD
-    elif v.landed and not v.external_nav.kind:
-        flags = EKF_NO_POSITION_GROUND
-    else:
-        flags = EKF_NO_POSITION
+    elif v.ekf_aiding() and not (v.landed and not v.external_nav.kind):
+        flags = EKF_NO_POSITION  # the last fix's ratios held
+    else:  # fusing a constant position: its ratios, nothing (measured 0.00-0.01)
+        flags, velocity, position = EKF_NO_POSITION_GROUND, 0.0, 0.0
     if v.terrain_height_known():
         flags |= mav.EKF_POS_VERT_AGL
     if v.gps_glitching:

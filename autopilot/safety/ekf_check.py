@@ -61,6 +61,7 @@ class EkfCheck:
         self._vibe_last_s = 0.0
         self._filt_hz, self._alpha = math.nan, 1.0  # FS_EKF_FILT and its filter's gain
         self._innovations_passed_s = self._innovations_failed_s = 0.0
+        self.ever_passed = False  # ArduCopter's has_ever_passed: nothing is counted before
 
     @property
     def test_ratios(self) -> tuple[float, float]:
@@ -77,6 +78,11 @@ class EkfCheck:
             self._check_vibration(v)
         else:  # (most checks: nothing to time)
             self._vibe_since_s = None
+        if not self.ever_passed:  # as ArduCopter's: no origin yet, or the checks never passed (no GPS
+            # from power-on): no failsafe to count towards (measured: arming so says no "EKF Failsafe")
+            self.ever_passed = v.ekf_has_origin() and not over and v.has_position()
+            if not self.ever_passed:
+                return
         if not v.armed or thresh <= 0:
             self.fail_count = 0
             self._clear(v)

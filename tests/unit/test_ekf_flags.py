@@ -55,7 +55,8 @@ def test_the_variances_are_the_modelled_test_ratios_small_at_rest_and_past_the_g
 
 def test_without_a_position_constant_position_mode_on_the_ground_attitude_and_height_flying():
     """ArduCopter SITL (area ekf_variances): booted without a GPS, 0xa7 on the ground; the GPS gone
-    in a hover, 0x25 some seconds later, the variances held where the last fix left them."""
+    in a hover, 0x25 7 s later, the variances held where the last fix left them; 0xa7 again, the
+    variances nothing, once the EKF stops aiding 15 s after the last fix."""
     grounded = ready_vehicle(boot_params={"SIM_GPS1_ENABLE": 0})
     assert flags(grounded) == 0xa7
     v = hovering_vehicle(10.0)
@@ -64,3 +65,5 @@ def test_without_a_position_constant_position_mode_on_the_ground_attitude_and_he
     held = variances(v)
     v.run_until(v.time_s + 2.0)
     assert variances(v) == held and held[0] < 0.2 and held[1] < 0.4
+    assert fly_until(v, lambda x: flags(x) == 0xa7, 8.0, step_s=0.1)
+    assert variances(v)[:2] == (0.0, 0.0)

@@ -84,6 +84,16 @@ def test_gps_loss_in_guided_lands_with_ekf_failsafe_and_recovers_when_the_gps_re
     assert v.set_mode(Guided.number) == Result.ACCEPTED
 
 
+def test_no_gps_from_power_on_never_counts_towards_the_ekf_failsafe():
+    """ArduCopter's EKF check counts nothing before its EKF has an origin and its checks have once
+    passed (measured, area refusals: armed in STABILIZE with no GPS, it says "Arming motors" alone)."""
+    v = ready_vehicle(boot_params={"SIM_GPS1_ENABLE": 0})
+    v.events.clear()
+    assert v.arm() == Result.ACCEPTED
+    v.run_until(v.time_s + 5.0)
+    assert texts(v) == ["Arming motors"] and not v.failsafes.active
+
+
 def test_three_satellites_change_nothing_in_flight():
     """Measured on ArduCopter SITL: SIM_GPS1_NUMSATS 3 in a GUIDED hover keeps the fix and the mode."""
     v, _ = hovering_with(("SIM_GPS1_NUMSATS", 3))
@@ -322,6 +332,9 @@ def test_the_wind_weakens_near_the_ground_as_sim_wind_t_says():
     assert blowing() == pytest.approx(8.0 - (60.0 - altitude(v)) * 0.1, abs=0.05)
     v.params.set("SIM_WIND_T_COEF", 1.0)
     assert blowing() == 0.0  # never backwards
+    v.params.set("SIM_WIND_T_ALT", -3e38)  # any value is taken, as ArduPilot's; the wind stays physical
+    v.params.set("SIM_WIND_T_COEF", 3e38)
+    assert blowing() == 100.0
 
 
 # ----- battery --------------------------------------------------------------------------------------

@@ -7,8 +7,9 @@ the failsafe's line. Each window collects the report as it streams (10 Hz) and k
 its median and its highest value:
 
 quiet   on the ground (settled past the EKF's start), then hovering 10 m up in GUIDED;
-lost    hovering, then SIM_GPS1_ENABLE 0: when the position flag goes, the flags and variances after
-        15 s (the variances are held from the last fix, not raised).
+lost    hovering, then SIM_GPS1_ENABLE 0: when the position flag goes and the flags then (the
+        variances held from the last fix, not raised); when the EKF stops aiding and holds a
+        constant position (EKF_CONST_POS_MODE), and the flags and variances 20 s in.
 no_gps  booted without a GPS: the flags and variances on the ground 40 s in.
 jammed  hovering, then SIM_GPS1_JAM 1 (SITL's jammed receiver), the first 6 vehicle seconds:
         whether the velocity ratio passes the gate (1; how far is chance: ArduCopter's went to 173
@@ -30,7 +31,7 @@ AREA = "ekf_variances"
 FIELDS = ("velocity_variance", "pos_horiz_variance", "pos_vert_variance", "compass_variance")
 WINDOW_S = 10.0
 JAM_WINDOW_S = 6.0
-LOST_WINDOW_S = 15.0  # past the EKF's dead reckoning
+LOST_WINDOW_S = 20.0  # past the EKF's dead reckoning (7 s) and its aiding (15 s)
 HOVER_M = 10.0
 THRESH = 0.8  # FS_EKF_THRESH's default
 
@@ -94,8 +95,17 @@ def _fault_in_hover(c: Client, param: str, window_s: float) -> tuple[int, list]:
 
 def gps_lost(c: Client, trace: Trace) -> None:
     start_ms, reports = _fault_in_hover(c, "SIM_GPS1_ENABLE", LOST_WINDOW_S)
-    gone = next((t for t, m in reports if not m.flags & mav.EKF_POS_HORIZ_ABS), None)
+    def first(condition):
+        t = next((t for t, m in reports if condition(m)), None)
+        return (t, next(m for u, m in reports if u == t)) if t is not None else (None, None)
+    gone, report = first(lambda m: not m.flags & mav.EKF_POS_HORIZ_ABS)
     trace.fact("lost.position_gone_s", round((gone - start_ms) / 1000.0, 1) if gone is not None else None, LOST_TIME)
+    trace.fact("lost.flags_then", hex(report.flags) if report else None)
+    for field in FIELDS:
+        trace.fact(f"lost.{field}.then", round(getattr(report, field), 2) if report else None, _quiet(field))
+    held, _ = first(lambda m: m.flags & mav.EKF_CONST_POS_MODE)
+    trace.fact("lost.constant_position_s", round((held - start_ms) / 1000.0, 1) if held is not None else None,
+               LOST_TIME)
     _, last = reports[-1]
     trace.fact("lost.flags_after", hex(last.flags))
     for field in FIELDS:
