@@ -278,8 +278,7 @@ def run_prearm_checks(s, c: Command) -> Result:
 
 
 def no_such_device(s, c: Command) -> Result:
-    """FAILED, as ArduCopter SITL answers for a device it has none of: a camera's focus or
-    video, an SD card to format."""
+    """FAILED, as ArduCopter SITL answers for a device it has none of: an SD card to format."""
     return Result.FAILED
 
 
@@ -427,14 +426,11 @@ HANDLERS = {
     mav.MAV_CMD_NAV_VTOL_LAND: land,
     **PREFLIGHT_HANDLERS,  # reboot, storage, calibrations, banner (preflight.py)
     **DO_ITEM_HANDLERS,  # fence switch, mission current and tags, ROI (do_item_commands.py)
-    **CAMERA_HANDLERS,  # CAM1: pictures, intervals, distance triggering (camera_commands.py)
+    **CAMERA_HANDLERS,  # CAM1: pictures, intervals, distance triggering, zoom, focus (camera_commands.py)
     **PAYLOAD_HANDLERS,  # parachute, sprayer, gripper, winch, motor test (payload_commands.py)
     **HOUSEKEEPING_HANDLERS,  # link, board and calibration odds and ends (housekeeping_commands.py)
     **MOUNT_HANDLERS,  # MNT1: the gimbal's commands, DO_SET_ROI_SYSID (mount_commands.py)
-    **{command: no_such_device for command in (
-        mav.MAV_CMD_SET_CAMERA_FOCUS,
-        mav.MAV_CMD_VIDEO_START_CAPTURE, mav.MAV_CMD_VIDEO_STOP_CAPTURE,
-        mav.MAV_CMD_STORAGE_FORMAT)},
+    mav.MAV_CMD_STORAGE_FORMAT: no_such_device,
     mav.MAV_CMD_DO_ADSB_OUT_IDENT: adsb_out_ident,
 }
 
