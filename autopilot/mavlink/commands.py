@@ -18,6 +18,7 @@ from ..safety.arming import FORCE_ARM_MAGIC, FORCE_DISARM_MAGIC, prearm_failures
 from .dialect import mavlink as mav
 from ..c_casts import as_int16, as_uint16, as_uint32
 from .camera_commands import HANDLERS as CAMERA_HANDLERS
+from .camera_messages import REQUESTABLE as CAMERA_REQUESTABLE
 from .command_locations import TERRAIN_ALT_FRAMES, is_location, target_ned, terrain_target_ned
 from .do_item_commands import HANDLERS as DO_ITEM_HANDLERS
 from .housekeeping_commands import HANDLERS as HOUSEKEEPING_HANDLERS
@@ -26,9 +27,9 @@ from .mount_messages import REQUESTABLE as MOUNT_REQUESTABLE
 from .winch_messages import REQUESTABLE as WINCH_REQUESTABLE
 
 # Messages ArduCopter ACCEPTS a REQUEST_MESSAGE for although it has nothing to send (a device's
-# report with no device made at boot: measured for the gimbal's and the winch's). A payload
-# family joins here.
-ACCEPTED_UNSENT = MOUNT_REQUESTABLE | WINCH_REQUESTABLE
+# report with no device made at boot: measured for the gimbal's, the winch's and the camera's). A
+# payload family joins here.
+ACCEPTED_UNSENT = MOUNT_REQUESTABLE | WINCH_REQUESTABLE | CAMERA_REQUESTABLE
 from .payload_commands import HANDLERS as PAYLOAD_HANDLERS
 from .external_nav_messages import origin_taken
 from .preflight import HANDLERS as PREFLIGHT_HANDLERS

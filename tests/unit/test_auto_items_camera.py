@@ -269,3 +269,25 @@ def test_mission_zoom_and_focus_items_move_the_lens_as_the_commands_do():
         assert CameraItem().start(None, ctx, 0, item)  # done as it starts, whatever the camera makes of it
     assert (v.servo_pwm[ZOOM], v.servo_pwm[FOCUS]) == (1300, 1700)
 
+
+def test_request_message_for_the_camera_messages_as_arducopter_answers_with_a_camera_or_none():
+    from ._session_link import Link
+    from ._util import of_type
+
+    camera_messages = (mav.MAVLINK_MSG_ID_CAMERA_FEEDBACK, mav.MAVLINK_MSG_ID_CAMERA_INFORMATION,
+                       mav.MAVLINK_MSG_ID_CAMERA_SETTINGS, mav.MAVLINK_MSG_ID_CAMERA_CAPTURE_STATUS,
+                       mav.MAVLINK_MSG_ID_VIDEO_STREAM_INFORMATION, mav.MAVLINK_MSG_ID_CAMERA_FOV_STATUS)
+    for kind in (0, 1):
+        link = Link(lens_vehicle(kind))
+        for msg_id in (*camera_messages, mav.MAVLINK_MSG_ID_CAMERA_THERMAL_RANGE,
+                       mav.MAVLINK_MSG_ID_VIDEO_STREAM_STATUS):
+            ack, out = link.command(mav.MAV_CMD_REQUEST_MESSAGE, msg_id)
+            sent = [m for m in out if m.get_msgId() == msg_id]
+            if msg_id == mav.MAVLINK_MSG_ID_VIDEO_STREAM_STATUS:  # not one ArduCopter knows how to send
+                assert (ack.result, sent) == (Result.FAILED, []), kind
+            else:  # accepted; sent by a camera that has it
+                assert ack.result == Result.ACCEPTED and len(sent) == (kind == 1 and msg_id in camera_messages)
+    stream = of_type(link.command(mav.MAV_CMD_REQUEST_MESSAGE, mav.MAVLINK_MSG_ID_VIDEO_STREAM_INFORMATION)[1],
+                     "VIDEO_STREAM_INFORMATION")[0]
+    assert (stream.stream_id, stream.count, stream.flags, stream.resolution_h, stream.name, stream.uri) == \
+        (0, 0, 0, 0, "", "")  # a servo camera's: no stream described
