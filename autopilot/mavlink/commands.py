@@ -278,11 +278,6 @@ def run_prearm_checks(s, c: Command) -> Result:
     return Result.ACCEPTED
 
 
-def no_such_device(s, c: Command) -> Result:
-    """FAILED, as ArduCopter SITL answers for a device it has none of: an SD card to format."""
-    return Result.FAILED
-
-
 def adsb_out_ident(s, c: Command) -> Result:
     """As AP_ADSB::ident_start: with the ADS-B list running (ADSB_TYPE), "ADSB: IDENT!"."""
     if not s.vehicle.traffic.available():
@@ -431,7 +426,6 @@ HANDLERS = {
     **PAYLOAD_HANDLERS,  # parachute, sprayer, gripper, winch, motor test (payload_commands.py)
     **HOUSEKEEPING_HANDLERS,  # link, board and calibration odds and ends (housekeeping_commands.py)
     **MOUNT_HANDLERS,  # MNT1: the gimbal's commands, DO_SET_ROI_SYSID (mount_commands.py)
-    mav.MAV_CMD_STORAGE_FORMAT: no_such_device,
     mav.MAV_CMD_DO_ADSB_OUT_IDENT: adsb_out_ident,
 }
 
