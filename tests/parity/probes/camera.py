@@ -24,6 +24,9 @@ camera_v2     disarmed, the servo camera of `commands` as a camera protocol v2 c
               (SERVO10/11_FUNCTION 180/92): their PWM at boot and after each zoom and focus
               command, and a continuous zoom's and focus's speed and hold.
 no_camera_v2  no camera (CAM1_TYPE 0): REQUEST_MESSAGE for each camera message (the ACKs, the replies).
+servo_configure the servo camera of `commands` with ISO, aperture and shutter-speed outputs
+              (SERVO12/13/14_FUNCTION 90/91/93): their PWM at boot, after a DO_DIGICAM_CONFIGURE
+              asking for each (the ISO output's pulse: PWM and length) and after one asking none.
 """
 from __future__ import annotations
 
@@ -71,6 +74,12 @@ V2_SETTLE_S = 0.5  # ACKs and replies counted this long after the first ACK
 ZOOM_SERVO, FOCUS_SERVO = 10, 11
 V2_PARAMS = {**BOOT_PARAMS, f"SERVO{ZOOM_SERVO}_FUNCTION": 180, f"SERVO{FOCUS_SERVO}_FUNCTION": 92}
 RATE_WINDOW_S = 1.5  # a continuous zoom or focus timed over this much vehicle time
+# servo_configure's servo camera also has an ISO (SERVOn_FUNCTION 90), an aperture (91) and a
+# shutter-speed (93) output, which DO_DIGICAM_CONFIGURE drives
+ISO_SERVO, APERTURE_SERVO, SHUTTER_SERVO = 12, 13, 14
+CONFIGURE_OUTPUTS = (ISO_SERVO, APERTURE_SERVO, SHUTTER_SERVO)
+CONFIGURE_PARAMS = {**BOOT_PARAMS, f"SERVO{ISO_SERVO}_FUNCTION": 90, f"SERVO{APERTURE_SERVO}_FUNCTION": 91,
+                    f"SERVO{SHUTTER_SERVO}_FUNCTION": 93}
 LENS_RATE = Tol(abs=3.0, why="a continuous zoom's or focus's speed [us/s] from two whole-microsecond PWMs "
                              "1.5 s apart (1 us in 1.5 s is 0.7 us/s) on the autopilot's 50 Hz steps")
 INT32_MAX = 2**31 - 1
@@ -80,8 +89,8 @@ def _feedbacks(log: list) -> list:
     return [m for _, m in log if m.get_type() == "CAMERA_FEEDBACK"]
 
 
-def _servo(log: list) -> list[tuple[int, int]]:
-    return [(t, m.servo9_raw) for t, m in log if m.get_type() == "SERVO_OUTPUT_RAW"]
+def _servo(log: list, output: int = SERVO) -> list[tuple[int, int]]:
+    return [(t, getattr(m, f"servo{output}_raw")) for t, m in log if m.get_type() == "SERVO_OUTPUT_RAW"]
 
 
 def _record(c: Client, log: list):
@@ -100,9 +109,9 @@ def _command(c: Client, trace: Trace, name: str, command: int, *params: float, s
     trace.fact(f"{name}.pictures", len(_feedbacks(log)))
 
 
-def _held_s(log: list) -> float | None:
-    """How long the trigger output stayed at CAM1_SERVO_ON after the first picture in `log`."""
-    servo = _servo(log)
+def _held_s(log: list, output: int = SERVO) -> float | None:
+    """How long the trigger output (or `output`) stayed at CAM1_SERVO_ON after it first went there."""
+    servo = _servo(log, output)
     on = next((t for t, pwm in servo if pwm == 1300), None)
     off = None if on is None else next((t for t, pwm in servo if t > on and pwm != 1300), None)
     return None if off is None else (off - on) / 1000.0
@@ -488,6 +497,28 @@ def camera_v2(c: Client, trace: Trace) -> None:
                                                 ("image_status", "video_status", "recording_time_ms")))
 
 
+def _outputs(c: Client, outputs: tuple[int, ...]) -> list[int]:
+    """These outputs' PWM from a SERVO_OUTPUT_RAW sent from now on."""
+    c.fresh("SERVO_OUTPUT_RAW")
+    return [getattr(c.last["SERVO_OUTPUT_RAW"], f"servo{n}_raw") for n in outputs]
+
+
+def servo_configure(c: Client, trace: Trace) -> None:
+    c.command(mav.MAV_CMD_SET_MESSAGE_INTERVAL, mav.MAVLINK_MSG_ID_SERVO_OUTPUT_RAW, 20_000)
+    trace.fact("outputs_at_boot", _outputs(c, CONFIGURE_OUTPUTS))
+    log: list = []
+    with _record(c, log):  # mode 0, shutter speed 125, aperture 1234, ISO 100
+        trace.fact("configure.result", c.command(mav.MAV_CMD_DO_DIGICAM_CONFIGURE, 0, 125, 1234, 100))
+        c.idle(0.6)
+    trace.fact("configure.iso_on_pwm", max((pwm for _, pwm in _servo(log, ISO_SERVO)), default=None))
+    trace.fact("configure.iso_held_s", _held_s(log, ISO_SERVO), HOLD)
+    trace.fact("configure.outputs_after", _outputs(c, CONFIGURE_OUTPUTS))
+    trace.fact("configure_zeros.result", c.command(mav.MAV_CMD_DO_DIGICAM_CONFIGURE, 0, 0, 0, 0))
+    c.idle(0.3)
+    trace.fact("configure_zeros.outputs_after", _outputs(c, CONFIGURE_OUTPUTS))
+    c.command(mav.MAV_CMD_SET_MESSAGE_INTERVAL, mav.MAVLINK_MSG_ID_SERVO_OUTPUT_RAW, 500_000)
+
+
 def no_camera_v2(c: Client, trace: Trace) -> None:
     for msg_id, name, _ in ((MSG_CAMERA_FEEDBACK, "CAMERA_FEEDBACK", ()), *V2_MESSAGES):
         trace.fact(f"request.{name}", _request(c, msg_id))
@@ -501,7 +532,8 @@ PROBES = {"commands": (commands, BOOT_PARAMS), "survey_leg": (survey_leg, BOOT_P
           "converted_type": (converted_type, {"SERVO9_FUNCTION": 10}),
           "camera_v2": (camera_v2, V2_PARAMS),
           # no camera at all (CAM1_TYPE 0, no trigger output): what a camera client asking finds
-          "no_camera_v2": (no_camera_v2, None)}
+          "no_camera_v2": (no_camera_v2, None),
+          "servo_configure": (servo_configure, CONFIGURE_PARAMS)}
 
 
 def run(target) -> dict[str, Trace]:
