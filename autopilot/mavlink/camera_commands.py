@@ -42,7 +42,8 @@ def _x(c) -> int:
 
 
 def digicam_configure(s, c) -> Result:
-    s.vehicle.camera.configure(c.p4)
+    """Param 2 the shutter speed, 3 the aperture, 4 the ISO (param 1's shooting mode: not modelled)."""
+    s.vehicle.camera.configure(c.p2, c.p3, c.p4)
     return Result.ACCEPTED
 
 

@@ -15,13 +15,14 @@ CAM1_SERVO_ON, or the relays whose RELAYn_FUNCTION is the camera (4) to CAM1_REL
 CAM1_DURATION; it counts the image and stores its feedback (where and how the vehicle was, with
 the GPS time), which the MAVLink layer sends as CAMERA_FEEDBACK to every link.
 
-update() runs at AP_Camera's 50 Hz, only while something is to do (busy): the shutter held, a
-picture pending, an interval capture (IMAGE_START_CAPTURE) or distance triggering on (a
-CAM1_TRIGG_DIST above 0, also set by DO_SET_CAM_TRIGG_DIST). An interval capture takes a picture
-each time the interval has passed since the last one and, while it runs, distance triggering
-waits. Distance triggering takes one each time the vehicle is CAM1_TRIGG_DIST from where the last
-one was taken (the first position it sees is the start), in AUTO only if CAM_AUTO_ONLY says so,
-and not while rolled beyond CAM_MAX_ROLL (0: any roll).
+update() runs at AP_Camera's 50 Hz, only while something is to do (busy): the shutter or the ISO
+output held, a continuous zoom or focus, a picture pending, an interval capture
+(IMAGE_START_CAPTURE) or distance triggering on (a CAM1_TRIGG_DIST above 0, also set by
+DO_SET_CAM_TRIGG_DIST). An interval capture takes a picture each time the interval has passed
+since the last one and, while it runs, distance triggering waits. Distance triggering takes one
+each time the vehicle is CAM1_TRIGG_DIST from where the last one was taken (the first position it
+sees is the start), in AUTO only if CAM_AUTO_ONLY says so, and not while rolled beyond
+CAM_MAX_ROLL (0: any roll).
 
 A servo camera also drives a lens: the outputs whose SERVOn_FUNCTION is the camera's zoom (180) or
 focus (92) each hold a position of 0..1000 over SERVOn_MIN..MAX, put in the middle at boot. A zoom
@@ -30,11 +31,15 @@ _FOCUS's continuous type: -1 out, 0 hold, 1 in) moves it by that much at each 50
 held, within its range (measured: 40 us/s on a 1100-1900 output). It has no autofocus, and a relay
 camera neither zoom nor focus; nor has the thermal camera CAM1_TYPE 6 drives (ArduPilot passes a
 zoom or focus to a MAVLink camera only if its CAMERA_INFORMATION says it has one: FAILED for a
-focus, refused for a zoom). CAMERA_SETTINGS reports neither (NaN), as ArduCopter's does.
+focus, refused for a zoom). CAMERA_SETTINGS reports neither (NaN), as ArduCopter's does. Its
+ISO output (SERVOn_FUNCTION 90) sits at CAM1_SERVO_OFF and is pulsed like the shutter by a
+DO_DIGICAM_CONFIGURE asking for an ISO; its aperture (91) and shutter-speed (93) outputs are put
+at the PWM one asks for (configure()).
 
 CAM1_TYPE is read at boot, as ArduPilot builds its camera backend once: a change takes effect
 after a reboot. Left 0 with an output set to the camera trigger, it becomes 1 at boot (ArduPilot
-converts a CAM1_TYPE it has not stored from the older settings so). With no camera every command still answers as ArduCopter's does, and nothing runs.
+converts a CAM1_TYPE it has not stored from the older settings so). With no camera every command
+still answers as ArduCopter's does, and nothing runs.
 """
 from __future__ import annotations
 
@@ -42,7 +47,7 @@ import math
 from collections.abc import Callable
 from typing import Any, NamedTuple
 
-from ..c_casts import float32
+from ..c_casts import as_uint16, float32
 from ..params import ParamStore
 from ..results import Result
 from ..views import CameraView
@@ -58,6 +63,8 @@ CHANNELS, RELAYS = 16, 6
 AUTO = 3  # mode number
 YAW_FULL_TURN_F32 = 359.99998  # from here up a float32 rounds to 360
 ZOOM_FUNCTION, FOCUS_FUNCTION = 180, 92  # SERVOn_FUNCTION: camera zoom (k_cam_zoom), camera focus (k_cam_focus)
+# SERVOn_FUNCTION: the camera's ISO, aperture and shutter speed (k_cam_iso, _aperture, _shutter_speed)
+ISO_FUNCTION, APERTURE_FUNCTION, SHUTTER_SPEED_FUNCTION = 90, 91, 93
 LENS_FULL = 1000.0  # a lens output's range (SRV_Channel's set_range(1000)): SERVOn_MIN at 0, _MAX at 1000
 LENS_START = 500.0  # where a servo camera puts its zoom and focus at boot
 # How a zoom or focus is asked (AP_Camera's ZoomType and FocusType)
@@ -147,6 +154,7 @@ class Camera:
         self._next_update_s = 0.0
         self._shutter_open = False
         self._trigger_outputs: tuple[int, ...] = ()  # 0-based outputs or relays the shutter moves
+        self._iso_hold = 0  # updates until the ISO output goes off (DO_DIGICAM_CONFIGURE); 0: off
         # A servo camera's lens (its zoom and focus outputs); `on_nan`: the vehicle's constraining_nan
         constrain = Constrain(on_nan)
         self.lens = (LensOutput(ZOOM_FUNCTION, constrain), LensOutput(FOCUS_FUNCTION, constrain))
@@ -155,6 +163,8 @@ class Camera:
             self._find_outputs()
             self._shutter(False)
             self._put_out_lens()
+            if self.kind == SERVO:
+                self._put(ISO_FUNCTION, int(params["CAM1_SERVO_OFF"]))  # AP_Camera_Servo's update, from boot
 
     def status(self) -> CameraStatus:
         return CameraStatus(self.present, self.image_index, self.interval_s, self.remaining > 0, self.feedback,
@@ -178,7 +188,7 @@ class Camera:
                 return False
         else:
             self._shutter(True)
-            self._hold = min(int(self.params["CAM1_DURATION"] * UPDATES_PER_S), 65535)
+            self._hold = self._hold_updates()
         self.image_index = (self.image_index + 1) & 0xFFFF  # ArduPilot's count is a uint16
         self._last_picture_s = now
         b = v.body
@@ -194,9 +204,21 @@ class Camera:
         if self.present and shoot == 1:
             self.take_picture()
 
-    def configure(self, iso: float) -> None:
-        """DO_DIGICAM_CONFIGURE: a servo camera moves its ISO output (function 12), which this
-        vehicle has none of; accepted, and nothing shows."""
+    def configure(self, shutter_speed: float, aperture: float, iso: float) -> None:
+        """DO_DIGICAM_CONFIGURE, as a servo camera takes it (made for a Blackmagic Micro Cinema
+        Camera): an ISO above 0 pulses the ISO outputs to CAM1_SERVO_ON for CAM1_DURATION, an
+        aperture or a shutter speed above 0 puts those outputs at that many microseconds (measured:
+        1234 and 125 us stay). Its shooting mode would put the focus outputs at that PWM until the
+        next update puts the focus back (20 ms): not modelled. Any other camera: nothing shows."""
+        if self.kind != SERVO:
+            return
+        if iso > 0:
+            self._iso_hold = self._hold_updates() + 1  # on, then off at the update after the count
+            self._put(ISO_FUNCTION, int(self.params["CAM1_SERVO_ON"]))
+            self._wake()
+        for function, pwm in ((APERTURE_FUNCTION, aperture), (SHUTTER_SPEED_FUNCTION, shutter_speed)):
+            if pwm > 0:
+                self._put(function, as_uint16(pwm))
 
     def set_zoom(self, how: str, value: float) -> bool:
         """SET_CAMERA_ZOOM (`how` RATE or PERCENT): True if taken, which only a servo camera does."""
@@ -221,9 +243,13 @@ class Camera:
             self._put_out_lens()
         else:
             lens.rate = float32(value)
-            self._check_busy()
-            if self.busy:
-                self._next_update_s = min(self._next_update_s, self._v.time_s)
+            self._wake()
+
+    def _wake(self) -> None:
+        """Something to do from now: the 50 Hz update runs, the next one at once."""
+        self._check_busy()
+        if self.busy:
+            self._next_update_s = min(self._next_update_s, self._v.time_s)
 
     def set_trigger_distance(self, distance_m: float) -> None:
         """DO_SET_CAM_TRIGG_DIST: CAM1_TRIGG_DIST for now (not saved, as AP_Param::set)."""
@@ -231,9 +257,7 @@ class Camera:
             return
         self.trigg_dist_m = distance_m
         self.params.report("CAM1_TRIGG_DIST", distance_m)
-        self._check_busy()
-        if self.busy:
-            self._next_update_s = min(self._next_update_s, self._v.time_s)
+        self._wake()
 
     def take_pictures(self, interval_s: float, count: int) -> bool:
         """IMAGE_START_CAPTURE with an interval: `count` pictures (CAPTURE_FOREVER: until stopped),
@@ -241,8 +265,7 @@ class Camera:
         if not self.present:
             return False
         self.interval_s, self.remaining = interval_s, count
-        self._check_busy()
-        self._next_update_s = min(self._next_update_s, self._v.time_s)
+        self._wake()
         return True
 
     def stop_capture(self) -> None:
@@ -285,6 +308,10 @@ class Camera:
             self._hold -= 1
         elif self._shutter_open:
             self._shutter(False)
+        if self._iso_hold > 0:
+            self._iso_hold -= 1
+            if self._iso_hold == 0:
+                self._put(ISO_FUNCTION, int(self.params["CAM1_SERVO_OFF"]))
         if any(lens.rate != 0 for lens in self.lens):  # a continuous zoom or focus (NaN too)
             for lens in self.lens:
                 lens.step()
@@ -320,7 +347,7 @@ class Camera:
 
     def _check_busy(self) -> None:
         self.busy = self.present and (self._hold > 0 or self._pending or self.remaining != 0
-                                      or self.trigg_dist_m > 0 or self._shutter_open
+                                      or self.trigg_dist_m > 0 or self._shutter_open or self._iso_hold > 0
                                       or any(lens.rate != 0 for lens in self.lens))
 
     # ----- the outputs ---------------------------------------------------------------------------
@@ -347,6 +374,15 @@ class Camera:
             for i in self._trigger_outputs:
                 self._relays[i] = on if open_ else not on
 
+    def _hold_updates(self) -> int:
+        """CAM1_DURATION in 50 Hz updates, as AP_Camera counts it (a uint16)."""
+        return min(int(self.params["CAM1_DURATION"] * UPDATES_PER_S), 65535)
+
+    def _put(self, function: int, pwm: int) -> None:
+        """A servo camera's outputs of `function` to `pwm`."""
+        for output in outputs_of(self.params, function):
+            self._servo_pwm[output - 1] = pwm
+
     def _put_out_lens(self) -> None:
         if self.kind == SERVO:
             for lens in self.lens:
@@ -360,6 +396,8 @@ class Camera:
             self._find_outputs()
             self._shutter(self._shutter_open)
             self._put_out_lens()
+            if self.kind == SERVO and self._iso_hold == 0:
+                self._put(ISO_FUNCTION, int(self.params["CAM1_SERVO_OFF"]))
         elif name.startswith("SERVO") and name.endswith(("_MIN", "_MAX", "_REVERSED")):
             self._put_out_lens()  # SRV_Channels scales the lens outputs afresh at every loop
 

@@ -291,3 +291,18 @@ def test_request_message_for_the_camera_messages_as_arducopter_answers_with_a_ca
                      "VIDEO_STREAM_INFORMATION")[0]
     assert (stream.stream_id, stream.count, stream.flags, stream.resolution_h, stream.name, stream.uri) == \
         (0, 0, 0, 0, "", "")  # a servo camera's: no stream described
+
+
+def test_digicam_configure_pulses_a_servo_cameras_iso_output_and_sets_aperture_and_shutter_speed():
+    iso, aperture, shutter = 11, 12, 13  # 0-based: outputs 12, 13, 14
+    v = camera_vehicle(SERVO12_FUNCTION=90, SERVO13_FUNCTION=91, SERVO14_FUNCTION=93)
+    assert v.servo_pwm[iso:shutter + 1] == [1100, 0, 0]  # the ISO output off from boot; the others never set
+    assert command(v, mav.MAV_CMD_DO_DIGICAM_CONFIGURE, 0, 125, 1234, 100) == Result.ACCEPTED
+    assert v.servo_pwm[iso:shutter + 1] == [1300, 1234, 125] and v.camera.busy
+    v.run_until(v.time_s + 0.14)  # held CAM1_DURATION (0.1 s)
+    assert v.servo_pwm[iso:shutter + 1] == [1100, 1234, 125] and not v.camera.busy
+    assert command(v, mav.MAV_CMD_DO_DIGICAM_CONFIGURE, 0, 0, math.nan, 0) == Result.ACCEPTED
+    assert v.servo_pwm[iso:shutter + 1] == [1100, 1234, 125] and not v.camera.busy  # none asked: unchanged
+    relay = camera_vehicle(kind=2, trigger_output=False, SERVO12_FUNCTION=90, SERVO13_FUNCTION=91)
+    command(relay, mav.MAV_CMD_DO_DIGICAM_CONFIGURE, 0, 125, 1234, 100)
+    assert relay.servo_pwm[iso:aperture + 1] == [0, 0]  # only a servo camera drives them

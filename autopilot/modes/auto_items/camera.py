@@ -1,13 +1,14 @@
 """The camera's mission items, as AP_Mission hands them to AP_Camera (payload/camera.py): done as
 they start (RUN_BY_MISSION), whatever the camera makes of them.
 
-DO_DIGICAM_CONFIGURE (param 4 the ISO), DO_DIGICAM_CONTROL (x the shooting command: 1 a picture),
-DO_SET_CAM_TRIGG_DIST (param 1 the distance, param 3 = 1 a picture now), IMAGE_START_CAPTURE
-(param 1 the camera, 0 all; 2 the interval [s]; 3 the number of pictures, 0 until stopped),
-IMAGE_STOP_CAPTURE (param 1 the camera), SET_CAMERA_ZOOM and SET_CAMERA_FOCUS (param 1 the type,
-2 the rate or percentage: a servo camera's lens) and SET_CAMERA_SOURCE (nothing: these cameras
-have one). Parameters are cut to AP_Mission's integer fields (camera numbers and zoom and focus
-types bytes, counts uint16).
+DO_DIGICAM_CONFIGURE (param 2 the shutter speed, 3 the aperture, 4 the ISO), DO_DIGICAM_CONTROL
+(x the shooting command: 1 a picture), DO_SET_CAM_TRIGG_DIST (param 1 the distance, param 3 = 1 a
+picture now), IMAGE_START_CAPTURE (param 1 the camera, 0 all; 2 the interval [s]; 3 the number of
+pictures, 0 until stopped), IMAGE_STOP_CAPTURE (param 1 the camera), SET_CAMERA_ZOOM and
+SET_CAMERA_FOCUS (param 1 the type, 2 the rate or percentage: a servo camera's lens) and
+SET_CAMERA_SOURCE (nothing: these cameras have one). Parameters are cut to AP_Mission's integer
+fields (camera numbers, zoom and focus types and the aperture bytes; counts, the shutter speed
+and the ISO uint16).
 """
 from __future__ import annotations
 
@@ -37,7 +38,7 @@ class CameraItem(AutoItem):
         camera = ctx.camera
         command = item.command
         if command == DIGICAM_CONFIGURE:
-            camera.configure(item.p4)
+            camera.configure(as_uint16(item.p2), as_uint8(item.p3), as_uint16(item.p4))
         elif command == DIGICAM_CONTROL:
             camera.control(item.x)
         elif command == SET_CAM_TRIGG_DIST:
