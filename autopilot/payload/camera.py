@@ -215,7 +215,7 @@ class Camera:
         if iso > 0:
             self._iso_hold = self._hold_updates() + 1  # on, then off at the update after the count
             self._put(ISO_FUNCTION, int(self.params["CAM1_SERVO_ON"]))
-            self._wake()
+            self._check_busy()
         for function, pwm in ((APERTURE_FUNCTION, aperture), (SHUTTER_SPEED_FUNCTION, shutter_speed)):
             if pwm > 0:
                 self._put(function, as_uint16(pwm))
@@ -243,13 +243,7 @@ class Camera:
             self._put_out_lens()
         else:
             lens.rate = float32(value)
-            self._wake()
-
-    def _wake(self) -> None:
-        """Something to do from now: the 50 Hz update runs, the next one at once."""
-        self._check_busy()
-        if self.busy:
-            self._next_update_s = min(self._next_update_s, self._v.time_s)
+            self._check_busy()
 
     def set_trigger_distance(self, distance_m: float) -> None:
         """DO_SET_CAM_TRIGG_DIST: CAM1_TRIGG_DIST for now (not saved, as AP_Param::set)."""
@@ -257,7 +251,7 @@ class Camera:
             return
         self.trigg_dist_m = distance_m
         self.params.report("CAM1_TRIGG_DIST", distance_m)
-        self._wake()
+        self._check_busy()
 
     def take_pictures(self, interval_s: float, count: int) -> bool:
         """IMAGE_START_CAPTURE with an interval: `count` pictures (CAPTURE_FOREVER: until stopped),
@@ -265,7 +259,7 @@ class Camera:
         if not self.present:
             return False
         self.interval_s, self.remaining = interval_s, count
-        self._wake()
+        self._check_busy()
         return True
 
     def stop_capture(self) -> None:
@@ -298,12 +292,17 @@ class Camera:
 
     # ----- the 50 Hz update ----------------------------------------------------------------------
     def update(self) -> None:
-        """AP_Camera's update, at 50 Hz of sim time; the vehicle calls it while busy."""
+        """AP_Camera's update, at 50 Hz of sim time; the vehicle calls it while busy. Busy again
+        after a rest, the camera runs at the vehicle's next step and every 0.02 s from there, as
+        ArduPilot's scheduler runs it at its next 50 Hz step (a rest is no update: never two in
+        one period)."""
         v = self._v
         now = v.time_s
         if now < self._next_update_s - 1e-9:
             return
-        self._next_update_s = max(self._next_update_s + UPDATE_S, now)
+        if now - self._next_update_s >= UPDATE_S - 1e-9:  # idle until now: the 50 Hz steps start here
+            self._next_update_s = now
+        self._next_update_s += UPDATE_S
         if self._hold > 0:
             self._hold -= 1
         elif self._shutter_open:

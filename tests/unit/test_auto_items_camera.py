@@ -299,7 +299,9 @@ def test_digicam_configure_pulses_a_servo_cameras_iso_output_and_sets_aperture_a
     assert v.servo_pwm[iso:shutter + 1] == [1100, 0, 0]  # the ISO output off from boot; the others never set
     assert command(v, mav.MAV_CMD_DO_DIGICAM_CONFIGURE, 0, 125, 1234, 100) == Result.ACCEPTED
     assert v.servo_pwm[iso:shutter + 1] == [1300, 1234, 125] and v.camera.busy
-    v.run_until(v.time_s + 0.14)  # held CAM1_DURATION (0.1 s)
+    v.run_until(v.time_s + 0.095)
+    assert v.servo_pwm[iso] == 1300  # held CAM1_DURATION (0.1 s) from the next 50 Hz update
+    v.run_until(v.time_s + 0.03)
     assert v.servo_pwm[iso:shutter + 1] == [1100, 1234, 125] and not v.camera.busy
     assert command(v, mav.MAV_CMD_DO_DIGICAM_CONFIGURE, 0, 0, math.nan, 0) == Result.ACCEPTED
     assert v.servo_pwm[iso:shutter + 1] == [1100, 1234, 125] and not v.camera.busy  # none asked: unchanged
