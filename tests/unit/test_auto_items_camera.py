@@ -246,13 +246,15 @@ def test_zoom_focus_tracking_and_video_answer_as_arducopters_by_camera_type():
         [Result.DENIED] * 4 + [Result.UNSUPPORTED] * 3 + [Result.ACCEPTED]  # 2.5: cut to a range focus
     relay = lens_vehicle(kind=2)
     none = lens_vehicle(kind=0)
+    mavlink_camera = lens_vehicle(kind=6)  # a MAVLink camera (none found here; the thermal one has no lens either)
     for v, zoom_result, focus_result in ((relay, Result.UNSUPPORTED, Result.UNSUPPORTED),
-                                         (none, Result.UNSUPPORTED, Result.FAILED)):
+                                         (none, Result.UNSUPPORTED, Result.FAILED),
+                                         (mavlink_camera, Result.UNSUPPORTED, Result.FAILED)):
         assert command(v, mav.MAV_CMD_SET_CAMERA_ZOOM, mav.ZOOM_TYPE_RANGE, 50) == zoom_result
         assert command(v, focus, mav.FOCUS_TYPE_RANGE, 50) == focus_result
         assert command(v, focus, mav.FOCUS_TYPE_STEP, 1) == Result.DENIED
         assert v.servo_pwm[ZOOM] == v.servo_pwm[FOCUS] == 0  # nothing drives the lens outputs
-    for v in (servo, relay, none):
+    for v in (servo, relay, none, mavlink_camera):
         assert [command(v, c, 0.5, 0.5, 0.6, 0.6) for c in (mav.MAV_CMD_CAMERA_TRACK_POINT,
                 mav.MAV_CMD_CAMERA_TRACK_RECTANGLE, mav.MAV_CMD_CAMERA_STOP_TRACKING)] == [Result.UNSUPPORTED] * 3
         assert [command(v, c, 0) for c in (mav.MAV_CMD_VIDEO_START_CAPTURE, mav.MAV_CMD_VIDEO_STOP_CAPTURE)] == \
