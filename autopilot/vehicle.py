@@ -184,7 +184,8 @@ class Vehicle:
         self.params.file.waiting = self.mission.file.waiting = self.stores_waiting
         self.servo_relay = ServoRelayEvents(self.params, self.notify)  # DO_SET_SERVO / _RELAY and repeats
         # CAM1 (AP_Camera): pictures on command, by interval and by distance; drives those outputs
-        self.camera = Camera(self, self.params, self.servo_relay.pwm, self.servo_relay.relays)
+        self.camera = Camera(self, self.params, self.servo_relay.pwm, self.servo_relay.relays,
+                             self.constraining_nan)
         self.camera_status = self.camera.status
         # MNT1 (AP_Mount): a servo gimbal, made at boot from MNT1_TYPE, on the pan / tilt / roll outputs
         self.mount = Mount(self.params, self.servo_relay.pwm, self.constraining_nan)

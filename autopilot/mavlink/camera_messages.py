@@ -1,13 +1,17 @@
 """The camera's messages, as ArduCopter sends them for a CAM1 servo or relay camera (AP_Camera):
 CAMERA_FEEDBACK for each picture (to every link as it is taken, and the last one again on
-request), and on request CAMERA_INFORMATION, CAMERA_SETTINGS, CAMERA_CAPTURE_STATUS and
-CAMERA_FOV_STATUS. Without a camera (CAM1_TYPE 0) none is built.
+request), and on request CAMERA_INFORMATION, CAMERA_SETTINGS, CAMERA_CAPTURE_STATUS,
+CAMERA_FOV_STATUS and VIDEO_STREAM_INFORMATION. Without a camera (CAM1_TYPE 0) none is built, and
+REQUEST_MESSAGE is ACCEPTED all the same (REQUESTABLE), as it is for CAMERA_THERMAL_RANGE, which
+only a gimbal's camera would send; VIDEO_STREAM_STATUS is not among them: FAILED.
 
 Measured on the reference: CAMERA_INFORMATION is all zeros but the time (a servo camera's driver
 leaves its description unset: no focal length, no flags); CAMERA_SETTINGS is image mode with
 zoom and focus unknown (NaN); CAMERA_CAPTURE_STATUS says 2 (interval set, idle) while an interval
 capture has pictures left, with the interval it was last given; CAMERA_FOV_STATUS gives the
-vehicle's position and heading (no mount to point it) and no field of view.
+vehicle's position and heading (no mount to point it) and no field of view;
+VIDEO_STREAM_INFORMATION is all zeros (ArduPilot sends a stream description only a script has
+filled in; with none, an empty one: no name, no uri).
 """
 from __future__ import annotations
 
@@ -62,6 +66,12 @@ def camera_capture_status(v: TelemetryView, codec):
                                               s.interval_s, 0, NAN, s.image_index)
 
 
+def video_stream_information(v: TelemetryView, codec):
+    if not v.camera_status().present:
+        return None
+    return codec.video_stream_information_encode(0, 0, 0, 0, 0.0, 0, 0, 0, 0, 0, b"", b"")
+
+
 def camera_fov_status(v: TelemetryView, codec):
     if not v.camera_status().present:
         return None
@@ -78,4 +88,8 @@ BUILDERS = {
     mav.MAVLINK_MSG_ID_CAMERA_SETTINGS: camera_settings,
     mav.MAVLINK_MSG_ID_CAMERA_CAPTURE_STATUS: camera_capture_status,
     mav.MAVLINK_MSG_ID_CAMERA_FOV_STATUS: camera_fov_status,
+    mav.MAVLINK_MSG_ID_VIDEO_STREAM_INFORMATION: video_stream_information,
 }
+# Asked for by REQUEST_MESSAGE, ACCEPTED with a camera or none (ArduPilot queues any message it
+# knows how to send, and then the camera has nothing to send)
+REQUESTABLE = frozenset(BUILDERS) | {mav.MAVLINK_MSG_ID_CAMERA_THERMAL_RANGE}

@@ -18,6 +18,7 @@ from ..safety.arming import FORCE_ARM_MAGIC, FORCE_DISARM_MAGIC, REPORTED_CHECKS
 from .dialect import mavlink as mav
 from ..c_casts import as_int16, as_uint16, as_uint32
 from .camera_commands import HANDLERS as CAMERA_HANDLERS
+from .camera_messages import REQUESTABLE as CAMERA_REQUESTABLE
 from .command_locations import TERRAIN_ALT_FRAMES, is_location, target_ned, terrain_target_ned
 from .do_item_commands import HANDLERS as DO_ITEM_HANDLERS
 from .housekeeping_commands import HANDLERS as HOUSEKEEPING_HANDLERS
@@ -26,9 +27,9 @@ from .mount_messages import REQUESTABLE as MOUNT_REQUESTABLE
 from .winch_messages import REQUESTABLE as WINCH_REQUESTABLE
 
 # Messages ArduCopter ACCEPTS a REQUEST_MESSAGE for although it has nothing to send (a device's
-# report with no device made at boot: measured for the gimbal's and the winch's). A payload
-# family joins here.
-ACCEPTED_UNSENT = MOUNT_REQUESTABLE | WINCH_REQUESTABLE
+# report with no device made at boot: measured for the gimbal's, the winch's and the camera's). A
+# payload family joins here.
+ACCEPTED_UNSENT = MOUNT_REQUESTABLE | WINCH_REQUESTABLE | CAMERA_REQUESTABLE
 from .payload_commands import HANDLERS as PAYLOAD_HANDLERS
 from .external_nav_messages import origin_taken
 from .preflight import HANDLERS as PREFLIGHT_HANDLERS
@@ -280,12 +281,6 @@ def run_prearm_checks(s, c: Command) -> Result:
     return Result.ACCEPTED
 
 
-def no_such_device(s, c: Command) -> Result:
-    """FAILED, as ArduCopter SITL answers for a device it has none of: a camera's focus or
-    video, an SD card to format."""
-    return Result.FAILED
-
-
 def adsb_out_ident(s, c: Command) -> Result:
     """As AP_ADSB::ident_start: with the ADS-B list running (ADSB_TYPE), "ADSB: IDENT!"."""
     if not s.vehicle.traffic.available():
@@ -430,14 +425,10 @@ HANDLERS = {
     mav.MAV_CMD_NAV_VTOL_LAND: land,
     **PREFLIGHT_HANDLERS,  # reboot, storage, calibrations, banner (preflight.py)
     **DO_ITEM_HANDLERS,  # fence switch, mission current and tags, ROI (do_item_commands.py)
-    **CAMERA_HANDLERS,  # CAM1: pictures, intervals, distance triggering (camera_commands.py)
+    **CAMERA_HANDLERS,  # CAM1: pictures, intervals, distance triggering, zoom, focus (camera_commands.py)
     **PAYLOAD_HANDLERS,  # parachute, sprayer, gripper, winch, motor test (payload_commands.py)
     **HOUSEKEEPING_HANDLERS,  # link, board and calibration odds and ends (housekeeping_commands.py)
     **MOUNT_HANDLERS,  # MNT1: the gimbal's commands, DO_SET_ROI_SYSID (mount_commands.py)
-    **{command: no_such_device for command in (
-        mav.MAV_CMD_SET_CAMERA_FOCUS,
-        mav.MAV_CMD_VIDEO_START_CAPTURE, mav.MAV_CMD_VIDEO_STOP_CAPTURE,
-        mav.MAV_CMD_STORAGE_FORMAT)},
     mav.MAV_CMD_DO_ADSB_OUT_IDENT: adsb_out_ident,
 }
 

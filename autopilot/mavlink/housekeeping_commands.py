@@ -17,6 +17,8 @@ Most change nothing a client can see on ArduCopter SITL either, and Firefly does
   so no calibration runs: the one report says it is waiting to start, and none follows it.
 - FIXED_MAG_CAL_YAW: ACCEPTED in every state, as on SITL (the offsets it would set are zero for
   Firefly's exact compass).
+- STORAGE_FORMAT: only param 1 = 1 (the card) with param 2 = 1 (format) is taken, anything else
+  UNSUPPORTED; SITL has no card to format: FAILED (tests/parity/probes/camera.py camera_v2).
 """
 from __future__ import annotations
 
@@ -58,6 +60,10 @@ def start_mag_cal(s, c) -> Result:
     return Result.ACCEPTED
 
 
+def storage_format(s, c) -> Result:
+    return Result.FAILED if c.p1 == 1 and c.p2 == 1 else Result.UNSUPPORTED
+
+
 def scripting(s, c) -> Result:
     if c.p1 in (SCRIPTING_STOP, SCRIPTING_STOP_AND_RESTART):
         return Result.ACCEPTED
@@ -84,6 +90,7 @@ HANDLERS = {
     mav.MAV_CMD_START_RX_PAIR: accepted,
     mav.MAV_CMD_AIRFRAME_CONFIGURATION: accepted,
     mav.MAV_CMD_SCRIPTING: scripting,
+    mav.MAV_CMD_STORAGE_FORMAT: storage_format,
     MAV_CMD_EXTERNAL_WIND_ESTIMATE: external_wind_estimate,
     mav.MAV_CMD_DO_SET_SAFETY_SWITCH_STATE: set_safety_switch_state,
     mav.MAV_CMD_DO_START_MAG_CAL: start_mag_cal,

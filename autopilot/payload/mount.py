@@ -31,7 +31,7 @@ from typing import NamedTuple
 from ..c_casts import as_int16, as_uint8
 from ..params import ParamStore
 from ..rc.channels import Calibration, stick
-from .outputs import outputs_of
+from .outputs import Constrain, outputs_of
 
 SERVO, BRUSHLESS_PWM = 1, 7  # MNT1_TYPE
 PAN, TILT, ROLL, OPEN = 6, 7, 8, 9  # SERVOn_FUNCTION
@@ -49,20 +49,6 @@ def _wrap_pi(a: float) -> float:
 
 def _clamp(v: float, low: float, high: float) -> float:
     return low if v < low else high if v > high else v
-
-
-class _Limits:
-    """ArduPilot's constrain_float: a NaN becomes the middle of the range, and its internal
-    error (the vehicle's constraining_nan)."""
-
-    def __init__(self, on_nan: Callable[[], None]):
-        self.on_nan = on_nan
-
-    def __call__(self, v: float, low: float, high: float) -> float:
-        if v != v:
-            self.on_nan()
-            return (low + high) / 2
-        return _clamp(v, low, high)
 
 
 RC_OPTIONS = (212, 213, 214)  # RCn_OPTION: MOUNT1_ROLL, MOUNT1_PITCH, MOUNT1_YAW
@@ -108,7 +94,7 @@ class Target:
 class Mount:
     def __init__(self, params: ParamStore, servo_pwm: list[int], on_nan: Callable[[], None] = lambda: None):
         self.params = params
-        self._constrain = _Limits(on_nan)
+        self._constrain = Constrain(on_nan)
         self._servo_pwm = servo_pwm  # the outputs it drives (servo_relay.py's)
         kind = int(params.get("MNT1_TYPE", 0))
         self.fitted = kind in (SERVO, BRUSHLESS_PWM)  # made at boot, as ArduPilot's backends

@@ -8,6 +8,8 @@ reversed).
 """
 from __future__ import annotations
 
+from collections.abc import Callable
+
 from ..params import ParamStore
 
 CHANNELS, RELAYS = 16, 6
@@ -40,3 +42,17 @@ def range_pwm(params: ParamStore, output: int, fraction: float) -> int:
 def minimum_pwm(params: ParamStore, output: int) -> int:
     """The output's minimum [us]: SERVOn_MIN, or SERVOn_MAX when reversed."""
     return int(params[f"SERVO{output}_MAX" if _reversed(params, output) else f"SERVO{output}_MIN"])
+
+
+class Constrain:
+    """ArduPilot's constrain_float for what a payload puts out: a NaN becomes the middle of the
+    range, and its internal error (the vehicle's constraining_nan, `on_nan`)."""
+
+    def __init__(self, on_nan: Callable[[], None]):
+        self.on_nan = on_nan
+
+    def __call__(self, v: float, low: float, high: float) -> float:
+        if v != v:
+            self.on_nan()
+            return (low + high) / 2
+        return low if v < low else high if v > high else v

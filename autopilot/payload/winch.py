@@ -31,13 +31,12 @@ constrain_float gives the middle of its range for NaN, and counts an internal er
 """
 from __future__ import annotations
 
-import math
 from collections.abc import Callable
 
 from ..c_casts import float32
 from ..params import ParamStore
 from ..results import Severity
-from .outputs import outputs_of
+from .outputs import Constrain, outputs_of
 
 WINCH_FUNCTION = 88  # SERVOn_FUNCTION: winch
 PWM_TYPE, DAIWA_TYPE = 1, 2  # WINCH_TYPE
@@ -56,7 +55,7 @@ class Winch:
         self.params = params
         self._servo_pwm = servo_pwm  # the outputs it drives (servo_relay.py's)
         self._notify = notify
-        self._constraining_nan = constraining_nan  # ArduPilot's internal error for a NaN held to a range
+        self._constrain = Constrain(constraining_nan)  # a NaN held to a range: ArduPilot's internal error
         self._radio = radio  # (every channel's PWM as last read, whether the radio is to be trusted)
         self._stick_was_us: int | None = None  # the stick where last read (AP_Winch's previous_radio_in)
         self.kind = int(params["WINCH_TYPE"]) if int(params["WINCH_TYPE"]) in (PWM_TYPE, DAIWA_TYPE) else 0
@@ -96,12 +95,6 @@ class Winch:
 
     def _rate_max(self) -> float:
         return float(self.params["WINCH_RATE_MAX"])
-
-    def _constrain(self, value: float, low: float, high: float) -> float:
-        if math.isnan(value):
-            self._constraining_nan()
-            return (low + high) / 2.0
-        return min(max(value, low), high)
 
     # ----- what DO_WINCH, a mission's DO_WINCH and the aux switch ask --------------------------
     def relax(self) -> None:

@@ -72,11 +72,13 @@ MODE_NAMES = {n: cls.name for n, cls in MODE_BY_NUMBER.items()}
 PHASES = {"ON_GROUND": "armed_ground", "TAKEOFF": "takeoff", "IN_AIR": "flying", "LANDING": "landing"}
 KIND_NAMES = {0: "mission", 1: "fence", 2: "rally"}
 # "camera": an instant start with a servo camera (SERVO9_FUNCTION 10 at power-on makes CAM1_TYPE 1),
-# so that the camera's commands and mission items act rather than answer that there is none;
+# so that the camera's commands and mission items act rather than answer that there is none, with
+# its zoom, focus and ISO outputs (SERVO10-12_FUNCTION 180, 92, 90);
 # "payload": an instant start with every payload that is off by default fitted, so that its
 # commands act: the winch (WINCH_TYPE 1 on output 10), the optical flow sensor (FLOW_TYPE 10, SITL's
 # camera on: FLOWHOLD can be entered) and the thermal camera as component 100, driven by CAM1_TYPE 6
 STARTS = ("realistic", "instant", "camera", "payload")
+CAMERA_PARAMS = {"SERVO9_FUNCTION": 10, "SERVO10_FUNCTION": 180, "SERVO11_FUNCTION": 92, "SERVO12_FUNCTION": 90}
 PAYLOAD_PARAMS = {"WINCH_TYPE": 1, "SERVO10_FUNCTION": 88, "FLOW_TYPE": 10, "SIM_FLOW_ENABLE": 1, "CAM1_TYPE": 6}
 
 
@@ -238,7 +240,8 @@ class Walk:
         timeline = StartupTimeline() if start == "realistic" else None
         params = ParamStore()
         if start == "camera":
-            params.set("SERVO9_FUNCTION", 10)
+            for name, value in CAMERA_PARAMS.items():
+                params.set(name, value)
         if start == "payload":
             for name, value in PAYLOAD_PARAMS.items():
                 params.set(name, value)
@@ -865,6 +868,19 @@ def act_gps_jam(w: Walk, r) -> None:
     values hostile now and then: the jammed GPS's variances, glitch flag and vibration check."""
     name = r.choice(("SIM_GPS1_JAM", "SIM_GPS1_JAM", "FS_EKF_FILT", "FS_EKF_THRESH", "FS_VIBE_ENABLE"))
     w.set_param(name, param_f(r, r.choice((0.0, 1.0, 5.0, 0.8)), 0.2))
+
+
+def act_camera_lens(w: Walk, r) -> None:
+    """A servo camera's lens and settings outputs (their values hostile now and then): a zoom or a
+    focus of any type (a continuous one moves the lens until held), a DO_DIGICAM_CONFIGURE."""
+    how = r.randrange(3)
+    value = param_f(r, r.choice((-1.0, 0.0, 1.0, 50.0)))
+    if how == 0:
+        w.command(mav.MAV_CMD_SET_CAMERA_ZOOM, param_f(r, r.randrange(5)), value)
+    elif how == 1:
+        w.command(mav.MAV_CMD_SET_CAMERA_FOCUS, param_f(r, r.randrange(7)), value)
+    else:
+        w.command(mav.MAV_CMD_DO_DIGICAM_CONFIGURE, 0, param_f(r, 125.0), param_f(r, 1234.0), param_f(r, 100.0))
 
 
 def act_known(w: Walk, r) -> None:

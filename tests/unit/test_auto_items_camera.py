@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import math
 
+import pytest
+
 from firefly.autopilot.mavlink.camera_commands import HANDLERS
 from firefly.autopilot.mavlink.commands import Command
 from firefly.autopilot.mavlink.dialect import mavlink as mav
@@ -112,8 +114,9 @@ def test_a_picture_asked_within_cam1_intrval_min_waits_for_it():
     assert len(taken) == 1 and abs(taken[0][0] - first - 2.0) < 0.03
 
 
-def test_auto_triggers_by_distance_along_a_leg_from_the_picture_taken_at_its_start():
-    v = camera_vehicle()
+@pytest.mark.parametrize("auto_only", [0, 1])
+def test_auto_triggers_by_distance_along_a_leg_from_the_picture_taken_at_its_start(auto_only):
+    v = camera_vehicle(CAM_AUTO_ONLY=auto_only)  # AUTO triggers either way
     v.mission.replace(0, [takeoff(), wp_at(v, 0.5, 0), MissionItem(206, 3, 10, 0, 1, 0), wp_at(v, 60, 0),
                           MissionItem(206, 3, 0), wp_at(v, 60, 30), MissionItem(21, 3)])
     v.set_mode(4)
@@ -184,3 +187,126 @@ def test_mission_items_shoot_start_and_stop_an_interval_capture():
     assert all(abs(g - 1.0) < 0.03 for g in gaps), gaps
     assert [f.image_index for _, f in taken] == list(range(1, len(taken) + 1))
     assert not v.camera.busy and not v.camera_status().capturing
+
+
+ZOOM, FOCUS = 9, 10  # 0-based: outputs 10 and 11
+
+
+def lens_vehicle(kind: int = 1) -> Vehicle:
+    """A camera of `kind` with a zoom output (SERVO10_FUNCTION 180) and a focus output (SERVO11 92)."""
+    return camera_vehicle(kind, trigger_output=kind == 1, SERVO10_FUNCTION=180, SERVO11_FUNCTION=92)
+
+
+def test_a_servo_camera_puts_its_lens_in_the_middle_then_where_a_percentage_asks():
+    v = lens_vehicle()
+    assert v.servo_pwm[ZOOM] == v.servo_pwm[FOCUS] == 1500  # 500 of 0..1000 over 1100..1900
+    for percent, pwm in ((25, 1300), (150, 1900), (-10, 1100), (33.3, 1366)):
+        assert command(v, mav.MAV_CMD_SET_CAMERA_ZOOM, mav.ZOOM_TYPE_RANGE, percent) == Result.ACCEPTED
+        assert v.servo_pwm[ZOOM] == pwm, percent
+    assert command(v, mav.MAV_CMD_SET_CAMERA_FOCUS, mav.FOCUS_TYPE_RANGE, 75) == Result.ACCEPTED
+    assert (v.servo_pwm[ZOOM], v.servo_pwm[FOCUS]) == (1366, 1700)
+    v.params.set("SERVO10_REVERSED", 1)
+    assert v.servo_pwm[ZOOM] == 1633  # scaled afresh: 333 of 1000 from the top, 1100 + 667 * 0.8
+
+
+def test_a_continuous_zoom_or_focus_moves_its_output_each_update_until_held():
+    v = lens_vehicle()
+    assert command(v, mav.MAV_CMD_SET_CAMERA_ZOOM, mav.ZOOM_TYPE_CONTINUOUS, 1) == Result.ACCEPTED
+    assert command(v, mav.MAV_CMD_SET_CAMERA_FOCUS, mav.FOCUS_TYPE_CONTINUOUS, -1) == Result.ACCEPTED
+    assert v.camera.busy
+    v.run_until(v.time_s + 2.0)
+    assert 1575 <= v.servo_pwm[ZOOM] <= 1581 and 1419 <= v.servo_pwm[FOCUS] <= 1425  # 40 us/s: 1 of 1000 at 50 Hz
+    assert command(v, mav.MAV_CMD_SET_CAMERA_ZOOM, mav.ZOOM_TYPE_CONTINUOUS, 0) == Result.ACCEPTED
+    assert command(v, mav.MAV_CMD_SET_CAMERA_FOCUS, mav.FOCUS_TYPE_CONTINUOUS, 0) == Result.ACCEPTED
+    held = v.servo_pwm[ZOOM], v.servo_pwm[FOCUS]
+    v.run_until(v.time_s + 1.0)
+    assert (v.servo_pwm[ZOOM], v.servo_pwm[FOCUS]) == held and not v.camera.busy
+    command(v, mav.MAV_CMD_SET_CAMERA_ZOOM, mav.ZOOM_TYPE_CONTINUOUS, 50)
+    v.run_until(v.time_s + 1.0)
+    assert v.servo_pwm[ZOOM] == 1900  # held to its range
+
+
+def test_a_nan_zoom_rate_keeps_the_zoom_in_the_middle_with_arducopters_internal_error():
+    v = lens_vehicle()
+    command(v, mav.MAV_CMD_SET_CAMERA_ZOOM, mav.ZOOM_TYPE_RANGE, 10)
+    assert command(v, mav.MAV_CMD_SET_CAMERA_ZOOM, mav.ZOOM_TYPE_CONTINUOUS, math.nan) == Result.ACCEPTED
+    v.run_until(v.time_s + 0.1)
+    assert v.servo_pwm[ZOOM] == 1500 and v.internal_error_bits != 0
+
+
+def test_zoom_focus_tracking_and_video_answer_as_arducopters_by_camera_type():
+    focus = mav.MAV_CMD_SET_CAMERA_FOCUS
+    servo = lens_vehicle()
+    assert [command(servo, mav.MAV_CMD_SET_CAMERA_ZOOM, t, 1) for t in
+            (mav.ZOOM_TYPE_STEP, mav.ZOOM_TYPE_FOCAL_LENGTH, mav.ZOOM_TYPE_HORIZONTAL_FOV, 1.5, math.nan)] == \
+        [Result.UNSUPPORTED] * 5
+    assert [command(servo, focus, t, 1) for t in
+            (mav.FOCUS_TYPE_STEP, mav.FOCUS_TYPE_METERS, 9, math.nan, mav.FOCUS_TYPE_AUTO, mav.FOCUS_TYPE_AUTO_SINGLE,
+             mav.FOCUS_TYPE_AUTO_CONTINUOUS, 2.5)] == \
+        [Result.DENIED] * 4 + [Result.UNSUPPORTED] * 3 + [Result.ACCEPTED]  # 2.5: cut to a range focus
+    relay = lens_vehicle(kind=2)
+    none = lens_vehicle(kind=0)
+    mavlink_camera = lens_vehicle(kind=6)  # a MAVLink camera (none found here; the thermal one has no lens either)
+    for v, zoom_result, focus_result in ((relay, Result.UNSUPPORTED, Result.UNSUPPORTED),
+                                         (none, Result.UNSUPPORTED, Result.FAILED),
+                                         (mavlink_camera, Result.UNSUPPORTED, Result.FAILED)):
+        assert command(v, mav.MAV_CMD_SET_CAMERA_ZOOM, mav.ZOOM_TYPE_RANGE, 50) == zoom_result
+        assert command(v, focus, mav.FOCUS_TYPE_RANGE, 50) == focus_result
+        assert command(v, focus, mav.FOCUS_TYPE_STEP, 1) == Result.DENIED
+        assert v.servo_pwm[ZOOM] == v.servo_pwm[FOCUS] == 0  # nothing drives the lens outputs
+    for v in (servo, relay, none, mavlink_camera):
+        assert [command(v, c, 0.5, 0.5, 0.6, 0.6) for c in (mav.MAV_CMD_CAMERA_TRACK_POINT,
+                mav.MAV_CMD_CAMERA_TRACK_RECTANGLE, mav.MAV_CMD_CAMERA_STOP_TRACKING)] == [Result.UNSUPPORTED] * 3
+        assert [command(v, c, 0) for c in (mav.MAV_CMD_VIDEO_START_CAPTURE, mav.MAV_CMD_VIDEO_STOP_CAPTURE)] == \
+            [Result.FAILED] * 2
+
+
+def test_mission_zoom_and_focus_items_move_the_lens_as_the_commands_do():
+    from firefly.autopilot.modes.auto_items.camera import CameraItem
+
+    v = lens_vehicle()
+    ctx = type("Context", (), {"camera": v.camera})()
+    for item in (MissionItem(531, 2, mav.ZOOM_TYPE_RANGE, 25), MissionItem(532, 2, mav.FOCUS_TYPE_RANGE, 75),
+                 MissionItem(531, 2, mav.ZOOM_TYPE_STEP, 90), MissionItem(532, 2, mav.FOCUS_TYPE_AUTO, 0)):
+        assert CameraItem().start(None, ctx, 0, item)  # done as it starts, whatever the camera makes of it
+    assert (v.servo_pwm[ZOOM], v.servo_pwm[FOCUS]) == (1300, 1700)
+
+
+def test_request_message_for_the_camera_messages_as_arducopter_answers_with_a_camera_or_none():
+    from ._session_link import Link
+    from ._util import of_type
+
+    camera_messages = (mav.MAVLINK_MSG_ID_CAMERA_FEEDBACK, mav.MAVLINK_MSG_ID_CAMERA_INFORMATION,
+                       mav.MAVLINK_MSG_ID_CAMERA_SETTINGS, mav.MAVLINK_MSG_ID_CAMERA_CAPTURE_STATUS,
+                       mav.MAVLINK_MSG_ID_VIDEO_STREAM_INFORMATION, mav.MAVLINK_MSG_ID_CAMERA_FOV_STATUS)
+    for kind in (0, 1):
+        link = Link(lens_vehicle(kind))
+        for msg_id in (*camera_messages, mav.MAVLINK_MSG_ID_CAMERA_THERMAL_RANGE,
+                       mav.MAVLINK_MSG_ID_VIDEO_STREAM_STATUS):
+            ack, out = link.command(mav.MAV_CMD_REQUEST_MESSAGE, msg_id)
+            sent = [m for m in out if m.get_msgId() == msg_id]
+            if msg_id == mav.MAVLINK_MSG_ID_VIDEO_STREAM_STATUS:  # not one ArduCopter knows how to send
+                assert (ack.result, sent) == (Result.FAILED, []), kind
+            else:  # accepted; sent by a camera that has it
+                assert ack.result == Result.ACCEPTED and len(sent) == (kind == 1 and msg_id in camera_messages)
+    stream = of_type(link.command(mav.MAV_CMD_REQUEST_MESSAGE, mav.MAVLINK_MSG_ID_VIDEO_STREAM_INFORMATION)[1],
+                     "VIDEO_STREAM_INFORMATION")[0]
+    assert (stream.stream_id, stream.count, stream.flags, stream.resolution_h, stream.name, stream.uri) == \
+        (0, 0, 0, 0, "", "")  # a servo camera's: no stream described
+
+
+def test_digicam_configure_pulses_a_servo_cameras_iso_output_and_sets_aperture_and_shutter_speed():
+    iso, aperture, shutter = 11, 12, 13  # 0-based: outputs 12, 13, 14
+    v = camera_vehicle(SERVO12_FUNCTION=90, SERVO13_FUNCTION=91, SERVO14_FUNCTION=93)
+    assert v.servo_pwm[iso:shutter + 1] == [1100, 0, 0]  # the ISO output off from boot; the others never set
+    assert command(v, mav.MAV_CMD_DO_DIGICAM_CONFIGURE, 0, 125, 1234, 100) == Result.ACCEPTED
+    assert v.servo_pwm[iso:shutter + 1] == [1300, 1234, 125] and v.camera.busy
+    v.run_until(v.time_s + 0.095)
+    assert v.servo_pwm[iso] == 1300  # held CAM1_DURATION (0.1 s) from the next 50 Hz update
+    v.run_until(v.time_s + 0.03)
+    assert v.servo_pwm[iso:shutter + 1] == [1100, 1234, 125] and not v.camera.busy
+    assert command(v, mav.MAV_CMD_DO_DIGICAM_CONFIGURE, 0, 0, math.nan, 0) == Result.ACCEPTED
+    assert v.servo_pwm[iso:shutter + 1] == [1100, 1234, 125] and not v.camera.busy  # none asked: unchanged
+    relay = camera_vehicle(kind=2, trigger_output=False, SERVO12_FUNCTION=90, SERVO13_FUNCTION=91)
+    command(relay, mav.MAV_CMD_DO_DIGICAM_CONFIGURE, 0, 125, 1234, 100)
+    assert relay.servo_pwm[iso:aperture + 1] == [0, 0]  # only a servo camera drives them

@@ -34,6 +34,9 @@ def test_each_answers_as_arducopter_and_high_latency_says_so():
                             (mav.MAV_CMD_DO_ACCEPT_MAG_CAL, ACCEPTED), (mav.MAV_CMD_DO_CANCEL_MAG_CAL, ACCEPTED),
                             (mav.MAV_CMD_ACCELCAL_VEHICLE_POS, FAILED)):
         assert answer(link, command, 1, 1)[0] == result
+    # STORAGE_FORMAT: the card (1) with "format" (1) is taken, and fails: SITL has none; anything else
+    assert [answer(link, mav.MAV_CMD_STORAGE_FORMAT, *p)[0] for p in ((1, 1), (1, 0), (0, 1), (2, 1))] == \
+        [FAILED, UNSUPPORTED, UNSUPPORTED, UNSUPPORTED]
 
 
 def test_a_compass_calibration_starts_only_disarmed_and_reports_its_progress():

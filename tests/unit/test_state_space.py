@@ -23,8 +23,8 @@ from hypothesis import strategies as st
 from hypothesis.stateful import RuleBasedStateMachine, initialize, rule
 
 from ..fuzz import hostile
-from ..fuzz.state_machine import (ACTIONS, START_AT_S, Walk, WalkFailure, act_gps_jam, act_payload, act_terrain,
-                                  render, shrink)
+from ..fuzz.state_machine import (ACTIONS, START_AT_S, Walk, WalkFailure, act_camera_lens, act_gps_jam, act_payload,
+                                  act_terrain, render, shrink)
 from ..fuzz.state_walk import run
 from .test_hostile_messages import MESSAGES
 
@@ -98,6 +98,12 @@ class StateSpace(RuleBasedStateMachine):
         """A jammed GPS and the EKF check's parameters (act_gps_jam): not among the seeded walk's
         ACTIONS either."""
         self.act(act_gps_jam, rng)
+
+    @rule(rng=RANDOM)
+    def camera_lens(self, rng):
+        """A zoom, a focus or a configure (act_camera_lens): not among the seeded walk's ACTIONS
+        either."""
+        self.act(act_camera_lens, rng)
 
     @rule(msg=MESSAGES)
     def hostile_as_in_the_hostile_message_tests(self, msg):

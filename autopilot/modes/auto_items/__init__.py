@@ -93,6 +93,8 @@ ITEMS: dict[int, type[AutoItem]] = {
     211: PayloadItem,  # DO_GRIPPER
     216: PayloadItem,  # DO_SPRAYER
     222: DoGuidedLimits,  # DO_GUIDED_LIMITS
+    531: CameraItem,  # SET_CAMERA_ZOOM
+    532: CameraItem,  # SET_CAMERA_FOCUS
     534: CameraItem,  # SET_CAMERA_SOURCE
     1000: MountItem,  # DO_GIMBAL_MANAGER_PITCHYAW
     2000: CameraItem,  # IMAGE_START_CAPTURE

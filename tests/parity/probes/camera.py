@@ -12,8 +12,21 @@ survey_leg    AUTO: DO_SET_CAM_TRIGG_DIST 10 m with a picture at once at the sta
 guided_dist   distance triggering outside AUTO: 8 m set by command, flown 30 m north in GUIDED
               (CAM_AUTO_ONLY 0: pictures), then back with CAM_AUTO_ONLY 1 (none).
 relay_camera  CAM1_TYPE 2 (a relay camera) set and saved, rebooted: the commands' answers and
-              pictures, an interval, CAMERA_INFORMATION.
+              pictures (a zoom and a focus among them), an interval, CAMERA_INFORMATION.
 converted_type CAM1_TYPE never set, SERVO9_FUNCTION 10: CAM1_TYPE after boot, a picture.
+camera_v2     disarmed, the servo camera of `commands` as a camera protocol v2 client (MAVSDK, QGC) sees
+              it: REQUEST_MESSAGE for each of the protocol's camera and video messages (the ACK, how
+              many ACKs, how many replies and the fields a client reads in the first), the deprecated
+              REQUEST_CAMERA_* / REQUEST_VIDEO_STREAM_* commands, image_count over two pictures, and
+              each of the protocol's other commands (mode, every zoom and focus type, tracking, video
+              capture and streaming, storage format, reset) with what came back; CAMERA_SETTINGS and
+              CAMERA_CAPTURE_STATUS after them. The camera has a zoom and a focus output too
+              (SERVO10/11_FUNCTION 180/92): their PWM at boot and after each zoom and focus
+              command, and a continuous zoom's and focus's speed and hold.
+no_camera_v2  no camera (CAM1_TYPE 0): REQUEST_MESSAGE for each camera message (the ACKs, the replies).
+servo_configure the servo camera of `commands` with ISO, aperture and shutter-speed outputs
+              (SERVO12/13/14_FUNCTION 90/91/93): their PWM at boot, after a DO_DIGICAM_CONFIGURE
+              asking for each (the ISO output's pulse: PWM and length) and after one asking none.
 """
 from __future__ import annotations
 
@@ -50,14 +63,34 @@ REBOOT_WAIT_S = 60.0  # wall seconds for a rebooted vehicle to speak again
 # MAVLink 2 messages the client's dialect module does not name
 MSG_CAMERA_FEEDBACK, MSG_CAMERA_INFORMATION, MSG_CAMERA_SETTINGS = 180, 259, 260
 MSG_CAMERA_CAPTURE_STATUS, MSG_CAMERA_FOV_STATUS = 262, 271
+MSG_VIDEO_STREAM_INFORMATION, MSG_VIDEO_STREAM_STATUS, MSG_CAMERA_THERMAL_RANGE = 269, 270, 277
+# What a camera protocol v2 client may get back from a camera command (camera_v2)
+V2_REPLIES = ("CAMERA_INFORMATION", "CAMERA_SETTINGS", "CAMERA_CAPTURE_STATUS", "CAMERA_FOV_STATUS",
+              "VIDEO_STREAM_INFORMATION", "VIDEO_STREAM_STATUS", "CAMERA_FEEDBACK", "CAMERA_IMAGE_CAPTURED",
+              "STORAGE_INFORMATION", "CAMERA_THERMAL_RANGE")
+V2_SETTLE_S = 0.5  # ACKs and replies counted this long after the first ACK
+# camera_v2's servo camera also has a zoom (SERVOn_FUNCTION 180) and a focus (92) output: the lens
+# a servo camera drives, from 0 % at SERVOn_MIN to 100 % at SERVOn_MAX
+ZOOM_SERVO, FOCUS_SERVO = 10, 11
+V2_PARAMS = {**BOOT_PARAMS, f"SERVO{ZOOM_SERVO}_FUNCTION": 180, f"SERVO{FOCUS_SERVO}_FUNCTION": 92}
+RATE_WINDOW_S = 1.5  # a continuous zoom or focus timed over this much vehicle time
+# servo_configure's servo camera also has an ISO (SERVOn_FUNCTION 90), an aperture (91) and a
+# shutter-speed (93) output, which DO_DIGICAM_CONFIGURE drives
+ISO_SERVO, APERTURE_SERVO, SHUTTER_SERVO = 12, 13, 14
+CONFIGURE_OUTPUTS = (ISO_SERVO, APERTURE_SERVO, SHUTTER_SERVO)
+CONFIGURE_PARAMS = {**BOOT_PARAMS, f"SERVO{ISO_SERVO}_FUNCTION": 90, f"SERVO{APERTURE_SERVO}_FUNCTION": 91,
+                    f"SERVO{SHUTTER_SERVO}_FUNCTION": 93}
+LENS_RATE = Tol(abs=3.0, why="a continuous zoom's or focus's speed [us/s] from two whole-microsecond PWMs "
+                             "1.5 s apart (1 us in 1.5 s is 0.7 us/s) on the autopilot's 50 Hz steps")
+INT32_MAX = 2**31 - 1
 
 
 def _feedbacks(log: list) -> list:
     return [m for _, m in log if m.get_type() == "CAMERA_FEEDBACK"]
 
 
-def _servo(log: list) -> list[tuple[int, int]]:
-    return [(t, m.servo9_raw) for t, m in log if m.get_type() == "SERVO_OUTPUT_RAW"]
+def _servo(log: list, output: int = SERVO) -> list[tuple[int, int]]:
+    return [(t, getattr(m, f"servo{output}_raw")) for t, m in log if m.get_type() == "SERVO_OUTPUT_RAW"]
 
 
 def _record(c: Client, log: list):
@@ -76,9 +109,9 @@ def _command(c: Client, trace: Trace, name: str, command: int, *params: float, s
     trace.fact(f"{name}.pictures", len(_feedbacks(log)))
 
 
-def _held_s(log: list) -> float | None:
-    """How long the trigger output stayed at CAM1_SERVO_ON after the first picture in `log`."""
-    servo = _servo(log)
+def _held_s(log: list, output: int = SERVO) -> float | None:
+    """How long the trigger output (or `output`) stayed at CAM1_SERVO_ON after it first went there."""
+    servo = _servo(log, output)
     on = next((t for t, pwm in servo if pwm == 1300), None)
     off = None if on is None else next((t for t, pwm in servo if t > on and pwm != 1300), None)
     return None if off is None else (off - on) / 1000.0
@@ -284,7 +317,9 @@ def relay_camera(c: Client, trace: Trace) -> None:
     for name, command, params in (("shoot", mav.MAV_CMD_DO_DIGICAM_CONTROL, (0, 0, 0, 0, 1)),
                                   ("start_one", mav.MAV_CMD_IMAGE_START_CAPTURE, (0, 0, 1)),
                                   ("trigg_dist_once", mav.MAV_CMD_DO_SET_CAM_TRIGG_DIST, (0, 0, 1)),
-                                  ("source_all", mav.MAV_CMD_SET_CAMERA_SOURCE, (0, 1, 0))):
+                                  ("source_all", mav.MAV_CMD_SET_CAMERA_SOURCE, (0, 1, 0)),
+                                  ("zoom_range", mav.MAV_CMD_SET_CAMERA_ZOOM, (mav.ZOOM_TYPE_RANGE, 50)),
+                                  ("focus_range", mav.MAV_CMD_SET_CAMERA_FOCUS, (mav.FOCUS_TYPE_RANGE, 50))):
         _command(c, trace, name, command, *params)
     log: list = []
     with _record(c, log):
@@ -306,12 +341,199 @@ def converted_type(c: Client, trace: Trace) -> None:
     _command(c, trace, "shoot", mav.MAV_CMD_DO_DIGICAM_CONTROL, 0, 0, 0, 0, 1)
 
 
+def _exchange(c: Client, command: int, *params: float) -> tuple[int | None, int, list]:
+    """A command sent once: its first ACK's result, how many ACKs it got (exactly one is the
+    rule) and the camera messages that came back within V2_SETTLE_S of vehicle time after it."""
+    log: list = []
+
+    def take(msg) -> None:
+        kind = msg.get_type()
+        if kind in V2_REPLIES or (kind == "COMMAND_ACK" and msg.command == command):
+            log.append(msg)
+    with c.listening(take):
+        result = c.command(command, *params)
+        c.idle(V2_SETTLE_S)
+    acks = sum(m.get_type() == "COMMAND_ACK" for m in log)
+    return result, acks, [m for m in log if m.get_type() != "COMMAND_ACK"]
+
+
+def _visible(value):
+    """A field as a client reads it: text for a name (a uint8 array or a string, NULs dropped),
+    "NaN" for an unknown float (NaN equals nothing, a recording included)."""
+    if isinstance(value, float) and math.isnan(value):
+        return "NaN"
+    if isinstance(value, list) and all(isinstance(v, int) for v in value) and len(value) == 32:
+        return bytes(value).rstrip(b"\0").decode(errors="replace")
+    if isinstance(value, (str, bytes)):
+        text = value.decode(errors="replace") if isinstance(value, bytes) else value
+        return text.rstrip("\0")
+    return value
+
+
+# REQUEST_MESSAGE (param 2 as MAVSDK and QGC send it: 0, every stream) and the fields a client
+# reads; "uri" and "cam_definition_uri" as their presence (a stream's address names a port). The
+# names are spelled out: the client's dialect module (MAVLink 1's) has no table of these ids.
+V2_MESSAGES = (
+    (MSG_CAMERA_INFORMATION, "CAMERA_INFORMATION",
+     ("vendor_name", "model_name", "firmware_version", "sensor_size_h", "sensor_size_v", "resolution_h",
+      "resolution_v", "cam_definition_version", "cam_definition_uri", "camera_device_id")),
+    (MSG_CAMERA_SETTINGS, "CAMERA_SETTINGS", ("mode_id", "zoomLevel", "focusLevel", "camera_device_id")),
+    (MSG_CAMERA_CAPTURE_STATUS, "CAMERA_CAPTURE_STATUS",
+     ("image_status", "video_status", "image_interval", "recording_time_ms", "available_capacity", "image_count",
+      "camera_device_id")),
+    (MSG_VIDEO_STREAM_INFORMATION, "VIDEO_STREAM_INFORMATION",
+     ("stream_id", "count", "type", "flags", "framerate", "resolution_h", "resolution_v", "bitrate", "rotation",
+      "hfov", "name", "uri", "encoding", "camera_device_id")),
+    (MSG_VIDEO_STREAM_STATUS, "VIDEO_STREAM_STATUS",
+     ("stream_id", "flags", "framerate", "resolution_h", "resolution_v", "bitrate", "rotation", "hfov",
+      "camera_device_id")),
+    (MSG_CAMERA_FOV_STATUS, "CAMERA_FOV_STATUS", ("hfov", "vfov", "camera_device_id")),
+    (MSG_CAMERA_THERMAL_RANGE, "CAMERA_THERMAL_RANGE", ("stream_id", "max", "min", "camera_device_id")),
+)
+URIS = ("uri", "cam_definition_uri")
+
+
+def _fields(msg, names: tuple[str, ...]) -> dict:
+    seen = {name: _visible(getattr(msg, name)) for name in names}
+    seen.update({name: bool(seen[name]) for name in URIS if name in seen})
+    if msg.get_type() == "CAMERA_FOV_STATUS":  # where the camera is (no mount: the vehicle) and its roll/pitch
+        seen["located"] = msg.lat_camera != INT32_MAX and msg.lon_camera != INT32_MAX
+        seen["q_x_y"] = [round(msg.q[1], 3), round(msg.q[2], 3)]
+    return seen
+
+
+def _request(c: Client, msg_id: int, names: tuple[str, ...] = ()) -> dict:
+    result, acks, replies = _exchange(c, mav.MAV_CMD_REQUEST_MESSAGE, msg_id, 0)
+    mine = [m for m in replies if m.get_msgId() == msg_id]
+    return {"result": result, "acks": acks, "replies": len(mine), **(_fields(mine[0], names) if mine else {})}
+
+
+# The deprecated requests (param 1 = 1: "request it"; for a stream, the stream id: 0 every stream)
+V2_DEPRECATED = (("request_camera_information", mav.MAV_CMD_REQUEST_CAMERA_INFORMATION, (1,)),
+                 ("request_camera_settings", mav.MAV_CMD_REQUEST_CAMERA_SETTINGS, (1,)),
+                 ("request_camera_capture_status", mav.MAV_CMD_REQUEST_CAMERA_CAPTURE_STATUS, (1,)),
+                 ("request_video_stream_information", mav.MAV_CMD_REQUEST_VIDEO_STREAM_INFORMATION, (0,)),
+                 ("request_video_stream_status", mav.MAV_CMD_REQUEST_VIDEO_STREAM_STATUS, (0,)))
+# The protocol's other commands, each as a client sends it (camera/stream id 0: all)
+V2_COMMANDS = (
+    ("mode_image", mav.MAV_CMD_SET_CAMERA_MODE, (0, mav.CAMERA_MODE_IMAGE)),
+    ("mode_video", mav.MAV_CMD_SET_CAMERA_MODE, (0, mav.CAMERA_MODE_VIDEO)),
+    ("zoom_step", mav.MAV_CMD_SET_CAMERA_ZOOM, (mav.ZOOM_TYPE_STEP, 1)),
+    ("zoom_range_25", mav.MAV_CMD_SET_CAMERA_ZOOM, (mav.ZOOM_TYPE_RANGE, 25)),
+    ("zoom_range_150", mav.MAV_CMD_SET_CAMERA_ZOOM, (mav.ZOOM_TYPE_RANGE, 150)),
+    ("zoom_range_negative", mav.MAV_CMD_SET_CAMERA_ZOOM, (mav.ZOOM_TYPE_RANGE, -10)),
+    ("zoom_range_33", mav.MAV_CMD_SET_CAMERA_ZOOM, (mav.ZOOM_TYPE_RANGE, 33.3)),
+    ("zoom_focal_length", mav.MAV_CMD_SET_CAMERA_ZOOM, (mav.ZOOM_TYPE_FOCAL_LENGTH, 35)),
+    ("zoom_hfov", mav.MAV_CMD_SET_CAMERA_ZOOM, (mav.ZOOM_TYPE_HORIZONTAL_FOV, 60)),
+    ("focus_step", mav.MAV_CMD_SET_CAMERA_FOCUS, (mav.FOCUS_TYPE_STEP, 1)),
+    ("focus_range_75", mav.MAV_CMD_SET_CAMERA_FOCUS, (mav.FOCUS_TYPE_RANGE, 75)),
+    ("focus_meters", mav.MAV_CMD_SET_CAMERA_FOCUS, (mav.FOCUS_TYPE_METERS, 10)),
+    ("focus_auto", mav.MAV_CMD_SET_CAMERA_FOCUS, (mav.FOCUS_TYPE_AUTO,)),
+    ("focus_auto_single", mav.MAV_CMD_SET_CAMERA_FOCUS, (mav.FOCUS_TYPE_AUTO_SINGLE,)),
+    ("focus_auto_continuous", mav.MAV_CMD_SET_CAMERA_FOCUS, (mav.FOCUS_TYPE_AUTO_CONTINUOUS,)),
+    ("track_point", mav.MAV_CMD_CAMERA_TRACK_POINT, (0.5, 0.5, 0.05)),
+    ("track_rectangle", mav.MAV_CMD_CAMERA_TRACK_RECTANGLE, (0.4, 0.4, 0.6, 0.6)),
+    ("stop_tracking", mav.MAV_CMD_CAMERA_STOP_TRACKING, ()),
+    ("video_start_capture", mav.MAV_CMD_VIDEO_START_CAPTURE, (0, 0)),
+    ("video_start_capture_stream1", mav.MAV_CMD_VIDEO_START_CAPTURE, (1, 1)),
+    ("video_stop_capture", mav.MAV_CMD_VIDEO_STOP_CAPTURE, (0,)),
+    ("video_start_streaming", mav.MAV_CMD_VIDEO_START_STREAMING, (0,)),
+    ("video_stop_streaming", mav.MAV_CMD_VIDEO_STOP_STREAMING, (0,)),
+    ("storage_format", mav.MAV_CMD_STORAGE_FORMAT, (1, 1)),
+    ("storage_format_unconfirmed", mav.MAV_CMD_STORAGE_FORMAT, (1, 0)),
+    ("storage_format_all", mav.MAV_CMD_STORAGE_FORMAT, (0, 1)),
+    ("reset_settings", mav.MAV_CMD_RESET_CAMERA_SETTINGS, (1,)),
+)
+
+
+def _answer(c: Client, command: int, params: tuple) -> dict:
+    result, acks, replies = _exchange(c, command, *params)
+    return {"result": result, "acks": acks, "replies": sorted({m.get_type() for m in replies})}
+
+
+def _lens_sample(c: Client) -> tuple[int, list[int]]:
+    """A SERVO_OUTPUT_RAW sent from now on: its stamp [us] and the zoom and focus outputs' PWM."""
+    c.fresh("SERVO_OUTPUT_RAW")
+    raw = c.last["SERVO_OUTPUT_RAW"]
+    return raw.time_usec, [getattr(raw, f"servo{ZOOM_SERVO}_raw"), getattr(raw, f"servo{FOCUS_SERVO}_raw")]
+
+
+def _drift(c: Client, trace: Trace, name: str, command: int, params: tuple, lens: int) -> None:
+    """A continuous zoom or focus (`lens` 0: the zoom output, 1: the focus output): its answer and
+    how fast the output moves [us/s] over RATE_WINDOW_S; then the hold (rate 0), its answer and how
+    far the output moves in the RATE_WINDOW_S after it."""
+    trace.fact(name, _answer(c, command, params))
+    t1, moving = _lens_sample(c)
+    c.idle(RATE_WINDOW_S)
+    t2, moved = _lens_sample(c)
+    trace.fact(f"{name}.rate_us_s", (moved[lens] - moving[lens]) / ((t2 - t1) / 1e6), LENS_RATE)
+    trace.fact(f"{name}_hold", _answer(c, command, (params[0], 0)))
+    _, held = _lens_sample(c)
+    c.idle(RATE_WINDOW_S)
+    trace.fact(f"{name}_hold.moved_us", _lens_sample(c)[1][lens] - held[lens])
+
+
+def camera_v2(c: Client, trace: Trace) -> None:
+    for msg_id, name, fields in V2_MESSAGES:
+        trace.fact(f"request.{name}", _request(c, msg_id, fields))
+    for name, command, params in V2_DEPRECATED:
+        trace.fact(name, _answer(c, command, params))
+    counts = []
+    for shot in (1, 2):  # a picture, then the count (the shutter is held 0.1 s: they are a second apart)
+        trace.fact(f"shot{shot}", _answer(c, mav.MAV_CMD_IMAGE_START_CAPTURE, (0, 0, 1)))
+        c.idle(0.5)
+        counts.append(_request(c, MSG_CAMERA_CAPTURE_STATUS, ("image_count",)).get("image_count"))
+    trace.fact("image_count", counts)
+    c.command(mav.MAV_CMD_SET_MESSAGE_INTERVAL, mav.MAVLINK_MSG_ID_SERVO_OUTPUT_RAW, 100_000)
+    trace.fact("lens_outputs_at_boot", _lens_sample(c)[1])
+    for name, command, params in V2_COMMANDS:
+        trace.fact(name, _answer(c, command, params))
+        if command in (mav.MAV_CMD_SET_CAMERA_ZOOM, mav.MAV_CMD_SET_CAMERA_FOCUS):
+            trace.fact(f"{name}.lens_outputs", _lens_sample(c)[1])
+    _drift(c, trace, "zoom_continuous_in", mav.MAV_CMD_SET_CAMERA_ZOOM, (mav.ZOOM_TYPE_CONTINUOUS, 1), 0)
+    _drift(c, trace, "focus_continuous_in", mav.MAV_CMD_SET_CAMERA_FOCUS, (mav.FOCUS_TYPE_CONTINUOUS, -1), 1)
+    trace.fact("settings_after", _request(c, MSG_CAMERA_SETTINGS, ("mode_id", "zoomLevel", "focusLevel")))
+    trace.fact("capture_status_after", _request(c, MSG_CAMERA_CAPTURE_STATUS,
+                                                ("image_status", "video_status", "recording_time_ms")))
+
+
+def _outputs(c: Client, outputs: tuple[int, ...]) -> list[int]:
+    """These outputs' PWM from a SERVO_OUTPUT_RAW sent from now on."""
+    c.fresh("SERVO_OUTPUT_RAW")
+    return [getattr(c.last["SERVO_OUTPUT_RAW"], f"servo{n}_raw") for n in outputs]
+
+
+def servo_configure(c: Client, trace: Trace) -> None:
+    c.command(mav.MAV_CMD_SET_MESSAGE_INTERVAL, mav.MAVLINK_MSG_ID_SERVO_OUTPUT_RAW, 20_000)
+    trace.fact("outputs_at_boot", _outputs(c, CONFIGURE_OUTPUTS))
+    log: list = []
+    with _record(c, log):  # mode 0, shutter speed 125, aperture 1234, ISO 100
+        trace.fact("configure.result", c.command(mav.MAV_CMD_DO_DIGICAM_CONFIGURE, 0, 125, 1234, 100))
+        c.idle(0.6)
+    trace.fact("configure.iso_on_pwm", max((pwm for _, pwm in _servo(log, ISO_SERVO)), default=None))
+    trace.fact("configure.iso_held_s", _held_s(log, ISO_SERVO), HOLD)
+    trace.fact("configure.outputs_after", _outputs(c, CONFIGURE_OUTPUTS))
+    trace.fact("configure_zeros.result", c.command(mav.MAV_CMD_DO_DIGICAM_CONFIGURE, 0, 0, 0, 0))
+    c.idle(0.3)
+    trace.fact("configure_zeros.outputs_after", _outputs(c, CONFIGURE_OUTPUTS))
+    c.command(mav.MAV_CMD_SET_MESSAGE_INTERVAL, mav.MAVLINK_MSG_ID_SERVO_OUTPUT_RAW, 500_000)
+
+
+def no_camera_v2(c: Client, trace: Trace) -> None:
+    for msg_id, name, _ in ((MSG_CAMERA_FEEDBACK, "CAMERA_FEEDBACK", ()), *V2_MESSAGES):
+        trace.fact(f"request.{name}", _request(c, msg_id))
+
+
 PROBES = {"commands": (commands, BOOT_PARAMS), "survey_leg": (survey_leg, BOOT_PARAMS),
           "guided_dist": (guided_dist, BOOT_PARAMS),
           # CAM1_TYPE 2 (set by the probe): a relay camera on SITL's relay 1 (RELAY1_FUNCTION 4: the camera)
           "relay_camera": (relay_camera, {"RELAY1_FUNCTION": 4}),
           # CAM1_TYPE left alone, a trigger output set: the camera is a servo camera after boot
-          "converted_type": (converted_type, {"SERVO9_FUNCTION": 10})}
+          "converted_type": (converted_type, {"SERVO9_FUNCTION": 10}),
+          "camera_v2": (camera_v2, V2_PARAMS),
+          # no camera at all (CAM1_TYPE 0, no trigger output): what a camera client asking finds
+          "no_camera_v2": (no_camera_v2, None),
+          "servo_configure": (servo_configure, CONFIGURE_PARAMS)}
 
 
 def run(target) -> dict[str, Trace]:
