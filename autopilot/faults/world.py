@@ -10,7 +10,7 @@ flown by the vehicle's ADS-B update (vehicle.py, adsb/sitl_transceiver.py).
 """
 from __future__ import annotations
 
-from firefly.sim.wind import SteadyWind, WindProfile
+from firefly.sim.wind import NO_LIMIT, SteadyWind, WindProfile
 
 from firefly.sim.geo import ned_from_global
 from firefly.sim.optical_flow import SensorSettings
@@ -20,10 +20,18 @@ from ..motor_outputs import OUTPUT_OF_MOTOR
 
 def world_values(sim_config) -> dict:
     """The SIM_* values that describe the scenario's own world before any fault: its wind and a
-    full battery. They are what a ground station reads back until something changes them."""
+    full battery. They are what a ground station reads back until something changes them.
+
+    A scenario's [wind] is its world's: it blows the same at every height (SIM_WIND_T 1), as the
+    fire's plume leans with it at the height the search flies. SIM_WIND_SPD set as on ArduPilot
+    SITL (PARAM_SET, a scenario's [faults]) blows with SITL's default profile, weaker near the
+    ground; [faults] SIM_WIND_T 0 gives a scenario's wind that profile too."""
     wind = sim_config.wind
-    return {"SIM_WIND_SPD": wind.speed_m_s, "SIM_WIND_DIR": wind.from_direction_deg % 360.0,
-            "SIM_BATT_VOLTAGE": sim_config.airframe.battery_cells * 4.2}
+    values = {"SIM_WIND_SPD": wind.speed_m_s, "SIM_WIND_DIR": wind.from_direction_deg % 360.0,
+              "SIM_BATT_VOLTAGE": sim_config.airframe.battery_cells * 4.2}
+    if wind.speed_m_s > 0.0:
+        values["SIM_WIND_T"] = NO_LIMIT
+    return values
 
 
 class Faults:

@@ -88,10 +88,14 @@ class FireflyTarget:
 
     def _faults_scenario(self, params: dict, world: dict) -> Path:
         """A scenario with these SIM_* values: the wind's in its [wind] table (where a scenario
-        sets them), the rest in [faults]; and the world's arrays of tables."""
+        sets them), the rest in [faults]; and the world's arrays of tables. The wind keeps
+        ArduPilot SITL's profile (SIM_WIND_T 0) unless the values say otherwise: set as parameters
+        on the reference, it weakens near the ground, where a scenario's [wind] does not."""
         path = Path(self.scenario_dir.name) / "faults.toml"
         wind = {WIND_KEYS[name]: value for name, value in params.items() if name in WIND_KEYS}
         faults = {name: value for name, value in params.items() if name not in WIND_KEYS}
+        if wind:
+            faults.setdefault("SIM_WIND_T", 0)
         path.write_text("".join(f"[{table}]\n" + "".join(f"{name} = {float(value)!r}\n" for name, value in values.items())
                                 for table, values in (("faults", faults), ("wind", wind)) if values)
                         + "".join(f"[[{table}]]\n" + "".join(f"{key} = {float(value)!r}\n" for key, value in entry.items())
