@@ -275,12 +275,13 @@ def ground_temperature(v: TelemetryView, codec):
 # EKF_POS_VERT_AGL only with a terrain height estimate (terrain_height_known): a rangefinder's.
 EKF_GOOD = (mav.EKF_ATTITUDE | mav.EKF_VELOCITY_HORIZ | mav.EKF_VELOCITY_VERT | mav.EKF_POS_HORIZ_REL
             | mav.EKF_POS_HORIZ_ABS | mav.EKF_POS_VERT_ABS | mav.EKF_PRED_POS_HORIZ_REL | mav.EKF_PRED_POS_HORIZ_ABS)
-# Without a position (measured, area ekf_variances): flying, attitude, vertical velocity and height
-# only (0x25, from 7 s after the GPS went in a hover, as with a visual odometry sensor whose pose is
-# lost); once the EKF stops aiding (15 s after the last position) or on the ground, constant
-# position mode, which also vouches for the horizontal velocity (0xa7; booted without a GPS too).
-EKF_NO_POSITION_GROUND = (mav.EKF_ATTITUDE | mav.EKF_VELOCITY_HORIZ | mav.EKF_VELOCITY_VERT | mav.EKF_POS_VERT_ABS
-                          | mav.EKF_CONST_POS_MODE)
+# Without a position (measured, area ekf_variances): while the EKF still aids, attitude, vertical
+# velocity and height only (0x25, from 7 s after the GPS went in a hover, as with a visual odometry
+# sensor whose pose is lost); once it stops aiding (15 s after the last position, or never having
+# had one: booted without a GPS), constant position mode, which also vouches for the horizontal
+# velocity (0xa7).
+EKF_CONSTANT_POSITION = (mav.EKF_ATTITUDE | mav.EKF_VELOCITY_HORIZ | mav.EKF_VELOCITY_VERT | mav.EKF_POS_VERT_ABS
+                         | mav.EKF_CONST_POS_MODE)
 EKF_NO_POSITION = mav.EKF_ATTITUDE | mav.EKF_VELOCITY_VERT | mav.EKF_POS_VERT_ABS
 EKF_GPS_GLITCH = 32768  # MAVLink's EKF_GPS_GLITCH flag, newer than this pymavlink's dialect
 
@@ -300,10 +301,10 @@ def ekf_status_report(v: TelemetryView, codec):
     velocity, position = v.ekf_test_ratios
     if v.has_position():
         flags = EKF_GOOD
-    elif v.ekf_aiding() and not (v.landed and not v.external_nav.kind):
+    elif v.ekf_aiding():
         flags = EKF_NO_POSITION  # the last fix's ratios held
     else:  # fusing a constant position: its ratios, nothing (measured 0.00-0.01)
-        flags, velocity, position = EKF_NO_POSITION_GROUND, 0.0, 0.0
+        flags, velocity, position = EKF_CONSTANT_POSITION, 0.0, 0.0
     if v.terrain_height_known():
         flags |= mav.EKF_POS_VERT_AGL
     if v.gps_glitching:
