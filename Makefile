@@ -10,7 +10,7 @@ STAMP := $(VENV)/.installed
 install: $(STAMP)
 
 # setup.py builds the compiled cascade; its C sources rebuild it when they change.
-$(STAMP): pyproject.toml setup.py $(wildcard sim/*.h autopilot/control/*.h autopilot/control/*.c)
+$(STAMP): pyproject.toml setup.py $(wildcard sim/*.h sim/*.c autopilot/control/*.h autopilot/control/*.c autopilot/mavlink/*.c)
 	$(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install --quiet --upgrade pip
 	$(PY) -m pip install --quiet -e '.[test,ray,explore]'

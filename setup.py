@@ -1,9 +1,9 @@
-"""Builds the compiled control cascade (autopilot/control/_cascade.c) and battery step
-(sim/_battery.c) at `pip install`.
+"""Builds the compiled control cascade (autopilot/control/_cascade.c), battery step
+(sim/_battery.c) and MAVLink frame (autopilot/mavlink/_frames.c) at `pip install`.
 
 Everything else is declared in pyproject.toml. The extensions are optional: if they cannot be built,
 the install still succeeds and vehicles fly the Python references (autopilot/control/cascade.py,
-sim/battery.py).
+sim/battery.py, autopilot/mavlink/fast_pack.py).
 Not in CI (CI=true): there a failed build fails the install, loudly, where otherwise the tests
 of the compiled twin would only be skipped.
 The flags keep IEEE double semantics exactly as CPython's floats have them, so the C twin
@@ -33,6 +33,11 @@ setup(ext_modules=[Extension(
     sources=["sim/_battery.c"],
     depends=["sim/pyfloat.h", "sim/battery.h"],
     include_dirs=["sim"],
+    extra_compile_args=FLAGS,
+    optional=not BUILD_REQUIRED,
+), Extension(
+    "firefly.autopilot.mavlink._frames",
+    sources=["autopilot/mavlink/_frames.c"],
     extra_compile_args=FLAGS,
     optional=not BUILD_REQUIRED,
 )])

@@ -31,6 +31,27 @@ def _crc(data: bytes) -> int:
     return mav.x25crc(data).crc
 
 
+def frame_py(payload: bytes, msg_id: int, crc_extra: int, seq: int, system: int, component: int) -> bytes:
+    """An unsigned MAVLink 2 frame of a packed payload, as pymavlink makes it: the payload less its
+    trailing zeros (one byte kept), the header before it, the CRC with the CRC extra after it.
+    The readable twin of the compiled `frame` (_frames.c)."""
+    payload = payload.rstrip(b"\0") or payload[:1]
+    body = _HEADER.pack(0xFD, len(payload), 0, 0, seq, system, component, msg_id & 0xFFFF, msg_id >> 16) + payload
+    return body + _CRC.pack(_crc(body[1:] + bytes((crc_extra,))))
+
+
+def _compiled_frame():
+    try:
+        from ._frames import frame
+    except ImportError:  # no C compiler at install: the Python twin, the same bytes
+        return None
+    return frame
+
+
+compiled_frame = _compiled_frame()
+frame = compiled_frame or frame_py
+
+
 class PackedMessage:
     """A message whose payload is packed; the frame is made when the link packs it."""
     __slots__ = ("cls", "payload", "args", "_message")
@@ -41,11 +62,8 @@ class PackedMessage:
     def pack(self, codec, force_mavlink1: bool = False) -> bytes:
         if force_mavlink1 or codec.signing.sign_outgoing:
             return self.message().pack(codec, force_mavlink1)
-        payload = self.payload.rstrip(b"\0") or self.payload[:1]  # MAVLink 2 trims trailing zeros
-        msg_id = self.cls.id
-        body = _HEADER.pack(0xFD, len(payload), 0, 0, codec.seq, codec.srcSystem, codec.srcComponent,
-                            msg_id & 0xFFFF, msg_id >> 16) + payload
-        return body + _CRC.pack(_crc(body[1:] + bytes((self.cls.crc_extra,))))
+        cls = self.cls
+        return frame(self.payload, cls.id, cls.crc_extra, codec.seq, codec.srcSystem, codec.srcComponent)
 
     def message(self):
         """The pymavlink message of the same values."""

@@ -1,0 +1,3 @@
+"""The compiled MAVLink 2 frame (_frames.c): the twin of fast_pack.frame_py."""
+
+def frame(payload: bytes, msg_id: int, crc_extra: int, seq: int, system: int, component: int, /) -> bytes: ...
